@@ -1,0 +1,126 @@
+#include "io/image_io.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "scene/input_error.hpp"
+
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STBI_WRITE_NO_STDIO_FAILURE_MESSAGES
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wconversion"
+#pragma GCC diagnostic ignored "-Wold-style-cast"
+#pragma GCC diagnostic ignored "-Wdouble-promotion"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#endif
+#include <stb/stb_image_write.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+namespace prismoid::io {
+
+namespace {
+
+std::string extension_of(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+uint8_t to_srgb8(float linear) {
+  float v = std::clamp(std::isfinite(linear) ? linear : 0.0f, 0.0f, 1.0f);
+  float s = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+  return static_cast<uint8_t>(std::lround(s * 255.0f));
+}
+
+void check_shape(const std::string& path, const FloatImage& image) {
+  if (image.width == 0 || image.height == 0) throw InputError(path, "image has no pixels");
+  if (image.pixels.size() != size_t(image.width) * image.height * image.channels)
+    throw InputError(path, "image data does not match its size");
+}
+
+// Writes to a temporary file beside the target, then renames, so that a failed write never
+// leaves a half-written image under the requested name.
+template <typename Writer>
+void write_atomically(const std::string& path, Writer&& writer) {
+  const std::string tmp = path + ".partial";
+  if (!writer(tmp)) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw InputError(path, "cannot write the image (does the folder exist, is it writable?)");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw InputError(path, "cannot write the image: " + ec.message());
+}
+
+}  // namespace
+
+void write_png(const std::string& path, const FloatImage& image) {
+  check_shape(path, image);
+  if (image.channels != 1 && image.channels != 3 && image.channels != 4) throw InputError(path, "PNG needs 1, 3 or 4 channels");
+  std::vector<uint8_t> bytes(image.pixels.size());
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    const bool alpha = image.channels == 4 && i % 4 == 3;
+    bytes[i] = alpha ? static_cast<uint8_t>(std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f)) : to_srgb8(image.pixels[i]);
+  }
+  write_atomically(path, [&](const std::string& tmp) {
+    return stbi_write_png(tmp.c_str(), int(image.width), int(image.height), int(image.channels), bytes.data(),
+                          int(image.width * image.channels)) != 0;
+  });
+}
+
+void write_pfm(const std::string& path, const FloatImage& image) {
+  check_shape(path, image);
+  if (image.channels != 1 && image.channels != 3) throw InputError(path, "PFM holds 1 or 3 channels");
+  write_atomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) return false;
+    out << (image.channels == 1 ? "Pf" : "PF") << "\n" << image.width << " " << image.height << "\n-1.0\n";
+    const size_t row = size_t(image.width) * image.channels;
+    for (uint32_t y = image.height; y-- > 0;)
+      out.write(reinterpret_cast<const char*>(image.pixels.data() + y * row), std::streamsize(row * sizeof(float)));
+    return bool(out);
+  });
+}
+
+FloatImage read_pfm(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot open the file");
+  std::string magic;
+  FloatImage image;
+  double scale = 0.0;
+  in >> magic >> image.width >> image.height >> scale;
+  if (!in || (magic != "Pf" && magic != "PF")) throw InputError(path, "not a PFM file (header must start with Pf or PF)");
+  if (image.width == 0 || image.height == 0 || image.width > 65536 || image.height > 65536)
+    throw InputError(path, "PFM header has an implausible size");
+  if (scale >= 0.0) throw InputError(path, "big-endian PFM is not supported");
+  in.get();  // the single whitespace byte after the scale
+  image.channels = magic == "Pf" ? 1 : 3;
+  const size_t row = size_t(image.width) * image.channels;
+  image.pixels.resize(row * image.height);
+  for (uint32_t y = image.height; y-- > 0;)
+    if (!in.read(reinterpret_cast<char*>(image.pixels.data() + y * row), std::streamsize(row * sizeof(float))))
+      throw InputError(path, "PFM data ends early (file truncated?)");
+  return image;
+}
+
+bool is_supported_image_path(const std::string& path) {
+  const std::string ext = extension_of(path);
+  return ext == ".png" || ext == ".pfm";
+}
+
+void write_image(const std::string& path, const FloatImage& image) {
+  const std::string ext = extension_of(path);
+  if (ext == ".png") return write_png(path, image);
+  if (ext == ".pfm") return write_pfm(path, image);
+  throw InputError(path, "unknown image type '" + ext + "': use .png or .pfm");
+}
+
+}  // namespace prismoid::io

@@ -1,0 +1,35 @@
+#pragma once
+// CPU double-precision reference for volume rendering: exact ray/tetrahedron intervals by
+// plane tests, summed over cells. Every GPU volume mode is tested against these.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "scene/camera.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::reference {
+
+struct Interval {
+  double enter = 0.0;
+  double exit = 0.0;
+  bool empty() const { return !(exit > enter); }
+  double length() const { return empty() ? 0.0 : exit - enter; }
+};
+
+// Parameter interval of origin + t * direction inside the tetrahedron, intersected with
+// [t_min, t_max]. Exact up to rounding: each face plane clips the interval once.
+Interval ray_tetrahedron(const std::array<glm::dvec3, 4>& v, const glm::dvec3& origin, const glm::dvec3& direction,
+                         double t_min, double t_max);
+
+// The pixel ray through the centre of pixel (x, y) of a width x height image (row 0 at the
+// top), as the renderer defines it: unit direction from the eye.
+glm::dvec3 pixel_ray_direction(const Camera& camera, uint32_t width, uint32_t height, uint32_t x, uint32_t y);
+
+// Optical depth per pixel: sum over cells of sigma * length of the pixel ray inside the cell,
+// counting only the part beyond the near plane. Row-major, row 0 at the top.
+std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height);
+
+}  // namespace prismoid::reference

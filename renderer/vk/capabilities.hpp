@@ -1,0 +1,58 @@
+#pragma once
+// What each physical device offers, and what each Prismoid mode needs from it.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+#include <vulkan/vulkan.h>
+
+namespace prismoid::vk {
+
+struct DeviceCapabilities {
+  uint32_t index = 0;  // position in vkEnumeratePhysicalDevices, what `--device N` names
+  std::string name;
+  std::string type;  // "discrete GPU", "integrated GPU", "CPU", ...
+  std::string driver_name;
+  std::string driver_info;
+  uint32_t api_version = 0;
+  bool api_1_3 = false;
+  bool mesh_shader = false;
+  bool task_shader = false;
+  bool ray_tracing_pipeline = false;
+  bool acceleration_structure = false;
+  bool ray_query = false;
+  bool timestamps = false;  // graphics+compute queue with valid timestamp bits
+  double timestamp_period_ns = 0.0;
+  bool swapchain = false;
+  uint32_t max_mesh_output_vertices = 0;
+  uint32_t max_mesh_output_primitives = 0;
+  uint64_t device_local_bytes = 0;
+  VkPhysicalDeviceType device_type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  uint32_t queue_family = UINT32_MAX;  // a family with graphics and compute
+};
+
+// Every feature a mode can need; `required` lists them per mode.
+enum class Feature { MeshShader, RayTracingPipeline, AccelerationStructure, RayQuery, Timestamps };
+const char* feature_name(Feature f);
+bool has_feature(const DeviceCapabilities& caps, Feature f);
+
+struct ModeRequirements {
+  std::string mode;
+  std::vector<Feature> required;
+  std::vector<Feature> optional;
+  std::string note;
+};
+// The table `prismoid devices` prints: what volumes, surfaces and GI need.
+const std::vector<ModeRequirements>& mode_requirements();
+
+std::vector<DeviceCapabilities> query_devices(VkInstance instance);
+
+// Prefers discrete GPUs, then integrated, virtual and CPU devices (lavapipe), among those
+// that offer Vulkan 1.3, mesh shaders and a graphics queue. `forced` picks by index.
+// Throws NoSuitableDevice with the reason when nothing fits.
+const DeviceCapabilities& select_device(const std::vector<DeviceCapabilities>& devices,
+                                        std::optional<uint32_t> forced);
+
+std::string version_string(uint32_t api_version);
+
+}  // namespace prismoid::vk

@@ -1,0 +1,119 @@
+#include "renderer/vk/device.hpp"
+
+#include <string>
+#include <vector>
+
+#include "renderer/vk/error.hpp"
+#include "renderer/vk/instance.hpp"
+
+namespace prismoid::vk {
+
+Device::Device(const Instance& instance, const DeviceCapabilities& caps, const DeviceOptions& options)
+    : instance_(instance.get()), caps_(caps) {
+  uint32_t count = 0;
+  check(vkEnumeratePhysicalDevices(instance_, &count, nullptr), "vkEnumeratePhysicalDevices");
+  std::vector<VkPhysicalDevice> devices(count);
+  check(vkEnumeratePhysicalDevices(instance_, &count, devices.data()), "vkEnumeratePhysicalDevices");
+  if (caps.index >= count) throw NoSuitableDevice("device " + std::to_string(caps.index) + " disappeared");
+  physical_ = devices[caps.index];
+  vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+
+  std::vector<const char*> extensions;
+  if (caps.mesh_shader) extensions.push_back(VK_EXT_MESH_SHADER_EXTENSION_NAME);
+  if (options.presentation) {
+    if (!caps.swapchain) throw NoSuitableDevice(caps.name + " cannot present to a window (no VK_KHR_swapchain)");
+    extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  }
+
+  VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
+  mesh.meshShader = caps.mesh_shader;
+  mesh.taskShader = caps.task_shader;
+  VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  v13.dynamicRendering = VK_TRUE;
+  v13.synchronization2 = VK_TRUE;
+  v13.maintenance4 = VK_TRUE;
+  if (caps.mesh_shader) v13.pNext = &mesh;
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  v12.hostQueryReset = VK_TRUE;
+  v12.pNext = &v13;
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  features.pNext = &v12;
+
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queue_info.queueFamilyIndex = caps.queue_family;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+
+  VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  info.pNext = &features;
+  info.queueCreateInfoCount = 1;
+  info.pQueueCreateInfos = &queue_info;
+  info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
+  check(vkCreateDevice(physical_, &info, nullptr, &device_), "vkCreateDevice");
+  vkGetDeviceQueue(device_, caps.queue_family, 0, &queue_);
+
+  if (caps.mesh_shader)
+    cmd_draw_mesh_tasks = reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(device_, "vkCmdDrawMeshTasksEXT"));
+
+  VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool_info.queueFamilyIndex = caps.queue_family;
+  VkCommandPool pool;
+  check(vkCreateCommandPool(device_, &pool_info, nullptr, &pool), "vkCreateCommandPool");
+  command_pool_ = UniqueCommandPool(device_, pool);
+}
+
+Device::~Device() {
+  if (device_ != VK_NULL_HANDLE) {
+    vkDeviceWaitIdle(device_);
+    command_pool_.reset();
+    vkDestroyDevice(device_, nullptr);
+  }
+}
+
+uint32_t Device::memory_type(uint32_t type_bits, VkMemoryPropertyFlags flags) const {
+  for (uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
+    if ((type_bits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & flags) == flags) return i;
+  throw VulkanError("memory type selection (no type with the requested properties)", VK_ERROR_OUT_OF_DEVICE_MEMORY);
+}
+
+VkFormatProperties Device::format_properties(VkFormat format) const {
+  VkFormatProperties props;
+  vkGetPhysicalDeviceFormatProperties(physical_, format, &props);
+  return props;
+}
+
+void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = command_pool_.get();
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  check(vkAllocateCommandBuffers(device_, &alloc, &cmd), "vkAllocateCommandBuffers");
+  struct Free {
+    VkDevice d; VkCommandPool p; VkCommandBuffer c;
+    ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
+  } free_on_exit{device_, command_pool_.get(), cmd};
+
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+  record(cmd);
+  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+
+  VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence_handle;
+  check(vkCreateFence(device_, &fence_info, nullptr, &fence_handle), "vkCreateFence");
+  UniqueFence fence(device_, fence_handle);
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  check(vkQueueSubmit(queue_, 1, &submit, fence.get()), "vkQueueSubmit");
+  check(vkWaitForFences(device_, 1, fence.ptr(), VK_TRUE, UINT64_MAX), "vkWaitForFences");
+}
+
+void Device::wait_idle() const { check(vkDeviceWaitIdle(device_), "vkDeviceWaitIdle"); }
+
+}  // namespace prismoid::vk

@@ -1,0 +1,37 @@
+#include "renderer/vk/error.hpp"
+
+namespace prismoid::vk {
+
+const char* result_name(VkResult result) {
+  switch (result) {
+#define PRISMOID_CASE(x) case x: return #x;
+    PRISMOID_CASE(VK_SUCCESS)
+    PRISMOID_CASE(VK_NOT_READY)
+    PRISMOID_CASE(VK_TIMEOUT)
+    PRISMOID_CASE(VK_INCOMPLETE)
+    PRISMOID_CASE(VK_SUBOPTIMAL_KHR)
+    PRISMOID_CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+    PRISMOID_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    PRISMOID_CASE(VK_ERROR_INITIALIZATION_FAILED)
+    PRISMOID_CASE(VK_ERROR_DEVICE_LOST)
+    PRISMOID_CASE(VK_ERROR_MEMORY_MAP_FAILED)
+    PRISMOID_CASE(VK_ERROR_LAYER_NOT_PRESENT)
+    PRISMOID_CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
+    PRISMOID_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+    PRISMOID_CASE(VK_ERROR_INCOMPATIBLE_DRIVER)
+    PRISMOID_CASE(VK_ERROR_TOO_MANY_OBJECTS)
+    PRISMOID_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED)
+    PRISMOID_CASE(VK_ERROR_SURFACE_LOST_KHR)
+    PRISMOID_CASE(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR)
+    PRISMOID_CASE(VK_ERROR_OUT_OF_DATE_KHR)
+    PRISMOID_CASE(VK_ERROR_INVALID_SHADER_NV)
+#undef PRISMOID_CASE
+    default: return "VK_ERROR_(unlisted)";
+  }
+}
+
+VulkanError::VulkanError(const std::string& call, VkResult result)
+    : std::runtime_error(call + " failed: " + result_name(result) + " (" + std::to_string(static_cast<int>(result)) + ")"),
+      result_(result) {}
+
+}  // namespace prismoid::vk

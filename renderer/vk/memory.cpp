@@ -1,0 +1,134 @@
+#include "renderer/vk/memory.hpp"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
+
+namespace prismoid::vk {
+
+Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use)
+    : size_(size), device_(device.get()) {
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size > 0 ? size : 16;  // zero-sized buffers are invalid; empty meshes get a stub
+  info.usage = usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VkBuffer buffer;
+  check(vkCreateBuffer(device_, &info, nullptr, &buffer), "vkCreateBuffer");
+  buffer_ = UniqueBuffer(device_, buffer);
+
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(device_, buffer, &req);
+  VkMemoryPropertyFlags flags = use == MemoryUse::HostVisible
+                                    ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                    : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = device.memory_type(req.memoryTypeBits, flags);
+  VkDeviceMemory memory;
+  check(vkAllocateMemory(device_, &alloc, nullptr, &memory), "vkAllocateMemory (buffer)");
+  memory_ = UniqueMemory(device_, memory);
+  check(vkBindBufferMemory(device_, buffer, memory, 0), "vkBindBufferMemory");
+  if (use == MemoryUse::HostVisible) {
+    void* ptr = nullptr;
+    check(vkMapMemory(device_, memory, 0, VK_WHOLE_SIZE, 0, &ptr), "vkMapMemory");
+    mapped_ = static_cast<std::byte*>(ptr);
+  }
+}
+
+Buffer::~Buffer() {
+  if (mapped_ && memory_) vkUnmapMemory(device_, memory_.get());
+}
+
+void Buffer::write(std::span<const std::byte> bytes, VkDeviceSize offset) {
+  if (!mapped_) throw std::logic_error("Buffer::write on a buffer that is not host-visible");
+  if (offset + bytes.size() > size_) throw std::out_of_range("Buffer::write past the end of the buffer");
+  std::memcpy(mapped_ + offset, bytes.data(), bytes.size());
+}
+
+Buffer upload_buffer(const Device& device, std::span<const std::byte> bytes, VkBufferUsageFlags usage) {
+  Buffer result(device, bytes.size(), usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::DeviceLocal);
+  if (bytes.empty()) return result;
+  Buffer staging(device, bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::HostVisible);
+  staging.write(bytes);
+  device.submit_and_wait([&](VkCommandBuffer cmd) {
+    VkBufferCopy region{0, 0, bytes.size()};
+    vkCmdCopyBuffer(cmd, staging.get(), result.get(), 1, &region);
+  });
+  return result;
+}
+
+Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage)
+    : format_(format), extent_(extent) {
+  VkDevice d = device.get();
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {extent.width, extent.height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkImage image;
+  check(vkCreateImage(d, &info, nullptr, &image), "vkCreateImage");
+  image_ = UniqueImage(d, image);
+
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(d, image, &req);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VkDeviceMemory memory;
+  check(vkAllocateMemory(d, &alloc, nullptr, &memory), "vkAllocateMemory (image)");
+  memory_ = UniqueMemory(d, memory);
+  check(vkBindImageMemory(d, image, memory, 0), "vkBindImageMemory");
+
+  VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  view_info.image = image;
+  view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  view_info.format = format;
+  view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkImageView view;
+  check(vkCreateImageView(d, &view_info, nullptr, &view), "vkCreateImageView");
+  view_ = UniqueImageView(d, view);
+}
+
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+  VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  barrier.srcStageMask = src_stage;
+  barrier.srcAccessMask = src_access;
+  barrier.dstStageMask = dst_stage;
+  barrier.dstAccessMask = dst_access;
+  barrier.oldLayout = from;
+  barrier.newLayout = to;
+  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.imageMemoryBarrierCount = 1;
+  dep.pImageMemoryBarriers = &barrier;
+  vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+void read_image(const Device& device, const Image& image, size_t bytes_per_pixel, std::span<std::byte> out) {
+  VkExtent2D e = image.extent();
+  VkDeviceSize size = VkDeviceSize(e.width) * e.height * bytes_per_pixel;
+  if (out.size() != size) throw std::invalid_argument("read_image: output span has the wrong size");
+  Buffer staging(device, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::HostVisible);
+  device.submit_and_wait([&](VkCommandBuffer cmd) {
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {e.width, e.height, 1};
+    vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.get(), 1, &region);
+  });
+  std::memcpy(out.data(), staging.mapped(), size);
+}
+
+}  // namespace prismoid::vk

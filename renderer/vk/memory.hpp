@@ -1,0 +1,68 @@
+#pragma once
+// Buffers and images with their own memory. Host-visible buffers stay mapped.
+#include <cstddef>
+#include <span>
+#include <vulkan/vulkan.h>
+
+#include "renderer/vk/handle.hpp"
+
+namespace prismoid::vk {
+
+class Device;
+
+enum class MemoryUse { DeviceLocal, HostVisible };
+
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use);
+  Buffer(Buffer&&) noexcept = default;
+  Buffer& operator=(Buffer&&) noexcept = default;
+  ~Buffer();
+
+  VkBuffer get() const { return buffer_.get(); }
+  VkDeviceSize size() const { return size_; }
+  // Host-visible buffers only: the mapped bytes.
+  std::byte* mapped() const { return mapped_; }
+  void write(std::span<const std::byte> bytes, VkDeviceSize offset = 0);
+
+ private:
+  UniqueMemory memory_;  // declared first so the buffer is destroyed before its memory
+  UniqueBuffer buffer_;
+  VkDeviceSize size_ = 0;
+  std::byte* mapped_ = nullptr;
+  VkDevice device_ = VK_NULL_HANDLE;
+};
+
+// Creates a device-local buffer holding `bytes` (uploaded through a staging buffer).
+Buffer upload_buffer(const Device& device, std::span<const std::byte> bytes, VkBufferUsageFlags usage);
+
+class Image {
+ public:
+  Image() = default;
+  Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage);
+  Image(Image&&) noexcept = default;
+  Image& operator=(Image&&) noexcept = default;
+
+  VkImage get() const { return image_.get(); }
+  VkImageView view() const { return view_.get(); }
+  VkFormat format() const { return format_; }
+  VkExtent2D extent() const { return extent_; }
+
+ private:
+  UniqueMemory memory_;  // destroyed last: view, then image, then memory
+  UniqueImage image_;
+  UniqueImageView view_;
+  VkFormat format_ = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent_{};
+};
+
+// A pipeline barrier on a whole colour image (synchronization2).
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+
+// Copies a colour image (in TRANSFER_SRC_OPTIMAL layout) into host memory, tightly packed.
+void read_image(const Device& device, const Image& image, size_t bytes_per_pixel, std::span<std::byte> out);
+
+}  // namespace prismoid::vk

@@ -1,0 +1,54 @@
+#pragma once
+// Shader modules, layouts and pipelines. Pipelines use dynamic rendering (no render passes).
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+#include <vulkan/vulkan.h>
+
+#include "renderer/vk/handle.hpp"
+
+namespace prismoid::vk {
+
+class Device;
+
+UniqueShaderModule create_shader_module(const Device& device, std::span<const uint32_t> spirv);
+
+struct DescriptorBinding {
+  uint32_t binding;
+  VkDescriptorType type;
+  VkShaderStageFlags stages;
+};
+UniqueDescriptorSetLayout create_descriptor_set_layout(const Device& device, std::span<const DescriptorBinding> bindings);
+
+UniquePipelineLayout create_pipeline_layout(const Device& device, std::span<const VkDescriptorSetLayout> sets,
+                                            std::span<const VkPushConstantRange> push_constants);
+
+enum class BlendMode { None, Additive };
+
+struct MeshPipelineDesc {
+  std::string_view task_shader;  // name in shaders/ or empty
+  std::string_view mesh_shader;
+  std::string_view fragment_shader;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  std::vector<VkFormat> color_formats;
+  BlendMode blend = BlendMode::None;
+};
+UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc& desc);
+
+UniquePipeline create_compute_pipeline(const Device& device, std::string_view shader, VkPipelineLayout layout);
+
+// A descriptor pool sized for `sets` sets of the given bindings, and one set from it.
+struct DescriptorSet {
+  UniqueDescriptorPool pool;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+};
+DescriptorSet allocate_descriptor_set(const Device& device, VkDescriptorSetLayout layout,
+                                      std::span<const DescriptorBinding> bindings);
+
+// Writes to one binding of a descriptor set.
+void write_buffer_descriptor(const Device& device, VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
+                             VkBuffer buffer);
+void write_storage_image_descriptor(const Device& device, VkDescriptorSet set, uint32_t binding, VkImageView view);
+
+}  // namespace prismoid::vk

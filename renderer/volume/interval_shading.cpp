@@ -1,0 +1,187 @@
+#include "renderer/volume/interval_shading.hpp"
+
+#include <array>
+#include <cstring>
+#include <vector>
+
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
+#include "renderer/vk/timer.hpp"
+#include "shaders/shared/volume.h"
+
+namespace prismoid::volume {
+
+namespace {
+
+constexpr VkFormat kOpticalDepthFormat = VK_FORMAT_R32_SFLOAT;
+constexpr VkFormat kQuantityFormat = VK_FORMAT_R32_SFLOAT;
+constexpr VkFormat kDisplayFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+
+const std::array<vk::DescriptorBinding, 4> kMeshBindings = {{
+    {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT},
+    {PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_CELL_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+}};
+
+const std::array<vk::DescriptorBinding, 3> kResolveBindings = {{
+    {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
+    {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
+    {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
+}};
+
+template <typename T>
+std::span<const std::byte> bytes_of(const std::vector<T>& v) {
+  return std::as_bytes(std::span<const T>(v));
+}
+
+glm::mat4 to_float(const glm::dmat4& m) { return glm::mat4(m); }
+
+}  // namespace
+
+GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
+  validate(mesh);
+  GpuTetMesh gpu;
+  gpu.origin = bounds_of(mesh).center();
+  gpu.tet_count = static_cast<uint32_t>(mesh.tets.size());
+  std::vector<glm::vec4> positions;
+  positions.reserve(mesh.points.size());
+  for (const auto& p : mesh.points) positions.emplace_back(glm::vec3(p - gpu.origin), 1.0f);
+  std::vector<glm::uvec4> tets;
+  tets.reserve(mesh.tets.size());
+  for (const auto& t : mesh.tets) tets.emplace_back(t[0], t[1], t[2], t[3]);
+  std::vector<float> sigma(mesh.cell_extinction.begin(), mesh.cell_extinction.end());
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  gpu.positions = vk::upload_buffer(device, bytes_of(positions), usage);
+  gpu.tets = vk::upload_buffer(device, bytes_of(tets), usage);
+  gpu.cell_sigma = vk::upload_buffer(device, bytes_of(sigma), usage);
+  return gpu;
+}
+
+VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent) {
+  const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+  if ((device.format_properties(kOpticalDepthFormat).optimalTilingFeatures & need) != need)
+    throw vk::NoSuitableDevice(device.capabilities().name + " cannot blend into and read R32_SFLOAT images");
+  VolumeTargets t;
+  t.extent = extent;
+  t.optical_depth = vk::Image(device, extent, kOpticalDepthFormat,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
+  t.quantity = vk::Image(device, extent, kQuantityFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  t.display = vk::Image(device, extent, kDisplayFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  return t;
+}
+
+IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(device) {
+  mesh_set_layout_ = vk::create_descriptor_set_layout(device, kMeshBindings);
+  VkDescriptorSetLayout mesh_sets[] = {mesh_set_layout_.get()};
+  mesh_layout_ = vk::create_pipeline_layout(device, mesh_sets, {});
+  vk::MeshPipelineDesc desc;
+  desc.mesh_shader = "volume/interval.mesh";
+  desc.fragment_shader = "volume/optical_depth.frag";
+  desc.layout = mesh_layout_.get();
+  desc.color_formats = {kOpticalDepthFormat};
+  desc.blend = vk::BlendMode::Additive;
+  mesh_pipeline_ = vk::create_mesh_pipeline(device, desc);
+  mesh_set_ = vk::allocate_descriptor_set(device, mesh_set_layout_.get(), kMeshBindings);
+
+  resolve_set_layout_ = vk::create_descriptor_set_layout(device, kResolveBindings);
+  VkDescriptorSetLayout resolve_sets[] = {resolve_set_layout_.get()};
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::ResolvePush)};
+  resolve_layout_ = vk::create_pipeline_layout(device, resolve_sets, std::span(&push, 1));
+  resolve_pipeline_ = vk::create_compute_pipeline(device, "volume/resolve.comp", resolve_layout_.get());
+  resolve_set_ = vk::allocate_descriptor_set(device, resolve_set_layout_.get(), kResolveBindings);
+
+  frame_uniforms_ = vk::Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
+  vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frame_uniforms_.get());
+}
+
+void IntervalShadingPass::bind_mesh(const GpuTetMesh& mesh) {
+  if (bound_mesh_ == &mesh) return;
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.positions.get());
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.tets.get());
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_CELL_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.cell_sigma.get());
+  bound_mesh_ = &mesh;
+}
+
+void IntervalShadingPass::bind_targets(const VolumeTargets& targets) {
+  if (bound_targets_ == &targets && bound_optical_depth_ == targets.optical_depth.get()) return;
+  vk::write_storage_image_descriptor(device_, resolve_set_.set, 0, targets.optical_depth.view());
+  vk::write_storage_image_descriptor(device_, resolve_set_.set, 1, targets.display.view());
+  vk::write_storage_image_descriptor(device_, resolve_set_.set, 2, targets.quantity.view());
+  bound_targets_ = &targets;
+  bound_optical_depth_ = targets.optical_depth.get();
+}
+
+void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
+                                 const ResolveSettings& settings, vk::GpuTimer& timer) {
+  validate(camera);
+  bind_mesh(mesh);
+  bind_targets(targets);
+  const VkExtent2D e = targets.extent;
+  const double aspect = double(e.width) / double(e.height);
+  const glm::dmat4 proj = projection_matrix(camera, aspect);
+
+  gpu::FrameUniforms frame{};
+  frame.view = to_float(view_matrix(camera, mesh.origin));
+  frame.projection = to_float(proj);
+  frame.viewport = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
+  frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance), 0.0f);
+  frame.counts = glm::uvec4(mesh.tet_count, 0, 0, 0);
+  frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
+
+  {
+    vk::ScopedPass pass(timer, cmd, "interval-shading");
+    vk::image_barrier(cmd, targets.optical_depth.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = targets.optical_depth.view();
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    rendering.renderArea = {{0, 0}, e};
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachments = &color;
+    vkCmdBeginRendering(cmd, &rendering);
+    VkViewport viewport{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
+    VkRect2D scissor{{0, 0}, e};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    if (mesh.tet_count > 0) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mesh_pipeline_.get());
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mesh_layout_.get(), 0, 1, &mesh_set_.set, 0, nullptr);
+      const uint32_t groups = (mesh.tet_count + PRISMOID_TETS_PER_WORKGROUP - 1) / PRISMOID_TETS_PER_WORKGROUP;
+      device_.cmd_draw_mesh_tasks(cmd, groups, 1, 1);
+    }
+    vkCmdEndRendering(cmd);
+  }
+  {
+    vk::ScopedPass pass(timer, cmd, "resolve");
+    vk::image_barrier(cmd, targets.optical_depth.get(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    for (VkImage image : {targets.display.get(), targets.quantity.get()})
+      vk::image_barrier(cmd, image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    gpu::ResolvePush push{};
+    push.background = glm::vec4(settings.background, 1.0f);
+    push.medium = glm::vec4(settings.medium, 1.0f);
+    push.params = glm::uvec4(settings.quantity == Quantity::Transmittance ? PRISMOID_QUANTITY_TRANSMITTANCE : PRISMOID_QUANTITY_OPTICAL_DEPTH,
+                             e.width, e.height, 0u);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_pipeline_.get());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_layout_.get(), 0, 1, &resolve_set_.set, 0, nullptr);
+    vkCmdPushConstants(cmd, resolve_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdDispatch(cmd, (e.width + 7) / 8, (e.height + 7) / 8, 1);
+    for (VkImage image : {targets.display.get(), targets.quantity.get()})
+      vk::image_barrier(cmd, image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  }
+}
+
+}  // namespace prismoid::volume

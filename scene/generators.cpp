@@ -1,0 +1,59 @@
+#include "scene/generators.hpp"
+
+#include <cmath>
+#include <glm/geometric.hpp>
+
+namespace prismoid {
+
+TetMesh make_box_mesh(const glm::dvec3& lo, const glm::dvec3& hi, uint32_t n,
+                      const std::function<double(const glm::dvec3&)>& sigma) {
+  TetMesh mesh;
+  const uint32_t m = n + 1;
+  auto point_index = [m](uint32_t i, uint32_t j, uint32_t k) { return (k * m + j) * m + i; };
+  mesh.points.reserve(size_t(m) * m * m);
+  for (uint32_t k = 0; k < m; ++k)
+    for (uint32_t j = 0; j < m; ++j)
+      for (uint32_t i = 0; i < m; ++i) {
+        glm::dvec3 t(double(i) / n, double(j) / n, double(k) / n);
+        mesh.points.push_back(lo + t * (hi - lo));
+      }
+  // Kuhn split: the six paths from corner 000 to corner 111 through the cube's edges.
+  static const uint32_t kPaths[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (uint32_t k = 0; k < n; ++k)
+    for (uint32_t j = 0; j < n; ++j)
+      for (uint32_t i = 0; i < n; ++i)
+        for (const auto& path : kPaths) {
+          uint32_t c[3] = {i, j, k};
+          std::array<uint32_t, 4> tet;
+          tet[0] = point_index(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s) {
+            ++c[path[s]];
+            tet[s + 1] = point_index(c[0], c[1], c[2]);
+          }
+          const auto& p = mesh.points;
+          if (signed_volume(p[tet[0]], p[tet[1]], p[tet[2]], p[tet[3]]) < 0.0) std::swap(tet[2], tet[3]);
+          mesh.tets.push_back(tet);
+        }
+  for (const auto& tet : mesh.tets) {
+    glm::dvec3 centroid(0.0);
+    for (uint32_t v : tet) centroid += mesh.points[v];
+    mesh.cell_extinction.push_back(sigma(centroid * 0.25));
+  }
+  for (const auto& p : mesh.points) mesh.point_scalars.push_back(sigma(p));
+  return mesh;
+}
+
+TetMesh make_default_volume() {
+  auto density = [](const glm::dvec3& p) {
+    auto blob = [&](glm::dvec3 c, double r, double a) {
+      double d2 = glm::dot(p - c, p - c);
+      return a * std::exp(-d2 / (r * r));
+    };
+    return blob({-0.35, 0.25, 0.0}, 0.45, 3.0) + blob({0.4, -0.2, 0.2}, 0.35, 5.0) + blob({0.1, 0.55, -0.4}, 0.25, 6.0);
+  };
+  TetMesh mesh = make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 16, density);
+  mesh.name = "default (embedded: three Gaussian blobs, 24576 tetrahedra)";
+  return mesh;
+}
+
+}  // namespace prismoid

@@ -1,0 +1,51 @@
+#include "scene/tet_mesh.hpp"
+
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "scene/input_error.hpp"
+
+namespace prismoid {
+
+double Bounds::radius() const { return 0.5 * glm::length(max - min); }
+
+Bounds bounds_of(const TetMesh& mesh) {
+  Bounds b;
+  if (mesh.points.empty()) return b;
+  b.min = b.max = mesh.points.front();
+  for (const auto& p : mesh.points) {
+    b.min = glm::min(b.min, p);
+    b.max = glm::max(b.max, p);
+  }
+  return b;
+}
+
+void validate(const TetMesh& mesh) {
+  const std::string& src = mesh.name.empty() ? std::string("(unnamed mesh)") : mesh.name;
+  if (mesh.cell_extinction.size() != mesh.tets.size())
+    throw InputError(src, "has " + std::to_string(mesh.tets.size()) + " cells but " +
+                              std::to_string(mesh.cell_extinction.size()) + " extinction values");
+  if (!mesh.point_scalars.empty() && mesh.point_scalars.size() != mesh.points.size())
+    throw InputError(src, "point scalar array has " + std::to_string(mesh.point_scalars.size()) + " values for " +
+                              std::to_string(mesh.points.size()) + " points");
+  for (size_t i = 0; i < mesh.points.size(); ++i) {
+    const auto& p = mesh.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError(src, "point " + std::to_string(i) + " has a non-finite coordinate");
+  }
+  for (size_t c = 0; c < mesh.tets.size(); ++c) {
+    for (uint32_t v : mesh.tets[c])
+      if (v >= mesh.points.size())
+        throw InputError(src, "cell " + std::to_string(c) + " refers to point " + std::to_string(v) + " but there are " +
+                                  std::to_string(mesh.points.size()) + " points");
+    double s = mesh.cell_extinction[c];
+    if (!std::isfinite(s) || s < 0.0)
+      throw InputError(src, "cell " + std::to_string(c) + " has extinction " + std::to_string(s) + " (must be finite and >= 0)");
+  }
+}
+
+double signed_volume(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+  return glm::dot(b - a, glm::cross(c - a, d - a)) / 6.0;
+}
+
+}  // namespace prismoid

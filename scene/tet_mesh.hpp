@@ -1,0 +1,36 @@
+#pragma once
+// A tetrahedral volume as plain data: what io produces and the volume renderer consumes.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace prismoid {
+
+struct Bounds {
+  glm::dvec3 min{0.0};
+  glm::dvec3 max{0.0};
+  glm::dvec3 center() const { return 0.5 * (min + max); }
+  double radius() const;  // half the diagonal
+};
+
+struct TetMesh {
+  std::string name;
+  std::vector<glm::dvec3> points;
+  std::vector<std::array<uint32_t, 4>> tets;
+  std::vector<double> cell_extinction;  // sigma per cell, in 1/length units; >= 0
+  std::vector<double> point_scalars;    // optional scalar field per point (empty if none)
+};
+
+Bounds bounds_of(const TetMesh& mesh);
+
+// Throws InputError(mesh.name, ...) naming the first problem: indices out of range,
+// non-finite coordinates, negative or non-finite extinction, array sizes that disagree.
+void validate(const TetMesh& mesh);
+
+// Signed volume of a tetrahedron (positive when (b-a, c-a, d-a) is right-handed).
+double signed_volume(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d);
+
+}  // namespace prismoid
