@@ -11,6 +11,9 @@ namespace prismoid::reference {
 Interval ray_tetrahedron(const std::array<glm::dvec3, 4>& v, const glm::dvec3& origin, const glm::dvec3& direction,
                          double t_min, double t_max) {
   static const int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  // No component zero and no simple ratios between them, so no face normal of a real mesh
+  // is orthogonal to it.
+  static const glm::dvec3 kTieBreak(0.5773502691896258, 0.2113248654051871, 0.7886751345948129);
   Interval r{t_min, t_max};
   for (int f = 0; f < 4; ++f) {
     const glm::dvec3& a = v[kFaces[f][0]];
@@ -20,7 +23,11 @@ Interval ray_tetrahedron(const std::array<glm::dvec3, 4>& v, const glm::dvec3& o
     const double dist = glm::dot(n, origin - a);  // > 0 outside the face's half-space
     const double rate = glm::dot(n, direction);
     if (rate == 0.0) {
-      if (dist > 0.0) return {0.0, 0.0};
+      // The ray runs parallel to the face. When it lies exactly in the face's plane (a pixel
+      // ray along a grid line of an axis-aligned mesh), both cells sharing the face would
+      // claim it; decide as if the ray were moved by an infinitesimal step along a fixed
+      // generic direction, so exactly one of them does (simulation of simplicity).
+      if (dist > 0.0 || (dist == 0.0 && glm::dot(n, kTieBreak) >= 0.0)) return {0.0, 0.0};
       continue;
     }
     const double t = -dist / rate;
@@ -50,16 +57,18 @@ CameraFrame frame_of(const Camera& camera, uint32_t width, uint32_t height) {
 
 }  // namespace
 
-glm::dvec3 pixel_ray_direction(const Camera& camera, uint32_t width, uint32_t height, uint32_t x, uint32_t y) {
+glm::dvec3 ray_direction(const Camera& camera, uint32_t width, uint32_t height, double px, double py) {
   const CameraFrame f = frame_of(camera, width, height);
-  const double ndc_x = 2.0 * (x + 0.5) / width - 1.0;
-  const double ndc_y = 2.0 * (y + 0.5) / height - 1.0;  // grows downwards, as Vulkan's
+  const double ndc_x = 2.0 * px / width - 1.0;
+  const double ndc_y = 2.0 * py / height - 1.0;  // grows downwards, as Vulkan's
   const glm::dvec3 d = f.forward + ndc_x * f.tan_half_fovy * f.aspect * f.right - ndc_y * f.tan_half_fovy * f.up;
   return glm::normalize(d);
 }
 
-std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height) {
+std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
+                                        double offset_x, double offset_y, std::vector<uint32_t>* cells_hit) {
   std::vector<double> image(size_t(width) * height, 0.0);
+  if (cells_hit) cells_hit->assign(image.size(), 0u);
   const CameraFrame f = frame_of(camera, width, height);
   for (size_t c = 0; c < mesh.tets.size(); ++c) {
     const double sigma = mesh.cell_extinction[c];
@@ -88,10 +97,11 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
     for (double yd = y0; yd <= y1; ++yd)
       for (double xd = x0; xd <= x1; ++xd) {
         const auto x = static_cast<uint32_t>(xd), y = static_cast<uint32_t>(yd);
-        const glm::dvec3 dir = pixel_ray_direction(camera, width, height, x, y);
+        const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
         const double t_near = camera.near_distance / glm::dot(dir, f.forward);
         const Interval in = ray_tetrahedron(v, camera.eye, dir, t_near, std::numeric_limits<double>::infinity());
         image[size_t(y) * width + x] += sigma * in.length();
+        if (cells_hit && !in.empty()) ++(*cells_hit)[size_t(y) * width + x];
       }
   }
   return image;

@@ -24,12 +24,17 @@ struct Interval {
 Interval ray_tetrahedron(const std::array<glm::dvec3, 4>& v, const glm::dvec3& origin, const glm::dvec3& direction,
                          double t_min, double t_max);
 
-// The pixel ray through the centre of pixel (x, y) of a width x height image (row 0 at the
-// top), as the renderer defines it: unit direction from the eye.
-glm::dvec3 pixel_ray_direction(const Camera& camera, uint32_t width, uint32_t height, uint32_t x, uint32_t y);
+// The ray through the image point (px, py) of a width x height image, in continuous pixel
+// coordinates (pixel (x, y) has its centre at (x + 0.5, y + 0.5); row 0 at the top), as
+// the renderer defines it: unit direction from the eye.
+glm::dvec3 ray_direction(const Camera& camera, uint32_t width, uint32_t height, double px, double py);
 
 // Optical depth per pixel: sum over cells of sigma * length of the pixel ray inside the cell,
-// counting only the part beyond the near plane. Row-major, row 0 at the top.
-std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height);
+// counting only the part beyond the near plane. Row-major, row 0 at the top. Each pixel's
+// ray passes through its centre moved by (offset_x, offset_y) pixels. When `cells_hit` is
+// given it receives, per pixel, how many cells the ray crosses with a positive length.
+std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
+                                        double offset_x = 0.0, double offset_y = 0.0,
+                                        std::vector<uint32_t>* cells_hit = nullptr);
 
 }  // namespace prismoid::reference

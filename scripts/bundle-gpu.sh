@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Builds here a self-contained bundle that runs `prismoid render` and `prismoid devices` on a
+# machine with a GPU driver but no package registry (our H100 machine): the executable (its
+# SPIR-V is embedded), every shared library it needs but glibc's (the Vulkan loader included),
+# the validation layer for --validate, and a launcher. See docs/gpu.md.
+#   scripts/bundle-gpu.sh [OUT_DIR]      (default: bundle/)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out="${1:-bundle}"
+./scripts/setup.sh
+./scripts/build.sh >/dev/null
+rm -rf "$out"
+mkdir -p "$out/lib" "$out/layers"
+cp build/app/prismoid "$out/"
+# glibc and the dynamic linker come from the target machine (newer glibc runs older binaries).
+ldd build/app/prismoid | awk '/=> \// {print $3}' |
+  grep -vE '/(libc|libm|libdl|libpthread|librt|ld-linux-x86-64)\.so' |
+  while read -r lib; do cp -L "$lib" "$out/lib/"; done
+# The Khronos validation layer, for `--validate` there.
+layer_json=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
+if [ -f "$layer_json" ]; then
+  cp -L /usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so "$out/layers/"
+  sed 's#"library_path": *"[^"]*"#"library_path": "./libVkLayer_khronos_validation.so"#' "$layer_json" >"$out/layers/VkLayer_khronos_validation.json"
+fi
+cat >"$out/prismoid.sh" <<'LAUNCH'
+#!/usr/bin/env bash
+# Runs the bundled prismoid with its own libraries and the machine's Vulkan driver.
+here="$(cd "$(dirname "$0")" && pwd)"
+export LD_LIBRARY_PATH="$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+export VK_ADD_LAYER_PATH="$here/layers"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+# NVIDIA's ICD manifest where the GPU machine keeps it, unless the system loader finds one.
+if [ -z "${VK_DRIVER_FILES:-}" ] && [ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ] &&
+   [ ! -f /usr/share/vulkan/icd.d/nvidia_icd.json ] && [ ! -f /etc/vulkan/icd.d/nvidia_icd.json ]; then
+  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+fi
+exec "$here/prismoid" "$@"
+LAUNCH
+chmod +x "$out/prismoid.sh"
+du -sh "$out"
+echo "bundle ready: $out/prismoid.sh devices"

@@ -1,0 +1,67 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "renderer/reference/tet_ray.hpp"
+#include "scene/generators.hpp"
+
+namespace prismoid {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+TEST(RayTetrahedron, AxisRayThroughCornerTetrahedron) {
+  // Tetrahedron x, y, z >= 0, x + y + z <= 1; the ray along z at (0.2, 0.3) is inside for
+  // z in [0, 0.5].
+  std::array<glm::dvec3, 4> v = {glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)};
+  const auto in = reference::ray_tetrahedron(v, {0.2, 0.3, -1.0}, {0, 0, 1}, 0.0, kInf);
+  EXPECT_NEAR(in.enter, 1.0, 1e-15);
+  EXPECT_NEAR(in.exit, 1.5, 1e-15);
+  std::swap(v[1], v[2]);  // the other orientation gives the same interval
+  EXPECT_NEAR(reference::ray_tetrahedron(v, {0.2, 0.3, -1.0}, {0, 0, 1}, 0.0, kInf).length(), 0.5, 1e-15);
+  EXPECT_TRUE(reference::ray_tetrahedron(v, {0.8, 0.3, -1.0}, {0, 0, 1}, 0.0, kInf).empty());
+}
+
+TEST(RayTetrahedron, KuhnSplitChordsSumToTheBoxChord) {
+  // The six tetrahedra of a cube partition it, so the lengths through them add up to the
+  // chord through the cube, for any ray.
+  const TetMesh m = make_box_mesh(glm::dvec3(0), glm::dvec3(1), 1, [](const glm::dvec3&) { return 1.0; });
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.05, 0.95);
+  for (int i = 0; i < 200; ++i) {
+    const glm::dvec3 origin(u(rng), u(rng), -2.0);
+    const glm::dvec3 target(u(rng), u(rng), 3.0);
+    const glm::dvec3 dir = glm::normalize(target - origin);
+    double sum = 0.0;
+    for (const auto& t : m.tets) {
+      std::array<glm::dvec3, 4> v;
+      for (int k = 0; k < 4; ++k) v[k] = m.points[t[k]];
+      sum += reference::ray_tetrahedron(v, origin, dir, 0.0, kInf).length();
+    }
+    // Chord through the slab 0 <= z <= 1 while x, y stay inside (they do for these rays
+    // only if they do at both planes; otherwise clip against the box).
+    double t0 = 0.0, t1 = kInf;
+    for (int a = 0; a < 3; ++a) {
+      if (dir[a] == 0.0) continue;
+      double ta = (0.0 - origin[a]) / dir[a], tb = (1.0 - origin[a]) / dir[a];
+      t0 = std::max(t0, std::min(ta, tb));
+      t1 = std::min(t1, std::max(ta, tb));
+    }
+    EXPECT_NEAR(sum, std::max(0.0, t1 - t0), 1e-12) << "ray " << i;
+  }
+}
+
+TEST(OpticalDepthImage, ConstantCubeGivesSigmaTimesChord) {
+  const TetMesh m = make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 2, [](const glm::dvec3&) { return 0.5; });
+  Camera c;
+  c.eye = {0, 0, 10};
+  c.fovy_degrees = 10.0;
+  const auto img = reference::optical_depth_image(m, c, 9, 9);
+  // The central pixel's ray runs along the z axis through the whole cube: length 2.
+  EXPECT_NEAR(img[4 * 9 + 4], 0.5 * 2.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace prismoid
