@@ -78,12 +78,18 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
     // Pixel bounds of the projection when the cell lies in front of the eye; all pixels
     // otherwise (the plane tests decide).
     double x0 = 0, x1 = width - 1.0, y0 = 0, y1 = height - 1.0;
-    bool in_front = true;
+    bool in_front = true, any_in_front = false;
+    for (const auto& p : v) {
+      const double depth = glm::dot(p - camera.eye, f.forward);
+      in_front = in_front && depth > camera.near_distance;
+      any_in_front = any_in_front || depth > camera.near_distance;
+    }
+    if (!any_in_front) continue;  // wholly behind the near plane: nothing to integrate
     double px_min = 1e300, px_max = -1e300, py_min = 1e300, py_max = -1e300;
     for (const auto& p : v) {
+      if (!in_front) break;
       const glm::dvec3 rel = p - camera.eye;
       const double depth = glm::dot(rel, f.forward);
-      if (depth <= camera.near_distance) { in_front = false; break; }
       const double nx = glm::dot(rel, f.right) / (depth * f.tan_half_fovy * f.aspect);
       const double ny = -glm::dot(rel, f.up) / (depth * f.tan_half_fovy);
       const double px = (nx + 1.0) * 0.5 * width - 0.5, py = (ny + 1.0) * 0.5 * height - 0.5;

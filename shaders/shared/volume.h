@@ -11,8 +11,9 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_BINDING_TETS 2       // readonly uvec4[]: four point indices per cell
 #define PRISMOID_BINDING_CELL_SIGMA 3 // readonly float[]: extinction per cell (1/length)
 
-// Tetrahedra handled by one mesh-shader workgroup, one per invocation.
-#define PRISMOID_TETS_PER_WORKGROUP 32
+// Tetrahedra handled by one mesh-shader workgroup, one per invocation. A near-clipped cell
+// emits up to 15 vertices, and 256 output vertices is the common limit (lavapipe, NVIDIA).
+#define PRISMOID_TETS_PER_WORKGROUP 16
 // A tetrahedron's proxy: at most 5 vertices and 4 triangles (case 2 of the projection).
 #define PRISMOID_PROXY_MAX_VERTICES 5
 #define PRISMOID_PROXY_MAX_TRIANGLES 4
@@ -21,7 +22,7 @@ struct FrameUniforms {
   mat4 view;        // mesh-local coordinates -> camera space (camera looks along -z)
   mat4 projection;  // camera space -> clip space (Vulkan: y down, depth 0..1)
   vec4 viewport;    // width, height, 1/width, 1/height
-  vec4 ray_scale;   // 1/P[0][0], 1/P[1][1], near distance, unused
+  vec4 ray_scale;   // 1/P[0][0], 1/P[1][1], near distance (cells are clipped there), unused
   uvec4 counts;     // tetrahedron count, unused...
 };
 
