@@ -1,6 +1,8 @@
 #include "app/cli.hpp"
 
 #include <charconv>
+#include <chrono>
+#include <memory>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,9 +12,12 @@
 #include <optional>
 #include <sstream>
 
+#include <glm/common.hpp>
+
 #include "app/viewer.hpp"
 #include "io/image_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/reference/tet_ray.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
@@ -43,7 +48,7 @@ const char* kRenderHelp =
     "\n"
     "  --output PATH        image to write: .png (display colour, sRGB) or .pfm (the quantity, float32)\n"
     "  --stats PATH         write a JSON file with the device, the passes that ran and their GPU times\n"
-    "  --mode MODE          rendering mode: interval (interval shading; the only volume mode so far)\n"
+    "  --mode MODE          interval (interval shading on the GPU) | reference (CPU, double precision, exact)\n"
     "  --quantity Q         optical-depth | transmittance (default transmittance)\n"
     "  --size WxH           image size in pixels (default 800x600)\n"
     "  --eye x,y,z --target x,y,z --up x,y,z --fovy DEG --near N\n"
@@ -237,6 +242,30 @@ int cmd_devices(const std::vector<std::string>& args) {
   return validation_exit(instance);
 }
 
+// The CPU double-precision reference, resolved the way the GPU's resolve pass does it.
+frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+                                       VkExtent2D size) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<double> tau = reference::optical_depth_image(mesh, camera, size.width, size.height);
+  frame::OffscreenFrame f;
+  f.width = size.width;
+  f.height = size.height;
+  f.quantity.resize(tau.size());
+  f.display.resize(tau.size() * 4);
+  for (size_t i = 0; i < tau.size(); ++i) {
+    const double t = std::exp(-tau[i]);
+    f.quantity[i] = float(resolve.quantity == volume::Quantity::Transmittance ? t : tau[i]);
+    const glm::dvec3 c = glm::mix(glm::dvec3(resolve.medium), glm::dvec3(resolve.background), t);
+    f.display[4 * i + 0] = float(c.r);
+    f.display[4 * i + 1] = float(c.g);
+    f.display[4 * i + 2] = float(c.b);
+    f.display[4 * i + 3] = 1.0f;
+  }
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  f.passes.push_back({"reference (CPU, double)", ms});
+  return f;
+}
+
 int cmd_render(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf"}), {"validate", "help"});
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
@@ -244,7 +273,8 @@ int cmd_render(const std::vector<std::string>& args) {
   const std::string output = a.values.at("output");
   if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
   const std::string mode = a.has("mode") ? a.values.at("mode") : "interval";
-  if (mode != "interval") throw InputError("--mode", "unknown mode '" + mode + "' (available: interval)");
+  if (mode != "interval" && mode != "reference")
+    throw InputError("--mode", "unknown mode '" + mode + "' (available: interval, reference)");
   volume::Quantity quantity = volume::Quantity::Transmittance;
   if (a.has("quantity")) {
     const std::string& q = a.values.at("quantity");
@@ -261,14 +291,25 @@ int cmd_render(const std::vector<std::string>& args) {
   validate(mesh);
   const Camera camera = camera_from(a, bounds_of(mesh));
 
-  vk::Instance instance({.validation = a.flags.count("validate") > 0});
-  const auto devices = vk::query_devices(instance.get());
-  const auto& caps = vk::select_device(devices, device_index);
-  vk::Device device(instance, caps, {});
-  frame::FrameRenderer renderer(device, mesh);
   frame::FrameSettings settings;
   settings.resolve.quantity = quantity;
-  const frame::OffscreenFrame result = renderer.render_offscreen(camera, settings, size);
+  frame::OffscreenFrame result;
+  std::string device_name, driver;
+  std::unique_ptr<vk::Instance> instance;
+  if (mode == "reference") {
+    device_name = "CPU reference (double precision)";
+    result = render_reference(mesh, camera, settings.resolve, size);
+  } else {
+    instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
+    const auto devices = vk::query_devices(instance->get());
+    const auto& caps = vk::select_device(devices, device_index);
+    device_name = caps.name;
+    driver = caps.driver_info;
+    vk::Device device(*instance, caps, {});
+    frame::FrameRenderer renderer(device, mesh);
+    result = renderer.render_offscreen(camera, settings, size);
+  }
+  const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
   io::FloatImage image;
   image.width = result.width;
@@ -283,18 +324,19 @@ int cmd_render(const std::vector<std::string>& args) {
   io::write_image(output, image);
 
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
-            << mesh.tets.size() << " cells) on " << caps.name << "\n";
+            << mesh.tets.size() << " cells) on " << device_name << "\n";
   double total = 0.0;
   for (const auto& p : result.passes) {
-    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms GPU" : "no timestamps") << "\n";
+    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps")
+              << (mode == "reference" ? " CPU" : " GPU") << "\n";
     total += p.gpu_ms;
   }
-  std::cout << "  total: " << json_number(total) << " ms GPU\n";
+  std::cout << "  total: " << json_number(total) << (mode == "reference" ? " ms CPU\n" : " ms GPU\n");
 
   if (a.has("stats")) {
     const std::string stats_path = a.values.at("stats");
     std::ostringstream js;
-    js << "{\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"driver\": \"" << json_escape(caps.driver_info)
+    js << "{\n  \"device\": \"" << json_escape(device_name) << "\",\n  \"driver\": \"" << json_escape(driver)
        << "\",\n  \"dataset\": \"" << json_escape(mesh.name) << "\",\n  \"cells\": " << mesh.tets.size()
        << ",\n  \"mode\": \"" << mode << "\",\n  \"quantity\": \""
        << (quantity == volume::Quantity::OpticalDepth ? "optical-depth" : "transmittance") << "\",\n  \"width\": " << size.width
@@ -303,11 +345,11 @@ int cmd_render(const std::vector<std::string>& args) {
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.passes[i].name)
          << "\", \"gpu_ms\": " << json_number(result.passes[i].gpu_ms) << "}";
     js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": "
-       << instance.validation_log().count() << "\n}\n";
+       << validation_messages << "\n}\n";
     std::ofstream out(stats_path);
     if (!out || !(out << js.str())) throw InputError(stats_path, "cannot write the stats file");
   }
-  return validation_exit(instance);
+  return instance ? validation_exit(*instance) : kOk;
 }
 
 int cmd_view(const std::vector<std::string>& args) {

@@ -104,6 +104,24 @@ TEST(Cli, RenderWritesPfmThatMatchesTheReference) {
   EXPECT_NE(js.find("\"validation_messages\": 0"), std::string::npos) << js;
 }
 
+TEST(Cli, ReferenceModeWritesTheCpuReference) {
+  const fs::path pfm = work_dir() / "ref.pfm";
+  const CliRun r = run("render --mode reference --quantity transmittance --size 20x15 --eye 2,1.5,4.5 --target 0,0,0 --output " +
+                       pfm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("CPU reference"), std::string::npos) << r.out;
+  const io::FloatImage img = io::read_pfm(pfm.string());
+  Camera c;
+  c.eye = {2, 1.5, 4.5};
+  c.target = {0, 0, 0};
+  const TetMesh mesh = make_default_volume();
+  c.near_distance = fit_camera(bounds_of(mesh)).near_distance;
+  const auto tau = reference::optical_depth_image(mesh, c, 20, 15);
+  ASSERT_EQ(img.pixels.size(), tau.size());
+  for (size_t i = 0; i < tau.size(); ++i)
+    EXPECT_NEAR(img.pixels[i], std::exp(-tau[i]), 1e-7) << i;  // float32 rounding of a value <= 1
+}
+
 TEST(Cli, RenderWritesPng) {
   const fs::path png = work_dir() / "default.png";
   const CliRun r = run("render --size 64x48 --output " + png.string());
