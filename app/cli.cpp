@@ -16,6 +16,7 @@
 
 #include "app/viewer.hpp"
 #include "io/image_io.hpp"
+#include "io/vtk_tet_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/vk/capabilities.hpp"
@@ -56,13 +57,17 @@ const char* kRenderHelp =
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "\n"
-    "With no FILE the embedded default dataset is rendered. Reading dataset files arrives with the\n"
-    "data layer (VTK readers); until then a FILE argument is refused with exit code 2.\n";
+    "  --array NAME         cell array giving the extinction (vectors by magnitude); default sigma = 1\n"
+    "  --density-scale S    multiplies the extinction (default 1)\n"
+    "\n"
+    "FILE: a tetrahedral .vtu or legacy .vtk unstructured grid. With no FILE the embedded\n"
+    "default dataset is rendered.\n";
 
 const char* kViewHelp =
     "usage: prismoid view [FILE...] [options]\n"
     "\n"
     "  --size WxH           initial window size (default 1280x800)\n"
+    "  --array NAME --density-scale S   extinction from a cell array, as for render\n"
     "  --eye/--target/--up/--fovy/--near   initial camera, as for render\n"
     "  --frames N           close after N frames (for scripted runs)\n"
     "  --device N           use Vulkan device N\n"
@@ -155,13 +160,20 @@ std::optional<uint32_t> parse_device(const ParsedArgs& a) {
   return parse_uint("device", a.values.at("device"));
 }
 
-// The datasets named on the command line; the embedded default when none is named.
-TetMesh load_scene(const std::vector<std::string>& files) {
-  if (files.empty()) return make_default_volume();
-  const std::string& f = files.front();
-  if (!std::filesystem::exists(f)) throw InputError(f, "file does not exist");
-  throw InputError(f, "this build cannot read dataset files yet (the VTK readers arrive with the data layer); "
-                      "run without FILE to see the embedded default dataset");
+// The dataset named on the command line; the embedded default when none is named.
+TetMesh load_scene(const ParsedArgs& a) {
+  if (a.files.empty()) {
+    if (a.has("array")) throw InputError("--array", "the embedded default dataset has no arrays to choose from");
+    return make_default_volume();
+  }
+  if (a.files.size() > 1) throw InputError(a.files[1], "several datasets in one scene arrive with the viewer; give one FILE");
+  io::TetReadOptions options;
+  if (a.has("array")) options.array = a.values.at("array");
+  if (a.has("density-scale")) {
+    options.density_scale = parse_double("density-scale", a.values.at("density-scale"));
+    if (options.density_scale < 0.0) throw InputError("--density-scale", "must not be negative");
+  }
+  return io::read_tet_mesh(a.files.front(), options);
 }
 
 Camera camera_from(const ParsedArgs& a, const Bounds& bounds) {
@@ -267,7 +279,7 @@ frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera
 }
 
 int cmd_render(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf"}), {"validate", "help"});
+  ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf", "array", "density-scale"}), {"validate", "help"});
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");
@@ -287,7 +299,7 @@ int cmd_render(const std::vector<std::string>& args) {
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
   const auto device_index = parse_device(a);
 
-  const TetMesh mesh = load_scene(a.files);
+  const TetMesh mesh = load_scene(a);
   validate(mesh);
   const Camera camera = camera_from(a, bounds_of(mesh));
 
@@ -353,9 +365,9 @@ int cmd_render(const std::vector<std::string>& args) {
 }
 
 int cmd_view(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, with_camera({"size", "frames", "device"}), {"validate", "help"});
+  ParsedArgs a = parse(args, 1, with_camera({"size", "frames", "device", "array", "density-scale"}), {"validate", "help"});
   if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
-  const TetMesh mesh = load_scene(a.files);
+  const TetMesh mesh = load_scene(a);
   validate(mesh);
   ViewerOptions options;
   if (a.has("size")) {

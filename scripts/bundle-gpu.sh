@@ -22,6 +22,8 @@ if [ -f "$layer_json" ]; then
   cp -L /usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so "$out/layers/"
   sed 's#"library_path": *"[^"]*"#"library_path": "./libVkLayer_khronos_validation.so"#' "$layer_json" >"$out/layers/VkLayer_khronos_validation.json"
 fi
+# Debug symbols stay here: the device call carries at most 64 MiB.
+strip --strip-unneeded "$out/prismoid" "$out"/lib/*.so* "$out"/layers/*.so 2>/dev/null || true
 cat >"$out/prismoid.sh" <<'LAUNCH'
 #!/usr/bin/env bash
 # Runs the bundled prismoid with its own libraries and the machine's Vulkan driver.

@@ -10,6 +10,7 @@ BASE_PACKAGES=(
   glslang-tools
   libglfw3-dev libglm-dev libstb-dev
   libgtest-dev
+  libvtk9-dev
   xvfb xauth
 )
 # Mesa's lavapipe from bookworm-backports: 25.x exposes VK_EXT_mesh_shader; bookworm's 22.3 does not.

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "io/image_io.hpp"
+#include "io/vtk_tet_io.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"
 
@@ -122,6 +123,23 @@ TEST(Cli, ReferenceModeWritesTheCpuReference) {
     EXPECT_NEAR(img.pixels[i], std::exp(-tau[i]), 1e-7) << i;  // float32 rounding of a value <= 1
 }
 
+TEST(Cli, RendersAVtuFileLikeTheSameMeshBuiltIn) {
+  // The default dataset written as .vtu and read back through VTK renders bit-identically.
+  const fs::path vtu = work_dir() / "default.vtu";
+  io::write_tet_mesh_vtu(vtu.string(), make_default_volume());
+  const fs::path from_file = work_dir() / "file.pfm", built_in = work_dir() / "builtin.pfm";
+  const std::string camera = " --quantity optical-depth --size 32x24 --eye 2,1.5,4.5 --target 0,0,0 --near 0.1 --output ";
+  CliRun r = run("render " + vtu.string() + " --array extinction" + camera + from_file.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("render" + camera + built_in.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto a = io::read_pfm(from_file.string()), b = io::read_pfm(built_in.string());
+  EXPECT_EQ(a.pixels, b.pixels);
+  double sum = 0.0;
+  for (float v : a.pixels) sum += double(v);
+  EXPECT_GT(sum, 1.0);
+}
+
 TEST(Cli, RenderWritesPng) {
   const fs::path png = work_dir() / "default.png";
   const CliRun r = run("render --size 64x48 --output " + png.string());
@@ -139,6 +157,7 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render --output x.png --fovy abc", "--fovy"},
       {"render --output x.png --eye 0,0,0 --target 0,0,0", "camera"},
       {"render --output x.png /no/such/file.vtu", "/no/such/file.vtu: file does not exist"},
+      {"render --output x.png --array rho", "--array"},
       {"render --output x.png --mode nonsense", "--mode"},
       {"render --output x.png --bogus", "--bogus"},
       {"render", "--output"},

@@ -1,0 +1,93 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "io/vtk_tet_io.hpp"
+#include "scene/generators.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid {
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("prismoid_vtk_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+void expect_error(const std::string& path, const io::TetReadOptions& options, const std::string& fragment) {
+  try {
+    io::read_tet_mesh(path, options);
+    FAIL() << "expected an InputError containing '" << fragment << "'";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), path);
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(VtkTetIo, VtuRoundTripKeepsPointsCellsAndTheChosenArray) {
+  const TetMesh mesh = make_box_mesh(glm::dvec3(1e5), glm::dvec3(1e5 + 2.0), 2, [](const glm::dvec3& p) { return p.x - 1e5 + 0.25; });
+  const std::string path = temp_path("box.vtu");
+  io::write_tet_mesh_vtu(path, mesh);
+  const TetMesh back = io::read_tet_mesh(path, {.array = "extinction", .density_scale = 2.0});
+  ASSERT_EQ(back.points.size(), mesh.points.size());
+  ASSERT_EQ(back.tets.size(), mesh.tets.size());
+  EXPECT_EQ(back.points, mesh.points);  // doubles survive exactly, far from the origin too
+  EXPECT_EQ(back.tets, mesh.tets);
+  for (size_t i = 0; i < mesh.tets.size(); ++i) EXPECT_DOUBLE_EQ(back.cell_extinction[i], 2.0 * mesh.cell_extinction[i]);
+  // Without an array every cell has sigma = density scale.
+  const TetMesh plain = io::read_tet_mesh(path);
+  for (double s : plain.cell_extinction) EXPECT_EQ(s, 1.0);
+  std::filesystem::remove(path);
+}
+
+TEST(VtkTetIo, UnknownAndPointArraysAreNamedWithTheAlternatives) {
+  TetMesh mesh = make_box_mesh(glm::dvec3(0), glm::dvec3(1), 1, [](const glm::dvec3&) { return 1.0; });
+  const std::string path = temp_path("arrays.vtu");
+  io::write_tet_mesh_vtu(path, mesh);
+  expect_error(path, {.array = "density"}, "cell arrays: extinction");
+  expect_error(path, {.array = "scalars"}, "is a point array");
+  std::filesystem::remove(path);
+}
+
+TEST(VtkTetIo, LegacyFileWithHexahedraIsRefusedWithTheCellTypes) {
+  const std::string path = temp_path("hex.vtk");
+  std::ofstream(path) << "# vtk DataFile Version 3.0\nhex\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 8 double\n"
+                         "0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1\nCELLS 1 9\n8 0 1 2 3 4 5 6 7\nCELL_TYPES 1\n12\n";
+  expect_error(path, {}, "1 vtkHexahedron");
+  std::filesystem::remove(path);
+}
+
+TEST(VtkTetIo, LegacyTetrahedraWithCellScalarsAreRead) {
+  const std::string path = temp_path("tet.vtk");
+  std::ofstream(path) << "# vtk DataFile Version 3.0\ntet\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 double\n"
+                         "0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n"
+                         "CELL_DATA 1\nSCALARS sigma double 1\nLOOKUP_TABLE default\n2.5\n";
+  const TetMesh m = io::read_tet_mesh(path, {.array = "sigma"});
+  ASSERT_EQ(m.tets.size(), 1u);
+  EXPECT_EQ(m.cell_extinction[0], 2.5);
+  EXPECT_EQ(m.points[3], glm::dvec3(0, 0, 1));
+  std::filesystem::remove(path);
+}
+
+TEST(VtkTetIo, BadFilesAreInputErrorsNamingTheFile) {
+  expect_error("/no/such/file.vtu", {}, "does not exist");
+  const std::string garbage = temp_path("garbage.vtu");
+  std::ofstream(garbage) << "this is not XML at all";
+  expect_error(garbage, {}, "not a VTK XML unstructured grid");
+  const std::string legacy_garbage = temp_path("garbage.vtk");
+  std::ofstream(legacy_garbage) << "hello\n";
+  expect_error(legacy_garbage, {}, "legacy VTK");
+  const std::string wrong_ext = temp_path("mesh.xyz");
+  std::ofstream(wrong_ext) << "1 2 3\n";
+  expect_error(wrong_ext, {}, "unknown dataset type");
+  const std::string negative = temp_path("negative.vtk");
+  std::ofstream(negative) << "# vtk DataFile Version 3.0\ntet\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 double\n"
+                             "0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n"
+                             "CELL_DATA 1\nSCALARS sigma double 1\nLOOKUP_TABLE default\n-1\n";
+  expect_error(negative, {.array = "sigma"}, "must be finite and >= 0");
+  for (const auto& p : {garbage, legacy_garbage, wrong_ext, negative}) std::filesystem::remove(p);
+}
+
+}  // namespace
+}  // namespace prismoid
