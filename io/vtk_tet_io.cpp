@@ -91,16 +91,18 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options) {
     mesh.points[size_t(i)] = {p[0], p[1], p[2]};
   }
 
-  vtkDataArray* array = nullptr;
+  vtkDataArray* array = nullptr;        // a cell array: sigma constant per cell
+  vtkDataArray* point_array = nullptr;  // a point array: sigma linear in each cell
   if (!options.array.empty()) {
     array = grid->GetCellData()->GetArray(options.array.c_str());
-    if (!array) {
-      if (grid->GetPointData()->GetArray(options.array.c_str()))
-        throw InputError(path, "'" + options.array + "' is a point array; point arrays (linear in each cell) arrive with "
-                               "per-vertex fields in interval shading. Cell arrays here: " + array_names(grid->GetCellData()));
-      throw InputError(path, "has no cell array '" + options.array + "' (cell arrays: " + array_names(grid->GetCellData()) +
+    if (!array) point_array = grid->GetPointData()->GetArray(options.array.c_str());
+    if (!array && !point_array)
+      throw InputError(path, "has no array '" + options.array + "' (cell arrays: " + array_names(grid->GetCellData()) +
                                  "; point arrays: " + array_names(grid->GetPointData()) + ")");
-    }
+  }
+  if (point_array) {
+    mesh.point_extinction.resize(mesh.points.size());
+    for (vtkIdType i = 0; i < point_count; ++i) mesh.point_extinction[size_t(i)] = value_of(point_array, i) * options.density_scale;
   }
 
   std::map<std::string, vtkIdType> other_cells;
@@ -113,7 +115,13 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options) {
     }
     grid->GetCellPoints(c, ids);
     mesh.tets.push_back({uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)), uint32_t(ids->GetId(2)), uint32_t(ids->GetId(3))});
-    mesh.cell_extinction.push_back(array ? value_of(array, c) * options.density_scale : options.density_scale);
+    double sigma = options.density_scale;
+    if (array) sigma = value_of(array, c) * options.density_scale;
+    if (point_array) {  // the cell's mean, for statistics; rendering interpolates the points
+      sigma = 0.0;
+      for (int k = 0; k < 4; ++k) sigma += 0.25 * mesh.point_extinction[size_t(ids->GetId(k))];
+    }
+    mesh.cell_extinction.push_back(sigma);
   }
   if (!other_cells.empty()) {
     std::string list;

@@ -8,7 +8,8 @@
 namespace prismoid::io {
 
 struct TetReadOptions {
-  // Cell array that gives the extinction (vectors by magnitude). Empty: sigma = 1 per cell.
+  // Array that gives the extinction (vectors by magnitude): a cell array makes sigma constant
+  // per cell, a point array makes it linear in each cell. Empty: sigma = 1 per cell.
   std::string array;
   double density_scale = 1.0;  // multiplies the array's values
 };

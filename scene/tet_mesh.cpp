@@ -28,6 +28,16 @@ void validate(const TetMesh& mesh) {
   if (!mesh.point_scalars.empty() && mesh.point_scalars.size() != mesh.points.size())
     throw InputError(src, "point scalar array has " + std::to_string(mesh.point_scalars.size()) + " values for " +
                               std::to_string(mesh.points.size()) + " points");
+  if (mesh.linear_extinction()) {
+    if (mesh.point_extinction.size() != mesh.points.size())
+      throw InputError(src, "has " + std::to_string(mesh.points.size()) + " points but " +
+                                std::to_string(mesh.point_extinction.size()) + " point extinction values");
+    for (size_t i = 0; i < mesh.point_extinction.size(); ++i) {
+      const double s = mesh.point_extinction[i];
+      if (!std::isfinite(s) || s < 0.0)
+        throw InputError(src, "point " + std::to_string(i) + " has extinction " + std::to_string(s) + " (must be finite and >= 0)");
+    }
+  }
   for (size_t i = 0; i < mesh.points.size(); ++i) {
     const auto& p = mesh.points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))

@@ -20,8 +20,12 @@ struct TetMesh {
   std::string name;
   std::vector<glm::dvec3> points;
   std::vector<std::array<uint32_t, 4>> tets;
-  std::vector<double> cell_extinction;  // sigma per cell, in 1/length units; >= 0
-  std::vector<double> point_scalars;    // optional scalar field per point (empty if none)
+  std::vector<double> cell_extinction;   // sigma per cell, in 1/length units; >= 0
+  // Optional sigma per point. When present, sigma is linear in each cell (interpolated from its
+  // four points) and cell_extinction holds each cell's mean, for display and statistics only.
+  std::vector<double> point_extinction;
+  std::vector<double> point_scalars;     // optional scalar field per point (empty if none)
+  bool linear_extinction() const { return !point_extinction.empty(); }
 };
 
 Bounds bounds_of(const TetMesh& mesh);

@@ -38,6 +38,18 @@ Interval ray_tetrahedron(const std::array<glm::dvec3, 4>& v, const glm::dvec3& o
   return r;
 }
 
+double interpolate_linear(const std::array<glm::dvec3, 4>& v, const std::array<double, 4>& s, const glm::dvec3& p) {
+  const double volume = signed_volume(v[0], v[1], v[2], v[3]);
+  if (volume == 0.0) return 0.25 * (s[0] + s[1] + s[2] + s[3]);
+  double value = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    std::array<glm::dvec3, 4> w = v;
+    w[i] = p;
+    value += s[i] * signed_volume(w[0], w[1], w[2], w[3]) / volume;
+  }
+  return value;
+}
+
 namespace {
 
 struct CameraFrame {
@@ -72,9 +84,14 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
   const CameraFrame f = frame_of(camera, width, height);
   for (size_t c = 0; c < mesh.tets.size(); ++c) {
     const double sigma = mesh.cell_extinction[c];
-    if (sigma == 0.0) continue;
     std::array<glm::dvec3, 4> v;
-    for (int i = 0; i < 4; ++i) v[i] = mesh.points[mesh.tets[c][i]];
+    std::array<double, 4> point_sigma{};
+    for (int i = 0; i < 4; ++i) {
+      v[i] = mesh.points[mesh.tets[c][i]];
+      if (mesh.linear_extinction()) point_sigma[i] = mesh.point_extinction[mesh.tets[c][i]];
+    }
+    if (mesh.linear_extinction() ? std::max({point_sigma[0], point_sigma[1], point_sigma[2], point_sigma[3]}) == 0.0 : sigma == 0.0)
+      continue;
     // Pixel bounds of the projection when the cell lies in front of the eye; all pixels
     // otherwise (the plane tests decide).
     double x0 = 0, x1 = width - 1.0, y0 = 0, y1 = height - 1.0;
@@ -106,7 +123,12 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
         const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
         const double t_near = camera.near_distance / glm::dot(dir, f.forward);
         const Interval in = ray_tetrahedron(v, camera.eye, dir, t_near, std::numeric_limits<double>::infinity());
-        image[size_t(y) * width + x] += sigma * in.length();
+        if (in.empty()) continue;
+        double mean_sigma = sigma;
+        if (mesh.linear_extinction())
+          mean_sigma = 0.5 * (interpolate_linear(v, point_sigma, camera.eye + in.enter * dir) +
+                              interpolate_linear(v, point_sigma, camera.eye + in.exit * dir));
+        image[size_t(y) * width + x] += mean_sigma * in.length();
         if (cells_hit && !in.empty()) ++(*cells_hit)[size_t(y) * width + x];
       }
   }

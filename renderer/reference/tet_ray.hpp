@@ -29,7 +29,13 @@ Interval ray_tetrahedron(const std::array<glm::dvec3, 4>& v, const glm::dvec3& o
 // the renderer defines it: unit direction from the eye.
 glm::dvec3 ray_direction(const Camera& camera, uint32_t width, uint32_t height, double px, double py);
 
-// Optical depth per pixel: sum over cells of sigma * length of the pixel ray inside the cell,
+// sigma at p inside the tetrahedron v with values s at its vertices, by barycentric
+// interpolation (signed volumes, double precision). Zero-volume cells give the mean.
+double interpolate_linear(const std::array<glm::dvec3, 4>& v, const std::array<double, 4>& s, const glm::dvec3& p);
+
+// Optical depth per pixel: sum over cells of the integral of sigma along the pixel ray inside
+// the cell (sigma constant per cell, or linear when the mesh has point extinction: then the
+// integral is the length times the mean of sigma at the entry and exit points),
 // counting only the part beyond the near plane. Row-major, row 0 at the top. Each pixel's
 // ray passes through its centre moved by (offset_x, offset_y) pixels. When `cells_hit` is
 // given it receives, per pixel, how many cells the ray crosses with a positive length.

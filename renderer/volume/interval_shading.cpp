@@ -17,11 +17,12 @@ constexpr VkFormat kOpticalDepthFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kQuantityFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kDisplayFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
-const std::array<vk::DescriptorBinding, 4> kMeshBindings = {{
+const std::array<vk::DescriptorBinding, 5> kMeshBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT},
     {PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_CELL_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_POINT_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
 }};
 
 const std::array<vk::DescriptorBinding, 3> kResolveBindings = {{
@@ -55,6 +56,9 @@ GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   gpu.positions = vk::upload_buffer(device, bytes_of(positions), usage);
   gpu.tets = vk::upload_buffer(device, bytes_of(tets), usage);
   gpu.cell_sigma = vk::upload_buffer(device, bytes_of(sigma), usage);
+  gpu.linear = mesh.linear_extinction();
+  std::vector<float> point_sigma(mesh.point_extinction.begin(), mesh.point_extinction.end());
+  gpu.point_sigma = vk::upload_buffer(device, bytes_of(point_sigma), usage);
   return gpu;
 }
 
@@ -100,6 +104,7 @@ void IntervalShadingPass::bind_mesh(const GpuTetMesh& mesh) {
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.positions.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.tets.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_CELL_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.cell_sigma.get());
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POINT_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.point_sigma.get());
   bound_mesh_ = &mesh;
 }
 
@@ -126,7 +131,7 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
   frame.projection = to_float(proj);
   frame.viewport = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
   frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance), 0.0f);
-  frame.counts = glm::uvec4(mesh.tet_count, 0, 0, 0);
+  frame.counts = glm::uvec4(mesh.tet_count, mesh.linear ? 1u : 0u, 0, 0);
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
 
   {

@@ -25,8 +25,10 @@ struct GpuTetMesh {
   vk::Buffer positions;
   vk::Buffer tets;
   vk::Buffer cell_sigma;
+  vk::Buffer point_sigma;  // a stub when sigma is constant per cell
   glm::dvec3 origin{0.0};
   uint32_t tet_count = 0;
+  bool linear = false;     // sigma linear per cell, from point_sigma
 };
 GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh);
 

@@ -10,6 +10,7 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_BINDING_POSITIONS 1  // readonly vec4[]: xyz relative to the mesh origin
 #define PRISMOID_BINDING_TETS 2       // readonly uvec4[]: four point indices per cell
 #define PRISMOID_BINDING_CELL_SIGMA 3 // readonly float[]: extinction per cell (1/length)
+#define PRISMOID_BINDING_POINT_SIGMA 4 // readonly float[]: extinction per point (linear fields)
 
 // Tetrahedra handled by one mesh-shader workgroup, one per invocation. A near-clipped cell
 // emits up to 15 vertices, and 256 output vertices is the common limit (lavapipe, NVIDIA).
@@ -23,7 +24,7 @@ struct FrameUniforms {
   mat4 projection;  // camera space -> clip space (Vulkan: y down, depth 0..1)
   vec4 viewport;    // width, height, 1/width, 1/height
   vec4 ray_scale;   // 1/P[0][0], 1/P[1][1], near distance (cells are clipped there), unused
-  uvec4 counts;     // tetrahedron count, unused...
+  uvec4 counts;     // x: tetrahedron count, y: 1 when sigma is linear per cell (point values)
 };
 
 // Push constants of the resolve pass (optical depth -> display colour).

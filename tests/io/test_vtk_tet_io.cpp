@@ -41,12 +41,21 @@ TEST(VtkTetIo, VtuRoundTripKeepsPointsCellsAndTheChosenArray) {
   std::filesystem::remove(path);
 }
 
-TEST(VtkTetIo, UnknownAndPointArraysAreNamedWithTheAlternatives) {
+TEST(VtkTetIo, UnknownArrayIsNamedWithTheAlternatives) {
   TetMesh mesh = make_box_mesh(glm::dvec3(0), glm::dvec3(1), 1, [](const glm::dvec3&) { return 1.0; });
   const std::string path = temp_path("arrays.vtu");
   io::write_tet_mesh_vtu(path, mesh);
-  expect_error(path, {.array = "density"}, "cell arrays: extinction");
-  expect_error(path, {.array = "scalars"}, "is a point array");
+  expect_error(path, {.array = "density"}, "cell arrays: extinction; point arrays: scalars");
+  std::filesystem::remove(path);
+}
+
+TEST(VtkTetIo, PointArrayGivesLinearExtinction) {
+  TetMesh mesh = make_box_mesh(glm::dvec3(0), glm::dvec3(1), 2, [](const glm::dvec3& p) { return 1.0 + p.x; });
+  const std::string path = temp_path("points.vtu");
+  io::write_tet_mesh_vtu(path, mesh);
+  const TetMesh back = io::read_tet_mesh(path, {.array = "scalars", .density_scale = 3.0});
+  ASSERT_TRUE(back.linear_extinction());
+  for (size_t i = 0; i < mesh.points.size(); ++i) EXPECT_DOUBLE_EQ(back.point_extinction[i], 3.0 * (1.0 + mesh.points[i].x));
   std::filesystem::remove(path);
 }
 
