@@ -39,6 +39,7 @@ const char* kUsage =
     "  view [FILE...]     open the window (the default verb when a display is available)\n"
     "  render [FILE...]   render an image headless (the default verb without a display)\n"
     "  devices            list Vulkan devices and the features each mode needs\n"
+    "  convert [IN] OUT   write a tetrahedral mesh (or the default dataset) as .vtu\n"
     "  help [VERB]        this text, or a verb's options\n"
     "\n"
     "With no FILE the embedded default dataset is shown. `prismoid VERB --help` for options.\n"
@@ -365,6 +366,27 @@ int cmd_render(const std::vector<std::string>& args) {
   return instance ? validation_exit(*instance) : kOk;
 }
 
+const char* kConvertHelp =
+    "usage: prismoid convert [IN] OUT.vtu [--array NAME --density-scale S]\n"
+    "\n"
+    "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
+    "input has one, the point array 'scalars'. IN is a .vtu/.vtk file; without IN, the embedded\n"
+    "default dataset is written (its point array 'scalars' holds the field sampled at the points).\n";
+
+int cmd_convert(const std::vector<std::string>& args) {
+  ParsedArgs a = parse(args, 1, {"array", "density-scale"}, {"help"});
+  if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
+  if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
+  const std::string out = a.files.back();
+  if (std::filesystem::path(out).extension() != ".vtu") throw InputError(out, "convert writes .vtu files only (for now)");
+  a.files.pop_back();
+  TetMesh mesh = load_scene(a);
+  if (mesh.point_scalars.empty() && mesh.linear_extinction()) mesh.point_scalars = mesh.point_extinction;
+  io::write_tet_mesh_vtu(out, mesh);
+  std::cout << "wrote " << out << " (" << mesh.tets.size() << " tetrahedra, " << mesh.points.size() << " points)\n";
+  return kOk;
+}
+
 int cmd_view(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, with_camera({"size", "frames", "device", "array", "density-scale"}), {"validate", "help"});
   if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
@@ -404,18 +426,20 @@ int dispatch(const std::vector<std::string>& args) {
     if (args.size() > 1 && args[1] == "render") std::cout << kRenderHelp;
     else if (args.size() > 1 && args[1] == "view") std::cout << kViewHelp;
     else if (args.size() > 1 && args[1] == "devices") std::cout << kDevicesHelp;
+    else if (args.size() > 1 && args[1] == "convert") std::cout << kConvertHelp;
     else std::cout << kUsage;
     return kOk;
   }
   if (verb == "devices") return cmd_devices(args);
   if (verb == "render") return cmd_render(args);
   if (verb == "view") return cmd_view(args);
+  if (verb == "convert") return cmd_convert(args);
   if (verb.rfind("--", 0) == 0) {  // options without a verb: the default verb
     std::vector<std::string> with_verb{display_available() ? "view" : "render"};
     with_verb.insert(with_verb.end(), args.begin(), args.end());
     return with_verb.front() == "view" ? cmd_view(with_verb) : cmd_render(with_verb);
   }
-  throw InputError(verb, "unknown verb (verbs: view, render, devices, help)");
+  throw InputError(verb, "unknown verb (verbs: view, render, convert, devices, help)");
 }
 
 }  // namespace

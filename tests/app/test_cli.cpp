@@ -21,6 +21,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Removes the scratch folder when the suite ends.
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override;
+};
+
 struct CliRun {
   int code = -1;
   std::string out;
@@ -32,6 +38,12 @@ fs::path work_dir() {
   fs::create_directories(d);
   return d;
 }
+
+void ScratchCleanup::TearDown() {
+  std::error_code ignored;
+  fs::remove_all(work_dir(), ignored);
+}
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p);
@@ -61,7 +73,7 @@ TEST(Cli, DevicesListsAMeshShaderDevice) {
 }
 
 TEST(Cli, EveryVerbHasHelp) {
-  for (const char* verb : {"render", "view", "devices"}) {
+  for (const char* verb : {"render", "view", "devices", "convert"}) {
     const CliRun r = run(std::string(verb) + " --help");
     EXPECT_EQ(r.code, 0) << verb;
     EXPECT_NE(r.out.find("usage: prismoid " + std::string(verb)), std::string::npos) << r.out;
@@ -140,6 +152,32 @@ TEST(Cli, RendersAVtuFileLikeTheSameMeshBuiltIn) {
   EXPECT_GT(sum, 1.0);
 }
 
+TEST(Cli, PointArrayRendersTheLinearFieldLikeTheReference) {
+  TetMesh mesh = make_default_volume();
+  const fs::path vtu = work_dir() / "points.vtu", pfm = work_dir() / "points.pfm";
+  const CliRun converted = run("convert " + vtu.string());
+  ASSERT_EQ(converted.code, 0) << converted.err;
+  const CliRun r = run("render " + vtu.string() + " --array scalars --quantity optical-depth --size 32x24 --eye 2,1.5,4.5 "
+                       "--target 0,0,0 --near 0.1 --output " + pfm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  mesh.point_extinction = mesh.point_scalars;
+  Camera c;
+  c.eye = {2, 1.5, 4.5};
+  c.target = {0, 0, 0};
+  c.near_distance = 0.1;
+  const auto ref = reference::optical_depth_image(mesh, c, 32, 24);
+  const auto img = io::read_pfm(pfm.string());
+  double peak = 0.0, rms = 0.0;
+  for (size_t i = 0; i < ref.size(); ++i) {
+    peak = std::max(peak, ref[i]);
+    const double d = double(img.pixels[i]) - ref[i];
+    rms += d * d;
+  }
+  rms = std::sqrt(rms / double(ref.size()));
+  EXPECT_GT(peak, 0.5);
+  EXPECT_LT(rms, 1e-3 * peak);  // aggregate check; the per-pixel derivation is in the volume tests
+}
+
 TEST(Cli, RenderWritesPng) {
   const fs::path png = work_dir() / "default.png";
   const CliRun r = run("render --size 64x48 --output " + png.string());
@@ -158,6 +196,7 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render --output x.png --eye 0,0,0 --target 0,0,0", "camera"},
       {"render --output x.png /no/such/file.vtu", "/no/such/file.vtu: file does not exist"},
       {"render --output x.png --array rho", "--array"},
+      {"convert out.stl", "out.stl"},
       {"render --output x.png --mode nonsense", "--mode"},
       {"render --output x.png --bogus", "--bogus"},
       {"render", "--output"},
