@@ -20,6 +20,20 @@ float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 // sense for a positively oriented tetrahedron. Their projected signed areas sum to zero.
 const uvec3 kFaceOpposite[4] = uvec3[4](uvec3(1, 2, 3), uvec3(0, 3, 2), uvec3(0, 1, 3), uvec3(0, 2, 1));
 
+// Drops proxy triangles of (near) zero area. They arise when a vertex falls on the silhouette
+// (edge-on faces); their true coverage is nil, but a rasterizer given a sliver of rounding
+// width can still cover pixel centres with it, interpolating attributes across a vanishing
+// area, which gives wild values or NaN.
+void drop_degenerate_triangles(inout TetProxy proxy, float eps) {
+  uint kept = 0u;
+  for (uint t = 0u; t < proxy.triangle_count; ++t) {
+    uvec3 tri = proxy.triangles[t];
+    float a = cross2(proxy.ndc[tri.y] - proxy.ndc[tri.x], proxy.ndc[tri.z] - proxy.ndc[tri.x]);
+    if (abs(a) > eps) proxy.triangles[kept++] = tri;
+  }
+  proxy.triangle_count = kept;
+}
+
 TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
   TetProxy proxy;
   proxy.vertex_count = 0u;
@@ -33,17 +47,21 @@ TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
     inv_d[i] = 1.0 / (-cam[i].z);
   }
 
-  // Signed doubled areas of the projected faces. The tolerance is relative to the size of
-  // the projected tetrahedron: a face whose area is below it is edge-on and carries no
-  // coverage, so it must not decide the classification.
+  // Signed doubled areas of the projected faces. A face whose area is below `eps` is edge-on
+  // and carries no coverage, so it must not decide the classification. `eps` has two parts:
+  // one relative to the projected size of the tetrahedron, and one for rounding: projected
+  // positions carry an error of a few ulps of their magnitude (|s| up to ~1 in NDC), so an
+  // exactly edge-on face (an edge along the view ray, a face in a plane through the eye)
+  // computes an area of that error times the tetrahedron's extent, not zero.
   float area[4];
-  float scale = 0.0;
+  float scale = 0.0, magnitude = 0.0;
   for (int i = 0; i < 4; ++i) {
     uvec3 f = kFaceOpposite[i];
     area[i] = cross2(s[f.y] - s[f.x], s[f.z] - s[f.x]);
     for (int j = 0; j < 4; ++j) scale = max(scale, dot(s[i] - s[j], s[i] - s[j]));
+    magnitude = max(magnitude, max(abs(s[i].x), abs(s[i].y)));
   }
-  float eps = 1e-6 * scale;
+  float eps = 1e-6 * scale + 64.0 * 5.96e-8 * max(magnitude, 1.0) * sqrt(scale);
   int positive = 0, negative = 0;
   for (int i = 0; i < 4; ++i) {
     if (area[i] > eps) ++positive;
@@ -68,6 +86,7 @@ TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
       lambdas[k] = clamp(-area[f[k]] / denom, 0.0, 1.0);
       lambda_sum += lambdas[k];
     }
+    if (!(lambda_sum > 0.0)) return proxy;  // cannot happen when the areas sum to zero; keeps NaN out
     for (int k = 0; k < 3; ++k) inv_far_face += lambdas[k] / lambda_sum * inv_d[f[k]];
     for (int k = 0; k < 3; ++k) {
       proxy.ndc[k] = s[f[k]];
@@ -80,6 +99,7 @@ TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
     proxy.triangles[2] = uvec3(3, 2, 0);
     proxy.vertex_count = 4u;
     proxy.triangle_count = 3u;
+    drop_degenerate_triangles(proxy, eps);
     return proxy;
   }
 
@@ -97,7 +117,10 @@ TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
   int c = pos[0], d = pos[1];   // diagonal 2: edge c-d
   vec2 ab = s[b] - s[a];
   vec2 cd = s[d] - s[c];
+  // |denom| is twice the quad's area, the sum of the two positive faces' (> 2 eps), so the
+  // division is safe; the guard only keeps NaN out if rounding ever says otherwise.
   float denom = cross2(ab, cd);
+  if (!(abs(denom) > 0.0)) return proxy;
   float t = clamp(cross2(s[c] - s[a], cd) / denom, 0.0, 1.0);
   float u = clamp(cross2(s[c] - s[a], ab) / denom, 0.0, 1.0);
   proxy.ndc[0] = s[a];
@@ -116,6 +139,7 @@ TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
   proxy.triangles[3] = uvec3(4, 3, 0);
   proxy.vertex_count = 5u;
   proxy.triangle_count = 4u;
+  drop_degenerate_triangles(proxy, eps);
   return proxy;
 }
 
