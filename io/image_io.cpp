@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/path_util.hpp"
 #include "scene/input_error.hpp"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -27,11 +28,6 @@ namespace prismoid::io {
 
 namespace {
 
-std::string extension_of(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 uint8_t to_srgb8(float linear) {
   float v = std::clamp(std::isfinite(linear) ? linear : 0.0f, 0.0f, 1.0f);
@@ -112,12 +108,12 @@ FloatImage read_pfm(const std::string& path) {
 }
 
 bool is_supported_image_path(const std::string& path) {
-  const std::string ext = extension_of(path);
+  const std::string ext = detail::lower_extension(path);
   return ext == ".png" || ext == ".pfm";
 }
 
 void write_image(const std::string& path, const FloatImage& image) {
-  const std::string ext = extension_of(path);
+  const std::string ext = detail::lower_extension(path);
   if (ext == ".png") return write_png(path, image);
   if (ext == ".pfm") return write_pfm(path, image);
   throw InputError(path, "unknown image type '" + ext + "': use .png or .pfm");

@@ -17,20 +17,16 @@
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include "io/path_util.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::io {
 
 namespace {
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 vtkSmartPointer<vtkUnstructuredGrid> read_grid(const std::string& path) {
-  const std::string ext = lower_extension(path);
+  const std::string ext = detail::lower_extension(path);
   if (ext == ".vtu") {
     vtkNew<vtkXMLUnstructuredGridReader> reader;
     if (!reader->CanReadFile(path.c_str())) throw InputError(path, "is not a VTK XML unstructured grid (.vtu) file");
@@ -69,13 +65,13 @@ double value_of(vtkDataArray* array, vtkIdType i) {
 }  // namespace
 
 bool is_tet_mesh_path(const std::string& path) {
-  const std::string ext = lower_extension(path);
+  const std::string ext = detail::lower_extension(path);
   return ext == ".vtu" || ext == ".vtk";
 }
 
 TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options) {
   if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
-  if (!is_tet_mesh_path(path)) throw InputError(path, "unknown dataset type '" + lower_extension(path) + "' (this build reads .vtu and .vtk)");
+  if (!is_tet_mesh_path(path)) throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (this build reads .vtu and .vtk)");
   vtkObject::GlobalWarningDisplayOff();  // failures become InputErrors, not console noise
   vtkSmartPointer<vtkUnstructuredGrid> grid = read_grid(path);
 

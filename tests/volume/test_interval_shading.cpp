@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
+#include <utility>
 
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/tet_ray.hpp"
@@ -247,6 +248,18 @@ TEST_F(IntervalShadingTest, SliversAndZeroVolumeCellsStayFiniteAndExact) {
   }
 }
 
+// The ray parameters where origin + t * direction (t >= 0) enters and leaves the cube
+// [-1, 1]^3, by the slab method (t1 <= t0 when it misses).
+std::pair<double, double> cube_interval(const glm::dvec3& origin, const glm::dvec3& direction) {
+  double t0 = 0.0, t1 = 1e300;
+  for (int a = 0; a < 3; ++a) {
+    const double ta = (-1.0 - origin[a]) / direction[a], tb = (1.0 - origin[a]) / direction[a];
+    t0 = std::max(t0, std::min(ta, tb));
+    t1 = std::min(t1, std::max(ta, tb));
+  }
+  return {t0, t1};
+}
+
 TEST_F(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
   // Through a constant-extinction box the optical depth is sigma times the chord, which the
   // slab method gives in closed form: the reference must match it to rounding, and the GPU
@@ -263,12 +276,7 @@ TEST_F(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       const glm::dvec3 d = reference::ray_direction(camera, w, h, x + 0.5, y + 0.5);
-      double t0 = 0.0, t1 = 1e300;
-      for (int a = 0; a < 3; ++a) {
-        const double ta = (-1.0 - camera.eye[a]) / d[a], tb = (1.0 - camera.eye[a]) / d[a];
-        t0 = std::max(t0, std::min(ta, tb));
-        t1 = std::min(t1, std::max(ta, tb));
-      }
+      const auto [t0, t1] = cube_interval(camera.eye, d);
       const double chord = std::max(0.0, t1 - t0);
       if (chord < 0.05) continue;  // rays grazing the box's edges: covered by the tests above
       ++interior;
@@ -299,12 +307,7 @@ TEST_F(IntervalShadingTest, GloballyLinearFieldEqualsClosedForm) {
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       const glm::dvec3 d = reference::ray_direction(camera, w, h, x + 0.5, y + 0.5);
-      double t0 = 0.0, t1 = 1e300;
-      for (int a = 0; a < 3; ++a) {
-        const double ta = (-1.0 - camera.eye[a]) / d[a], tb = (1.0 - camera.eye[a]) / d[a];
-        t0 = std::max(t0, std::min(ta, tb));
-        t1 = std::min(t1, std::max(ta, tb));
-      }
+      const auto [t0, t1] = cube_interval(camera.eye, d);
       if (t1 - t0 < 0.05) continue;  // grazing rays: covered by the per-pixel tests
       ++interior;
       const double exact = (t1 - t0) * sigma(camera.eye + 0.5 * (t0 + t1) * d);
