@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "renderer/vk/device.hpp"
@@ -76,6 +77,12 @@ VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent) {
 }
 
 IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(device) {
+  const auto& caps = device.capabilities();
+  if (caps.max_mesh_output_vertices < PRISMOID_WORKGROUP_MAX_VERTICES ||
+      caps.max_mesh_output_primitives < PRISMOID_WORKGROUP_MAX_TRIANGLES)
+    throw vk::NoSuitableDevice(caps.name + " allows " + std::to_string(caps.max_mesh_output_vertices) + " vertices / " +
+                               std::to_string(caps.max_mesh_output_primitives) + " primitives per mesh workgroup; interval shading needs " +
+                               std::to_string(PRISMOID_WORKGROUP_MAX_VERTICES) + " / " + std::to_string(PRISMOID_WORKGROUP_MAX_TRIANGLES));
   mesh_set_layout_ = vk::create_descriptor_set_layout(device, kMeshBindings);
   VkDescriptorSetLayout mesh_sets[] = {mesh_set_layout_.get()};
   mesh_layout_ = vk::create_pipeline_layout(device, mesh_sets, {});

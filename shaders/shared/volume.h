@@ -18,6 +18,10 @@ PRISMOID_SHARED_BEGIN
 // A tetrahedron's proxy: at most 5 vertices and 4 triangles (case 2 of the projection).
 #define PRISMOID_PROXY_MAX_VERTICES 5
 #define PRISMOID_PROXY_MAX_TRIANGLES 4
+// A near-clipped cell becomes up to 3 pieces, each with its own proxy; a workgroup declares
+// room for all of its cells' pieces.
+#define PRISMOID_WORKGROUP_MAX_VERTICES (PRISMOID_TETS_PER_WORKGROUP * 3 * PRISMOID_PROXY_MAX_VERTICES)
+#define PRISMOID_WORKGROUP_MAX_TRIANGLES (PRISMOID_TETS_PER_WORKGROUP * 3 * PRISMOID_PROXY_MAX_TRIANGLES)
 
 struct FrameUniforms {
   mat4 view;        // mesh-local coordinates -> camera space (camera looks along -z)

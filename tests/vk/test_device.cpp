@@ -5,6 +5,7 @@
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/memory.hpp"
+#include "shaders/shared/volume.h"
 #include "support/gpu_fixture.hpp"
 
 namespace prismoid {
@@ -17,7 +18,9 @@ TEST_F(DeviceTest, ChosenDeviceHasMeshShaders) {
   EXPECT_TRUE(caps.mesh_shader) << caps.name;
   EXPECT_TRUE(caps.api_1_3);
   EXPECT_NE(caps.queue_family, UINT32_MAX);
-  EXPECT_GE(caps.max_mesh_output_vertices, 160u);  // 32 tetrahedra x 5 proxy vertices per workgroup
+  // What the interval-shading mesh shader declares per workgroup.
+  EXPECT_GE(caps.max_mesh_output_vertices, uint32_t(PRISMOID_WORKGROUP_MAX_VERTICES));
+  EXPECT_GE(caps.max_mesh_output_primitives, uint32_t(PRISMOID_WORKGROUP_MAX_TRIANGLES));
 }
 
 TEST_F(DeviceTest, BufferRoundTripsThroughTheGpu) {

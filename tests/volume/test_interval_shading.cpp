@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
+#include <functional>
 #include <random>
 #include <utility>
 
@@ -32,7 +33,7 @@ namespace prismoid {
 namespace {
 
 class IntervalShadingTest : public test::GpuTest {
- protected:
+ public:
   std::vector<float> render(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h) {
     frame::FrameRenderer renderer(device(), mesh);
     frame::FrameSettings settings;
@@ -260,12 +261,8 @@ std::pair<double, double> cube_interval(const glm::dvec3& origin, const glm::dve
   return {t0, t1};
 }
 
-TEST_F(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
-  // Through a constant-extinction box the optical depth is sigma times the chord, which the
-  // slab method gives in closed form: the reference must match it to rounding, and the GPU
-  // must match the reference within the per-pixel tolerances derived above.
-  const double sigma = 0.75;
-  const TetMesh mesh = make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 5, [&](const glm::dvec3&) { return sigma; });
+void expect_closed_form_through_cube(IntervalShadingTest& test, const TetMesh& mesh,
+                                     const std::function<double(const glm::dvec3&)>& sigma) {
   Camera camera;
   camera.eye = {1.7, 2.1, 3.9};
   camera.fovy_degrees = 45.0;
@@ -277,45 +274,33 @@ TEST_F(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
     for (uint32_t x = 0; x < w; ++x) {
       const glm::dvec3 d = reference::ray_direction(camera, w, h, x + 0.5, y + 0.5);
       const auto [t0, t1] = cube_interval(camera.eye, d);
-      const double chord = std::max(0.0, t1 - t0);
-      if (chord < 0.05) continue;  // rays grazing the box's edges: covered by the tests above
+      if (t1 - t0 < 0.05) continue;  // rays grazing the cube's edges: covered by the per-pixel tests
       ++interior;
-      // The tetrahedral reference is exact here: the Kuhn cells partition the box.
-      EXPECT_NEAR(ref[y * w + x], sigma * chord, 1e-12) << "reference, pixel " << x << "," << y;
+      const double exact = (t1 - t0) * sigma(camera.eye + 0.5 * (t0 + t1) * d);
+      EXPECT_NEAR(ref[y * w + x], exact, 1e-12) << "reference, pixel " << x << "," << y;
     }
-  // The GPU against the (now proven exact) reference, with the per-pixel tolerances above.
-  const Comparison c = compare(mesh, camera, w, h);
-  EXPECT_EQ(c.failures, 0u) << c.first_failure;
   EXPECT_GT(interior, 300u);
+  const auto c = test.compare(mesh, camera, w, h);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure;
+}
+
+// For a field sigma that is linear over the cube [-1, 1]^3 (constant included), the optical
+// depth along a ray is the chord times sigma at the chord's midpoint, in closed form. The
+// tetrahedral reference must match it to rounding (the Kuhn cells partition the cube), and
+// the GPU must match the reference within the per-pixel tolerances derived above.
+TEST_F(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
+  auto sigma = [](const glm::dvec3&) { return 0.75; };
+  expect_closed_form_through_cube(*this, make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 5, sigma), sigma);
 }
 
 // Beyond the paper: per-vertex extinction, linear in each cell.
 
 TEST_F(IntervalShadingTest, GloballyLinearFieldEqualsClosedForm) {
-  // sigma(p) = 1 + 0.3x + 0.2y - 0.1z is linear everywhere, so every cell reproduces it and the
-  // optical depth through the box is the chord times sigma at the chord's midpoint.
+  // Linear everywhere, so every cell's interpolation reproduces it exactly.
   auto sigma = [](const glm::dvec3& p) { return 1.0 + 0.3 * p.x + 0.2 * p.y - 0.1 * p.z; };
   TetMesh mesh = make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 4, sigma);
   mesh.point_extinction = mesh.point_scalars;
-  Camera camera;
-  camera.eye = {1.7, 2.1, 3.9};
-  camera.fovy_degrees = 45.0;
-  camera.near_distance = 0.1;
-  const uint32_t w = 40, h = 40;
-  const std::vector<double> ref = reference::optical_depth_image(mesh, camera, w, h);
-  size_t interior = 0;
-  for (uint32_t y = 0; y < h; ++y)
-    for (uint32_t x = 0; x < w; ++x) {
-      const glm::dvec3 d = reference::ray_direction(camera, w, h, x + 0.5, y + 0.5);
-      const auto [t0, t1] = cube_interval(camera.eye, d);
-      if (t1 - t0 < 0.05) continue;  // grazing rays: covered by the per-pixel tests
-      ++interior;
-      const double exact = (t1 - t0) * sigma(camera.eye + 0.5 * (t0 + t1) * d);
-      EXPECT_NEAR(ref[y * w + x], exact, 1e-12) << "reference, pixel " << x << "," << y;
-    }
-  const Comparison c = compare(mesh, camera, w, h);
-  EXPECT_EQ(c.failures, 0u) << c.first_failure;
-  EXPECT_GT(interior, 300u);
+  expect_closed_form_through_cube(*this, mesh, sigma);
 }
 
 TEST_F(IntervalShadingTest, PointExtinctionOnDefaultDatasetMatchesReference) {
