@@ -36,8 +36,8 @@ const char* kUsage =
     "usage: prismoid [VERB] [options]\n"
     "\n"
     "verbs:\n"
-    "  view [FILE...]     open the window (the default verb when a display is available)\n"
-    "  render [FILE...]   render an image headless (the default verb without a display)\n"
+    "  view [FILE]        open the window (the default verb when a display is available)\n"
+    "  render [FILE]      render an image headless (the default verb without a display)\n"
     "  devices            list Vulkan devices and the features each mode needs\n"
     "  convert [IN] OUT   write a tetrahedral mesh (or the default dataset) as .vtu\n"
     "  help [VERB]        this text, or a verb's options\n"
@@ -46,7 +46,7 @@ const char* kUsage =
     "Exit codes: 0 ok, 2 bad input, 3 no suitable Vulkan device, 4 validation messages (--validate), 1 other failure.\n";
 
 const char* kRenderHelp =
-    "usage: prismoid render [FILE...] --output OUT.png|OUT.pfm [options]\n"
+    "usage: prismoid render [FILE] --output OUT.png|OUT.pfm [options]\n"
     "\n"
     "  --output PATH        image to write: .png (display colour, sRGB) or .pfm (the quantity, float32)\n"
     "  --stats PATH         write a JSON file with the device, the passes that ran and their GPU times\n"
@@ -66,7 +66,7 @@ const char* kRenderHelp =
     "default dataset is rendered.\n";
 
 const char* kViewHelp =
-    "usage: prismoid view [FILE...] [options]\n"
+    "usage: prismoid view [FILE] [options]\n"
     "\n"
     "  --size WxH           initial window size (default 1280x800)\n"
     "  --array NAME --density-scale S   extinction from a cell array, as for render\n"
@@ -164,17 +164,19 @@ std::optional<uint32_t> parse_device(const ParsedArgs& a) {
 
 // The dataset named on the command line; the embedded default when none is named.
 TetMesh load_scene(const ParsedArgs& a) {
-  if (a.files.empty()) {
-    if (a.has("array")) throw InputError("--array", "the embedded default dataset has no arrays to choose from");
-    return make_default_volume();
-  }
-  if (a.files.size() > 1) throw InputError(a.files[1], "several datasets in one scene arrive with the viewer; give one FILE");
   io::TetReadOptions options;
   if (a.has("array")) options.array = a.values.at("array");
   if (a.has("density-scale")) {
     options.density_scale = parse_double("density-scale", a.values.at("density-scale"));
     if (options.density_scale < 0.0) throw InputError("--density-scale", "must not be negative");
   }
+  if (a.files.empty()) {
+    if (a.has("array")) throw InputError("--array", "the embedded default dataset has no arrays to choose from");
+    TetMesh mesh = make_default_volume();
+    for (double& s : mesh.cell_extinction) s *= options.density_scale;
+    return mesh;
+  }
+  if (a.files.size() > 1) throw InputError(a.files[1], "several datasets in one scene arrive with the viewer; give one FILE");
   return io::read_tet_mesh(a.files.front(), options);
 }
 

@@ -150,10 +150,18 @@ void write_tet_mesh_vtu(const std::string& path, const TetMesh& mesh) {
     for (double v : mesh.point_scalars) scalars->InsertNextValue(v);
     grid->GetPointData()->AddArray(scalars);
   }
+  // Written beside the target and renamed, so a failed write never leaves a partial file.
+  const std::string tmp = path + ".partial";
   vtkNew<vtkXMLUnstructuredGridWriter> writer;
-  writer->SetFileName(path.c_str());
+  writer->SetFileName(tmp.c_str());
   writer->SetInputData(grid);
-  if (writer->Write() != 1) throw InputError(path, "cannot write the .vtu file");
+  std::error_code ec;
+  if (writer->Write() != 1) {
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path, "cannot write the .vtu file (does the folder exist, is it writable?)");
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw InputError(path, "cannot write the .vtu file: " + ec.message());
 }
 
 }  // namespace prismoid::io

@@ -175,6 +175,21 @@ TEST(Cli, PointArrayRendersTheLinearFieldLikeTheReference) {
   expect_close_to_reference(img, ref);
 }
 
+TEST(Cli, DensityScaleMultipliesTheOpticalDepth) {
+  const fs::path one = work_dir() / "one.pfm", two = work_dir() / "two.pfm";
+  const std::string args = "render --quantity optical-depth --size 24x16 --output ";
+  ASSERT_EQ(run(args + one.string()).code, 0);
+  ASSERT_EQ(run(args + two.string() + " --density-scale 2").code, 0);
+  const auto a = io::read_pfm(one.string()), b = io::read_pfm(two.string());
+  double peak = 0.0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    peak = std::max(peak, double(a.pixels[i]));
+    // Doubling every sigma doubles each float term exactly: the sums agree to rounding.
+    EXPECT_NEAR(b.pixels[i], 2.0f * a.pixels[i], 1e-5f * (1.0f + a.pixels[i])) << i;
+  }
+  EXPECT_GT(peak, 0.5);
+}
+
 TEST(Cli, RenderWritesPng) {
   const fs::path png = work_dir() / "default.png";
   const CliRun r = run("render --size 64x48 --output " + png.string());
@@ -194,6 +209,7 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render --output x.png /no/such/file.vtu", "/no/such/file.vtu: file does not exist"},
       {"render --output x.png --array rho", "--array"},
       {"convert out.stl", "out.stl"},
+      {"convert /no/such/dir/out.vtu", "/no/such/dir/out.vtu"},
       {"render --output x.png --mode nonsense", "--mode"},
       {"render --output x.png --bogus", "--bogus"},
       {"render", "--output"},
