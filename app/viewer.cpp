@@ -219,6 +219,7 @@ ViewerReport run_viewer(const TetMesh& mesh, const ViewerOptions& options) {
     vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
 
     renderer.resize(swapchain.extent());
+    renderer.prepare(control.camera, settings);  // the previous frame's fence has signalled
     vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;

@@ -96,9 +96,15 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options) {
       throw InputError(path, "has no array '" + options.array + "' (cell arrays: " + array_names(grid->GetCellData()) +
                                  "; point arrays: " + array_names(grid->GetPointData()) + ")");
   }
+  // The raw values are the scalar field; as extinction they are scaled.
+  const bool extinction = options.role == ArrayRole::Extinction;
   if (point_array) {
-    mesh.point_extinction.resize(mesh.points.size());
-    for (vtkIdType i = 0; i < point_count; ++i) mesh.point_extinction[size_t(i)] = value_of(point_array, i) * options.density_scale;
+    mesh.point_scalars.resize(mesh.points.size());
+    for (vtkIdType i = 0; i < point_count; ++i) mesh.point_scalars[size_t(i)] = value_of(point_array, i);
+    if (extinction) {
+      mesh.point_extinction.resize(mesh.points.size());
+      for (size_t i = 0; i < mesh.points.size(); ++i) mesh.point_extinction[i] = mesh.point_scalars[i] * options.density_scale;
+    }
   }
 
   std::map<std::string, vtkIdType> other_cells;
@@ -112,8 +118,11 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options) {
     grid->GetCellPoints(c, ids);
     mesh.tets.push_back({uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)), uint32_t(ids->GetId(2)), uint32_t(ids->GetId(3))});
     double sigma = options.density_scale;
-    if (array) sigma = value_of(array, c) * options.density_scale;
-    if (point_array) {  // the cell's mean, for statistics; rendering interpolates the points
+    if (array) {
+      mesh.cell_scalars.push_back(value_of(array, c));
+      if (extinction) sigma = mesh.cell_scalars.back() * options.density_scale;
+    }
+    if (point_array && extinction) {  // the cell's mean, for statistics; rendering interpolates the points
       sigma = 0.0;
       for (int k = 0; k < 4; ++k) sigma += 0.25 * mesh.point_extinction[size_t(ids->GetId(k))];
     }

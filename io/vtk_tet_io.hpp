@@ -7,11 +7,18 @@
 
 namespace prismoid::io {
 
+// What the chosen array means.
+enum class ArrayRole {
+  Extinction,  // the array's values (times density_scale) are sigma; must be >= 0
+  Scalars,     // a scalar field for a transfer function; any finite values
+};
+
 struct TetReadOptions {
-  // Array that gives the extinction (vectors by magnitude): a cell array makes sigma constant
-  // per cell, a point array makes it linear in each cell. Empty: sigma = 1 per cell.
+  // The array to use (vectors by magnitude): a cell array is constant per cell, a point array
+  // linear in each cell. Empty: sigma = density_scale per cell, and no scalar field.
   std::string array;
-  double density_scale = 1.0;  // multiplies the array's values
+  ArrayRole role = ArrayRole::Extinction;
+  double density_scale = 1.0;  // multiplies the array's values (Extinction role only)
 };
 
 // Throws InputError naming the file and the problem: missing or unreadable file, not a VTK

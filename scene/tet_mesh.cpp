@@ -28,6 +28,14 @@ void validate(const TetMesh& mesh) {
   if (!mesh.point_scalars.empty() && mesh.point_scalars.size() != mesh.points.size())
     throw InputError(src, "point scalar array has " + std::to_string(mesh.point_scalars.size()) + " values for " +
                               std::to_string(mesh.points.size()) + " points");
+  if (!mesh.cell_scalars.empty() && mesh.cell_scalars.size() != mesh.tets.size())
+    throw InputError(src, "cell scalar array has " + std::to_string(mesh.cell_scalars.size()) + " values for " +
+                              std::to_string(mesh.tets.size()) + " cells");
+  for (const auto* field : {&mesh.point_scalars, &mesh.cell_scalars})
+    for (size_t i = 0; i < field->size(); ++i)
+      if (!std::isfinite((*field)[i]))
+        throw InputError(src, std::string(field == &mesh.point_scalars ? "point " : "cell ") + std::to_string(i) +
+                                  " has a non-finite scalar value");
   if (mesh.linear_extinction()) {
     if (mesh.point_extinction.size() != mesh.points.size())
       throw InputError(src, "has " + std::to_string(mesh.points.size()) + " points but " +

@@ -24,7 +24,10 @@ struct TetMesh {
   // Optional sigma per point. When present, sigma is linear in each cell (interpolated from its
   // four points) and cell_extinction holds each cell's mean, for display and statistics only.
   std::vector<double> point_extinction;
-  std::vector<double> point_scalars;     // optional scalar field per point (empty if none)
+  // The scalar field a transfer function maps to colour and extinction (emission-absorption):
+  // per point (linear in each cell) when point_scalars is filled, else per cell. Both may be empty.
+  std::vector<double> point_scalars;
+  std::vector<double> cell_scalars;
   bool linear_extinction() const { return !point_extinction.empty(); }
 };
 

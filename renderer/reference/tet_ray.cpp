@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <limits>
+#include <functional>
 
 namespace prismoid::reference {
 
@@ -77,21 +78,13 @@ glm::dvec3 ray_direction(const Camera& camera, uint32_t width, uint32_t height, 
   return glm::normalize(d);
 }
 
-std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
-                                        double offset_x, double offset_y, std::vector<uint32_t>* cells_hit) {
-  std::vector<double> image(size_t(width) * height, 0.0);
-  if (cells_hit) cells_hit->assign(image.size(), 0u);
+void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height, double offset_x, double offset_y,
+                 const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit) {
   const CameraFrame f = frame_of(camera, width, height);
   for (size_t c = 0; c < mesh.tets.size(); ++c) {
-    const double sigma = mesh.cell_extinction[c];
+    if (!wanted(c)) continue;
     std::array<glm::dvec3, 4> v;
-    std::array<double, 4> point_sigma{};
-    for (int i = 0; i < 4; ++i) {
-      v[i] = mesh.points[mesh.tets[c][i]];
-      if (mesh.linear_extinction()) point_sigma[i] = mesh.point_extinction[mesh.tets[c][i]];
-    }
-    if (mesh.linear_extinction() ? std::max({point_sigma[0], point_sigma[1], point_sigma[2], point_sigma[3]}) == 0.0 : sigma == 0.0)
-      continue;
+    for (int i = 0; i < 4; ++i) v[i] = mesh.points[mesh.tets[c][i]];
     // Pixel bounds of the projection when the cell lies in front of the eye; all pixels
     // otherwise (the plane tests decide).
     double x0 = 0, x1 = width - 1.0, y0 = 0, y1 = height - 1.0;
@@ -123,15 +116,43 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
         const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
         const double t_near = camera.near_distance / glm::dot(dir, f.forward);
         const Interval in = ray_tetrahedron(v, camera.eye, dir, t_near, std::numeric_limits<double>::infinity());
-        if (in.empty()) continue;
-        double mean_sigma = sigma;
-        if (mesh.linear_extinction())
-          mean_sigma = 0.5 * (interpolate_linear(v, point_sigma, camera.eye + in.enter * dir) +
-                              interpolate_linear(v, point_sigma, camera.eye + in.exit * dir));
-        image[size_t(y) * width + x] += mean_sigma * in.length();
-        if (cells_hit && !in.empty()) ++(*cells_hit)[size_t(y) * width + x];
+        if (!in.empty()) visit(size_t(y) * width + x, c, in, dir);
       }
   }
+}
+
+std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
+                                        double offset_x, double offset_y, std::vector<uint32_t>* cells_hit) {
+  std::vector<double> image(size_t(width) * height, 0.0);
+  if (cells_hit) cells_hit->assign(image.size(), 0u);
+  const bool linear = mesh.linear_extinction();
+  auto corners = [&](size_t c) {
+    std::array<glm::dvec3, 4> v;
+    for (int i = 0; i < 4; ++i) v[i] = mesh.points[mesh.tets[c][i]];
+    return v;
+  };
+  auto point_sigma = [&](size_t c) {
+    std::array<double, 4> s{};
+    for (int i = 0; i < 4; ++i) s[i] = mesh.point_extinction[mesh.tets[c][i]];
+    return s;
+  };
+  auto wanted = [&](size_t c) {
+    if (!linear) return mesh.cell_extinction[c] != 0.0;
+    const auto s = point_sigma(c);
+    return std::max({s[0], s[1], s[2], s[3]}) != 0.0;
+  };
+  trace_cells(mesh, camera, width, height, offset_x, offset_y, wanted,
+              [&](size_t pixel, size_t c, const Interval& in, const glm::dvec3& dir) {
+                double mean_sigma = mesh.cell_extinction[c];
+                if (linear) {
+                  const auto v = corners(c);
+                  const auto s = point_sigma(c);
+                  mean_sigma = 0.5 * (interpolate_linear(v, s, camera.eye + in.enter * dir) +
+                                      interpolate_linear(v, s, camera.eye + in.exit * dir));
+                }
+                image[pixel] += mean_sigma * in.length();
+                if (cells_hit) ++(*cells_hit)[pixel];
+              });
   return image;
 }
 

@@ -3,6 +3,7 @@
 // plane tests, summed over cells. Every GPU volume mode is tested against these.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -32,6 +33,14 @@ glm::dvec3 ray_direction(const Camera& camera, uint32_t width, uint32_t height, 
 // sigma at p inside the tetrahedron v with values s at its vertices, by barycentric
 // interpolation (signed volumes, double precision). Zero-volume cells give the mean.
 double interpolate_linear(const std::array<glm::dvec3, 4>& v, const std::array<double, 4>& s, const glm::dvec3& p);
+
+// Calls `visit` for every pixel ray (through the pixel centre moved by the offsets) and every
+// cell with `wanted(cell)` that the ray crosses with a positive length beyond the near plane,
+// with the ray's unit direction and parameter interval inside the cell. Row-major pixel
+// index, row 0 at the top. Cells are visited in mesh order, not along the ray.
+using CellVisitor = std::function<void(size_t pixel, size_t cell, const Interval& interval, const glm::dvec3& direction)>;
+void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height, double offset_x, double offset_y,
+                 const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit);
 
 // Optical depth per pixel: sum over cells of the integral of sigma along the pixel ray inside
 // the cell (sigma constant per cell, or linear when the mesh has point extinction: then the

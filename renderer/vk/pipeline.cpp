@@ -81,6 +81,15 @@ UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc
       a.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
       a.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
       a.alphaBlendOp = VK_BLEND_OP_ADD;
+    } else if (desc.blend == BlendMode::FrontToBack) {
+      // Premultiplied colour and alpha, nearest first: dst += (1 - dst.alpha) * src.
+      a.blendEnable = VK_TRUE;
+      a.srcColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_DST_ALPHA;
+      a.dstColorBlendFactor = VK_BLEND_FACTOR_ONE;
+      a.colorBlendOp = VK_BLEND_OP_ADD;
+      a.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_DST_ALPHA;
+      a.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+      a.alphaBlendOp = VK_BLEND_OP_ADD;
     }
   }
   VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};

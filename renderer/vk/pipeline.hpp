@@ -24,7 +24,7 @@ UniqueDescriptorSetLayout create_descriptor_set_layout(const Device& device, std
 UniquePipelineLayout create_pipeline_layout(const Device& device, std::span<const VkDescriptorSetLayout> sets,
                                             std::span<const VkPushConstantRange> push_constants);
 
-enum class BlendMode { None, Additive };
+enum class BlendMode { None, Additive, FrontToBack };
 
 struct MeshPipelineDesc {
   std::string_view task_shader;  // name in shaders/ or empty

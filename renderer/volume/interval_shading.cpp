@@ -1,13 +1,17 @@
 #include "renderer/volume/interval_shading.hpp"
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstring>
+#include <glm/geometric.hpp>
 #include <string>
 #include <vector>
 
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/timer.hpp"
+#include "scene/input_error.hpp"
 #include "shaders/shared/volume.h"
 
 namespace prismoid::volume {
@@ -17,19 +21,26 @@ namespace {
 constexpr VkFormat kOpticalDepthFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kQuantityFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kDisplayFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kEmissionFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
-const std::array<vk::DescriptorBinding, 5> kMeshBindings = {{
+const std::array<vk::DescriptorBinding, 10> kMeshBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT},
     {PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_CELL_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_POINT_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_CELL_SCALAR, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_POINT_SCALAR, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_ORDER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_PREINTEGRATED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
+    {PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
 }};
 
-const std::array<vk::DescriptorBinding, 3> kResolveBindings = {{
+const std::array<vk::DescriptorBinding, 4> kResolveBindings = {{
     {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
     {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
     {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
+    {3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
 }};
 
 template <typename T>
@@ -53,13 +64,31 @@ GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   tets.reserve(mesh.tets.size());
   for (const auto& t : mesh.tets) tets.emplace_back(t[0], t[1], t[2], t[3]);
   std::vector<float> sigma(mesh.cell_extinction.begin(), mesh.cell_extinction.end());
+  if (sigma.empty()) sigma.push_back(0.0f);
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   gpu.positions = vk::upload_buffer(device, bytes_of(positions), usage);
   gpu.tets = vk::upload_buffer(device, bytes_of(tets), usage);
   gpu.cell_sigma = vk::upload_buffer(device, bytes_of(sigma), usage);
   gpu.linear = mesh.linear_extinction();
-  std::vector<float> point_sigma(mesh.point_extinction.begin(), mesh.point_extinction.end());
-  gpu.point_sigma = vk::upload_buffer(device, bytes_of(point_sigma), usage);
+  // Storage buffers cannot be empty: absent arrays get one unused value.
+  auto floats = [](const std::vector<double>& v) {
+    return v.empty() ? std::vector<float>{0.0f} : std::vector<float>(v.begin(), v.end());
+  };
+  gpu.point_sigma = vk::upload_buffer(device, bytes_of(floats(mesh.point_extinction)), usage);
+  gpu.scalar_per_point = !mesh.point_scalars.empty();
+  gpu.has_scalars = gpu.scalar_per_point || !mesh.cell_scalars.empty();
+  gpu.cell_scalar = vk::upload_buffer(device, bytes_of(floats(mesh.cell_scalars)), usage);
+  gpu.point_scalar = vk::upload_buffer(device, bytes_of(floats(mesh.point_scalars)), usage);
+  const auto& field = gpu.scalar_per_point ? mesh.point_scalars : mesh.cell_scalars;
+  if (!field.empty()) {
+    const auto [lo, hi] = std::minmax_element(field.begin(), field.end());
+    gpu.scalar_min = *lo;
+    gpu.scalar_max = *hi;
+  }
+  for (const auto& t : mesh.tets)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        gpu.longest_edge = std::max(gpu.longest_edge, glm::distance(mesh.points[t[i]], mesh.points[t[j]]));
   return gpu;
 }
 
@@ -67,8 +96,12 @@ VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent) {
   const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
   if ((device.format_properties(kOpticalDepthFormat).optimalTilingFeatures & need) != need)
     throw vk::NoSuitableDevice(device.capabilities().name + " cannot blend into and read R32_SFLOAT images");
+  if ((device.format_properties(kEmissionFormat).optimalTilingFeatures & need) != need)
+    throw vk::NoSuitableDevice(device.capabilities().name + " cannot blend into and read R32G32B32A32_SFLOAT images");
   VolumeTargets t;
   t.extent = extent;
+  t.emission = vk::Image(device, extent, kEmissionFormat,
+                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   t.optical_depth = vk::Image(device, extent, kOpticalDepthFormat,
                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
   t.quantity = vk::Image(device, extent, kQuantityFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
@@ -93,6 +126,10 @@ IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(dev
   desc.color_formats = {kOpticalDepthFormat};
   desc.blend = vk::BlendMode::Additive;
   mesh_pipeline_ = vk::create_mesh_pipeline(device, desc);
+  desc.fragment_shader = "volume/emission.frag";
+  desc.color_formats = {kEmissionFormat};
+  desc.blend = vk::BlendMode::FrontToBack;
+  emission_pipeline_ = vk::create_mesh_pipeline(device, desc);
   mesh_set_ = vk::allocate_descriptor_set(device, mesh_set_layout_.get(), kMeshBindings);
 
   resolve_set_layout_ = vk::create_descriptor_set_layout(device, kResolveBindings);
@@ -104,6 +141,55 @@ IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(dev
 
   frame_uniforms_ = vk::Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frame_uniforms_.get());
+  const glm::vec4 zero(0.0f);
+  stub_ = vk::upload_buffer(device, std::as_bytes(std::span(&zero, 1)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  bind_order(nullptr);
+  vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_PREINTEGRATED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
+  vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
+}
+
+void IntervalShadingPass::bind_order(const vk::Buffer* order) {
+  const VkBuffer buffer = order ? order->get() : stub_.get();
+  if (buffer == bound_order_) return;
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_ORDER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer);
+  bound_order_ = buffer;
+}
+
+double IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings& settings) {
+  if (settings.quantity != Quantity::Color) return 0.0;
+  if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
+  validate(settings.transfer);
+  if (settings.preintegration_size == 1 || settings.preintegration_size > 256)
+    throw InputError("--preintegration-size", "must be 0 (exact integration) or between 2 and 256 texels per axis");
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<TfSample> tf = breakpoints(settings.transfer);
+  const double max_length = mesh.longest_edge > 0.0 ? mesh.longest_edge : 1.0;
+  const bool same_tf = tf.size() == table_tf_.size() &&
+                       std::equal(tf.begin(), tf.end(), table_tf_.begin(), [](const TfSample& a, const TfSample& b) {
+                         return a.x == b.x && a.rgb == b.rgb && a.sigma == b.sigma;
+                       });
+  const bool table_wanted = settings.preintegration_size > 0;
+  const bool same_table = !table_wanted || (table_buffer_.get() != VK_NULL_HANDLE && same_tf &&
+                                            table_.size == settings.preintegration_size && table_.max_length == max_length);
+  if (same_tf && same_table && tf_buffer_.get() != VK_NULL_HANDLE) return 0.0;
+  device_.wait_idle();  // the old buffers may still be read by a frame in flight
+  if (!same_tf || tf_buffer_.get() == VK_NULL_HANDLE) {
+    std::vector<glm::vec4> packed;
+    for (const TfSample& t : tf) {
+      packed.emplace_back(float(t.x), float(t.sigma), 0.0f, 0.0f);
+      packed.emplace_back(glm::vec3(t.rgb), 0.0f);
+    }
+    tf_buffer_ = vk::upload_buffer(device_, bytes_of(packed), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tf_buffer_.get());
+  }
+  if (!same_table) {
+    table_ = build_preintegration_table(tf, settings.preintegration_size, max_length);
+    table_buffer_ = vk::upload_buffer(device_, bytes_of(table_.texels), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_PREINTEGRATED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                table_buffer_.get());
+  }
+  table_tf_ = std::move(tf);
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 void IntervalShadingPass::bind_mesh(const GpuTetMesh& mesh) {
@@ -112,6 +198,8 @@ void IntervalShadingPass::bind_mesh(const GpuTetMesh& mesh) {
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.tets.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_CELL_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.cell_sigma.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POINT_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.point_sigma.get());
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_CELL_SCALAR, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.cell_scalar.get());
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POINT_SCALAR, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.point_scalar.get());
   bound_mesh_ = &mesh;
 }
 
@@ -120,15 +208,21 @@ void IntervalShadingPass::bind_targets(const VolumeTargets& targets) {
   vk::write_storage_image_descriptor(device_, resolve_set_.set, 0, targets.optical_depth.view());
   vk::write_storage_image_descriptor(device_, resolve_set_.set, 1, targets.display.view());
   vk::write_storage_image_descriptor(device_, resolve_set_.set, 2, targets.quantity.view());
+  vk::write_storage_image_descriptor(device_, resolve_set_.set, 3, targets.emission.view());
   bound_targets_ = &targets;
   bound_optical_depth_ = targets.optical_depth.get();
 }
 
 void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
-                                 const ResolveSettings& settings, vk::GpuTimer& timer) {
+                                 const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order) {
   validate(camera);
+  const bool emission = settings.quantity == Quantity::Color;
+  const bool use_table = settings.preintegration_size > 0;
+  if (emission && (tf_buffer_.get() == VK_NULL_HANDLE || (use_table && table_buffer_.get() == VK_NULL_HANDLE)))
+    throw std::logic_error("IntervalShadingPass: colour needs prepare() before record()");
   bind_mesh(mesh);
   bind_targets(targets);
+  bind_order(order);
   const VkExtent2D e = targets.extent;
   const double aspect = double(e.width) / double(e.height);
   const glm::dmat4 proj = projection_matrix(camera, aspect);
@@ -138,17 +232,25 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
   frame.projection = to_float(proj);
   frame.viewport = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
   frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance), 0.0f);
-  frame.counts = glm::uvec4(mesh.tet_count, mesh.linear ? 1u : 0u, 0, 0);
+  const bool per_point = emission ? mesh.scalar_per_point : mesh.linear;
+  frame.counts = glm::uvec4(mesh.tet_count, per_point ? 1u : 0u,
+                            emission ? PRISMOID_INTEGRAND_EMISSION : PRISMOID_INTEGRAND_OPTICAL_DEPTH, order ? 1u : 0u);
+  const TransferFunction& tf = settings.transfer;
+  frame.transfer = glm::vec4(float(tf.range_lo), float(1.0 / (tf.range_hi - tf.range_lo)), float(table_.max_length),
+                             float(table_.size));
+  frame.options = glm::uvec4(uint32_t(table_tf_.size()), use_table ? PRISMOID_SEGMENTS_TABLE : PRISMOID_SEGMENTS_EXACT, 0u, 0u);
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
 
+  const vk::Image& target = emission ? targets.emission : targets.optical_depth;
   {
-    vk::ScopedPass pass(timer, cmd, "interval-shading");
-    vk::image_barrier(cmd, targets.optical_depth.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+    vk::ScopedPass pass(timer, cmd, emission ? "interval-shading (emission)" : "interval-shading");
+    vk::image_barrier(cmd, target.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
     VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    color.imageView = targets.optical_depth.view();
+    color.imageView = target.view();
     color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
@@ -164,7 +266,7 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     if (mesh.tet_count > 0) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mesh_pipeline_.get());
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, emission ? emission_pipeline_.get() : mesh_pipeline_.get());
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mesh_layout_.get(), 0, 1, &mesh_set_.set, 0, nullptr);
       const uint32_t groups = (mesh.tet_count + PRISMOID_TETS_PER_WORKGROUP - 1) / PRISMOID_TETS_PER_WORKGROUP;
       device_.cmd_draw_mesh_tasks(cmd, groups, 1, 1);
@@ -173,7 +275,14 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
   }
   {
     vk::ScopedPass pass(timer, cmd, "resolve");
-    vk::image_barrier(cmd, targets.optical_depth.get(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+    // The resolve's descriptor set names both accumulation targets; the one this frame did not
+    // draw is never read, but must be in the layout the set declares (its contents stay undefined).
+    const vk::Image& other = emission ? targets.optical_depth : targets.emission;
+    vk::image_barrier(cmd, other.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    vk::image_barrier(cmd, target.get(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     for (VkImage image : {targets.display.get(), targets.quantity.get()})
@@ -183,15 +292,17 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
     gpu::ResolvePush push{};
     push.background = glm::vec4(settings.background, 1.0f);
     push.medium = glm::vec4(settings.medium, 1.0f);
-    push.params = glm::uvec4(settings.quantity == Quantity::Transmittance ? PRISMOID_QUANTITY_TRANSMITTANCE : PRISMOID_QUANTITY_OPTICAL_DEPTH,
-                             e.width, e.height, 0u);
+    const uint32_t quantity = emission ? PRISMOID_QUANTITY_COLOR
+                              : settings.quantity == Quantity::Transmittance ? PRISMOID_QUANTITY_TRANSMITTANCE
+                                                                             : PRISMOID_QUANTITY_OPTICAL_DEPTH;
+    push.params = glm::uvec4(quantity, e.width, e.height, 0u);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_pipeline_.get());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_layout_.get(), 0, 1, &resolve_set_.set, 0, nullptr);
     vkCmdPushConstants(cmd, resolve_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
     vkCmdDispatch(cmd, (e.width + 7) / 8, (e.height + 7) / 8, 1);
-    for (VkImage image : {targets.display.get(), targets.quantity.get()})
+    for (VkImage image : {targets.display.get(), targets.quantity.get(), targets.emission.get()})
       vk::image_barrier(cmd, image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                         VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   }
 }

@@ -7,6 +7,8 @@
 
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
+#include "renderer/volume/segment_integral.hpp"
+#include "renderer/volume/transfer_function.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -17,7 +19,10 @@ class GpuTimer;
 
 namespace prismoid::volume {
 
-enum class Quantity { OpticalDepth, Transmittance };
+// What a frame shows: optical depth and transmittance integrate sigma (order independent);
+// colour is emission-absorption through a transfer function (order dependent).
+enum class Quantity { OpticalDepth, Transmittance, Color };
+inline bool order_dependent(Quantity q) { return q == Quantity::Color; }
 
 // A TetMesh on the GPU. Positions are stored as float relative to `origin` (the mesh's
 // bounds centre, kept in double), so far-from-origin data loses no precision.
@@ -26,15 +31,22 @@ struct GpuTetMesh {
   vk::Buffer tets;
   vk::Buffer cell_sigma;
   vk::Buffer point_sigma;  // a stub when sigma is constant per cell
+  vk::Buffer cell_scalar;  // the transfer function's scalar per cell (a stub when absent)
+  vk::Buffer point_scalar; // ... per point (a stub when absent)
   glm::dvec3 origin{0.0};
   uint32_t tet_count = 0;
   bool linear = false;     // sigma linear per cell, from point_sigma
+  bool has_scalars = false;
+  bool scalar_per_point = false;
+  double longest_edge = 0.0;  // bounds every segment inside a cell (the table's length axis)
+  double scalar_min = 0.0, scalar_max = 0.0;  // the scalar field's range (0, 0 when absent)
 };
 GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh);
 
 // Images one frame writes: accumulated optical depth, the quantity, the display colour.
 struct VolumeTargets {
   vk::Image optical_depth;  // R32F colour attachment, additive blending
+  vk::Image emission;       // RGBA32F colour attachment: premultiplied colour, alpha; front to back
   vk::Image quantity;       // R32F: optical depth or transmittance
   vk::Image display;        // RGBA32F linear colour
   VkExtent2D extent{};
@@ -45,31 +57,52 @@ struct ResolveSettings {
   Quantity quantity = Quantity::Transmittance;
   glm::vec3 background{1.0f, 1.0f, 1.0f};
   glm::vec3 medium{0.05f, 0.08f, 0.2f};
+  // Colour only: the transfer function, and how segments are integrated: 0 exactly in the
+  // fragment shader, N > 1 by lookup in an N^3 pre-integrated table (faster, approximate).
+  TransferFunction transfer = preset("cool-to-warm");
+  uint32_t preintegration_size = 0;
 };
 
 class IntervalShadingPass {
  public:
   explicit IntervalShadingPass(const vk::Device& device);
 
-  // Records both passes. Leaves `targets.quantity` and `targets.display` in
-  // TRANSFER_SRC_OPTIMAL layout. `mesh` and `targets` must outlive the submission.
+  // CPU work before recording a frame, outside any command buffer: uploads the transfer
+  // function and (re)builds the pre-integration table when they, the table size or the mesh
+  // changed. Returns the milliseconds spent, 0 when everything was reused.
+  double prepare(const GpuTetMesh& mesh, const ResolveSettings& settings);
+
+  // Records both passes. Cells are drawn in the order of `order` (uint32 cell indices) when
+  // given, else in mesh order. Leaves `targets.quantity`, `targets.display` and
+  // `targets.emission` in TRANSFER_SRC_OPTIMAL layout. `mesh`, `targets` and `order` must
+  // outlive the submission. Colour needs prepare() first.
   void record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
-              const ResolveSettings& settings, vk::GpuTimer& timer);
+              const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order = nullptr);
+
+  const PreintegrationTable& table() const { return table_; }
 
  private:
   void bind_mesh(const GpuTetMesh& mesh);
   void bind_targets(const VolumeTargets& targets);
+  void bind_order(const vk::Buffer* order);
 
   const vk::Device& device_;
   vk::UniqueDescriptorSetLayout mesh_set_layout_;
   vk::UniquePipelineLayout mesh_layout_;
-  vk::UniquePipeline mesh_pipeline_;
+  vk::UniquePipeline mesh_pipeline_;      // optical depth, additive
+  vk::UniquePipeline emission_pipeline_;  // emission-absorption, front to back
   vk::DescriptorSet mesh_set_;
   vk::UniqueDescriptorSetLayout resolve_set_layout_;
   vk::UniquePipelineLayout resolve_layout_;
   vk::UniquePipeline resolve_pipeline_;
   vk::DescriptorSet resolve_set_;
   vk::Buffer frame_uniforms_;
+  vk::Buffer stub_;  // bound where a frame has no order or no table
+  PreintegrationTable table_;
+  std::vector<TfSample> table_tf_;  // the transfer function of tf_buffer_ and table_
+  vk::Buffer tf_buffer_;
+  vk::Buffer table_buffer_;
+  VkBuffer bound_order_ = VK_NULL_HANDLE;
   const GpuTetMesh* bound_mesh_ = nullptr;
   const VolumeTargets* bound_targets_ = nullptr;
   VkImage bound_optical_depth_ = VK_NULL_HANDLE;

@@ -11,6 +11,20 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_BINDING_TETS 2       // readonly uvec4[]: four point indices per cell
 #define PRISMOID_BINDING_CELL_SIGMA 3 // readonly float[]: extinction per cell (1/length)
 #define PRISMOID_BINDING_POINT_SIGMA 4 // readonly float[]: extinction per point (linear fields)
+#define PRISMOID_BINDING_CELL_SCALAR 5  // readonly float[]: transfer-function scalar per cell
+#define PRISMOID_BINDING_POINT_SCALAR 6 // readonly float[]: transfer-function scalar per point
+#define PRISMOID_BINDING_ORDER 7        // readonly uint[]: cells in drawing order (front to back)
+#define PRISMOID_BINDING_PREINTEGRATED 8 // readonly vec4[]: pre-integrated (colour, alpha) table
+#define PRISMOID_BINDING_TRANSFER 9     // readonly vec4[]: transfer-function samples, 2 per sample:
+                                        // (x, sigma, 0, 0), (r, g, b, 0), sorted by x
+
+// How a segment's emission is integrated (FrameUniforms.options.y).
+#define PRISMOID_SEGMENTS_EXACT 0u   // in the fragment shader, piece by piece of the transfer function
+#define PRISMOID_SEGMENTS_TABLE 1u   // trilinear lookup in the pre-integrated table
+
+// What the interval pass integrates (FrameUniforms.counts.z).
+#define PRISMOID_INTEGRAND_OPTICAL_DEPTH 0u  // sigma * length, additive: order independent
+#define PRISMOID_INTEGRAND_EMISSION 1u       // transfer-function emission-absorption, composited in order
 
 // Tetrahedra handled by one mesh-shader workgroup, one per invocation. A near-clipped cell
 // emits up to 15 vertices, and 256 output vertices is the common limit (lavapipe, NVIDIA).
@@ -28,12 +42,17 @@ struct FrameUniforms {
   mat4 projection;  // camera space -> clip space (Vulkan: y down, depth 0..1)
   vec4 viewport;    // width, height, 1/width, 1/height
   vec4 ray_scale;   // 1/P[0][0], 1/P[1][1], near distance (cells are clipped there), unused
-  uvec4 counts;     // x: tetrahedron count, y: 1 when sigma is linear per cell (point values)
+  uvec4 counts;     // x: tetrahedron count, y: 1 when the field is linear per cell (point values),
+                    // z: PRISMOID_INTEGRAND_*, w: 1 when cells are drawn in the order of PRISMOID_BINDING_ORDER
+  vec4 transfer;    // x: scalar at the range's low end, y: 1 / (range width), z: table's longest
+                    // length, w: table size per axis (texels)
+  uvec4 options;    // x: transfer-function sample count, y: PRISMOID_SEGMENTS_*
 };
 
 // Push constants of the resolve pass (optical depth -> display colour).
 #define PRISMOID_QUANTITY_OPTICAL_DEPTH 0u
 #define PRISMOID_QUANTITY_TRANSMITTANCE 1u
+#define PRISMOID_QUANTITY_COLOR 2u  // emission-absorption: display = colour over the background
 struct ResolvePush {
   vec4 background;    // display colour where nothing absorbs
   vec4 medium;        // colour the medium tends to where it is opaque
@@ -43,7 +62,8 @@ struct ResolvePush {
 PRISMOID_SHARED_END
 
 #ifdef __cplusplus
-static_assert(sizeof(prismoid::gpu::FrameUniforms) == 176);
+static_assert(sizeof(prismoid::gpu::FrameUniforms) == 208);
+static_assert(offsetof(prismoid::gpu::FrameUniforms, transfer) == 176);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, viewport) == 128);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, counts) == 160);
 static_assert(sizeof(prismoid::gpu::ResolvePush) == 48);

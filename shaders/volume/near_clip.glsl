@@ -57,4 +57,26 @@ uint clip_near(vec3 cam[4], float near_depth, out vec3 pieces[3][4]) {
   return 3u;
 }
 
+// Which side of the plane through a, b, c the point p lies on (sign of the orientation).
+float orientation(vec3 a, vec3 b, vec3 c, vec3 p) { return dot(cross(b - a, c - a), p - a); }
+
+// The three pieces of a split prism touch in a chain: 0 and 1 share the face (a1, a2, b0),
+// 1 and 2 share (a1, b0, b2) (see split_prism), 0 and 2 only an edge. A ray crossing two of
+// them crosses the shared face, so ordering each adjacent pair by the side of their shared
+// face the eye (the camera-space origin) is on orders them front to back for every ray.
+void order_pieces_front_to_back(inout vec3 pieces[3][4], uint count) {
+  if (count != 3u) return;
+  // Piece 0's vertex off the shared face is pieces[0][0]; piece 1's is pieces[1][1].
+  bool zero_first = orientation(pieces[0][1], pieces[0][2], pieces[0][3], pieces[0][0]) *
+                        orientation(pieces[0][1], pieces[0][2], pieces[0][3], vec3(0.0)) > 0.0;
+  bool one_before_two = orientation(pieces[2][0], pieces[2][1], pieces[2][3], pieces[1][1]) *
+                            orientation(pieces[2][0], pieces[2][1], pieces[2][3], vec3(0.0)) > 0.0;
+  vec3 p0[4] = pieces[0], p1[4] = pieces[1], p2[4] = pieces[2];
+  if (zero_first && one_before_two) return;                    // 0, 1, 2
+  // 0 and 2 both before 1: no ray meets both without crossing 1 between them, so either order.
+  if (zero_first) { pieces[1] = p2; pieces[2] = p1; return; }  // 0, 2, 1
+  if (one_before_two) { pieces[0] = p1; pieces[1] = p0; return; }  // 1, 0, 2
+  pieces[0] = p2; pieces[2] = p0;                                // 2, 1, 0
+}
+
 #endif

@@ -6,7 +6,7 @@
 
 layout(set = 0, binding = PRISMOID_BINDING_FRAME) uniform FrameBlock { FrameUniforms frame; };
 
-layout(location = 0) noperspective in vec2 v_inv_depth;
+layout(location = 0) in vec2 v_inv_depth;
 layout(location = 1) perprimitiveEXT flat in vec4 p_field;  // sigma(p) = dot(xyz, p) + w, camera space
 layout(location = 0) out float out_optical_depth;
 

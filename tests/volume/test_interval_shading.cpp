@@ -337,6 +337,24 @@ TEST_F(IntervalShadingTest, EdgeOnFacesAlongTheViewAxisStayFiniteAndExact) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
 }
 
+TEST_F(IntervalShadingTest, ProxiesFarLargerThanTheViewportStayExact) {
+  // Regression: lavapipe mis-interpolated `noperspective` attributes on proxy triangles its
+  // clipper cuts, giving errors up to 0.43 (of ~1) when the eye sat inside a big cell or a
+  // narrow field of view magnified one; the H100 was exact. The proxies now use ordinary
+  // interpolation, which equals screen-space interpolation at w = 1.
+  Camera inside = looking_from({0.1, -0.05, 0.2});
+  inside.target = {0.3, 0.2, -1.0};
+  inside.fovy_degrees = 70.0;
+  inside.near_distance = 0.02;
+  Camera magnified = looking_from({0.3, 0.2, 6.0}, {0.1, 0.1, 0.0});
+  magnified.fovy_degrees = 3.0;
+  for (const Camera& camera : {inside, magnified}) {
+    const Comparison c = compare(single_tet(kRegular, 1.0), camera, 32, 32);
+    EXPECT_EQ(c.covered, 32u * 32u);
+    EXPECT_EQ(c.failures, 0u) << "fovy " << camera.fovy_degrees << ": " << c.first_failure;
+  }
+}
+
 TEST_F(IntervalShadingTest, EmptyMeshRendersZero) {
   TetMesh mesh;
   mesh.name = "empty";

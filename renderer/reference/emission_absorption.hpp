@@ -1,0 +1,35 @@
+#pragma once
+// CPU double-precision reference for emission-absorption with a transfer function: each pixel
+// ray's segments in every cell, sorted along the ray (exact per-pixel order), each integrated
+// exactly (volume::integrate_segment) and composited front to back.
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "renderer/volume/segment_integral.hpp"
+#include "renderer/volume/transfer_function.hpp"
+#include "scene/camera.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::reference {
+
+struct ColorImage {
+  uint32_t width = 0, height = 0;
+  std::vector<glm::dvec4> pixels;    // premultiplied (r, g, b) and alpha = 1 - transmittance
+  std::vector<uint32_t> segments;    // per pixel: cells the ray crosses with positive length
+};
+
+// The scalar the transfer function reads is mesh.point_scalars (linear in each cell) when
+// present, else mesh.cell_scalars (constant per cell); InputError(mesh.name) when neither is.
+// With `table`, each segment is looked up in it (volume::lookup) instead of integrated
+// exactly: the image the GPU should make with that table, in exact order and double precision.
+ColorImage emission_absorption_image(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera,
+                                     uint32_t width, uint32_t height, double offset_x = 0.0, double offset_y = 0.0,
+                                     const volume::PreintegrationTable* table = nullptr);
+
+// The longest edge over all cells: no segment inside a cell is longer (a convex polytope's
+// diameter is attained at two of its vertices). It bounds the pre-integration table's length axis.
+double longest_edge(const TetMesh& mesh);
+
+}  // namespace prismoid::reference

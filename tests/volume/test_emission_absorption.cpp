@@ -1,0 +1,187 @@
+// Emission-absorption through a transfer function (beyond the paper): the GPU's composited
+// colour against the CPU double-precision reference in exact per-pixel order.
+//
+// The GPU integrates each segment exactly (piece by piece of the transfer function, in float)
+// or looks it up in the pre-integration table. The table's own error against the exact
+// integral is a quality setting, tested on the CPU (test_segment_integral.cpp) and measured by
+// the bench; with a table, the reference here looks segments up in the same table. Either way
+// the tolerance covers only what the GPU adds, per pixel and channel:
+//  1. rasterizer snapping, as for optical depth (see test_interval_shading.cpp): the largest
+//     change of the reference when the pixel's ray moves by 2 * 2^-subPixelPrecisionBits;
+//  2. float32 inputs to the lookup: x_front, x_back and the length come from interpolated
+//     1/depth and a float plane; we allow 2^-14 of the table's axis range on each (a 2^9-ulp
+//     budget for the plane through camera-space positions of magnitude up to ~10 and the
+//     reciprocals), times the table's steepest slope along that axis; per segment;
+//     (without a table, the slopes are those of a 33^3 table of the exact integral);
+//  3. the blend: one rounding (2^-24 relative) per segment composited, and the table's float
+//     texels (2^-24 relative), per segment; for exact integration in float, 2^-18 per piece
+//     of the transfer function (the Gauss-Legendre sums and the cancelling terms of the
+//     closed form lose a few ulp each), at most one piece per transfer-function sample.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/reference/emission_absorption.hpp"
+#include "scene/generators.hpp"
+#include "support/gpu_fixture.hpp"
+
+namespace prismoid {
+namespace {
+
+struct ColorComparison {
+  size_t failures = 0, covered = 0;
+  double max_error = 0.0, worst_over_tolerance = 0.0;
+  std::string first_failure;
+  std::string ordering;
+  bool order_exact = false;
+};
+
+// The steepest change of any texel channel per unit of x_front, x_back and length.
+std::array<double, 3> table_slopes(const volume::PreintegrationTable& t) {
+  std::array<double, 3> slope{0.0, 0.0, 0.0};
+  const uint32_t n = t.size;
+  auto at = [&](uint32_t i, uint32_t j, uint32_t k) { return t.texels[(size_t(k) * n + j) * n + i]; };
+  for (uint32_t k = 0; k < n; ++k)
+    for (uint32_t j = 0; j < n; ++j)
+      for (uint32_t i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) {
+          if (i + 1 < n) slope[0] = std::max(slope[0], double(std::abs(at(i + 1, j, k)[c] - at(i, j, k)[c])) * (n - 1));
+          if (j + 1 < n) slope[1] = std::max(slope[1], double(std::abs(at(i, j + 1, k)[c] - at(i, j, k)[c])) * (n - 1));
+          if (k + 1 < n) slope[2] = std::max(slope[2], double(std::abs(at(i, j, k + 1)[c] - at(i, j, k)[c])) * (n - 1) / t.max_length);
+        }
+  return slope;
+}
+
+class EmissionAbsorptionTest : public test::GpuTest {
+ public:
+  ColorComparison compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w, uint32_t h,
+                          frame::Ordering ordering, uint32_t table_size = 0) {
+    frame::FrameRenderer renderer(device(), mesh);
+    frame::FrameSettings settings;
+    settings.resolve.quantity = volume::Quantity::Color;
+    settings.resolve.transfer = tf;
+    settings.resolve.preintegration_size = table_size;
+    settings.ordering = ordering;
+    const frame::OffscreenFrame gpu = renderer.render_offscreen(camera, settings, {w, h});
+    const volume::PreintegrationTable* table = table_size > 0 ? &renderer.interval_pass().table() : nullptr;
+    const auto ref = reference::emission_absorption_image(mesh, tf, camera, w, h, 0.0, 0.0, table);
+
+    const double s = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
+    std::vector<double> snap_tol(size_t(w) * h, 0.0);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (!dx && !dy) continue;
+        const auto shifted = reference::emission_absorption_image(mesh, tf, camera, w, h, dx * s, dy * s, table);
+        for (size_t i = 0; i < snap_tol.size(); ++i)
+          for (int c = 0; c < 4; ++c) snap_tol[i] = std::max(snap_tol[i], std::abs(shifted.pixels[i][c] - ref.pixels[i][c]));
+      }
+    const auto samples = volume::breakpoints(tf);
+    const volume::PreintegrationTable slope_table =
+        table ? *table : volume::build_preintegration_table(samples, 33, reference::longest_edge(mesh));
+    const auto slope = table_slopes(slope_table);
+    const double input_tol = std::ldexp(1.0, -14) * (slope[0] + slope[1] + slope[2] * slope_table.max_length);
+    const double integral_tol = table ? std::ldexp(1.0, -24) : std::ldexp(1.0, -18) * double(samples.size());
+
+    ColorComparison c;
+    c.ordering = gpu.report.ordering;
+    c.order_exact = gpu.report.order_exact;
+    for (size_t i = 0; i < snap_tol.size(); ++i) {
+      const double n = ref.segments[i] + 1.0;
+      const double tol = snap_tol[i] + n * (input_tol + integral_tol + std::ldexp(1.0, -24));
+      if (ref.pixels[i].a > 0.0) ++c.covered;
+      for (int ch = 0; ch < 4; ++ch) {
+        const float g = gpu.emission[4 * i + ch];
+        EXPECT_TRUE(std::isfinite(g)) << "pixel " << i << " channel " << ch;
+        const double err = std::abs(double(g) - ref.pixels[i][ch]);
+        c.max_error = std::max(c.max_error, err);
+        c.worst_over_tolerance = std::max(c.worst_over_tolerance, err / tol);
+        if (err > tol && c.failures++ == 0)
+          c.first_failure = "pixel (" + std::to_string(i % w) + "," + std::to_string(i / w) + ") channel " + std::to_string(ch) +
+                            ": gpu " + std::to_string(g) + " reference " + std::to_string(ref.pixels[i][ch]) + " tolerance " +
+                            std::to_string(tol) + " segments " + std::to_string(ref.segments[i]);
+      }
+    }
+    return c;
+  }
+};
+
+const std::array<glm::dvec3, 4> kRegular = {glm::dvec3(1, 1, 1), glm::dvec3(1, -1, -1), glm::dvec3(-1, 1, -1), glm::dvec3(-1, -1, 1)};
+
+TetMesh single_tet_with_scalars() {
+  TetMesh m;
+  m.name = "single tetrahedron";
+  m.points.assign(kRegular.begin(), kRegular.end());
+  m.tets = {{0, 1, 2, 3}};
+  m.cell_extinction = {1.0};
+  m.point_scalars = {0.0, 0.3, 0.7, 1.0};
+  return m;
+}
+
+volume::TransferFunction test_tf(double density) {
+  volume::TransferFunction tf = volume::preset("cool-to-warm");
+  tf.opacity = {{0.0, 0.1}, {0.5, 0.9}, {1.0, 0.4}};
+  tf.density_scale = density;
+  return tf;
+}
+
+Camera looking_from(const glm::dvec3& eye, double near_distance = 0.05) {
+  Camera c;
+  c.eye = eye;
+  c.target = glm::dvec3(0.0);
+  c.up = std::abs(glm::normalize(eye).y) > 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  c.fovy_degrees = 50.0;
+  c.near_distance = near_distance;
+  return c;
+}
+
+TEST_F(EmissionAbsorptionTest, SingleTetrahedronWithLinearScalarMatchesReference) {
+  for (const glm::dvec3 eye : {glm::dvec3(0.3, 0.2, 6.0), glm::normalize(kRegular[0]) * 6.0, glm::dvec3(-4.0, 2.5, 1.0)}) {
+    const auto c = compare(single_tet_with_scalars(), test_tf(2.0), looking_from(eye), 48, 48, frame::Ordering::MeshOrder);
+    EXPECT_GT(c.covered, 150u);
+    EXPECT_EQ(c.failures, 0u) << c.first_failure;
+  }
+}
+
+TEST_F(EmissionAbsorptionTest, NearClippedPiecesCompositeInOrder) {
+  // The near plane splits the cell into three pieces whose segments along a ray must be
+  // composited front to back; a linear scalar and a strongly varying transfer function make
+  // any misordering visible.
+  const glm::dvec3 v0 = glm::normalize(kRegular[0]);
+  struct Case { const char* name; glm::dvec3 eye; double near_distance; };
+  const Case cases[] = {{"one vertex behind", v0 * 6.0, 5.0}, {"two vertices behind", {0.0, 0.0, 3.0}, 3.0},
+                        {"three vertices behind", -v0 * 6.0, 6.0}, {"eye inside", {0.1, -0.05, 0.2}, 0.02}};
+  for (const auto& k : cases) {
+    Camera camera = looking_from(k.eye, k.near_distance);
+    camera.fovy_degrees = 70.0;
+    if (k.name == std::string("eye inside")) camera.target = glm::dvec3(0.3, 0.2, -1.0);
+    const auto c = compare(single_tet_with_scalars(), test_tf(4.0), camera, 40, 40, frame::Ordering::MeshOrder);
+    EXPECT_GT(c.covered, 30u) << k.name;
+    EXPECT_EQ(c.failures, 0u) << k.name << ": " << c.first_failure;
+  }
+}
+
+TEST_F(EmissionAbsorptionTest, CellScalarsAreConstantPerCell) {
+  TetMesh mesh = single_tet_with_scalars();
+  mesh.point_scalars.clear();
+  mesh.cell_scalars = {0.6};
+  const auto c = compare(mesh, test_tf(3.0), looking_from({0.3, 0.2, 6.0}), 40, 40, frame::Ordering::MeshOrder);
+  EXPECT_GT(c.covered, 200u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure;
+}
+
+TEST_F(EmissionAbsorptionTest, PreintegratedTableMatchesReferenceWithTheSameTable) {
+  // Unclipped cells only: a table's lookups do not add up along a ray like the exact integral
+  // does, so a cell split by the near plane differs from the reference's single lookup by the
+  // table's error (measured by the bench, not a GPU error).
+  for (uint32_t size : {8u, 32u}) {
+    const auto c = compare(single_tet_with_scalars(), test_tf(2.0), looking_from({0.3, 0.2, 6.0}), 40, 40,
+                           frame::Ordering::MeshOrder, size);
+    EXPECT_GT(c.covered, 150u);
+    EXPECT_EQ(c.failures, 0u) << size << ": " << c.first_failure;
+  }
+}
+
+}  // namespace
+}  // namespace prismoid
