@@ -97,6 +97,18 @@ TEST_F(RadixSortTest, RandomKeysMatchStableSortAtBlockBoundaries) {
   }
 }
 
+// 16M keys: 16384 blocks, 4M histogram entries, 4096 scan partials (4 tiles of the partials
+// scan). About 40 s on lavapipe, so not in the default run:
+// test_gpu --gtest_also_run_disabled_tests --gtest_filter='*SixteenMillion*'
+TEST_F(RadixSortTest, DISABLED_SixteenMillionKeys) {
+  const uint32_t count = (1u << 24) + 3;
+  volume::GpuRadixSort sort(device(), count);
+  std::mt19937 rng(16);
+  std::vector<uint32_t> keys(count);
+  for (auto& k : keys) k = random_u32(rng) % 100'000u;  // duplicates across blocks test stability at scale
+  EXPECT_TRUE(sorts_like_stable_sort(sort, keys));
+}
+
 TEST_F(RadixSortTest, ManyDuplicatesKeepTheirInputOrder) {
   volume::GpuRadixSort sort(device(), 200'000);
   std::mt19937 rng(7);
@@ -143,27 +155,30 @@ TEST_F(RadixSortTest, CountAboveCapacityIsRefused) {
 }
 
 // The visibility keys are float32 squared distances computed on the GPU from float32
-// positions; we bound how far each can be from the exact squared distance D from the double
-// mesh, in the standard model of float arithmetic (every +, -, * correctly rounded with
-// relative error <= u = 2^-24, as Vulkan requires; gamma_n = n u / (1 - n u)), per axis k:
+// positions; we bound how far each can be from the exact squared distance D, in the standard
+// model of float arithmetic (every +, -, * correctly rounded with relative error <= u = 2^-24,
+// as Vulkan requires; gamma_n = n u / (1 - n u)), per axis k:
 //  - stored positions and eye (local frame, float): |error| <= u |x|, at most u M and u E,
 //    M = the largest coordinate of the cell's points, E = the eye's;
-//  - centroid: a sum of 4 terms (any order, fused or not) <= gamma_3 * 4M, times 0.25 (exact):
-//    with the inputs' rounding, |c^ - c| <= (u + gamma_3) M;
-//  - d = c - eye, one more rounding: eps_k = (u + gamma_3) M + u E + u (|d_k| + (u + gamma_3) M + u E);
+//  - centroid: a sum of 4 terms (any order, fused or not) errs by <= gamma_3 * 4M (1 + u), and
+//    * 0.25 is exact: with the inputs' rounding, |c^ - c| <= (u + gamma_3 (1 + u)) M;
+//  - d = c - eye, one more rounding: eps_k = |c^ - c| + u E + u (|d_k| + |c^ - c| + u E);
 //  - d^2 summed: |sum d^_k^2 - D| <= sum (2 |d_k| eps_k + eps_k^2), then the 3 products and 2
 //    sums of non-negative terms add gamma_3 of the computed sum, and flushing a denormal to
 //    zero costs at most 2^-126 per operation (5 of them).
+// Our D is itself evaluated in double along the same steps (with the local frame's
+// subtraction of the origin first); every step's double error is at most 2^-53 relative, so
+// running the same bound with u = 2^-24 + 2^-52 covers the float and the double error at once.
 // Sorted keys then satisfy key_i <= key_j for i < j, so D_i <= D_j + B_i + B_j: the order is
 // exact except between cells whose distances are within their rounding of each other.
 double squared_distance_bound(const glm::dvec3 (&points)[4], const glm::dvec3& eye) {
-  const double u = std::ldexp(1.0, -24);
+  const double u = std::ldexp(1.0, -24) + std::ldexp(1.0, -52);
   const double gamma3 = 3 * u / (1 - 3 * u);
   double m = 0.0;
   for (const auto& p : points) m = std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   const double e = std::max({std::abs(eye.x), std::abs(eye.y), std::abs(eye.z)});
   const glm::dvec3 d = 0.25 * (points[0] + points[1] + points[2] + points[3]) - eye;
-  const double centroid_error = (u + gamma3) * m;
+  const double centroid_error = (u + gamma3 * (1 + u)) * m;
   double difference = 0.0;
   for (int k = 0; k < 3; ++k) {
     const double eps = centroid_error + u * e + u * (std::abs(d[k]) + centroid_error + u * e);
