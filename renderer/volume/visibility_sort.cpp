@@ -72,7 +72,9 @@ void compute_to_compute(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buf
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
-uint32_t blocks_for(uint32_t count) { return (count + PRISMOID_SORT_BLOCK - 1) / PRISMOID_SORT_BLOCK; }
+uint32_t blocks_for(uint32_t count) {
+  return static_cast<uint32_t>((uint64_t(count) + PRISMOID_SORT_BLOCK - 1) / PRISMOID_SORT_BLOCK);  // no wrap near 2^32
+}
 
 struct StorageWrite {
   VkDescriptorSet set;
