@@ -1,0 +1,251 @@
+#include "renderer/volume/visibility_sort.hpp"
+
+#include <algorithm>
+#include <array>
+#include <initializer_list>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
+#include "renderer/vk/timer.hpp"
+#include "shaders/shared/sort.h"
+
+namespace prismoid::volume {
+
+namespace {
+
+constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+
+const std::array<vk::DescriptorBinding, 6> kSortBindings = {{
+    {PRISMOID_SORT_BINDING_KEYS_IN, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_BINDING_VALUES_IN, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_BINDING_KEYS_OUT, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_BINDING_VALUES_OUT, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_BINDING_HISTOGRAMS, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_BINDING_PARTIALS, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+}};
+
+const std::array<vk::DescriptorBinding, 4> kKeysBindings = {{
+    {PRISMOID_SORT_KEYS_BINDING_POSITIONS, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_KEYS_BINDING_TETS, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_KEYS_BINDING_KEYS, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_KEYS_BINDING_VALUES, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+}};
+
+// The sorted buffers may be read by the mesh (and task) shaders of the interval pass.
+VkPipelineStageFlags2 readers_stages(const vk::Device& device) {
+  VkPipelineStageFlags2 stages = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
+  if (device.capabilities().mesh_shader) stages |= VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
+  if (device.capabilities().task_shader) stages |= VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT;
+  return stages;
+}
+
+void buffer_barrier(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers, VkPipelineStageFlags2 src_stage,
+                    VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+  std::vector<VkBufferMemoryBarrier2> barriers;
+  for (VkBuffer buffer : buffers) {
+    VkBufferMemoryBarrier2 b{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+    b.srcStageMask = src_stage;
+    b.srcAccessMask = src_access;
+    b.dstStageMask = dst_stage;
+    b.dstAccessMask = dst_access;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.buffer = buffer;
+    b.offset = 0;
+    b.size = VK_WHOLE_SIZE;
+    barriers.push_back(b);
+  }
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.bufferMemoryBarrierCount = static_cast<uint32_t>(barriers.size());
+  dep.pBufferMemoryBarriers = barriers.data();
+  vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+// A compute dispatch's writes to `buffers` made visible to the next dispatch (the barrier's
+// execution dependency also orders the next dispatch's writes after this one's reads).
+void compute_to_compute(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers) {
+  buffer_barrier(cmd, buffers, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+uint32_t blocks_for(uint32_t count) {
+  return static_cast<uint32_t>((uint64_t(count) + PRISMOID_SORT_BLOCK - 1) / PRISMOID_SORT_BLOCK);  // no wrap near 2^32
+}
+
+struct StorageWrite {
+  VkDescriptorSet set;
+  uint32_t binding;
+  VkBuffer buffer;
+};
+
+// One vkUpdateDescriptorSets call for all of them.
+void write_storage_buffers(const vk::Device& device, std::initializer_list<StorageWrite> writes) {
+  std::vector<VkDescriptorBufferInfo> infos;
+  infos.reserve(writes.size());  // the writes point into it
+  std::vector<VkWriteDescriptorSet> list;
+  for (const StorageWrite& w : writes) {
+    infos.push_back({w.buffer, 0, VK_WHOLE_SIZE});
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = w.set;
+    write.dstBinding = w.binding;
+    write.descriptorCount = 1;
+    write.descriptorType = kStorage;
+    write.pBufferInfo = &infos.back();
+    list.push_back(write);
+  }
+  vkUpdateDescriptorSets(device.get(), static_cast<uint32_t>(list.size()), list.data(), 0, nullptr);
+}
+
+}  // namespace
+
+GpuRadixSort::GpuRadixSort(const vk::Device& device, uint32_t capacity) : device_(device) {
+  set_layout_ = vk::create_descriptor_set_layout(device, kSortBindings);
+  VkDescriptorSetLayout sets[] = {set_layout_.get()};
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::RadixSortPush)};
+  layout_ = vk::create_pipeline_layout(device, sets, std::span(&push, 1));
+  histogram_ = vk::create_compute_pipeline(device, "sort/radix_histogram.comp", layout_.get());
+  scan_reduce_ = vk::create_compute_pipeline(device, "sort/radix_scan_reduce.comp", layout_.get());
+  scan_partials_ = vk::create_compute_pipeline(device, "sort/radix_scan_partials.comp", layout_.get());
+  scan_downsweep_ = vk::create_compute_pipeline(device, "sort/radix_scan_downsweep.comp", layout_.get());
+  scatter_ = vk::create_compute_pipeline(device, "sort/radix_scatter.comp", layout_.get());
+  for (auto& s : pass_sets_) s = vk::allocate_descriptor_set(device, set_layout_.get(), kSortBindings);
+  reserve(std::max(capacity, 1u));
+}
+
+void GpuRadixSort::reserve(uint32_t capacity) {
+  if (capacity_ > 0 && capacity <= capacity_) return;
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(device_.physical(), &props);
+  const uint32_t blocks = blocks_for(capacity);
+  const uint64_t bytes = uint64_t(blocks) * PRISMOID_SORT_BLOCK * sizeof(uint32_t);
+  if (blocks > props.limits.maxComputeWorkGroupCount[0] || bytes > props.limits.maxStorageBufferRange)
+    throw vk::NoSuitableDevice(device_.capabilities().name + " cannot radix-sort " + std::to_string(capacity) +
+                               " keys in one dispatch (at most " + std::to_string(props.limits.maxComputeWorkGroupCount[0]) +
+                               " workgroups of " + std::to_string(PRISMOID_SORT_BLOCK) + " keys and " +
+                               std::to_string(props.limits.maxStorageBufferRange) + " bytes per buffer)");
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  const uint64_t entries = uint64_t(blocks) * PRISMOID_SORT_RADIX;
+  const uint64_t partials = (entries + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK;
+  scratch_keys_ = vk::Buffer(device_, bytes, usage, vk::MemoryUse::DeviceLocal);
+  scratch_values_ = vk::Buffer(device_, bytes, usage, vk::MemoryUse::DeviceLocal);
+  histograms_ = vk::Buffer(device_, entries * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
+  partials_ = vk::Buffer(device_, partials * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
+  capacity_ = blocks * PRISMOID_SORT_BLOCK;
+  const VkDescriptorSet even = pass_sets_[0].set, odd = pass_sets_[1].set;
+  write_storage_buffers(device_, {
+      {even, PRISMOID_SORT_BINDING_KEYS_OUT, scratch_keys_.get()},
+      {even, PRISMOID_SORT_BINDING_VALUES_OUT, scratch_values_.get()},
+      {odd, PRISMOID_SORT_BINDING_KEYS_IN, scratch_keys_.get()},
+      {odd, PRISMOID_SORT_BINDING_VALUES_IN, scratch_values_.get()},
+      {even, PRISMOID_SORT_BINDING_HISTOGRAMS, histograms_.get()},
+      {odd, PRISMOID_SORT_BINDING_HISTOGRAMS, histograms_.get()},
+      {even, PRISMOID_SORT_BINDING_PARTIALS, partials_.get()},
+      {odd, PRISMOID_SORT_BINDING_PARTIALS, partials_.get()},
+  });
+}
+
+// Written on every record, not cached by handle: a destroyed buffer's handle can come back
+// for a new buffer, and a cache would then keep the stale descriptor.
+void GpuRadixSort::bind_caller_buffers(VkBuffer keys, VkBuffer values) {
+  const VkDescriptorSet even = pass_sets_[0].set, odd = pass_sets_[1].set;
+  write_storage_buffers(device_, {
+      {even, PRISMOID_SORT_BINDING_KEYS_IN, keys},
+      {even, PRISMOID_SORT_BINDING_VALUES_IN, values},
+      {odd, PRISMOID_SORT_BINDING_KEYS_OUT, keys},
+      {odd, PRISMOID_SORT_BINDING_VALUES_OUT, values},
+  });
+}
+
+void GpuRadixSort::record(VkCommandBuffer cmd, const vk::Buffer& keys, const vk::Buffer& values, uint32_t count) {
+  if (count > capacity_)
+    throw std::invalid_argument("GpuRadixSort: " + std::to_string(count) + " keys exceed the capacity " + std::to_string(capacity_));
+  if (keys.size() < VkDeviceSize(count) * sizeof(uint32_t) || values.size() < VkDeviceSize(count) * sizeof(uint32_t))
+    throw std::invalid_argument("GpuRadixSort: the key or value buffer holds fewer than " + std::to_string(count) + " entries");
+  const VkBuffer caller[] = {keys.get(), values.get()};
+  buffer_barrier(cmd, {caller[0], caller[1]},
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT | readers_stages(device_),
+                 VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  if (count > 1) {
+    bind_caller_buffers(keys.get(), values.get());
+    const uint32_t blocks = blocks_for(count);
+    const uint32_t entries = blocks * PRISMOID_SORT_RADIX;
+    const uint32_t scan_groups = (entries + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK;
+    const VkBuffer scratch[] = {scratch_keys_.get(), scratch_values_.get()};
+    for (uint32_t pass = 0; pass < PRISMOID_SORT_PASSES; ++pass) {
+      const VkBuffer* out = pass % 2 == 0 ? scratch : caller;
+      const gpu::RadixSortPush push{glm::uvec4(count, pass * PRISMOID_SORT_RADIX_BITS, blocks, entries)};
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &pass_sets_[pass % 2].set, 0, nullptr);
+      vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, histogram_.get());
+      vkCmdDispatch(cmd, blocks, 1, 1);
+      compute_to_compute(cmd, {histograms_.get()});
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_reduce_.get());
+      vkCmdDispatch(cmd, scan_groups, 1, 1);
+      compute_to_compute(cmd, {partials_.get()});
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_partials_.get());
+      vkCmdDispatch(cmd, 1, 1, 1);
+      compute_to_compute(cmd, {partials_.get()});
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_downsweep_.get());
+      vkCmdDispatch(cmd, scan_groups, 1, 1);
+      compute_to_compute(cmd, {histograms_.get()});
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scatter_.get());
+      vkCmdDispatch(cmd, blocks, 1, 1);
+      if (pass + 1 < PRISMOID_SORT_PASSES) compute_to_compute(cmd, {out[0], out[1]});
+    }
+  }
+  buffer_barrier(cmd, {caller[0], caller[1]}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 readers_stages(device_), VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+VisibilitySort::VisibilitySort(const vk::Device& device) : device_(device), sort_(device, 0) {
+  keys_set_layout_ = vk::create_descriptor_set_layout(device, kKeysBindings);
+  VkDescriptorSetLayout sets[] = {keys_set_layout_.get()};
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::SortKeysPush)};
+  keys_layout_ = vk::create_pipeline_layout(device, sets, std::span(&push, 1));
+  keys_pipeline_ = vk::create_compute_pipeline(device, "volume/sort_keys.comp", keys_layout_.get());
+  keys_set_ = vk::allocate_descriptor_set(device, keys_set_layout_.get(), kKeysBindings);
+  reserve(1);
+}
+
+void VisibilitySort::reserve(uint32_t tet_count) {
+  if (tet_count <= capacity_) return;
+  sort_.reserve(tet_count);
+  capacity_ = sort_.capacity();
+  const VkBufferUsageFlags usage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  keys_ = vk::Buffer(device_, VkDeviceSize(capacity_) * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
+  order_ = vk::Buffer(device_, VkDeviceSize(capacity_) * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
+  write_storage_buffers(device_, {
+      {keys_set_.set, PRISMOID_SORT_KEYS_BINDING_KEYS, keys_.get()},
+      {keys_set_.set, PRISMOID_SORT_KEYS_BINDING_VALUES, order_.get()},
+  });
+}
+
+void VisibilitySort::record(VkCommandBuffer cmd, const vk::Buffer& positions, const vk::Buffer& tets, uint32_t tet_count,
+                            const glm::vec3& eye_local, vk::GpuTimer& timer) {
+  reserve(tet_count);
+  vk::ScopedPass pass(timer, cmd, "sort");
+  if (tet_count > 0) {
+    // Written on every record, like the sort's caller buffers (handles can be reused).
+    write_storage_buffers(device_, {
+        {keys_set_.set, PRISMOID_SORT_KEYS_BINDING_POSITIONS, positions.get()},
+        {keys_set_.set, PRISMOID_SORT_KEYS_BINDING_TETS, tets.get()},
+    });
+    // The previous frame's readers of the order must finish before the keys pass rewrites it.
+    buffer_barrier(cmd, {keys_.get(), order_.get()}, readers_stages(device_), VK_ACCESS_2_NONE,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    const gpu::SortKeysPush push{glm::vec4(eye_local, 1.0f), glm::uvec4(tet_count, 0u, 0u, 0u)};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, keys_pipeline_.get());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, keys_layout_.get(), 0, 1, &keys_set_.set, 0, nullptr);
+    vkCmdPushConstants(cmd, keys_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdDispatch(cmd, blocks_for(tet_count), 1, 1);
+  }
+  sort_.record(cmd, keys_, order_, tet_count);  // starts by waiting for the keys pass's writes
+}
+
+}  // namespace prismoid::volume

@@ -1,0 +1,25 @@
+#version 460
+// Visibility sort keys: for each tetrahedron, the float bits of the squared distance from the
+// eye to its centroid (non-negative floats order like their bit patterns), and its index.
+#extension GL_GOOGLE_include_directive : require
+#include "../shared/sort.h"
+
+layout(local_size_x = PRISMOID_SORT_WORKGROUP_SIZE) in;
+layout(set = 0, binding = PRISMOID_SORT_KEYS_BINDING_POSITIONS, std430) readonly buffer Positions { vec4 positions[]; };
+layout(set = 0, binding = PRISMOID_SORT_KEYS_BINDING_TETS, std430) readonly buffer Tets { uvec4 tets[]; };
+layout(set = 0, binding = PRISMOID_SORT_KEYS_BINDING_KEYS, std430) writeonly buffer Keys { uint keys[]; };
+layout(set = 0, binding = PRISMOID_SORT_KEYS_BINDING_VALUES, std430) writeonly buffer Values { uint values[]; };
+layout(push_constant) uniform Push { SortKeysPush push; };
+
+void main() {
+  // One block of keys per workgroup, like the sort, so both dispatch the same group count.
+  for (uint i = 0; i < PRISMOID_SORT_ITEMS_PER_INVOCATION; ++i) {
+    const uint cell = gl_WorkGroupID.x * PRISMOID_SORT_BLOCK + i * PRISMOID_SORT_WORKGROUP_SIZE + gl_LocalInvocationID.x;
+    if (cell >= push.counts.x) return;
+    const uvec4 tet = tets[cell];
+    const vec3 center = 0.25 * (positions[tet.x].xyz + positions[tet.y].xyz + positions[tet.z].xyz + positions[tet.w].xyz);
+    const vec3 d = center - push.eye.xyz;
+    keys[cell] = floatBitsToUint(dot(d, d));
+    values[cell] = cell;
+  }
+}
