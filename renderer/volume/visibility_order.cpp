@@ -3,6 +3,7 @@
 #include "renderer/volume/visibility_order.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <functional>
 #include <glm/geometric.hpp>
 #include <stdexcept>
@@ -138,14 +139,19 @@ class Sorter {
   }
 
  private:
-  using Entry = std::pair<double, uint32_t>;  // distance, cell or set; ties by index: deterministic
-  static void push(std::vector<Entry>& heap, double key, uint32_t id) {
-    heap.emplace_back(key, id);
+  // A heap entry packs the distance's upper 32 bits (sign, exponent and 20 mantissa bits: a
+  // non-negative double's bits order as the double does) above the cell or set index, so the
+  // heap compares single integers. Distances within a relative 2^-20 count as ties, broken by
+  // index, which keeps the order deterministic; the priority only steers the choice among cells
+  // the relation leaves free, so that precision costs nothing.
+  using Entry = uint64_t;
+  static void push(std::vector<Entry>& heap, double distance2, uint32_t id) {
+    heap.push_back((std::bit_cast<uint64_t>(distance2) & ~uint64_t(0xffffffff)) | id);
     std::push_heap(heap.begin(), heap.end(), std::greater<>());
   }
   static uint32_t pop(std::vector<Entry>& heap) {
     std::pop_heap(heap.begin(), heap.end(), std::greater<>());
-    const uint32_t id = heap.back().second;
+    const auto id = uint32_t(heap.back());
     heap.pop_back();
     return id;
   }
