@@ -53,7 +53,8 @@ struct VisibilityOrder {
 // the exact predicate orient3d_sign); an eye in the plane sees no ray cross the face, so that
 // face adds no constraint. Cells wholly behind the eye are ordered too (the near plane clips
 // them later). Among the cells whose predecessors are all placed, the one whose centroid is
-// nearest the eye goes first, which gives non-convex meshes a sensible order across their gaps
+// nearest the eye (to a relative 2^-20, ties by
+// index, so the result is deterministic) goes first, which gives non-convex meshes a sensible order across their gaps
 // (about which the adjacency says nothing, so there the order is approximate and `exact` is
 // false). A cycle in the relation (possible for non-Delaunay meshes) is broken by placing each
 // strongly connected set of cells as a block, its cells by centroid distance, once everything
