@@ -48,18 +48,17 @@ struct VisibilityOrder {
   bool exact = false;                   // acyclic && convex_boundary: the order is exact for every ray
 };
 
-// Front-to-back order of the cells as seen from `eye`. For each interior face between cells A
-// and B, A precedes B when the eye lies strictly on A's side of the face's plane (decided by
-// the exact predicate orient3d_sign); an eye in the plane sees no ray cross the face, so that
-// face adds no constraint. Cells wholly behind the eye are ordered too (the near plane clips
-// them later). Among the cells whose predecessors are all placed, the one whose centroid is
-// nearest the eye (to a relative 2^-20, ties by
-// index, so the result is deterministic) goes first, which gives non-convex meshes a sensible order across their gaps
-// (about which the adjacency says nothing, so there the order is approximate and `exact` is
-// false). A cycle in the relation (possible for non-Delaunay meshes) is broken by placing each
-// strongly connected set of cells as a block, its cells by centroid distance, once everything
-// outside that leads into it is placed; cells_in_cycles counts the cells of those sets.
-// A cell of zero volume has no side, so its own faces add no constraints.
+// Front-to-back order of the cells as seen from `eye`. For each interior face between cells A and
+// B, A precedes B when the eye lies strictly on A's side of the face's plane (decided by the exact
+// predicate orient3d_sign); an eye in the plane sees no ray cross the face, so that face adds no
+// constraint. Cells wholly behind the eye are ordered too (the near plane clips them later). Among
+// the cells whose predecessors are all placed, the one whose centroid is nearest the eye (to a
+// relative 2^-20, ties by index, so the result is deterministic) goes first, which gives non-convex
+// meshes a sensible order across their gaps (about which the adjacency says nothing, so there the
+// order is approximate and `exact` is false). A cycle in the relation (possible for non-Delaunay
+// meshes) is broken by placing each strongly connected set of cells as a block, its cells by
+// centroid distance, once everything outside that leads into it is placed; cells_in_cycles counts
+// the cells of those sets. A cell of zero volume has no side, so its own faces add no constraints.
 // O(cells log cells) time; throws std::invalid_argument when `adjacency` is not the mesh's.
 VisibilityOrder exact_order(const TetMesh& mesh, const TetAdjacency& adjacency, const glm::dvec3& eye);
 
