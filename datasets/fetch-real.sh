@@ -5,7 +5,11 @@
 # from the closed surface meshes in Debian's libcgal-demo (downloaded and unpacked into a cache,
 # never installed), tetrahedralized by Debian's TetGen 1.5. Each file carries a cell array
 # 'extinction' = 1 (TetGen writes no arrays). Idempotent: existing outputs are kept.
-#   datasets/fetch-real.sh [--force]       (--force rebuilds the .vtk files)
+#   datasets/fetch-real.sh [--force] [--pack]
+#     --force  rebuilds the .vtk files
+#     --pack   also writes xz-compressed copies to datasets/real/packed/ (2.7x smaller: 11 MB for
+#              the armadillo), the folder to carry to the GPU machine with the bundle, whose
+#              copy may carry 64 MiB in all; scripts/bench-volume.sh --data reads them as they are
 # Environment: PRISMOID_REAL_DIR (output folder, default datasets/real),
 #              PRISMOID_DATA_CACHE (download cache, default datasets/.cache).
 set -euo pipefail
@@ -14,11 +18,14 @@ repo="$(pwd)"
 out_dir="${PRISMOID_REAL_DIR:-$repo/datasets/real}"
 cache="${PRISMOID_DATA_CACHE:-$repo/datasets/.cache}"
 force=0
-case "${1:-}" in
-  --force) force=1 ;;
-  "") ;;
-  *) echo "usage: datasets/fetch-real.sh [--force]" >&2; exit 2 ;;
-esac
+pack=0
+for arg in "$@"; do
+  case "$arg" in
+    --force) force=1 ;;
+    --pack) pack=1 ;;
+    *) echo "usage: datasets/fetch-real.sh [--force] [--pack]" >&2; exit 2 ;;
+  esac
+done
 
 fail() { echo "fetch-real: $*" >&2; exit 1; }
 step() { echo "== $*"; }
@@ -124,4 +131,15 @@ meshprep info "$bunny_surface"
 
 tetrahedralize bunny "$bunny_surface" "$bunny_switches" "$expected_bunny"
 tetrahedralize armadillo "$cache/meshes/armadillo.off" "$armadillo_switches" "$expected_armadillo"
+if [ "$pack" -eq 1 ]; then
+  mkdir -p "$out_dir/packed"
+  for name in bunny armadillo; do
+    packed="$out_dir/packed/$name.vtk.xz"
+    if [ -f "$packed" ] && [ "$packed" -nt "$out_dir/$name.vtk" ]; then continue; fi
+    step "xz $name.vtk -> $packed"
+    xz -T2 -c "$out_dir/$name.vtk" >"$packed.partial" || fail "xz $name.vtk failed"
+    mv "$packed.partial" "$packed"
+  done
+  du -h "$out_dir"/packed/*.vtk.xz
+fi
 step "done: $(cd "$out_dir" && ls -1 ./*.vtk | tr '\n' ' ')in $out_dir"

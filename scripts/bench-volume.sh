@@ -26,7 +26,7 @@ out_dir="out/bench-volume"
 prismoid="${PRISMOID:-}"
 extra=()
 
-usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; }
 fail() { echo "bench-volume: $*" >&2; exit 2; }
 need_value() { [ $# -ge 2 ] || fail "$1 needs a value"; }
 
