@@ -1,5 +1,6 @@
 #include "app/cli.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <memory>
@@ -13,11 +14,14 @@
 #include <sstream>
 
 #include <glm/common.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "app/viewer.hpp"
 #include "io/image_io.hpp"
+#include "io/transfer_function_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
@@ -50,17 +54,31 @@ const char* kRenderHelp =
     "\n"
     "  --output PATH        image to write: .png (display colour, sRGB) or .pfm (the quantity, float32)\n"
     "  --stats PATH         write a JSON file with the device, the passes that ran and their GPU times\n"
-    "  --mode MODE          interval (interval shading on the GPU) | reference (CPU, double precision, exact)\n"
-    "  --quantity Q         optical-depth | transmittance (default transmittance)\n"
+    "  --mode MODE          interval               interval shading on the GPU, cells in mesh order\n"
+    "                       interval-sorted        ... cells sorted by centroid distance on the GPU each frame\n"
+    "                       interval-exact-order   ... cells in topological visibility order (exact on convex meshes)\n"
+    "                       reference              CPU, double precision, exact per-pixel order\n"
+    "                       (default: interval; interval-sorted for --quantity color)\n"
+    "  --quantity Q         optical-depth | transmittance | color (default transmittance)\n"
+    "                       color: emission-absorption of a scalar field through a transfer function\n"
     "  --size WxH           image size in pixels (default 800x600)\n"
     "  --eye x,y,z --target x,y,z --up x,y,z --fovy DEG --near N\n"
     "                       camera (default: framing the data from +z, fovy 40)\n"
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "\n"
-    "  --array NAME         array giving the extinction (vectors by magnitude): a cell array is constant\n"
-    "                       per cell, a point array linear in each cell; default sigma = 1\n"
-    "  --density-scale S    multiplies the extinction (default 1)\n"
+    "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
+    "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
+    "                       linear in each cell; default sigma = 1 (the default dataset: its density)\n"
+    "  --density-scale S    multiplies the extinction; for color, the extinction at opacity 1 (default 1)\n"
+    "\n"
+    "  color only:\n"
+    "  --tf PRESET|FILE     transfer function: cool-to-warm (default), viridis, grayscale, black-body,\n"
+    "                       or a ParaView colour-map JSON file (opacity from its \"Points\", else a ramp)\n"
+    "  --tf-range LO,HI     scalar values mapped to the ends of the transfer function (default: data range)\n"
+    "  --preintegration-size N   0: integrate each segment exactly in the shader (default); N in 2..256:\n"
+    "                       look segments up in an N^3 pre-integrated table (faster, approximate)\n"
+    "  --background R,G,B   linear colour behind the volume (default 1,1,1)\n"
     "\n"
     "FILE: a tetrahedral .vtu or legacy .vtk unstructured grid. With no FILE the embedded\n"
     "default dataset is rendered.\n";
@@ -163,9 +181,10 @@ std::optional<uint32_t> parse_device(const ParsedArgs& a) {
 }
 
 // The dataset named on the command line; the embedded default when none is named.
-TetMesh load_scene(const ParsedArgs& a) {
+TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
   io::TetReadOptions options;
   if (a.has("array")) options.array = a.values.at("array");
+  if (scalar_field) options.role = io::ArrayRole::Scalars;
   if (a.has("density-scale")) {
     options.density_scale = parse_double("density-scale", a.values.at("density-scale"));
     if (options.density_scale < 0.0) throw InputError("--density-scale", "must not be negative");
@@ -173,7 +192,8 @@ TetMesh load_scene(const ParsedArgs& a) {
   if (a.files.empty()) {
     if (a.has("array")) throw InputError("--array", "the embedded default dataset has no arrays to choose from");
     TetMesh mesh = make_default_volume();
-    for (double& s : mesh.cell_extinction) s *= options.density_scale;
+    if (!scalar_field)
+      for (double& s : mesh.cell_extinction) s *= options.density_scale;
     return mesh;
   }
   if (a.files.size() > 1) throw InputError(a.files[1], "several datasets in one scene arrive with the viewer; give one FILE");
@@ -262,53 +282,125 @@ int cmd_devices(const std::vector<std::string>& args) {
 frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                        VkExtent2D size) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<double> tau = reference::optical_depth_image(mesh, camera, size.width, size.height);
   frame::OffscreenFrame f;
   f.width = size.width;
   f.height = size.height;
-  f.quantity.resize(tau.size());
-  f.display.resize(tau.size() * 4);
-  for (size_t i = 0; i < tau.size(); ++i) {
-    const double t = std::exp(-tau[i]);
-    f.quantity[i] = float(resolve.quantity == volume::Quantity::Transmittance ? t : tau[i]);
-    const glm::dvec3 c = glm::mix(glm::dvec3(resolve.medium), glm::dvec3(resolve.background), t);
-    f.display[4 * i + 0] = float(c.r);
-    f.display[4 * i + 1] = float(c.g);
-    f.display[4 * i + 2] = float(c.b);
-    f.display[4 * i + 3] = 1.0f;
+  const size_t pixels = size_t(size.width) * size.height;
+  f.quantity.resize(pixels);
+  f.display.resize(pixels * 4);
+  if (resolve.quantity == volume::Quantity::Color) {
+    const auto image = reference::emission_absorption_image(mesh, resolve.transfer, camera, size.width, size.height);
+    f.emission.resize(pixels * 4);
+    for (size_t i = 0; i < pixels; ++i) {
+      const glm::dvec4 c = image.pixels[i];
+      const double transmittance = 1.0 - c.a;
+      f.quantity[i] = float(transmittance);
+      const glm::dvec3 shown = glm::dvec3(c) + transmittance * glm::dvec3(resolve.background);
+      for (int k = 0; k < 3; ++k) f.display[4 * i + k] = float(shown[k]);
+      f.display[4 * i + 3] = 1.0f;
+      for (int k = 0; k < 4; ++k) f.emission[4 * i + k] = float(c[k]);
+    }
+    f.report.ordering = "exact (per pixel, CPU)";
+  } else {
+    const std::vector<double> tau = reference::optical_depth_image(mesh, camera, size.width, size.height);
+    for (size_t i = 0; i < pixels; ++i) {
+      const double t = std::exp(-tau[i]);
+      f.quantity[i] = float(resolve.quantity == volume::Quantity::Transmittance ? t : tau[i]);
+      const glm::dvec3 c = glm::mix(glm::dvec3(resolve.medium), glm::dvec3(resolve.background), t);
+      for (int k = 0; k < 3; ++k) f.display[4 * i + k] = float(c[k]);
+      f.display[4 * i + 3] = 1.0f;
+    }
+    f.report.ordering = "none (order-independent)";
   }
+  f.report.order_exact = true;
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   f.passes.push_back({"reference (CPU, double)", ms});
   return f;
 }
 
+const char* quantity_name(volume::Quantity q) {
+  switch (q) {
+    case volume::Quantity::OpticalDepth: return "optical-depth";
+    case volume::Quantity::Transmittance: return "transmittance";
+    case volume::Quantity::Color: return "color";
+  }
+  return "?";
+}
+
+// The transfer function the color options describe, over the data's scalar range unless given.
+volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh) {
+  volume::TransferFunction tf = io::transfer_function_from(a.has("tf") ? a.values.at("tf") : "cool-to-warm");
+  const auto& field = mesh.point_scalars.empty() ? mesh.cell_scalars : mesh.point_scalars;
+  if (field.empty())
+    throw InputError(mesh.name, "has no scalar field for --quantity color (choose a point or cell array with --array NAME)");
+  if (a.has("tf-range")) {
+    const std::string& text = a.values.at("tf-range");
+    const auto comma = text.find(',');
+    if (comma == std::string::npos) throw InputError("--tf-range", "expects LO,HI, got '" + text + "'");
+    tf.range_lo = parse_double("tf-range", text.substr(0, comma));
+    tf.range_hi = parse_double("tf-range", text.substr(comma + 1));
+    if (!(tf.range_hi > tf.range_lo)) throw InputError("--tf-range", "HI must be greater than LO");
+  } else {
+    const auto [lo, hi] = std::minmax_element(field.begin(), field.end());
+    tf.range_lo = *lo;
+    tf.range_hi = *hi > *lo ? *hi : *lo + 1.0;  // a constant field still maps somewhere
+  }
+  tf.density_scale = a.has("density-scale") ? parse_double("density-scale", a.values.at("density-scale")) : 1.0;
+  const std::string name = tf.name;
+  tf.name = "--tf " + name;
+  volume::validate(tf);
+  tf.name = name;
+  return tf;
+}
+
 int cmd_render(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf", "array", "density-scale"}), {"validate", "help"});
+  ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf", "tf-range",
+                                             "preintegration-size", "background", "array", "density-scale"}),
+                       {"validate", "help"});
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");
   if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
-  const std::string mode = a.has("mode") ? a.values.at("mode") : "interval";
-  if (mode != "interval" && mode != "reference")
-    throw InputError("--mode", "unknown mode '" + mode + "' (available: interval, reference)");
   volume::Quantity quantity = volume::Quantity::Transmittance;
   if (a.has("quantity")) {
     const std::string& q = a.values.at("quantity");
     if (q == "optical-depth") quantity = volume::Quantity::OpticalDepth;
     else if (q == "transmittance") quantity = volume::Quantity::Transmittance;
-    else if (q == "color") throw InputError("--quantity", "'color' needs transfer functions, which arrive with emission-absorption");
-    else throw InputError("--quantity", "unknown quantity '" + q + "' (optical-depth, transmittance)");
+    else if (q == "color") quantity = volume::Quantity::Color;
+    else throw InputError("--quantity", "unknown quantity '" + q + "' (optical-depth, transmittance, color)");
   }
-  if (a.has("tf")) throw InputError("--tf", "transfer functions arrive with emission-absorption rendering");
+  const bool color = quantity == volume::Quantity::Color;
+  const std::string mode = a.has("mode") ? a.values.at("mode") : (color ? "interval-sorted" : "interval");
+  frame::FrameSettings settings;
+  if (mode == "interval") settings.ordering = frame::Ordering::MeshOrder;
+  else if (mode == "interval-sorted") settings.ordering = frame::Ordering::GpuSort;
+  else if (mode == "interval-exact-order") settings.ordering = frame::Ordering::Exact;
+  else if (mode != "reference")
+    throw InputError("--mode", "unknown mode '" + mode + "' (available: interval, interval-sorted, interval-exact-order, reference)");
+  if (!color)
+    for (const char* option : {"tf", "tf-range", "preintegration-size", "background"})
+      if (a.has(option)) throw InputError(std::string("--") + option, "applies to --quantity color only");
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
   const auto device_index = parse_device(a);
 
-  const TetMesh mesh = load_scene(a);
+  const TetMesh mesh = load_scene(a, color);
   validate(mesh);
   const Camera camera = camera_from(a, bounds_of(mesh));
 
-  frame::FrameSettings settings;
   settings.resolve.quantity = quantity;
+  if (color) {
+    settings.resolve.transfer = transfer_from(a, mesh);
+    if (a.has("preintegration-size")) settings.resolve.preintegration_size = parse_uint("preintegration-size", a.values.at("preintegration-size"));
+    if (a.has("background")) {
+      const glm::dvec3 bg = parse_vec3("background", a.values.at("background"));
+      if (glm::any(glm::lessThan(bg, glm::dvec3(0.0))) || glm::any(glm::greaterThan(bg, glm::dvec3(1.0))))
+        throw InputError("--background", "components must lie in [0, 1]");
+      settings.resolve.background = glm::vec3(bg);
+    }
+    if (mode == "interval")
+      std::cerr << "prismoid: note: color is order dependent and --mode interval draws cells in mesh order (approximate); "
+                   "interval-sorted or interval-exact-order composite in depth order\n";
+  }
   frame::OffscreenFrame result;
   std::string device_name, driver;
   std::unique_ptr<vk::Instance> instance;
@@ -330,36 +422,54 @@ int cmd_render(const std::vector<std::string>& args) {
   io::FloatImage image;
   image.width = result.width;
   image.height = result.height;
-  if (output.size() >= 4 && (output.substr(output.size() - 4) == ".pfm" || output.substr(output.size() - 4) == ".PFM")) {
+  const bool pfm = std::filesystem::path(output).extension() == ".pfm" || std::filesystem::path(output).extension() == ".PFM";
+  if (pfm && !color) {
     image.channels = 1;
     image.pixels = result.quantity;
+  } else if (pfm) {  // colour PFM: the linear colour over the background, RGB
+    image.channels = 3;
+    image.pixels.resize(result.display.size() / 4 * 3);
+    for (size_t i = 0; i < result.display.size() / 4; ++i)
+      for (int k = 0; k < 3; ++k) image.pixels[3 * i + k] = result.display[4 * i + k];
   } else {
     image.channels = 4;
     image.pixels = result.display;
   }
   io::write_image(output, image);
 
+  const bool cpu = mode == "reference";
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
             << mesh.tets.size() << " cells) on " << device_name << "\n";
+  std::cout << "  ordering: " << result.report.ordering << (result.report.order_exact ? " [exact]" : " [approximate]") << "\n";
   double total = 0.0;
   for (const auto& p : result.passes) {
     std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps")
-              << (mode == "reference" ? " CPU" : " GPU") << "\n";
+              << (cpu ? " CPU" : " GPU") << "\n";
     total += p.gpu_ms;
   }
-  std::cout << "  total: " << json_number(total) << (mode == "reference" ? " ms CPU\n" : " ms GPU\n");
+  std::cout << "  total: " << json_number(total) << (cpu ? " ms CPU\n" : " ms GPU\n");
+  for (const auto& p : result.report.cpu_passes) std::cout << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
 
   if (a.has("stats")) {
     const std::string stats_path = a.values.at("stats");
     std::ostringstream js;
     js << "{\n  \"device\": \"" << json_escape(device_name) << "\",\n  \"driver\": \"" << json_escape(driver)
        << "\",\n  \"dataset\": \"" << json_escape(mesh.name) << "\",\n  \"cells\": " << mesh.tets.size()
-       << ",\n  \"mode\": \"" << mode << "\",\n  \"quantity\": \""
-       << (quantity == volume::Quantity::OpticalDepth ? "optical-depth" : "transmittance") << "\",\n  \"width\": " << size.width
-       << ",\n  \"height\": " << size.height << ",\n  \"passes\": [";
+       << ",\n  \"mode\": \"" << mode << "\",\n  \"quantity\": \"" << quantity_name(quantity) << "\",\n  \"width\": " << size.width
+       << ",\n  \"height\": " << size.height << ",\n  \"ordering\": \"" << json_escape(result.report.ordering)
+       << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false");
+    if (color)
+      js << ",\n  \"transfer_function\": \"" << json_escape(settings.resolve.transfer.name) << "\",\n  \"tf_range\": ["
+         << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)
+         << "],\n  \"preintegration_size\": " << settings.resolve.preintegration_size;
+    js << ",\n  \"passes\": [";
     for (size_t i = 0; i < result.passes.size(); ++i)
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.passes[i].name)
          << "\", \"gpu_ms\": " << json_number(result.passes[i].gpu_ms) << "}";
+    js << "\n  ],\n  \"cpu_passes\": [";
+    for (size_t i = 0; i < result.report.cpu_passes.size(); ++i)
+      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.report.cpu_passes[i].name)
+         << "\", \"cpu_ms\": " << json_number(result.report.cpu_passes[i].gpu_ms) << "}";
     js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": "
        << validation_messages << "\n}\n";
     std::ofstream out(stats_path);

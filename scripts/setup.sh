@@ -11,6 +11,8 @@ BASE_PACKAGES=(
   libglfw3-dev libglm-dev libstb-dev
   libgtest-dev
   libvtk9-dev
+  nlohmann-json3-dev
+  tetgen
   xvfb xauth
 )
 # Mesa's lavapipe from bookworm-backports: 25.x exposes VK_EXT_mesh_shader; bookworm's 22.3 does not.

@@ -1,8 +1,12 @@
 #include "renderer/frame/frame_renderer.hpp"
 
 #include <chrono>
+#include <optional>
+#include <string>
 
 #include "renderer/vk/device.hpp"
+#include "renderer/volume/visibility_order.hpp"
+#include "renderer/volume/visibility_sort.hpp"
 
 namespace prismoid::frame {
 
@@ -15,14 +19,23 @@ const char* ordering_name(Ordering ordering) {
   return "?";
 }
 
-// The visibility orderings a frame may use, made on first use.
+// The visibility orderings a frame may use, each made on first use.
 struct FrameRenderer::Orderings {
-  const vk::Buffer* order = nullptr;  // what the next record() draws with (nullptr: mesh order)
+  TetMesh geometry;                                  // points and cells, for the exact order
+  std::optional<volume::TetAdjacency> adjacency;     // built once
+  vk::Buffer exact_order;                            // host-visible, written by prepare()
+  std::unique_ptr<volume::VisibilitySort> gpu_sort;  // records its pass in record()
+  const vk::Buffer* order = nullptr;                 // what the next record() draws with (nullptr: mesh order)
+  bool sort_on_gpu = false;                          // record() sorts before drawing
 };
 
 FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& mesh)
     : device_(device), mesh_(volume::upload(device, mesh)), bounds_(bounds_of(mesh)), interval_(device),
-      orderings_(std::make_unique<Orderings>()), offscreen_timer_(device, 16) {}
+      orderings_(std::make_unique<Orderings>()), offscreen_timer_(device, 16) {
+  orderings_->geometry.name = mesh.name;
+  orderings_->geometry.points = mesh.points;
+  orderings_->geometry.tets = mesh.tets;
+}
 
 FrameRenderer::~FrameRenderer() = default;
 
@@ -33,24 +46,56 @@ void FrameRenderer::resize(VkExtent2D extent) {
 }
 
 FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& settings) {
-  (void)camera;
   FrameReport report;
   const double table_ms = interval_.prepare(mesh_, settings.resolve);
-  if (table_ms > 0.0) report.cpu_passes.push_back({"preintegrate", table_ms});
-  orderings_->order = nullptr;
+  if (table_ms > 0.0)
+    report.cpu_passes.push_back({settings.resolve.preintegration_size > 0 ? "preintegrate" : "transfer-function upload", table_ms});
+  Orderings& o = *orderings_;
+  o.order = nullptr;
+  o.sort_on_gpu = false;
   if (!volume::order_dependent(settings.resolve.quantity)) {
+    // Additive quantities: any order gives the same sum, so nothing sorts.
     report.ordering = "none (order-independent)";
     report.order_exact = true;
     return report;
   }
-  report.ordering = ordering_name(settings.ordering);
-  report.order_exact = false;
-  if (settings.ordering != Ordering::MeshOrder) throw std::logic_error("ordering not built yet");
+  switch (settings.ordering) {
+    case Ordering::MeshOrder:
+      report.ordering = "mesh-order (unsorted)";
+      return report;
+    case Ordering::GpuSort:
+      if (!o.gpu_sort) o.gpu_sort = std::make_unique<volume::VisibilitySort>(device_);
+      o.sort_on_gpu = mesh_.tet_count > 0;
+      o.order = mesh_.tet_count > 0 ? &o.gpu_sort->order() : nullptr;
+      report.ordering = "gpu-sort (centroid distance)";
+      return report;
+    case Ordering::Exact: {
+      const auto start = std::chrono::steady_clock::now();
+      if (!o.adjacency) o.adjacency = volume::build_adjacency(o.geometry);
+      const volume::VisibilityOrder order = volume::exact_order(o.geometry, *o.adjacency, camera.eye);
+      const VkDeviceSize bytes = std::max<VkDeviceSize>(order.front_to_back.size() * sizeof(uint32_t), 4);
+      if (o.exact_order.size() < bytes)
+        o.exact_order = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);
+      o.exact_order.write(std::as_bytes(std::span(order.front_to_back)));
+      o.order = mesh_.tet_count > 0 ? &o.exact_order : nullptr;
+      report.order_exact = order.exact;
+      report.ordering = "exact (topological over face adjacency)";
+      if (!order.acyclic)
+        report.ordering += "; " + std::to_string(order.cells_in_cycles) + " cells in visibility cycles placed by distance";
+      if (!o.adjacency->convex_boundary) report.ordering += "; non-convex boundary: approximate across gaps";
+      report.cpu_passes.push_back(
+          {"exact-order", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+      return report;
+    }
+  }
   return report;
 }
 
 void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const FrameSettings& settings, vk::GpuTimer& timer) {
-  interval_.record(cmd, mesh_, targets_, camera, settings.resolve, timer, orderings_->order);
+  Orderings& o = *orderings_;
+  if (o.sort_on_gpu)
+    o.gpu_sort->record(cmd, mesh_.positions, mesh_.tets, mesh_.tet_count, glm::vec3(camera.eye - mesh_.origin), timer);
+  interval_.record(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order);
 }
 
 OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const FrameSettings& settings, VkExtent2D extent) {

@@ -15,13 +15,25 @@ namespace {
 struct Segment {
   double enter, exit;
   double x_front, x_back;  // normalized scalar at both ends
+  double x_slack = 0.0;    // how far the renderer's x may stray at either end
+  double length_slack = 0.0;
 };
+
+// sqrt of the sum of squares of the gradient of the linear interpolant of `values` over v.
+double gradient_length(const std::array<glm::dvec3, 4>& v, const std::array<double, 4>& values) {
+  const glm::dvec3 e1 = v[1] - v[0], e2 = v[2] - v[0], e3 = v[3] - v[0];
+  const double det = glm::dot(e1, glm::cross(e2, e3));
+  if (det == 0.0) return 0.0;
+  const glm::dvec3 g = ((values[1] - values[0]) * glm::cross(e2, e3) + (values[2] - values[0]) * glm::cross(e3, e1) +
+                        (values[3] - values[0]) * glm::cross(e1, e2)) / det;
+  return glm::length(g);
+}
 
 }  // namespace
 
 ColorImage emission_absorption_image(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera,
                                      uint32_t width, uint32_t height, double offset_x, double offset_y,
-                                     const volume::PreintegrationTable* table) {
+                                     const volume::PreintegrationTable* table, const InputPerturbation* perturbation) {
   const bool linear = !mesh.point_scalars.empty();
   if (!linear && mesh.cell_scalars.empty())
     throw InputError(mesh.name, "has no scalar field for the transfer function (choose one with --array NAME)");
@@ -41,9 +53,15 @@ ColorImage emission_absorption_image(const TetMesh& mesh, const volume::Transfer
                   }
                   s.x_front = volume::normalized(tf, interpolate_linear(v, values, camera.eye + in.enter * dir));
                   s.x_back = volume::normalized(tf, interpolate_linear(v, values, camera.eye + in.exit * dir));
+                  if (perturbation) {
+                    const double g = gradient_length(v, values) / (tf.range_hi - tf.range_lo);
+                    s.x_slack = perturbation->x_absolute + perturbation->x_relative * g * in.exit;
+                  }
                 } else {
                   s.x_front = s.x_back = volume::normalized(tf, mesh.cell_scalars[c]);
+                  if (perturbation) s.x_slack = perturbation->x_absolute;
                 }
+                if (perturbation) s.length_slack = perturbation->length_relative * in.exit;
                 along[pixel].push_back(s);
               });
   ColorImage image;
@@ -51,13 +69,33 @@ ColorImage emission_absorption_image(const TetMesh& mesh, const volume::Transfer
   image.height = height;
   image.pixels.assign(pixels, glm::dvec4(0.0));
   image.segments.assign(pixels, 0u);
+  if (perturbation) image.sensitivity.assign(pixels, 0.0);
+  auto segment = [&](double xf, double xb, double length) {
+    return table ? volume::lookup(*table, xf, xb, length) : volume::integrate_segment(samples, xf, xb, length);
+  };
+  auto largest_change = [](const volume::SegmentRadiance& a, const volume::SegmentRadiance& b) {
+    return std::max({std::abs(a.color.r - b.color.r), std::abs(a.color.g - b.color.g), std::abs(a.color.b - b.color.b),
+                     std::abs(a.alpha - b.alpha)});
+  };
   for (size_t p = 0; p < pixels; ++p) {
     auto& segs = along[p];
     std::sort(segs.begin(), segs.end(), [](const Segment& a, const Segment& b) { return a.enter < b.enter; });
     volume::SegmentRadiance sum;
-    for (const Segment& s : segs)
-      sum = volume::composite(sum, table ? volume::lookup(*table, s.x_front, s.x_back, s.exit - s.enter)
-                                         : volume::integrate_segment(samples, s.x_front, s.x_back, s.exit - s.enter));
+    for (const Segment& s : segs) {
+      const double length = s.exit - s.enter;
+      const volume::SegmentRadiance r = segment(s.x_front, s.x_back, length);
+      sum = volume::composite(sum, r);
+      if (perturbation) {
+        // Each input moved both ways by its slack; the changes add (first order).
+        double change = 0.0;
+        for (double sign : {-1.0, 1.0}) {
+          change = std::max(change, largest_change(r, segment(s.x_front + sign * s.x_slack, s.x_back, length)) +
+                                        largest_change(r, segment(s.x_front, s.x_back + sign * s.x_slack, length)) +
+                                        largest_change(r, segment(s.x_front, s.x_back, std::max(length + sign * s.length_slack, 0.0))));
+        }
+        image.sensitivity[p] += change;
+      }
+    }
     image.pixels[p] = glm::dvec4(sum.color, sum.alpha);
     image.segments[p] = static_cast<uint32_t>(segs.size());
   }

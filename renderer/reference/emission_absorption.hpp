@@ -18,6 +18,19 @@ struct ColorImage {
   uint32_t width = 0, height = 0;
   std::vector<glm::dvec4> pixels;    // premultiplied (r, g, b) and alpha = 1 - transmittance
   std::vector<uint32_t> segments;    // per pixel: cells the ray crosses with positive length
+  // When an InputPerturbation is given: per pixel, a bound on how much any channel can change
+  // when every segment's inputs move by that much (each segment's change, by finite
+  // differences, summed; what lies behind a segment is only ever attenuated).
+  std::vector<double> sensitivity;
+};
+
+// How far a renderer's float inputs to a segment may stray: the normalized scalar at each end
+// by x_absolute + x_relative * (|gradient of x| * distance from the eye), the length by
+// length_relative * (distance of the far end from the eye).
+struct InputPerturbation {
+  double x_absolute = 0.0;
+  double x_relative = 0.0;
+  double length_relative = 0.0;
 };
 
 // The scalar the transfer function reads is mesh.point_scalars (linear in each cell) when
@@ -26,7 +39,8 @@ struct ColorImage {
 // exactly: the image the GPU should make with that table, in exact order and double precision.
 ColorImage emission_absorption_image(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera,
                                      uint32_t width, uint32_t height, double offset_x = 0.0, double offset_y = 0.0,
-                                     const volume::PreintegrationTable* table = nullptr);
+                                     const volume::PreintegrationTable* table = nullptr,
+                                     const InputPerturbation* perturbation = nullptr);
 
 // The longest edge over all cells: no segment inside a cell is longer (a convex polytope's
 // diameter is attained at two of its vertices). It bounds the pre-integration table's length axis.

@@ -1,7 +1,9 @@
 // End-to-end: the prismoid executable as a user runs it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +15,7 @@
 
 #include "io/image_io.hpp"
 #include "io/vtk_tet_io.hpp"
+#include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"
 
@@ -198,6 +201,82 @@ TEST(Cli, RenderWritesPng) {
   EXPECT_NE(r.out.find("wrote " + png.string()), std::string::npos);
 }
 
+// Colour: emission-absorption of the default dataset's density through a transfer function,
+// composited in exact order on the GPU, against the CPU reference over the same background.
+TEST(Cli, ColorInExactOrderMatchesTheReference) {
+  const fs::path pfm = work_dir() / "color.pfm";
+  const fs::path stats = work_dir() / "color.json";
+  const CliRun r = run("render --validate --quantity color --mode interval-exact-order --tf viridis --density-scale 10 "
+                       "--background 0,0,0 --size 40x30 --eye 2,1.5,4.5 --target 0,0,0 --output " + pfm.string() +
+                       " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const io::FloatImage img = io::read_pfm(pfm.string());
+  ASSERT_EQ(img.channels, 3u);
+  Camera c;
+  c.eye = {2, 1.5, 4.5};
+  c.target = {0, 0, 0};
+  const TetMesh mesh = make_default_volume();
+  c.near_distance = fit_camera(bounds_of(mesh)).near_distance;
+  volume::TransferFunction tf = volume::preset("viridis");
+  const auto [lo, hi] = std::minmax_element(mesh.point_scalars.begin(), mesh.point_scalars.end());
+  tf.range_lo = *lo;
+  tf.range_hi = *hi;
+  tf.density_scale = 10.0;
+  const auto ref = reference::emission_absorption_image(mesh, tf, c, 40, 30);
+  // Black background: the PFM holds the premultiplied colour. Aggregate check, as above.
+  ASSERT_EQ(img.pixels.size(), 3 * ref.pixels.size());
+  double peak = 0.0, rms = 0.0;
+  for (size_t i = 0; i < ref.pixels.size(); ++i)
+    for (int channel = 0; channel < 3; ++channel) {
+      peak = std::max(peak, ref.pixels[i][channel]);
+      const double d = double(img.pixels[3 * i + size_t(channel)]) - ref.pixels[i][channel];
+      rms += d * d;
+    }
+  rms = std::sqrt(rms / double(img.pixels.size()));
+  EXPECT_GT(peak, 0.1);
+  EXPECT_LT(rms, 1e-3 * peak);
+  const std::string js = slurp(stats);
+  EXPECT_NE(js.find("\"ordering\": \"exact"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"order_exact\": true"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"quantity\": \"color\""), std::string::npos) << js;
+  EXPECT_EQ(js.find("\"name\": \"sort\""), std::string::npos) << js;  // the exact order is made on the CPU
+}
+
+TEST(Cli, SortedColorRunsTheSortPassAndSaysSo) {
+  const fs::path stats = work_dir() / "sorted.json";
+  const CliRun r = run("render --quantity color --size 24x18 --output " + (work_dir() / "sorted.png").string() + " --stats " +
+                       stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string js = slurp(stats);
+  EXPECT_NE(js.find("\"mode\": \"interval-sorted\""), std::string::npos) << js;  // colour's default mode
+  EXPECT_NE(js.find("\"name\": \"sort\""), std::string::npos) << js;
+  EXPECT_NE(js.find("\"order_exact\": false"), std::string::npos) << js;
+  // Order-independent quantities never sort, whatever the mode.
+  const CliRun od = run("render --quantity optical-depth --mode interval-sorted --size 24x18 --output " +
+                        (work_dir() / "od.png").string() + " --stats " + stats.string());
+  ASSERT_EQ(od.code, 0) << od.err;
+  EXPECT_EQ(slurp(stats).find("\"name\": \"sort\""), std::string::npos);
+}
+
+TEST(Cli, ParaViewColormapFileDrivesTheTransferFunction) {
+  const fs::path json = work_dir() / "map.json";
+  std::ofstream(json) << R"([{"Name": "two reds", "RGBPoints": [-1, 0.2, 0, 0, 1, 1, 0, 0], "Points": [-1, 0, 0.5, 0, 1, 1, 0.5, 0]}])";
+  const fs::path pfm = work_dir() / "reds.pfm";
+  const fs::path stats = work_dir() / "reds.json";
+  const CliRun r = run("render --quantity color --tf " + json.string() + " --density-scale 20 --background 0,0,0 --size 24x18 "
+                       "--output " + pfm.string() + " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(stats).find("\"transfer_function\": \"two reds\""), std::string::npos);
+  const io::FloatImage img = io::read_pfm(pfm.string());
+  double red = 0.0, other = 0.0;
+  for (size_t i = 0; i < img.pixels.size(); i += 3) {
+    red += double(img.pixels[i]);
+    other += double(img.pixels[i + 1]) + double(img.pixels[i + 2]);
+  }
+  EXPECT_GT(red, 1.0);      // the medium glows red...
+  EXPECT_EQ(other, 0.0);    // ...and nothing else: green and blue are zero in every colour point
+}
+
 TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
   struct Case { std::string args, fragment; };
   const std::vector<Case> cases = {
@@ -215,6 +294,12 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render", "--output"},
       {"frobnicate", "frobnicate"},
       {"render --output /no/such/dir/x.png --size 8x8", "/no/such/dir/x.png"},
+      {"render --output x.png --quantity color --tf no-such-map", "no-such-map"},
+      {"render --output x.png --quantity color --tf-range 5,1", "--tf-range"},
+      {"render --output x.png --quantity color --preintegration-size 1", "--preintegration-size"},
+      {"render --output x.png --quantity optical-depth --tf viridis", "--tf"},
+      {"render --output x.png --quantity colour", "--quantity"},
+      {"render --output x.png --quantity color --background 2,0,0", "--background"},
   };
   for (const auto& c : cases) {
     const CliRun r = run(c.args);

@@ -1,0 +1,23 @@
+#pragma once
+// Transfer functions in ParaView's colour-map JSON format (File > Export/Import colour maps):
+// an array of objects with "Name", "RGBPoints" [x, r, g, b, ...] and optionally "Points"
+// [x, opacity, midpoint, sharpness, ...]. The points' positions are rescaled so the colour
+// points span [0, 1], as ParaView does when it applies a preset to a data range.
+#include <string>
+
+#include "renderer/volume/transfer_function.hpp"
+
+namespace prismoid::io {
+
+// The first colour map in the file. Throws InputError naming the file: unreadable, not JSON,
+// no "RGBPoints", point lists of the wrong length or not sorted, values outside [0, 1],
+// midpoint/sharpness other than ParaView's linear defaults (0.5, 0).
+volume::TransferFunction read_paraview_colormap(const std::string& path);
+
+// Writes `tf` as a one-entry ParaView colour-map file (positions in [0, 1], sRGB colours).
+void write_paraview_colormap(const std::string& path, const volume::TransferFunction& tf);
+
+// A preset name, or else a path to a ParaView JSON colour map.
+volume::TransferFunction transfer_function_from(const std::string& preset_or_path);
+
+}  // namespace prismoid::io
