@@ -159,8 +159,19 @@ Tet edge_along_pixel_ray(const Tet& shape, const glm::dvec3& centre, std::mt1993
 // through the eye, then v0 and v1 are rounded to multiples of 2^-10 and v2 is rebuilt as
 // v0 + mu (v1 - v0) + nu v0 with mu, nu multiples of 2^-11: a combination of v0 and v1, so
 // exactly in the plane of the eye, v0 and v1 (all multiples of 2^-21). The roundings move
-// vertices by up to about 1e-3, a few percent of an edge.
+// vertices by up to about 1e-3, a few percent of an edge, more when the edge v0-v1 points
+// nearly at the eye (the plane through it turns with the rounding), so such turns are redrawn.
+Tet edge_ratio_spread_free_face_plane_through_eye(const Tet& shape, const glm::dvec3& centre, std::mt19937& rng);
+double edge_ratio_spread(const Tet& v, const Tet& shape);
+
 Tet face_plane_through_eye(const Tet& shape, const glm::dvec3& centre, std::mt19937& rng) {
+  Tet best = edge_ratio_spread_free_face_plane_through_eye(shape, centre, rng);
+  for (int attempt = 0; attempt < 64 && edge_ratio_spread(best, shape) > 0.05; ++attempt)
+    best = edge_ratio_spread_free_face_plane_through_eye(shape, centre, rng);
+  return best;
+}
+
+Tet edge_ratio_spread_free_face_plane_through_eye(const Tet& shape, const glm::dvec3& centre, std::mt19937& rng) {
   std::uniform_real_distribution<double> angle(0.0, 6.283185307179586);
   const glm::dvec3 n_shape = outward_normal_of_face_012(shape);
   const double h = glm::dot(shape[0], n_shape);  // centroid-to-plane distance (shape centred)
@@ -293,7 +304,7 @@ void check_sheet_geometry(const Sheet& sheet) {
   EXPECT_LT(worst_spread[size_t(View::EdgeAlongPixelRay)], 1e-3);
   EXPECT_LT(worst_spread[size_t(View::FaceOnToAxis)], 1e-3);
   EXPECT_LT(worst_spread[size_t(View::FaceOnToRay)], 1e-3);
-  EXPECT_LT(worst_spread[size_t(View::FacePlaneThroughEye)], 0.15);
+  EXPECT_LT(worst_spread[size_t(View::FacePlaneThroughEye)], 0.05);
   std::printf("orientation sheet: edge-length spread %.2g (random) %.2g (edge-on) %.2g (plane through eye)\n",
               worst_spread[size_t(View::Random)], worst_spread[size_t(View::EdgeAlongPixelRay)],
               worst_spread[size_t(View::FacePlaneThroughEye)]);
