@@ -4,8 +4,9 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
-#include <limits>
+#include <glm/vec2.hpp>
 #include <functional>
+#include <limits>
 
 namespace prismoid::reference {
 
@@ -78,81 +79,147 @@ glm::dvec3 ray_direction(const Camera& camera, uint32_t width, uint32_t height, 
   return glm::normalize(d);
 }
 
-void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height, double offset_x, double offset_y,
-                 const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit) {
-  const CameraFrame f = frame_of(camera, width, height);
+namespace {
+
+// One cell as the integrator sees it.
+struct Cell {
+  std::array<glm::dvec3, 4> v;
+  std::array<double, 4> point_sigma{};
+  double sigma = 0.0;
+  bool linear = false;
+};
+
+// The cell's optical depth along the unit ray eye + t dir, counting only the part beyond the
+// near plane; `hit` says whether the ray crosses it with a positive length.
+double cell_optical_depth(const Cell& cell, const Camera& camera, const CameraFrame& f, const glm::dvec3& dir, bool& hit) {
+  const double t_near = camera.near_distance / glm::dot(dir, f.forward);
+  const Interval in = ray_tetrahedron(cell.v, camera.eye, dir, t_near, std::numeric_limits<double>::infinity());
+  hit = !in.empty();
+  if (!hit) return 0.0;
+  double mean_sigma = cell.sigma;
+  if (cell.linear)
+    mean_sigma = 0.5 * (interpolate_linear(cell.v, cell.point_sigma, camera.eye + in.enter * dir) +
+                        interpolate_linear(cell.v, cell.point_sigma, camera.eye + in.exit * dir));
+  return mean_sigma * in.length();
+}
+
+// Calls visit(cell, x0, x1, y0, y1, projected) for every cell c with wanted(c, cell) and some
+// part beyond the near plane: [x0, x1] x [y0, y1] are the pixels whose rays (within a pixel
+// of their centres) can meet it, `projected` its vertices in continuous pixel coordinates
+// (empty when a vertex lies before the near plane; then the rectangle is the whole image).
+template <typename Wanted, typename Visit>
+void for_each_cell(const TetMesh& mesh, const Camera& camera, const CameraFrame& f, uint32_t width, uint32_t height,
+                   Wanted&& wanted, Visit&& visit) {
+  std::vector<glm::dvec2> projected;
   for (size_t c = 0; c < mesh.tets.size(); ++c) {
-    if (!wanted(c)) continue;
-    std::array<glm::dvec3, 4> v;
-    for (int i = 0; i < 4; ++i) v[i] = mesh.points[mesh.tets[c][i]];
-    // Pixel bounds of the projection when the cell lies in front of the eye; all pixels
-    // otherwise (the plane tests decide).
-    double x0 = 0, x1 = width - 1.0, y0 = 0, y1 = height - 1.0;
+    Cell cell;
+    cell.sigma = mesh.cell_extinction[c];
+    cell.linear = mesh.linear_extinction();
+    for (int i = 0; i < 4; ++i) {
+      cell.v[i] = mesh.points[mesh.tets[c][i]];
+      if (cell.linear) cell.point_sigma[i] = mesh.point_extinction[mesh.tets[c][i]];
+    }
+    if (!wanted(c, cell)) continue;
     bool in_front = true, any_in_front = false;
-    for (const auto& p : v) {
+    for (const auto& p : cell.v) {
       const double depth = glm::dot(p - camera.eye, f.forward);
       in_front = in_front && depth > camera.near_distance;
       any_in_front = any_in_front || depth > camera.near_distance;
     }
     if (!any_in_front) continue;  // wholly behind the near plane: nothing to integrate
-    double px_min = 1e300, px_max = -1e300, py_min = 1e300, py_max = -1e300;
-    for (const auto& p : v) {
-      if (!in_front) break;
-      const glm::dvec3 rel = p - camera.eye;
-      const double depth = glm::dot(rel, f.forward);
-      const double nx = glm::dot(rel, f.right) / (depth * f.tan_half_fovy * f.aspect);
-      const double ny = -glm::dot(rel, f.up) / (depth * f.tan_half_fovy);
-      const double px = (nx + 1.0) * 0.5 * width - 0.5, py = (ny + 1.0) * 0.5 * height - 0.5;
-      px_min = std::min(px_min, px); px_max = std::max(px_max, px);
-      py_min = std::min(py_min, py); py_max = std::max(py_max, py);
-    }
+    double x0 = 0, x1 = width - 1.0, y0 = 0, y1 = height - 1.0;
+    projected.clear();
     if (in_front) {
+      double px_min = 1e300, px_max = -1e300, py_min = 1e300, py_max = -1e300;
+      for (const auto& p : cell.v) {
+        const glm::dvec3 rel = p - camera.eye;
+        const double depth = glm::dot(rel, f.forward);
+        const double nx = glm::dot(rel, f.right) / (depth * f.tan_half_fovy * f.aspect);
+        const double ny = -glm::dot(rel, f.up) / (depth * f.tan_half_fovy);
+        projected.emplace_back((nx + 1.0) * 0.5 * width, (ny + 1.0) * 0.5 * height);
+        const double px = projected.back().x - 0.5, py = projected.back().y - 0.5;
+        px_min = std::min(px_min, px); px_max = std::max(px_max, px);
+        py_min = std::min(py_min, py); py_max = std::max(py_max, py);
+      }
       x0 = std::max(x0, std::floor(px_min) - 1); x1 = std::min(x1, std::ceil(px_max) + 1);
       y0 = std::max(y0, std::floor(py_min) - 1); y1 = std::min(y1, std::ceil(py_max) + 1);
     }
+    visit(c, cell, x0, x1, y0, y1, projected);
+  }
+}
+
+// Cells with no extinction add nothing to the optical depth.
+bool absorbs(size_t, const Cell& cell) {
+  const auto& ps = cell.point_sigma;
+  return cell.linear ? std::max({ps[0], ps[1], ps[2], ps[3]}) != 0.0 : cell.sigma != 0.0;
+}
+
+}  // namespace
+
+void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height, double offset_x, double offset_y,
+                 const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit) {
+  const CameraFrame f = frame_of(camera, width, height);
+  for_each_cell(mesh, camera, f, width, height, [&](size_t c, const Cell&) { return wanted(c); },
+                [&](size_t c, const Cell& cell, double x0, double x1, double y0, double y1, const auto&) {
     for (double yd = y0; yd <= y1; ++yd)
       for (double xd = x0; xd <= x1; ++xd) {
         const auto x = static_cast<uint32_t>(xd), y = static_cast<uint32_t>(yd);
         const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
         const double t_near = camera.near_distance / glm::dot(dir, f.forward);
-        const Interval in = ray_tetrahedron(v, camera.eye, dir, t_near, std::numeric_limits<double>::infinity());
+        const Interval in = ray_tetrahedron(cell.v, camera.eye, dir, t_near, std::numeric_limits<double>::infinity());
         if (!in.empty()) visit(size_t(y) * width + x, c, in, dir);
       }
-  }
+  });
 }
 
 std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
                                         double offset_x, double offset_y, std::vector<uint32_t>* cells_hit) {
   std::vector<double> image(size_t(width) * height, 0.0);
   if (cells_hit) cells_hit->assign(image.size(), 0u);
-  const bool linear = mesh.linear_extinction();
-  auto corners = [&](size_t c) {
-    std::array<glm::dvec3, 4> v;
-    for (int i = 0; i < 4; ++i) v[i] = mesh.points[mesh.tets[c][i]];
-    return v;
-  };
-  auto point_sigma = [&](size_t c) {
-    std::array<double, 4> s{};
-    for (int i = 0; i < 4; ++i) s[i] = mesh.point_extinction[mesh.tets[c][i]];
-    return s;
-  };
-  auto wanted = [&](size_t c) {
-    if (!linear) return mesh.cell_extinction[c] != 0.0;
-    const auto s = point_sigma(c);
-    return std::max({s[0], s[1], s[2], s[3]}) != 0.0;
-  };
-  trace_cells(mesh, camera, width, height, offset_x, offset_y, wanted,
-              [&](size_t pixel, size_t c, const Interval& in, const glm::dvec3& dir) {
-                double mean_sigma = mesh.cell_extinction[c];
-                if (linear) {
-                  const auto v = corners(c);
-                  const auto s = point_sigma(c);
-                  mean_sigma = 0.5 * (interpolate_linear(v, s, camera.eye + in.enter * dir) +
-                                      interpolate_linear(v, s, camera.eye + in.exit * dir));
-                }
-                image[pixel] += mean_sigma * in.length();
-                if (cells_hit) ++(*cells_hit)[pixel];
-              });
+  const CameraFrame f = frame_of(camera, width, height);
+  for_each_cell(mesh, camera, f, width, height, absorbs, [&](size_t, const Cell& cell, double x0, double x1, double y0, double y1, const auto&) {
+    for (double yd = y0; yd <= y1; ++yd)
+      for (double xd = x0; xd <= x1; ++xd) {
+        const auto x = static_cast<uint32_t>(xd), y = static_cast<uint32_t>(yd);
+        const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
+        bool hit = false;
+        image[size_t(y) * width + x] += cell_optical_depth(cell, camera, f, dir, hit);
+        if (cells_hit && hit) ++(*cells_hit)[size_t(y) * width + x];
+      }
+  });
+  return image;
+}
+
+std::vector<double> snapping_variation_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
+                                             double radius) {
+  std::vector<double> image(size_t(width) * height, 0.0);
+  const CameraFrame f = frame_of(camera, width, height);
+  const double limit_step = std::ldexp(1.0, -20);
+  for_each_cell(mesh, camera, f, width, height, absorbs,
+                [&](size_t, const Cell& cell, double x0, double x1, double y0, double y1, const std::vector<glm::dvec2>& projected) {
+    auto depth_at = [&](double px, double py) {
+      bool hit = false;
+      return cell_optical_depth(cell, camera, f, ray_direction(camera, width, height, px, py), hit);
+    };
+    for (double yd = y0; yd <= y1; ++yd)
+      for (double xd = x0; xd <= x1; ++xd) {
+        const double cx = xd + 0.5, cy = yd + 0.5;
+        const double centre = depth_at(cx, cy);
+        double variation = 0.0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            if (dx || dy) variation = std::max(variation, std::abs(depth_at(cx + dx * radius, cy + dy * radius) - centre));
+        // A vertex within reach: the optical depth can jump there (a face through the eye
+        // has a chord up to its silhouette), so take its one-sided limits too.
+        for (const glm::dvec2& p : projected) {
+          if (std::abs(p.x - cx) > radius || std::abs(p.y - cy) > radius) continue;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+              if (dx || dy) variation = std::max(variation, std::abs(depth_at(p.x + dx * limit_step, p.y + dy * limit_step) - centre));
+        }
+        image[size_t(yd) * width + size_t(xd)] += variation;
+      }
+  });
   return image;
 }
 

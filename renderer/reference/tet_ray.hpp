@@ -52,4 +52,12 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
                                         double offset_x = 0.0, double offset_y = 0.0,
                                         std::vector<uint32_t>* cells_hit = nullptr);
 
+// Per pixel, the sum over cells of the largest change of the cell's optical depth when the
+// pixel's ray moves to one of the 8 points at `radius` pixels (per axis) around its centre, or
+// next to one of the cell's vertices that project within `radius` of the centre (its limits
+// from each side, sampled 2^-20 pixel around it). A rasterizer that moves each cell's proxy
+// vertices independently by up to `radius` stays within this of the exact image.
+std::vector<double> snapping_variation_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
+                                             double radius);
+
 }  // namespace prismoid::reference

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <random>
 
@@ -61,6 +62,59 @@ TEST(OpticalDepthImage, ConstantCubeGivesSigmaTimesChord) {
   const auto img = reference::optical_depth_image(m, c, 9, 9);
   // The central pixel's ray runs along the z axis through the whole cube: length 2.
   EXPECT_NEAR(img[4 * 9 + 4], 0.5 * 2.0, 1e-12);
+}
+
+TEST(SnappingVariationImage, BoundsTheWholeImageShiftAndEqualsItForOneCellAwayFromVertices) {
+  // Per pixel, the per-cell sum of changes is at least the change of the sum (triangle
+  // inequality); for a single cell the two agree except next to a projected vertex.
+  const TetMesh cube = make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 2, [](const glm::dvec3& p) { return 1.0 + 0.3 * p.x; });
+  TetMesh one = cube;
+  one.tets.resize(1);
+  one.cell_extinction.resize(1);
+  Camera c;
+  c.eye = {1.3, 0.9, 5.0};
+  c.fovy_degrees = 30.0;
+  const uint32_t w = 24, h = 20;
+  const double radius = 0.25;
+  for (const TetMesh* m : {&cube, static_cast<const TetMesh*>(&one)}) {
+    const auto centre = reference::optical_depth_image(*m, c, w, h);
+    std::vector<double> image_shift(centre.size(), 0.0);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const auto shifted = reference::optical_depth_image(*m, c, w, h, dx * radius, dy * radius);
+        for (size_t i = 0; i < centre.size(); ++i) image_shift[i] = std::max(image_shift[i], std::abs(shifted[i] - centre[i]));
+      }
+    const auto per_cell = reference::snapping_variation_image(*m, c, w, h, radius);
+    for (size_t i = 0; i < centre.size(); ++i) {
+      EXPECT_GE(per_cell[i], image_shift[i] - 1e-12) << "pixel " << i;
+      if (m == &one && per_cell[i] > image_shift[i] + 1e-12) {
+        // Only where one of the cell's vertices projects within the radius of the centre.
+        const glm::dvec3 d = reference::ray_direction(c, w, h, double(i % w) + 0.5, double(i / w) + 0.5);
+        double nearest = 1e300;
+        for (uint32_t k : m->tets[0]) {
+          const glm::dvec3 to_vertex = glm::normalize(m->points[k] - c.eye);
+          nearest = std::min(nearest, glm::length(to_vertex - d));
+        }
+        EXPECT_LT(nearest, 0.05) << "pixel " << i;  // a pixel here spans about 0.02 in direction
+      }
+    }
+  }
+}
+
+TEST(SnappingVariationImage, EdgeAlongAPixelRayReachesTheEdgesChord) {
+  // The edge from (0, 0, -2) to (0, 0, -3) lies on the central pixel's ray: rays just beside
+  // it cross nearly the whole edge, and the variation there must reach the chord, 1.
+  TetMesh m;
+  m.name = "edge on";
+  m.points = {glm::dvec3(0, 0, -2), glm::dvec3(0, 0, -3), glm::dvec3(0.3, 0, -2.5), glm::dvec3(0, 0.3, -2.5)};
+  m.tets = {{0, 1, 2, 3}};
+  m.cell_extinction = {1.0};
+  Camera c;
+  c.eye = {0, 0, 0};
+  c.target = {0, 0, -1};
+  c.fovy_degrees = 40.0;
+  const auto variation = reference::snapping_variation_image(m, c, 9, 9, 1.0 / 128.0);
+  EXPECT_NEAR(variation[4 * 9 + 4], 1.0, 1e-4);
 }
 
 }  // namespace
