@@ -66,6 +66,8 @@ const char* kRenderHelp =
     "                       camera (default: framing the data from +z, fovy 40)\n"
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
+    "  --frames N           render N timed frames after one warm-up frame; times are the median\n"
+    "                       (stats also give min and max) (default 1, no warm-up)\n"
     "\n"
     "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
     "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
@@ -318,6 +320,25 @@ frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera
   return f;
 }
 
+// Per pass, the median over the frames goes into `passes` (by name, in order); returns each
+// pass's min and max.
+std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::vector<vk::PassTiming>>& frames,
+                                                        std::vector<vk::PassTiming>& passes) {
+  std::vector<std::pair<double, double>> spread;
+  for (auto& pass : passes) {
+    std::vector<double> ms;
+    for (const auto& f : frames)
+      for (const auto& p : f)
+        if (p.name == pass.name) ms.push_back(p.gpu_ms);
+    std::sort(ms.begin(), ms.end());
+    if (ms.empty()) { spread.emplace_back(pass.gpu_ms, pass.gpu_ms); continue; }
+    const size_t n = ms.size();
+    pass.gpu_ms = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+    spread.emplace_back(ms.front(), ms.back());
+  }
+  return spread;
+}
+
 const char* quantity_name(volume::Quantity q) {
   switch (q) {
     case volume::Quantity::OpticalDepth: return "optical-depth";
@@ -355,7 +376,7 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 
 int cmd_render(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf", "tf-range",
-                                             "preintegration-size", "background", "array", "density-scale"}),
+                                             "preintegration-size", "background", "array", "density-scale", "frames"}),
                        {"validate", "help"});
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
@@ -382,6 +403,8 @@ int cmd_render(const std::vector<std::string>& args) {
       if (a.has(option)) throw InputError(std::string("--") + option, "applies to --quantity color only");
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
   const auto device_index = parse_device(a);
+  const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : 1;
+  if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
 
   const TetMesh mesh = load_scene(a, color);
   validate(mesh);
@@ -402,6 +425,7 @@ int cmd_render(const std::vector<std::string>& args) {
                    "interval-sorted or interval-exact-order composite in depth order\n";
   }
   frame::OffscreenFrame result;
+  std::vector<std::pair<double, double>> pass_spread;  // min, max per pass over the timed frames
   std::string device_name, driver;
   std::unique_ptr<vk::Instance> instance;
   if (mode == "reference") {
@@ -415,7 +439,13 @@ int cmd_render(const std::vector<std::string>& args) {
     driver = caps.driver_info;
     vk::Device device(*instance, caps, {});
     frame::FrameRenderer renderer(device, mesh);
-    result = renderer.render_offscreen(camera, settings, size);
+    if (frames > 1) renderer.render_offscreen(camera, settings, size);  // warm-up: caches, clocks, first-use work
+    std::vector<std::vector<vk::PassTiming>> timings;
+    for (uint32_t i = 0; i < frames; ++i) {
+      result = renderer.render_offscreen(camera, settings, size);
+      timings.push_back(result.passes);
+    }
+    pass_spread = summarize_frames(timings, result.passes);
   }
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
@@ -457,15 +487,20 @@ int cmd_render(const std::vector<std::string>& args) {
        << "\",\n  \"dataset\": \"" << json_escape(mesh.name) << "\",\n  \"cells\": " << mesh.tets.size()
        << ",\n  \"mode\": \"" << mode << "\",\n  \"quantity\": \"" << quantity_name(quantity) << "\",\n  \"width\": " << size.width
        << ",\n  \"height\": " << size.height << ",\n  \"ordering\": \"" << json_escape(result.report.ordering)
-       << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false");
+       << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false")
+       << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes;
     if (color)
       js << ",\n  \"transfer_function\": \"" << json_escape(settings.resolve.transfer.name) << "\",\n  \"tf_range\": ["
          << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)
          << "],\n  \"preintegration_size\": " << settings.resolve.preintegration_size;
-    js << ",\n  \"passes\": [";
-    for (size_t i = 0; i < result.passes.size(); ++i)
+    js << ",\n  \"frames\": " << frames << ",\n  \"passes\": [";
+    for (size_t i = 0; i < result.passes.size(); ++i) {
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.passes[i].name)
-         << "\", \"gpu_ms\": " << json_number(result.passes[i].gpu_ms) << "}";
+         << "\", \"gpu_ms\": " << json_number(result.passes[i].gpu_ms);
+      if (i < pass_spread.size())
+        js << ", \"min_ms\": " << json_number(pass_spread[i].first) << ", \"max_ms\": " << json_number(pass_spread[i].second);
+      js << "}";
+    }
     js << "\n  ],\n  \"cpu_passes\": [";
     for (size_t i = 0; i < result.report.cpu_passes.size(); ++i)
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.report.cpu_passes[i].name)

@@ -5,6 +5,7 @@
   meshprep.py info SURFACE.off                  vertices, triangles, boundary and non-manifold edges
   meshprep.py simplify IN.off OUT.off TRIANGLES quadric decimation down to about TRIANGLES
   meshprep.py finish TETGEN.vtk OUT.vtk          binary legacy .vtk with a cell array 'extinction' = 1
+                                                 and a point array 'height' (y, 0..1)
   meshprep.py count MESH.vtk                     number of cells of a legacy .vtk unstructured grid
 
 Run with Debian's /usr/bin/python3: a python3 from elsewhere (pyenv) has no vtk module.
@@ -120,6 +121,14 @@ def finish(src, dst):
     sigma.SetNumberOfValues(grid.GetNumberOfCells())
     sigma.Fill(1.0)
     grid.GetCellData().AddArray(sigma)
+    # A smooth point field for colour (transfer-function) runs: height along y, 0 to 1.
+    y0, y1 = grid.GetBounds()[2:4]
+    height = vtk.vtkFloatArray()
+    height.SetName("height")
+    height.SetNumberOfValues(grid.GetNumberOfPoints())
+    for i in range(grid.GetNumberOfPoints()):
+        height.SetValue(i, (grid.GetPoint(i)[1] - y0) / (y1 - y0) if y1 > y0 else 0.0)
+    grid.GetPointData().AddArray(height)
     writer = vtk.vtkUnstructuredGridWriter()
     writer.SetFileName(dst)
     writer.SetFileTypeToBinary()

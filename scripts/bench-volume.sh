@@ -8,8 +8,14 @@
 #     --data DIR         folder with bunny.vtk and armadillo.vtk (or .vtk.xz / .vtk.gz, unpacked
 #                        into a temporary folder first); default $PRISMOID_REAL_DIR or datasets/real
 #     --size WxH         image size; repeat for several (default 3840x2160 and 1024x1024)
-#     --repeats N        timed runs per dataset and size (default 5); each run is one process
-#     --warmup N         untimed runs first (default 1)
+#     --configs LIST     quantity:mode pairs, e.g. "optical-depth:interval color:interval-sorted"
+#                        (default optical-depth:interval)
+#     --color-array NAME point array for color on files (default height; the default dataset
+#                        uses its density)
+#     --frames N         timed frames per process after one warm-up frame (default 10); the
+#                        per-process time is their median
+#     --repeats N        processes per dataset, size and config (default 1)
+#     --warmup N         untimed processes first (default 0)
 #     --datasets LIST    names to run, e.g. "default bunny" (default: default bunny armadillo)
 #     --out DIR          stats JSONs, the first run's PNG, times.tsv and table.md (default out/bench-volume)
 #     --prismoid CMD     the executable (default $PRISMOID, else build/app/prismoid, else bundle/prismoid.sh)
@@ -19,8 +25,11 @@ cd "$(dirname "$0")/.."
 
 data_dir="${PRISMOID_REAL_DIR:-datasets/real}"
 sizes=()
-repeats=5
-warmup=1
+repeats=1
+warmup=0
+frames=10
+configs="optical-depth:interval"
+color_array=height
 datasets="default bunny armadillo"
 out_dir="out/bench-volume"
 prismoid="${PRISMOID:-}"
@@ -35,6 +44,9 @@ while [ $# -gt 0 ]; do
     --data) need_value "$@"; data_dir="$2"; shift 2 ;;
     --size) need_value "$@"; sizes+=("$2"); shift 2 ;;
     --repeats) need_value "$@"; repeats="$2"; shift 2 ;;
+    --frames) need_value "$@"; frames="$2"; shift 2 ;;
+    --configs) need_value "$@"; configs="$2"; shift 2 ;;
+    --color-array) need_value "$@"; color_array="$2"; shift 2 ;;
     --warmup) need_value "$@"; warmup="$2"; shift 2 ;;
     --datasets) need_value "$@"; datasets="$2"; shift 2 ;;
     --out) need_value "$@"; out_dir="$2"; shift 2 ;;
@@ -76,10 +88,13 @@ dataset_file() {
 
 # One render; its stats JSON to $2. Exits with prismoid's output shown if the render fails.
 render() {
-  local file="$1" stats="$2" size="$3" image="$4"
+  local file="$1" stats="$2" size="$3" image="$4" config="$5"
   local args=(render)
   [ -n "$file" ] && args+=("$file")
-  args+=(--quantity optical-depth --size "$size" --output "$image" --stats "$stats")
+  args+=(--quantity "${config%%:*}" --mode "${config#*:}" --frames "$frames" --size "$size" --output "$image" --stats "$stats")
+  # Colour needs a scalar field: the real datasets carry 'height' (datasets/meshprep.py); the
+  # embedded default dataset uses its density.
+  if [ "${config%%:*}" = color ] && [ -n "$file" ]; then args+=(--array "$color_array"); fi
   if ! "$prismoid" "${args[@]}" ${extra[@]+"${extra[@]}"} >"$scratch/log" 2>&1; then
     cat "$scratch/log" >&2
     echo "bench-volume: failed: $prismoid ${args[*]} ${extra[*]:-}" >&2
@@ -89,14 +104,14 @@ render() {
 
 # Lines of a stats JSON as "pass<TAB>ms" (the format app/cli.cpp writes: one pass per line).
 passes_of() {
-  sed -n 's/.*{"name": "\([^"]*\)", "gpu_ms": \([^}]*\)}.*/\1\t\2/p' "$1"
+  sed -n 's/.*{"name": "\([^"]*\)", "gpu_ms": \([^,}]*\).*/\1\t\2/p' "$1"
 }
 json_field() {  # json_field FILE KEY: a top-level string or number
   sed -n -e "s/^  \"$2\": \"\(.*\)\",\{0,1\}$/\1/p" -e "s/^  \"$2\": \([^\",]*\),\{0,1\}$/\1/p" "$1" | head -n1
 }
 
 times="$out_dir/times.tsv"
-printf 'dataset\tcells\tsize\trun\tpass\tgpu_ms\n' >"$times"
+printf 'dataset\tcells\tsize\tconfig\trun\tpass\tgpu_ms\n' >"$times"
 device="" driver=""
 for name in $datasets; do
   if ! file="$(dataset_file "$name")"; then
@@ -104,47 +119,48 @@ for name in $datasets; do
     continue
   fi
   for size in "${sizes[@]}"; do
-    for ((i = 1; i <= warmup; ++i)); do
-      render "$file" "$scratch/warmup.json" "$size" "$scratch/image.png"
-    done
-    for ((i = 1; i <= repeats; ++i)); do
-      stats="$out_dir/$name-$size-$i.json"
-      image="$scratch/image.png"
-      [ "$i" -eq 1 ] && image="$out_dir/$name-$size.png"
-      render "$file" "$stats" "$size" "$image"
-      cells="$(json_field "$stats" cells)"
-      device="$(json_field "$stats" device)"
-      driver="$(json_field "$stats" driver)"
-      total=0
-      while IFS=$'\t' read -r pass ms; do
-        printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$cells" "$size" "$i" "$pass" "$ms" >>"$times"
-      done < <(passes_of "$stats")
-      printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$cells" "$size" "$i" total "$(json_field "$stats" gpu_ms_total)" >>"$times"
-      echo "  $name $size run $i: $(json_field "$stats" gpu_ms_total) ms GPU" >&2
+    for config in $configs; do
+      for ((i = 1; i <= warmup; ++i)); do
+        render "$file" "$scratch/warmup.json" "$size" "$scratch/image.png" "$config"
+      done
+      for ((i = 1; i <= repeats; ++i)); do
+        stats="$out_dir/$name-$size-${config//:/-}-$i.json"
+        image="$scratch/image.png"
+        [ "$i" -eq 1 ] && image="$out_dir/$name-$size-${config//:/-}.png"
+        render "$file" "$stats" "$size" "$image" "$config"
+        cells="$(json_field "$stats" cells)"
+        device="$(json_field "$stats" device)"
+        driver="$(json_field "$stats" driver)"
+        while IFS=$'\t' read -r pass ms; do
+          printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$cells" "$size" "$config" "$i" "$pass" "$ms" >>"$times"
+        done < <(passes_of "$stats")
+        printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$cells" "$size" "$config" "$i" total "$(json_field "$stats" gpu_ms_total)" >>"$times"
+        echo "  $name $size $config run $i: $(json_field "$stats" gpu_ms_total) ms GPU, $(json_field "$stats" gpu_mesh_bytes) mesh bytes" >&2
+      done
     done
   done
 done
 [ -n "$device" ] || fail "nothing ran"
 
-# median (min-max) of each dataset x size x pass, passes as columns in order of appearance.
+# median (min-max) of each dataset x size x config x pass, passes as columns in order of appearance.
 summarize() {
   local keys passes
-  keys="$(awk -F'\t' 'NR > 1 && !seen[$1 FS $2 FS $3]++ { print $1 "\t" $2 "\t" $3 }' "$times")"
-  passes="$(awk -F'\t' 'NR > 1 && !seen[$5]++ { print $5 }' "$times")"
+  keys="$(awk -F'\t' 'NR > 1 && !seen[$1 FS $2 FS $3 FS $4]++ { print $1 "\t" $2 "\t" $3 "\t" $4 }' "$times")"
+  passes="$(awk -F'\t' 'NR > 1 && !seen[$6]++ { print $6 }' "$times")"
   local camera="default camera (framing the data from +z)"
   [ ${#extra[@]} -gt 0 ] && camera="render options: ${extra[*]}"
-  echo "Device: $device ($driver). Optical depth, $camera. GPU ms per pass: median (min-max) of $repeats runs after $warmup warm-up, one frame per process."
+  echo "Device: $device ($driver). $camera. GPU ms per pass: median of $frames frames after a warm-up frame; with several processes, median (min-max) of the $repeats process medians."
   echo
-  printf '| dataset | cells | size |'; while read -r p; do printf ' %s ms |' "$p"; done <<<"$passes"; echo
-  printf '| --- | ---: | --- |'; while read -r p; do printf ' ---: |'; done <<<"$passes"; echo
-  while IFS=$'\t' read -r name cells size; do
-    printf '| %s | %s | %s |' "$name" "$cells" "$size"
+  printf '| dataset | cells | size | quantity:mode |'; while read -r p; do printf ' %s ms |' "$p"; done <<<"$passes"; echo
+  printf '| --- | ---: | --- | --- |'; while read -r p; do printf ' ---: |'; done <<<"$passes"; echo
+  while IFS=$'\t' read -r name cells size config; do
+    printf '| %s | %s | %s | %s |' "$name" "$cells" "$size" "$config"
     while read -r p; do
-      awk -F'\t' -v n="$name" -v s="$size" -v p="$p" '$1 == n && $3 == s && $5 == p { print $6 }' "$times" |
+      awk -F'\t' -v n="$name" -v s="$size" -v c="$config" -v p="$p" '$1 == n && $3 == s && $4 == c && $6 == p { print $7 }' "$times" |
         sort -g | awk '{ v[NR] = $1 } END {
           if (NR == 0) { printf " - |"; exit }
           m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
-          printf " %s (%s-%s) |", fmt(m), fmt(v[1]), fmt(v[NR]) }
+          if (NR == 1) printf " %s |", fmt(m); else printf " %s (%s-%s) |", fmt(m), fmt(v[1]), fmt(v[NR]) }
         function fmt(x) { return sprintf(x >= 100 ? "%.0f" : x >= 10 ? "%.1f" : x >= 1 ? "%.2f" : "%.3f", x) }'
     done <<<"$passes"
     echo

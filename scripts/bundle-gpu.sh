@@ -12,6 +12,9 @@ out="${1:-bundle}"
 rm -rf "$out"
 mkdir -p "$out/lib" "$out/layers"
 cp build/app/prismoid "$out/"
+# The GPU test suite too, so the numerical tests can run against the CPU reference there
+# (bundle/run-tests.sh); its libraries are a subset of prismoid's.
+[ -x build/tests/test_gpu ] && cp build/tests/test_gpu "$out/"
 # glibc and the dynamic linker come from the target machine (newer glibc runs older binaries).
 ldd build/app/prismoid | awk '/=> \// {print $3}' |
   grep -vE '/(libc|libm|libdl|libpthread|librt|ld-linux-x86-64)\.so' |
@@ -24,6 +27,7 @@ if [ -f "$layer_json" ]; then
 fi
 # Debug symbols stay here: the device call carries at most 64 MiB.
 strip --strip-unneeded "$out/prismoid" "$out"/lib/*.so* "$out"/layers/*.so 2>/dev/null || true
+[ -f "$out/test_gpu" ] && strip --strip-unneeded "$out/test_gpu"
 cat >"$out/prismoid.sh" <<'LAUNCH'
 #!/usr/bin/env bash
 # Runs the bundled prismoid with its own libraries and the machine's Vulkan driver.
@@ -36,8 +40,11 @@ if [ -z "${VK_DRIVER_FILES:-}" ] && [ -f /usr/local/nvidia/share/vulkan/icd.d/nv
    [ ! -f /usr/share/vulkan/icd.d/nvidia_icd.json ] && [ ! -f /etc/vulkan/icd.d/nvidia_icd.json ]; then
   export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
 fi
-exec "$here/prismoid" "$@"
+exec "$here/${PRISMOID_BUNDLE_EXE:-prismoid}" "$@"
 LAUNCH
 chmod +x "$out/prismoid.sh"
+# The GPU tests with the same environment (validation layer on, as here).
+printf '#!/usr/bin/env bash\nPRISMOID_BUNDLE_EXE=test_gpu exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
+chmod +x "$out/run-tests.sh"
 du -sh "$out"
 echo "bundle ready: $out/prismoid.sh devices"

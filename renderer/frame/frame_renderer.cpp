@@ -1,5 +1,6 @@
 #include "renderer/frame/frame_renderer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -23,7 +24,9 @@ const char* ordering_name(Ordering ordering) {
 struct FrameRenderer::Orderings {
   TetMesh geometry;                                  // points and cells, for the exact order
   std::optional<volume::TetAdjacency> adjacency;     // built once
-  vk::Buffer exact_order;                            // host-visible, written by prepare()
+  vk::Buffer exact_order_host;                       // host-visible, written by prepare()
+  vk::Buffer exact_order;                            // device-local copy the mesh shader reads
+  bool upload_exact_order = false;                   // record() copies host -> device first
   std::unique_ptr<volume::VisibilitySort> gpu_sort;  // records its pass in record()
   const vk::Buffer* order = nullptr;                 // what the next record() draws with (nullptr: mesh order)
   bool sort_on_gpu = false;                          // record() sorts before drawing
@@ -47,12 +50,15 @@ void FrameRenderer::resize(VkExtent2D extent) {
 
 FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& settings) {
   FrameReport report;
+  for (const vk::Buffer* b : {&mesh_.positions, &mesh_.tets, &mesh_.cell_sigma, &mesh_.point_sigma, &mesh_.cell_scalar, &mesh_.point_scalar})
+    report.mesh_bytes += b->size();
   const double table_ms = interval_.prepare(mesh_, settings.resolve);
   if (table_ms > 0.0)
     report.cpu_passes.push_back({settings.resolve.preintegration_size > 0 ? "preintegrate" : "transfer-function upload", table_ms});
   Orderings& o = *orderings_;
   o.order = nullptr;
   o.sort_on_gpu = false;
+  o.upload_exact_order = false;
   if (!volume::order_dependent(settings.resolve.quantity)) {
     // Additive quantities: any order gives the same sum, so nothing sorts.
     report.ordering = "none (order-independent)";
@@ -74,9 +80,14 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
       if (!o.adjacency) o.adjacency = volume::build_adjacency(o.geometry);
       const volume::VisibilityOrder order = volume::exact_order(o.geometry, *o.adjacency, camera.eye);
       const VkDeviceSize bytes = std::max<VkDeviceSize>(order.front_to_back.size() * sizeof(uint32_t), 4);
-      if (o.exact_order.size() < bytes)
-        o.exact_order = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);
-      o.exact_order.write(std::as_bytes(std::span(order.front_to_back)));
+      if (o.exact_order_host.size() < bytes) {
+        // Read by every mesh workgroup: keep it in device memory, not across the bus.
+        o.exact_order_host = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, vk::MemoryUse::HostVisible);
+        o.exact_order = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                   vk::MemoryUse::DeviceLocal);
+      }
+      o.exact_order_host.write(std::as_bytes(std::span(order.front_to_back)));
+      o.upload_exact_order = mesh_.tet_count > 0;
       o.order = mesh_.tet_count > 0 ? &o.exact_order : nullptr;
       report.order_exact = order.exact;
       report.ordering = "exact (topological over face adjacency)";
@@ -95,6 +106,30 @@ void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const Fram
   Orderings& o = *orderings_;
   if (o.sort_on_gpu)
     o.gpu_sort->record(cmd, mesh_.positions, mesh_.tets, mesh_.tet_count, glm::vec3(camera.eye - mesh_.origin), timer);
+  if (o.upload_exact_order) {
+    vk::ScopedPass pass(timer, cmd, "upload-order");
+    VkBufferMemoryBarrier2 before{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+    before.srcStageMask = VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
+    before.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+    before.dstStageMask = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
+    before.dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    before.srcQueueFamilyIndex = before.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    before.buffer = o.exact_order.get();
+    before.size = VK_WHOLE_SIZE;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.bufferMemoryBarrierCount = 1;
+    dep.pBufferMemoryBarriers = &before;
+    vkCmdPipelineBarrier2(cmd, &dep);
+    const VkBufferCopy region{0, 0, std::min(o.exact_order_host.size(), o.exact_order.size())};
+    vkCmdCopyBuffer(cmd, o.exact_order_host.get(), o.exact_order.get(), 1, &region);
+    VkBufferMemoryBarrier2 after = before;
+    after.srcStageMask = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
+    after.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    after.dstStageMask = VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
+    after.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+    dep.pBufferMemoryBarriers = &after;
+    vkCmdPipelineBarrier2(cmd, &dep);
+  }
   interval_.record(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order);
 }
 

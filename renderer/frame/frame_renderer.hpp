@@ -33,6 +33,7 @@ struct FrameReport {
   std::string ordering = "none";        // "none (order-independent)", "gpu-sort", "exact", ...
   bool order_exact = false;              // whether the order was exact for every ray
   std::vector<vk::PassTiming> cpu_passes;  // CPU stages (milliseconds of wall time)
+  uint64_t mesh_bytes = 0;               // the mesh's GPU buffers (positions, cells, fields)
 };
 
 struct OffscreenFrame {
