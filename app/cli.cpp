@@ -66,6 +66,8 @@ const char* kRenderHelp =
     "                       camera (default: framing the data from +z, fovy 40)\n"
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
+    "  --tetlet-size N      cells per mesh workgroup: 1 (the paper's one cell per workgroup), 4, 8 or 16\n"
+    "                       (default 16)\n"
     "  --frames N           render N timed frames after one warm-up frame; times are the median\n"
     "                       (stats also give min and max) (default 1, no warm-up)\n"
     "\n"
@@ -376,7 +378,8 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 
 int cmd_render(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf", "tf-range",
-                                             "preintegration-size", "background", "array", "density-scale", "frames"}),
+                                             "preintegration-size", "background", "array", "density-scale", "frames",
+                                             "tetlet-size"}),
                        {"validate", "help"});
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
@@ -411,6 +414,7 @@ int cmd_render(const std::vector<std::string>& args) {
   const Camera camera = camera_from(a, bounds_of(mesh));
 
   settings.resolve.quantity = quantity;
+  if (a.has("tetlet-size")) settings.resolve.tetlet_size = parse_uint("tetlet-size", a.values.at("tetlet-size"));
   if (color) {
     settings.resolve.transfer = transfer_from(a, mesh);
     if (a.has("preintegration-size")) settings.resolve.preintegration_size = parse_uint("preintegration-size", a.values.at("preintegration-size"));
@@ -488,7 +492,7 @@ int cmd_render(const std::vector<std::string>& args) {
        << ",\n  \"mode\": \"" << mode << "\",\n  \"quantity\": \"" << quantity_name(quantity) << "\",\n  \"width\": " << size.width
        << ",\n  \"height\": " << size.height << ",\n  \"ordering\": \"" << json_escape(result.report.ordering)
        << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false")
-       << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes;
+       << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes << ",\n  \"tetlet_size\": " << settings.resolve.tetlet_size;
     if (color)
       js << ",\n  \"transfer_function\": \"" << json_escape(settings.resolve.transfer.name) << "\",\n  \"tf_range\": ["
          << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)

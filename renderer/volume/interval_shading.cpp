@@ -111,25 +111,13 @@ VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent) {
 
 IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(device) {
   const auto& caps = device.capabilities();
-  if (caps.max_mesh_output_vertices < PRISMOID_WORKGROUP_MAX_VERTICES ||
-      caps.max_mesh_output_primitives < PRISMOID_WORKGROUP_MAX_TRIANGLES)
+  if (caps.max_mesh_output_vertices < PRISMOID_CELL_MAX_VERTICES || caps.max_mesh_output_primitives < PRISMOID_CELL_MAX_TRIANGLES)
     throw vk::NoSuitableDevice(caps.name + " allows " + std::to_string(caps.max_mesh_output_vertices) + " vertices / " +
                                std::to_string(caps.max_mesh_output_primitives) + " primitives per mesh workgroup; interval shading needs " +
-                               std::to_string(PRISMOID_WORKGROUP_MAX_VERTICES) + " / " + std::to_string(PRISMOID_WORKGROUP_MAX_TRIANGLES));
+                               std::to_string(PRISMOID_CELL_MAX_VERTICES) + " / " + std::to_string(PRISMOID_CELL_MAX_TRIANGLES));
   mesh_set_layout_ = vk::create_descriptor_set_layout(device, kMeshBindings);
   VkDescriptorSetLayout mesh_sets[] = {mesh_set_layout_.get()};
   mesh_layout_ = vk::create_pipeline_layout(device, mesh_sets, {});
-  vk::MeshPipelineDesc desc;
-  desc.mesh_shader = "volume/interval.mesh";
-  desc.fragment_shader = "volume/optical_depth.frag";
-  desc.layout = mesh_layout_.get();
-  desc.color_formats = {kOpticalDepthFormat};
-  desc.blend = vk::BlendMode::Additive;
-  mesh_pipeline_ = vk::create_mesh_pipeline(device, desc);
-  desc.fragment_shader = "volume/emission.frag";
-  desc.color_formats = {kEmissionFormat};
-  desc.blend = vk::BlendMode::FrontToBack;
-  emission_pipeline_ = vk::create_mesh_pipeline(device, desc);
   mesh_set_ = vk::allocate_descriptor_set(device, mesh_set_layout_.get(), kMeshBindings);
 
   resolve_set_layout_ = vk::create_descriptor_set_layout(device, kResolveBindings);
@@ -148,6 +136,32 @@ IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(dev
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
 }
 
+uint32_t max_tetlet_size(const vk::Device& device) {
+  const auto& caps = device.capabilities();
+  uint32_t best = 1;
+  for (uint32_t size : kTetletSizes)
+    if (size * PRISMOID_CELL_MAX_VERTICES <= caps.max_mesh_output_vertices &&
+        size * PRISMOID_CELL_MAX_TRIANGLES <= caps.max_mesh_output_primitives)
+      best = size;
+  return best;
+}
+
+VkPipeline IntervalShadingPass::pipeline(uint32_t tetlet_size, bool emission) {
+  auto& slot = pipelines_[{tetlet_size, emission}];
+  if (slot.get() != VK_NULL_HANDLE) return slot.get();
+  const std::string mesh_shader = tetlet_size == PRISMOID_MAX_TETS_PER_WORKGROUP
+                                      ? std::string("volume/interval.mesh")
+                                      : "volume/interval_w" + std::to_string(tetlet_size) + ".mesh";
+  vk::MeshPipelineDesc desc;
+  desc.mesh_shader = mesh_shader;
+  desc.fragment_shader = emission ? "volume/emission.frag" : "volume/optical_depth.frag";
+  desc.layout = mesh_layout_.get();
+  desc.color_formats = {emission ? kEmissionFormat : kOpticalDepthFormat};
+  desc.blend = emission ? vk::BlendMode::FrontToBack : vk::BlendMode::Additive;
+  slot = vk::create_mesh_pipeline(device_, desc);
+  return slot.get();
+}
+
 void IntervalShadingPass::bind_order(const vk::Buffer* order) {
   const VkBuffer buffer = order ? order->get() : stub_.get();
   if (buffer == bound_order_) return;
@@ -156,6 +170,12 @@ void IntervalShadingPass::bind_order(const vk::Buffer* order) {
 }
 
 double IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings& settings) {
+  if (std::find(kTetletSizes.begin(), kTetletSizes.end(), settings.tetlet_size) == kTetletSizes.end())
+    throw InputError("--tetlet-size", "must be 1, 4, 8 or 16 cells per mesh workgroup");
+  if (settings.tetlet_size > max_tetlet_size(device_))
+    throw InputError("--tetlet-size", device_.capabilities().name + " fits at most " + std::to_string(max_tetlet_size(device_)) +
+                                          " near-clipped cells' proxies in one mesh workgroup");
+  pipeline(settings.tetlet_size, settings.quantity == Quantity::Color);  // created here, outside any frame
   if (settings.quantity != Quantity::Color) return 0.0;
   if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
   validate(settings.transfer);
@@ -266,9 +286,9 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     if (mesh.tet_count > 0) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, emission ? emission_pipeline_.get() : mesh_pipeline_.get());
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline(settings.tetlet_size, emission));
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mesh_layout_.get(), 0, 1, &mesh_set_.set, 0, nullptr);
-      const uint32_t groups = (mesh.tet_count + PRISMOID_TETS_PER_WORKGROUP - 1) / PRISMOID_TETS_PER_WORKGROUP;
+      const uint32_t groups = (mesh.tet_count + settings.tetlet_size - 1) / settings.tetlet_size;
       device_.cmd_draw_mesh_tasks(cmd, groups, 1, 1);
     }
     vkCmdEndRendering(cmd);

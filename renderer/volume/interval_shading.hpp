@@ -2,7 +2,10 @@
 // Interval shading of tetrahedral volumes (Tricard 2024): a mesh-shader pass that
 // accumulates optical depth per pixel, and a compute pass that resolves it to the
 // requested quantity and a display colour.
+#include <array>
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <glm/vec3.hpp>
 
 #include "renderer/vk/memory.hpp"
@@ -61,7 +64,14 @@ struct ResolveSettings {
   // fragment shader, N > 1 by lookup in an N^3 pre-integrated table (faster, approximate).
   TransferFunction transfer = preset("cool-to-warm");
   uint32_t preintegration_size = 0;
+  // Cells per mesh workgroup, one per invocation: 1 is the paper's one cell per workgroup.
+  uint32_t tetlet_size = 16;
 };
+
+// The workgroup sizes there are shader variants of, and the largest the device's mesh-output
+// limits allow (a near-clipped cell emits up to 15 vertices and 12 triangles).
+inline constexpr std::array<uint32_t, 4> kTetletSizes = {1, 4, 8, 16};
+uint32_t max_tetlet_size(const vk::Device& device);
 
 class IntervalShadingPass {
  public:
@@ -85,12 +95,14 @@ class IntervalShadingPass {
   void bind_mesh(const GpuTetMesh& mesh);
   void bind_targets(const VolumeTargets& targets);
   void bind_order(const vk::Buffer* order);
+  VkPipeline pipeline(uint32_t tetlet_size, bool emission);
 
   const vk::Device& device_;
   vk::UniqueDescriptorSetLayout mesh_set_layout_;
   vk::UniquePipelineLayout mesh_layout_;
-  vk::UniquePipeline mesh_pipeline_;      // optical depth, additive
-  vk::UniquePipeline emission_pipeline_;  // emission-absorption, front to back
+  // (cells per workgroup, emission) -> pipeline, made on first use: optical depth blends
+  // additively, emission front to back.
+  std::map<std::pair<uint32_t, bool>, vk::UniquePipeline> pipelines_;
   vk::DescriptorSet mesh_set_;
   vk::UniqueDescriptorSetLayout resolve_set_layout_;
   vk::UniquePipelineLayout resolve_layout_;

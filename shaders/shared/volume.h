@@ -26,9 +26,13 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_INTEGRAND_OPTICAL_DEPTH 0u  // sigma * length, additive: order independent
 #define PRISMOID_INTEGRAND_EMISSION 1u       // transfer-function emission-absorption, composited in order
 
-// Tetrahedra handled by one mesh-shader workgroup, one per invocation. A near-clipped cell
-// emits up to 15 vertices, and 256 output vertices is the common limit (lavapipe, NVIDIA).
-#define PRISMOID_TETS_PER_WORKGROUP 16
+// Tetrahedra handled by one mesh-shader workgroup, one per invocation: 1, 4, 8 or 16 (one
+// shader variant each; the default is 16). A near-clipped cell emits up to 15 vertices, and
+// 256 output vertices is the common limit (lavapipe, NVIDIA).
+#define PRISMOID_MAX_TETS_PER_WORKGROUP 16
+#ifndef PRISMOID_TETS_PER_WORKGROUP
+#define PRISMOID_TETS_PER_WORKGROUP PRISMOID_MAX_TETS_PER_WORKGROUP
+#endif
 // A tetrahedron's proxy: at most 5 vertices and 4 triangles (case 2 of the projection).
 #define PRISMOID_PROXY_MAX_VERTICES 5
 #define PRISMOID_PROXY_MAX_TRIANGLES 4
@@ -36,6 +40,8 @@ PRISMOID_SHARED_BEGIN
 // room for all of its cells' pieces.
 #define PRISMOID_WORKGROUP_MAX_VERTICES (PRISMOID_TETS_PER_WORKGROUP * 3 * PRISMOID_PROXY_MAX_VERTICES)
 #define PRISMOID_WORKGROUP_MAX_TRIANGLES (PRISMOID_TETS_PER_WORKGROUP * 3 * PRISMOID_PROXY_MAX_TRIANGLES)
+#define PRISMOID_CELL_MAX_VERTICES (3 * PRISMOID_PROXY_MAX_VERTICES)    // a near-clipped cell's proxies
+#define PRISMOID_CELL_MAX_TRIANGLES (3 * PRISMOID_PROXY_MAX_TRIANGLES)
 
 struct FrameUniforms {
   mat4 view;        // mesh-local coordinates -> camera space (camera looks along -z)

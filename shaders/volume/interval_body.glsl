@@ -1,0 +1,115 @@
+// Interval shading (Tricard 2024): each invocation projects one tetrahedron and emits its
+// screen-space proxy at z = 0, w = 1, so the rasterizer interpolates 1/depth of the front
+// and back surfaces with screen-space barycentrics. A workgroup handles
+// PRISMOID_TETS_PER_WORKGROUP cells (1: the paper's one cell per workgroup), set by the file
+// that includes this body (interval_w*.mesh).
+#include "../shared/volume.h"
+#include "near_clip.glsl"
+#include "tet_projection.glsl"
+#include "linear_field.glsl"
+
+layout(local_size_x = PRISMOID_TETS_PER_WORKGROUP) in;
+layout(triangles, max_vertices = PRISMOID_WORKGROUP_MAX_VERTICES, max_primitives = PRISMOID_WORKGROUP_MAX_TRIANGLES) out;
+
+layout(set = 0, binding = PRISMOID_BINDING_FRAME) uniform FrameBlock { FrameUniforms frame; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_TETS) readonly buffer Tets { uvec4 tets[]; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_CELL_SIGMA) readonly buffer CellSigma { float cell_sigma[]; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_POINT_SIGMA) readonly buffer PointSigma { float point_sigma[]; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_CELL_SCALAR) readonly buffer CellScalar { float cell_scalar[]; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_POINT_SCALAR) readonly buffer PointScalar { float point_scalar[]; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_ORDER) readonly buffer Order { uint draw_order[]; };
+
+// 1/depth of the two bounding surfaces. Every proxy vertex has w = 1, so perspective-correct
+// interpolation is exactly screen-space interpolation; we do not declare `noperspective`
+// because lavapipe (Mesa 25.0) interpolates noperspective attributes wrongly on triangles its
+// clipper cuts (proxies reaching far outside the viewport: camera inside or close to big
+// cells), which gave optical-depth errors of 20% there while the H100 was exact.
+layout(location = 0) out vec2 v_inv_depth[];
+// f(p) = dot(field.xyz, p) + field.w for p in camera space: the cell's linear field (constant
+// cells: xyz = 0), sigma for optical depth, the transfer function's normalized scalar for
+// emission. The fragment evaluates it at both ends of its interval.
+layout(location = 1) perprimitiveEXT flat out vec4 p_field[];
+
+shared uint s_vertex_base[PRISMOID_TETS_PER_WORKGROUP];
+shared uint s_triangle_base[PRISMOID_TETS_PER_WORKGROUP];
+
+void main() {
+  uint local = gl_LocalInvocationIndex;
+  uint slot = gl_WorkGroupID.x * PRISMOID_TETS_PER_WORKGROUP + local;
+  uint tet_count = frame.counts.x;
+  bool emission = frame.counts.z == PRISMOID_INTEGRAND_EMISSION;
+  // Primitives are rasterized and blended in the order the workgroups and, within one, the
+  // primitive indices give (the Vulkan spec's primitive order), so drawing slot i with the
+  // i-th cell of a front-to-back list composites front to back.
+  uint tet_index = slot;
+  if (frame.counts.w != 0u && slot < tet_count) tet_index = draw_order[slot];
+
+  TetProxy proxies[3];
+  uint piece_count = 0u;
+  uint vertex_count = 0u, triangle_count = 0u;
+  vec4 field = vec4(0.0);
+  if (slot < tet_count) {
+    uvec4 idx = tets[tet_index];
+    vec3 cam[4];
+    for (int i = 0; i < 4; ++i) cam[i] = (frame.view * vec4(positions[idx[i]].xyz, 1.0)).xyz;
+    float sigma_max;
+    if (emission) {
+      // The transfer function decides what is transparent; every cell is drawn.
+      sigma_max = 1.0;
+      float lo = frame.transfer.x, inv_width = frame.transfer.y;
+      if (frame.counts.y != 0u) {
+        float x[4];
+        for (int i = 0; i < 4; ++i) x[i] = (point_scalar[idx[i]] - lo) * inv_width;
+        field = linear_field(cam, x);
+      } else {
+        field = vec4(0.0, 0.0, 0.0, (cell_scalar[tet_index] - lo) * inv_width);
+      }
+    } else if (frame.counts.y != 0u) {
+      float s[4] = float[4](point_sigma[idx.x], point_sigma[idx.y], point_sigma[idx.z], point_sigma[idx.w]);
+      field = linear_field(cam, s);
+      sigma_max = max(max(s[0], s[1]), max(s[2], s[3]));
+    } else {
+      sigma_max = cell_sigma[tet_index];
+      field = vec4(0.0, 0.0, 0.0, sigma_max);
+    }
+    if (sigma_max > 0.0) {
+      vec3 pieces[3][4];
+      piece_count = clip_near(cam, frame.ray_scale.z, pieces);
+      if (emission) order_pieces_front_to_back(pieces, piece_count);
+      for (uint p = 0u; p < piece_count; ++p) {
+        proxies[p] = project_tetrahedron(pieces[p], frame.projection);
+        vertex_count += proxies[p].vertex_count;
+        triangle_count += proxies[p].triangle_count;
+      }
+    }
+  }
+
+  // Compact the proxies of the workgroup: each invocation reserves its range.
+  s_vertex_base[local] = vertex_count;
+  s_triangle_base[local] = triangle_count;
+  barrier();
+  uint vertex_base = 0u, triangle_base = 0u, vertex_total = 0u, triangle_total = 0u;
+  for (uint i = 0u; i < PRISMOID_TETS_PER_WORKGROUP; ++i) {
+    if (i < local) {
+      vertex_base += s_vertex_base[i];
+      triangle_base += s_triangle_base[i];
+    }
+    vertex_total += s_vertex_base[i];
+    triangle_total += s_triangle_base[i];
+  }
+  SetMeshOutputsEXT(vertex_total, triangle_total);
+
+  for (uint p = 0u; p < piece_count; ++p) {
+    for (uint v = 0u; v < proxies[p].vertex_count; ++v) {
+      gl_MeshVerticesEXT[vertex_base + v].gl_Position = vec4(proxies[p].ndc[v], 0.0, 1.0);
+      v_inv_depth[vertex_base + v] = proxies[p].inv_depth[v];
+    }
+    for (uint t = 0u; t < proxies[p].triangle_count; ++t) {
+      gl_PrimitiveTriangleIndicesEXT[triangle_base + t] = proxies[p].triangles[t] + uvec3(vertex_base);
+      p_field[triangle_base + t] = field;
+    }
+    vertex_base += proxies[p].vertex_count;
+    triangle_base += proxies[p].triangle_count;
+  }
+}
