@@ -7,6 +7,7 @@
 
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
+#include "renderer/volume/analytic_field.hpp"
 #include "renderer/volume/segment_integral.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/camera.hpp"
@@ -20,8 +21,9 @@ class GpuTimer;
 namespace prismoid::volume {
 
 // What a frame shows: optical depth and transmittance integrate sigma (order independent);
-// colour is emission-absorption through a transfer function (order dependent).
-enum class Quantity { OpticalDepth, Transmittance, Color };
+// colour is emission-absorption through a transfer function (order dependent); an isosurface
+// (marching only) is the nearest point where the field reaches the isovalue (depth tested).
+enum class Quantity { OpticalDepth, Transmittance, Color, Isosurface };
 inline bool order_dependent(Quantity q) { return q == Quantity::Color; }
 
 // A TetMesh on the GPU. Positions are stored as float relative to `origin` (the mesh's
@@ -49,9 +51,21 @@ struct VolumeTargets {
   vk::Image emission;       // RGBA32F colour attachment: premultiplied colour, alpha; front to back
   vk::Image quantity;       // R32F: optical depth or transmittance
   vk::Image display;        // RGBA32F linear colour
+  vk::Image depth;          // D32: isosurface hits, near / depth (the greater, nearer, wins)
   VkExtent2D extent{};
 };
 VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent);
+
+// Marching inside intervals (Tricard 2024, section 3.2): each fragment samples an analytic
+// field (world coordinates) along its interval in equal steps of at most `step` (world
+// length) instead of integrating the mesh's own linear field.
+struct MarchSettings {
+  bool enabled = false;
+  AnalyticField field;
+  double step = 0.0;           // > 0 when enabled
+  double density_scale = 1.0;  // optical depth: sigma = density_scale * max(field, 0)
+  double isovalue = 0.5;       // Quantity::Isosurface
+};
 
 struct ResolveSettings {
   Quantity quantity = Quantity::Transmittance;
@@ -61,6 +75,7 @@ struct ResolveSettings {
   // fragment shader, N > 1 by lookup in an N^3 pre-integrated table (faster, approximate).
   TransferFunction transfer = preset("cool-to-warm");
   uint32_t preintegration_size = 0;
+  MarchSettings march;
 };
 
 class IntervalShadingPass {
@@ -91,6 +106,12 @@ class IntervalShadingPass {
   vk::UniquePipelineLayout mesh_layout_;
   vk::UniquePipeline mesh_pipeline_;      // optical depth, additive
   vk::UniquePipeline emission_pipeline_;  // emission-absorption, front to back
+  // Marching inside intervals (march.frag, isosurface.frag) with the same mesh shader.
+  void create_march_pipelines(vk::MeshPipelineDesc desc);
+  VkPipeline march_pipeline(const ResolveSettings& settings) const;
+  vk::UniquePipeline march_depth_pipeline_;  // optical depth of an analytic field, additive
+  vk::UniquePipeline march_color_pipeline_;  // its transfer function, front to back
+  vk::UniquePipeline isosurface_pipeline_;   // nearest hit by the depth test
   vk::DescriptorSet mesh_set_;
   vk::UniqueDescriptorSetLayout resolve_set_layout_;
   vk::UniquePipelineLayout resolve_layout_;
