@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
 #include "app/viewer.hpp"
@@ -21,6 +22,7 @@
 #include "io/transfer_function_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/reference/analytic_march.hpp"
 #include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/vk/capabilities.hpp"
@@ -57,10 +59,18 @@ const char* kRenderHelp =
     "  --mode MODE          interval               interval shading on the GPU, cells in mesh order\n"
     "                       interval-sorted        ... cells sorted by centroid distance on the GPU each frame\n"
     "                       interval-exact-order   ... cells in topological visibility order (exact on convex meshes)\n"
-    "                       reference              CPU, double precision, exact per-pixel order\n"
+    "                       interval-march         marching inside intervals: each fragment samples the\n"
+    "                                              analytic field of a field: dataset along its interval\n"
+    "                                              (cells sorted on the GPU for color)\n"
+    "                       interval-march-exact-order  ... cells in topological visibility order\n"
+    "                       reference              CPU, double precision, exact per-pixel order (with a\n"
+    "                                              field: dataset, of the analytic field itself)\n"
     "                       (default: interval; interval-sorted for --quantity color)\n"
-    "  --quantity Q         optical-depth | transmittance | color (default transmittance)\n"
+    "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
     "                       color: emission-absorption of a scalar field through a transfer function\n"
+    "                       isosurface: the nearest point where the field reaches --isovalue, shaded\n"
+    "                       with a headlight (interval-march or reference, field: datasets); the\n"
+    "                       .pfm quantity is the distance from the eye to it (0: no hit)\n"
     "  --size WxH           image size in pixels (default 800x600)\n"
     "  --eye x,y,z --target x,y,z --up x,y,z --fovy DEG --near N\n"
     "                       camera (default: framing the data from +z, fovy 40)\n"
@@ -76,6 +86,11 @@ const char* kRenderHelp =
     "                       linear in each cell; default sigma = 1 (the default dataset: its density)\n"
     "  --density-scale S    multiplies the extinction; for color, the extinction at opacity 1 (default 1)\n"
     "\n"
+    "  interval-march only:\n"
+    "  --march-step S       longest step in world units: each interval is marched in equal steps of at\n"
+    "                       most S (midpoint rule) (default: 1/100 of the bounds' diagonal)\n"
+    "  --isovalue V         the isosurface's level (--quantity isosurface only; default 0.5)\n"
+    "\n"
     "  color only:\n"
     "  --tf PRESET|FILE     transfer function: cool-to-warm (default), viridis, grayscale, black-body,\n"
     "                       or a ParaView colour-map JSON file (opacity from its \"Points\", else a ramp)\n"
@@ -84,8 +99,14 @@ const char* kRenderHelp =
     "                       look segments up in an N^3 pre-integrated table (faster, approximate)\n"
     "  --background R,G,B   linear colour behind the volume (default 1,1,1)\n"
     "\n"
-    "FILE: a tetrahedral .vtu or legacy .vtk unstructured grid. With no FILE the embedded\n"
-    "default dataset is rendered.\n";
+    "FILE: a tetrahedral .vtu or legacy .vtk unstructured grid, or field:NAME[:N], an analytic field\n"
+    "in world coordinates bounded by the box [-1,1]^3 split into N^3 cubes of 6 tetrahedra (default\n"
+    "N = 4: each cell holds a strongly non-linear field). NAME: marschner-lobb (Marschner & Lobb 1994,\n"
+    "f_M = 6, alpha = 0.25, values in [0,1]), blobs (three Gaussian blobs), sphere (one Gaussian blob:\n"
+    "its isosurfaces are spheres), linear. The field is the extinction (times --density-scale) and\n"
+    "the color scalar; interval modes render its linear interpolant at the mesh points,\n"
+    "interval-march and reference the field itself. With no FILE the embedded default dataset is\n"
+    "rendered.\n";
 
 const char* kViewHelp =
     "usage: prismoid view [FILE] [options]\n"
@@ -184,6 +205,13 @@ std::optional<uint32_t> parse_device(const ParsedArgs& a) {
   return parse_uint("device", a.values.at("device"));
 }
 
+// The analytic field of a field:NAME[:N] dataset, if that is what the command line names.
+std::optional<volume::AnalyticField> field_of(const ParsedArgs& a) {
+  if (a.files.size() != 1 || a.files.front().rfind("field:", 0) != 0) return std::nullopt;
+  const std::string spec = a.files.front().substr(6);
+  return volume::field_from_name(spec.substr(0, spec.find(':')));
+}
+
 // The dataset named on the command line; the embedded default when none is named.
 TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
   io::TetReadOptions options;
@@ -201,6 +229,16 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     return mesh;
   }
   if (a.files.size() > 1) throw InputError(a.files[1], "several datasets in one scene arrive with the viewer; give one FILE");
+  if (const auto field = field_of(a)) {
+    if (a.has("array")) throw InputError("--array", "a field: dataset has no arrays to choose from");
+    const std::string& spec = a.files.front();
+    uint32_t n = 4;
+    if (const auto colon = spec.find(':', 6); colon != std::string::npos) {
+      n = parse_uint("field", spec.substr(colon + 1));
+      if (n == 0 || n > 64) throw InputError(spec, "the box is split into N^3 cubes with N between 1 and 64");
+    }
+    return volume::make_field_mesh(*field, n, options.density_scale);
+  }
   return io::read_tet_mesh(a.files.front(), options);
 }
 
@@ -322,6 +360,58 @@ frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera
   return f;
 }
 
+// The CPU reference of an analytic field (what interval-march approximates): optical depth by
+// fine Gauss-Legendre panels, colour and isosurfaces by marching
+// in steps of 1/2000 of the bounds' diagonal, resolved as the GPU does.
+frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+                                             VkExtent2D size) {
+  const auto start = std::chrono::steady_clock::now();
+  const volume::MarchSettings& m = resolve.march;
+  const Bounds b = bounds_of(mesh);
+  const double fine_step = glm::length(b.max - b.min) / 2000.0;
+  frame::OffscreenFrame f;
+  f.width = size.width;
+  f.height = size.height;
+  const size_t pixels = size_t(size.width) * size.height;
+  f.quantity.resize(pixels);
+  f.display.resize(pixels * 4);
+  auto put = [&](size_t i, const glm::dvec3& c) {
+    for (int k = 0; k < 3; ++k) f.display[4 * i + k] = float(c[k]);
+    f.display[4 * i + 3] = 1.0f;
+  };
+  if (resolve.quantity == volume::Quantity::Color) {
+    const auto image = reference::field_color_image(mesh, m.field, resolve.transfer, camera, size.width, size.height, fine_step);
+    f.emission.resize(pixels * 4);
+    for (size_t i = 0; i < pixels; ++i) {
+      const glm::dvec4 c = image.pixels[i];
+      f.quantity[i] = float(1.0 - c.a);
+      put(i, glm::dvec3(c) + (1.0 - c.a) * glm::dvec3(resolve.background));
+      for (int k = 0; k < 4; ++k) f.emission[4 * i + k] = float(c[k]);
+    }
+  } else if (resolve.quantity == volume::Quantity::Isosurface) {
+    const auto image = reference::isosurface_image(mesh, m.field, m.isovalue, camera, size.width, size.height, fine_step);
+    f.emission.resize(pixels * 4);
+    for (size_t i = 0; i < pixels; ++i) {
+      f.quantity[i] = float(image.distance[i]);
+      put(i, image.distance[i] > 0.0 ? glm::dvec3(image.shade[i]) : glm::dvec3(resolve.background));
+      for (int k = 0; k < 3; ++k) f.emission[4 * i + k] = float(image.shade[i]);
+      f.emission[4 * i + 3] = float(image.distance[i]);
+    }
+  } else {
+    const auto tau = reference::field_optical_depth_image(mesh, m.field, m.density_scale, camera, size.width, size.height);
+    for (size_t i = 0; i < pixels; ++i) {
+      const double t = std::exp(-tau[i]);
+      f.quantity[i] = float(resolve.quantity == volume::Quantity::Transmittance ? t : tau[i]);
+      put(i, glm::mix(glm::dvec3(resolve.medium), glm::dvec3(resolve.background), t));
+    }
+  }
+  f.report.ordering = "exact (per pixel, CPU)";
+  f.report.order_exact = true;
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  f.passes.push_back({"reference (CPU, double, analytic field)", ms});
+  return f;
+}
+
 // Per pass, the median over the frames goes into `passes` (by name, in order); returns each
 // pass's min and max.
 std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::vector<vk::PassTiming>>& frames,
@@ -346,6 +436,7 @@ const char* quantity_name(volume::Quantity q) {
     case volume::Quantity::OpticalDepth: return "optical-depth";
     case volume::Quantity::Transmittance: return "transmittance";
     case volume::Quantity::Color: return "color";
+    case volume::Quantity::Isosurface: return "isosurface";
   }
   return "?";
 }
@@ -379,7 +470,7 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 int cmd_render(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf", "tf-range",
                                              "preintegration-size", "background", "array", "density-scale", "frames",
-                                             "tetlet-size"}),
+                                             "tetlet-size", "march-step", "isovalue"}),
                        {"validate", "help"});
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
@@ -391,7 +482,8 @@ int cmd_render(const std::vector<std::string>& args) {
     if (q == "optical-depth") quantity = volume::Quantity::OpticalDepth;
     else if (q == "transmittance") quantity = volume::Quantity::Transmittance;
     else if (q == "color") quantity = volume::Quantity::Color;
-    else throw InputError("--quantity", "unknown quantity '" + q + "' (optical-depth, transmittance, color)");
+    else if (q == "isosurface") quantity = volume::Quantity::Isosurface;
+    else throw InputError("--quantity", "unknown quantity '" + q + "' (optical-depth, transmittance, color, isosurface)");
   }
   const bool color = quantity == volume::Quantity::Color;
   const std::string mode = a.has("mode") ? a.values.at("mode") : (color ? "interval-sorted" : "interval");
@@ -399,8 +491,21 @@ int cmd_render(const std::vector<std::string>& args) {
   if (mode == "interval") settings.ordering = frame::Ordering::MeshOrder;
   else if (mode == "interval-sorted") settings.ordering = frame::Ordering::GpuSort;
   else if (mode == "interval-exact-order") settings.ordering = frame::Ordering::Exact;
+  else if (mode == "interval-march") settings.ordering = frame::Ordering::GpuSort;
+  else if (mode == "interval-march-exact-order") settings.ordering = frame::Ordering::Exact;
   else if (mode != "reference")
-    throw InputError("--mode", "unknown mode '" + mode + "' (available: interval, interval-sorted, interval-exact-order, reference)");
+    throw InputError("--mode", "unknown mode '" + mode +
+                                   "' (available: interval, interval-sorted, interval-exact-order, interval-march, "
+                                   "interval-march-exact-order, reference)");
+  const bool march = mode.rfind("interval-march", 0) == 0;
+  const std::optional<volume::AnalyticField> field = field_of(a);
+  if (march && !field) throw InputError("--mode " + mode, "marches an analytic field: give a field:NAME dataset (see --help)");
+  if (quantity == volume::Quantity::Isosurface && !(field && (march || mode == "reference")))
+    throw InputError("--quantity isosurface", "needs a field:NAME dataset and --mode interval-march or reference");
+  if (a.has("isovalue") && quantity != volume::Quantity::Isosurface) throw InputError("--isovalue", "applies to --quantity isosurface only");
+  if (a.has("march-step") && !march && mode != "reference")
+    throw InputError("--march-step", "applies to --mode interval-march and interval-march-exact-order only");
+  if (march && a.has("preintegration-size")) throw InputError("--preintegration-size", "does not apply to interval-march");
   if (!color)
     for (const char* option : {"tf", "tf-range", "preintegration-size", "background"})
       if (a.has(option)) throw InputError(std::string("--") + option, "applies to --quantity color only");
@@ -412,6 +517,16 @@ int cmd_render(const std::vector<std::string>& args) {
   const TetMesh mesh = load_scene(a, color);
   validate(mesh);
   const Camera camera = camera_from(a, bounds_of(mesh));
+  if (field) {
+    volume::MarchSettings& m = settings.resolve.march;
+    m.enabled = march;
+    m.field = *field;
+    const Bounds b = bounds_of(mesh);
+    m.step = a.has("march-step") ? parse_double("march-step", a.values.at("march-step")) : glm::length(b.max - b.min) / 100.0;
+    if (!(m.step > 0.0)) throw InputError("--march-step", "must be a positive number of world units");
+    m.isovalue = a.has("isovalue") ? parse_double("isovalue", a.values.at("isovalue")) : 0.5;
+    m.density_scale = a.has("density-scale") ? parse_double("density-scale", a.values.at("density-scale")) : 1.0;
+  }
 
   settings.resolve.quantity = quantity;
   if (a.has("tetlet-size")) settings.resolve.tetlet_size = parse_uint("tetlet-size", a.values.at("tetlet-size"));
@@ -434,7 +549,7 @@ int cmd_render(const std::vector<std::string>& args) {
   std::unique_ptr<vk::Instance> instance;
   if (mode == "reference") {
     device_name = "CPU reference (double precision)";
-    result = render_reference(mesh, camera, settings.resolve, size);
+    result = field ? render_field_reference(mesh, camera, settings.resolve, size) : render_reference(mesh, camera, settings.resolve, size);
   } else {
     instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
     const auto devices = vk::query_devices(instance->get());
@@ -457,7 +572,7 @@ int cmd_render(const std::vector<std::string>& args) {
   image.width = result.width;
   image.height = result.height;
   const bool pfm = std::filesystem::path(output).extension() == ".pfm" || std::filesystem::path(output).extension() == ".PFM";
-  if (pfm && !color) {
+  if (pfm && !color) {  // isosurface: the distance to the hit
     image.channels = 1;
     image.pixels = result.quantity;
   } else if (pfm) {  // colour PFM: the linear colour over the background, RGB
@@ -497,6 +612,9 @@ int cmd_render(const std::vector<std::string>& args) {
       js << ",\n  \"transfer_function\": \"" << json_escape(settings.resolve.transfer.name) << "\",\n  \"tf_range\": ["
          << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)
          << "],\n  \"preintegration_size\": " << settings.resolve.preintegration_size;
+    if (field)
+      js << ",\n  \"field\": \"" << json_escape(field->name) << "\",\n  \"march_step\": " << json_number(settings.resolve.march.step)
+         << (quantity == volume::Quantity::Isosurface ? ",\n  \"isovalue\": " + json_number(settings.resolve.march.isovalue) : "");
     js << ",\n  \"frames\": " << frames << ",\n  \"passes\": [";
     for (size_t i = 0; i < result.passes.size(); ++i) {
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.passes[i].name)

@@ -148,7 +148,7 @@ OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const Frame
   frame.display.resize(pixels * 4);
   vk::read_image(device_, targets_.quantity, sizeof(float), std::as_writable_bytes(std::span(frame.quantity)));
   vk::read_image(device_, targets_.display, 4 * sizeof(float), std::as_writable_bytes(std::span(frame.display)));
-  if (settings.resolve.quantity == volume::Quantity::Color) {
+  if (settings.resolve.quantity == volume::Quantity::Color || settings.resolve.quantity == volume::Quantity::Isosurface) {
     frame.emission.resize(pixels * 4);
     vk::read_image(device_, targets_.emission, 4 * sizeof(float), std::as_writable_bytes(std::span(frame.emission)));
   }

@@ -40,7 +40,8 @@ struct OffscreenFrame {
   uint32_t width = 0, height = 0;
   std::vector<float> quantity;  // one value per pixel, row 0 at the top
   std::vector<float> display;   // linear RGBA per pixel
-  std::vector<float> emission;  // colour only: premultiplied RGB and alpha per pixel
+  std::vector<float> emission;  // colour: premultiplied RGB and alpha per pixel; isosurface: shaded
+                                // RGB and the distance from the eye to the hit (0: none)
   std::vector<vk::PassTiming> passes;
   FrameReport report;
 };

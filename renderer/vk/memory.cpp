@@ -59,6 +59,15 @@ Buffer upload_buffer(const Device& device, std::span<const std::byte> bytes, VkB
   return result;
 }
 
+VkImageAspectFlags aspect_of(VkFormat format) {
+  switch (format) {
+    case VK_FORMAT_D16_UNORM:
+    case VK_FORMAT_X8_D24_UNORM_PACK32:
+    case VK_FORMAT_D32_SFLOAT: return VK_IMAGE_ASPECT_DEPTH_BIT;
+    default: return VK_IMAGE_ASPECT_COLOR_BIT;
+  }
+}
+
 Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage)
     : format_(format), extent_(extent) {
   VkDevice d = device.get();
@@ -91,7 +100,7 @@ Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUs
   view_info.image = image;
   view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
   view_info.format = format;
-  view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  view_info.subresourceRange = {aspect_of(format), 0, 1, 0, 1};
   VkImageView view;
   check(vkCreateImageView(d, &view_info, nullptr, &view), "vkCreateImageView");
   view_ = UniqueImageView(d, view);
@@ -99,7 +108,7 @@ Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUs
 
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                    VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access, VkImageAspectFlags aspect) {
   VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
   barrier.srcStageMask = src_stage;
   barrier.srcAccessMask = src_access;
@@ -110,7 +119,7 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkIma
   barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image;
-  barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  barrier.subresourceRange = {aspect, 0, 1, 0, 1};
   VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   dep.imageMemoryBarrierCount = 1;
   dep.pImageMemoryBarriers = &barrier;

@@ -57,10 +57,14 @@ class Image {
   VkExtent2D extent_{};
 };
 
-// A pipeline barrier on a whole colour image (synchronization2).
+// The aspect an image of this format has: depth for the depth-only formats, else colour.
+VkImageAspectFlags aspect_of(VkFormat format);
+
+// A pipeline barrier on a whole image (synchronization2), colour unless told.
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                    VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access,
+                   VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT);
 
 // Copies a colour image (in TRANSFER_SRC_OPTIMAL layout) into host memory, tightly packed.
 void read_image(const Device& device, const Image& image, size_t bytes_per_pixel, std::span<std::byte> out);

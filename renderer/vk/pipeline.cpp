@@ -69,6 +69,11 @@ UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc
   VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
   VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  if (desc.depth_format != VK_FORMAT_UNDEFINED) {
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = VK_TRUE;
+    depth.depthCompareOp = desc.depth_compare;
+  }
 
   std::vector<VkPipelineColorBlendAttachmentState> attachments(desc.color_formats.size());
   for (auto& a : attachments) {
@@ -104,6 +109,7 @@ UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc
   VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
   rendering.colorAttachmentCount = static_cast<uint32_t>(desc.color_formats.size());
   rendering.pColorAttachmentFormats = desc.color_formats.data();
+  rendering.depthAttachmentFormat = desc.depth_format;
 
   VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   info.pNext = &rendering;

@@ -33,6 +33,9 @@ struct MeshPipelineDesc {
   VkPipelineLayout layout = VK_NULL_HANDLE;
   std::vector<VkFormat> color_formats;
   BlendMode blend = BlendMode::None;
+  // A depth attachment of this format, tested with depth_compare and written, when defined.
+  VkFormat depth_format = VK_FORMAT_UNDEFINED;
+  VkCompareOp depth_compare = VK_COMPARE_OP_LESS;
 };
 UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc& desc);
 

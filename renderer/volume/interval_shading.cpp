@@ -11,6 +11,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/timer.hpp"
+#include "renderer/volume/interval_march.hpp"
 #include "scene/input_error.hpp"
 #include "shaders/shared/volume.h"
 
@@ -22,6 +23,7 @@ constexpr VkFormat kOpticalDepthFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kQuantityFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kDisplayFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kEmissionFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
 const std::array<vk::DescriptorBinding, 10> kMeshBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT},
@@ -106,6 +108,7 @@ VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent) {
                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
   t.quantity = vk::Image(device, extent, kQuantityFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   t.display = vk::Image(device, extent, kDisplayFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  t.depth = vk::Image(device, extent, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
   return t;
 }
 
@@ -146,18 +149,45 @@ uint32_t max_tetlet_size(const vk::Device& device) {
   return best;
 }
 
-VkPipeline IntervalShadingPass::pipeline(uint32_t tetlet_size, bool emission) {
-  auto& slot = pipelines_[{tetlet_size, emission}];
+IntervalShadingPass::PipelineKind IntervalShadingPass::pipeline_kind(const ResolveSettings& settings) {
+  if (settings.march.enabled) {
+    if (settings.quantity == Quantity::Color) return PipelineKind::MarchColor;
+    if (settings.quantity == Quantity::Isosurface) return PipelineKind::Isosurface;
+    return PipelineKind::MarchDepth;
+  }
+  return settings.quantity == Quantity::Color ? PipelineKind::Emission : PipelineKind::OpticalDepth;
+}
+
+VkPipeline IntervalShadingPass::pipeline(uint32_t tetlet_size, PipelineKind kind) {
+  auto& slot = pipelines_[{tetlet_size, kind}];
   if (slot.get() != VK_NULL_HANDLE) return slot.get();
   const std::string mesh_shader = tetlet_size == PRISMOID_MAX_TETS_PER_WORKGROUP
                                       ? std::string("volume/interval.mesh")
                                       : "volume/interval_w" + std::to_string(tetlet_size) + ".mesh";
   vk::MeshPipelineDesc desc;
   desc.mesh_shader = mesh_shader;
-  desc.fragment_shader = emission ? "volume/emission.frag" : "volume/optical_depth.frag";
   desc.layout = mesh_layout_.get();
-  desc.color_formats = {emission ? kEmissionFormat : kOpticalDepthFormat};
-  desc.blend = emission ? vk::BlendMode::FrontToBack : vk::BlendMode::Additive;
+  switch (kind) {
+    case PipelineKind::OpticalDepth:  // sigma * length, summed
+    case PipelineKind::MarchDepth:
+      desc.fragment_shader = kind == PipelineKind::OpticalDepth ? "volume/optical_depth.frag" : "volume/march.frag";
+      desc.color_formats = {kOpticalDepthFormat};
+      desc.blend = vk::BlendMode::Additive;
+      break;
+    case PipelineKind::Emission:  // premultiplied colour, composited front to back
+    case PipelineKind::MarchColor:
+      desc.fragment_shader = kind == PipelineKind::Emission ? "volume/emission.frag" : "volume/march.frag";
+      desc.color_formats = {kEmissionFormat};
+      desc.blend = vk::BlendMode::FrontToBack;
+      break;
+    case PipelineKind::Isosurface:  // the nearest hit wins the depth test, in any draw order
+      desc.fragment_shader = "volume/isosurface.frag";
+      desc.color_formats = {kEmissionFormat};
+      desc.blend = vk::BlendMode::None;
+      desc.depth_format = VK_FORMAT_D32_SFLOAT;
+      desc.depth_compare = VK_COMPARE_OP_GREATER;  // near / depth: greater is nearer
+      break;
+  }
   slot = vk::create_mesh_pipeline(device_, desc);
   return slot.get();
 }
@@ -170,12 +200,13 @@ void IntervalShadingPass::bind_order(const vk::Buffer* order) {
 }
 
 double IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings& settings) {
+  validate_march(mesh, settings);
   if (std::find(kTetletSizes.begin(), kTetletSizes.end(), settings.tetlet_size) == kTetletSizes.end())
     throw InputError("--tetlet-size", "must be 1, 4, 8 or 16 cells per mesh workgroup");
   if (settings.tetlet_size > max_tetlet_size(device_))
     throw InputError("--tetlet-size", device_.capabilities().name + " fits at most " + std::to_string(max_tetlet_size(device_)) +
                                           " near-clipped cells' proxies in one mesh workgroup");
-  pipeline(settings.tetlet_size, settings.quantity == Quantity::Color);  // created here, outside any frame
+  pipeline(settings.tetlet_size, pipeline_kind(settings));  // created here, outside any frame
   if (settings.quantity != Quantity::Color) return 0.0;
   if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
   validate(settings.transfer);
@@ -237,6 +268,8 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
                                  const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order) {
   validate(camera);
   const bool emission = settings.quantity == Quantity::Color;
+  const bool march = settings.march.enabled, isosurface = settings.quantity == Quantity::Isosurface;
+  if (isosurface && !march) throw std::logic_error("IntervalShadingPass: an isosurface needs marching (settings.march)");
   const bool use_table = settings.preintegration_size > 0;
   if (emission && (tf_buffer_.get() == VK_NULL_HANDLE || (use_table && table_buffer_.get() == VK_NULL_HANDLE)))
     throw std::logic_error("IntervalShadingPass: colour needs prepare() before record()");
@@ -252,18 +285,22 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
   frame.projection = to_float(proj);
   frame.viewport = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
   frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance), 0.0f);
-  const bool per_point = emission ? mesh.scalar_per_point : mesh.linear;
+  // Marching draws every cell (the mesh shader's emission path: no cell is culled by its
+  // extinction, near-clipped pieces in order) and ignores the proxy's linear field.
+  const bool per_point = emission || march ? mesh.scalar_per_point : mesh.linear;
   frame.counts = glm::uvec4(mesh.tet_count, per_point ? 1u : 0u,
-                            emission ? PRISMOID_INTEGRAND_EMISSION : PRISMOID_INTEGRAND_OPTICAL_DEPTH, order ? 1u : 0u);
+                            emission || march ? PRISMOID_INTEGRAND_EMISSION : PRISMOID_INTEGRAND_OPTICAL_DEPTH, order ? 1u : 0u);
   const TransferFunction& tf = settings.transfer;
   frame.transfer = glm::vec4(float(tf.range_lo), float(1.0 / (tf.range_hi - tf.range_lo)), float(table_.max_length),
                              float(table_.size));
   frame.options = glm::uvec4(uint32_t(table_tf_.size()), use_table ? PRISMOID_SEGMENTS_TABLE : PRISMOID_SEGMENTS_EXACT, 0u, 0u);
+  if (march) fill_march_uniforms(frame, settings, camera, mesh.origin);
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
 
-  const vk::Image& target = emission ? targets.emission : targets.optical_depth;
+  const bool to_emission = emission || isosurface;
+  const vk::Image& target = to_emission ? targets.emission : targets.optical_depth;
   {
-    vk::ScopedPass pass(timer, cmd, emission ? "interval-shading (emission)" : "interval-shading");
+    vk::ScopedPass pass(timer, cmd, march ? march_pass_name(settings) : emission ? "interval-shading (emission)" : "interval-shading");
     vk::image_barrier(cmd, target.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
@@ -280,13 +317,18 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
     rendering.layerCount = 1;
     rendering.colorAttachmentCount = 1;
     rendering.pColorAttachments = &color;
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    if (isosurface) {
+      depth = begin_isosurface_depth(cmd, targets);
+      rendering.pDepthAttachment = &depth;
+    }
     vkCmdBeginRendering(cmd, &rendering);
     VkViewport viewport{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
     VkRect2D scissor{{0, 0}, e};
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     if (mesh.tet_count > 0) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline(settings.tetlet_size, emission));
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline(settings.tetlet_size, pipeline_kind(settings)));
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mesh_layout_.get(), 0, 1, &mesh_set_.set, 0, nullptr);
       const uint32_t groups = (mesh.tet_count + settings.tetlet_size - 1) / settings.tetlet_size;
       device_.cmd_draw_mesh_tasks(cmd, groups, 1, 1);
@@ -297,7 +339,7 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
     vk::ScopedPass pass(timer, cmd, "resolve");
     // The resolve's descriptor set names both accumulation targets; the one this frame did not
     // draw is never read, but must be in the layout the set declares (its contents stay undefined).
-    const vk::Image& other = emission ? targets.optical_depth : targets.emission;
+    const vk::Image& other = to_emission ? targets.optical_depth : targets.emission;
     vk::image_barrier(cmd, other.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
@@ -312,7 +354,8 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
     gpu::ResolvePush push{};
     push.background = glm::vec4(settings.background, 1.0f);
     push.medium = glm::vec4(settings.medium, 1.0f);
-    const uint32_t quantity = emission ? PRISMOID_QUANTITY_COLOR
+    const uint32_t quantity = emission     ? PRISMOID_QUANTITY_COLOR
+                              : isosurface ? PRISMOID_QUANTITY_ISOSURFACE
                               : settings.quantity == Quantity::Transmittance ? PRISMOID_QUANTITY_TRANSMITTANCE
                                                                              : PRISMOID_QUANTITY_OPTICAL_DEPTH;
     push.params = glm::uvec4(quantity, e.width, e.height, 0u);

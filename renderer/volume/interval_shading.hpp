@@ -10,6 +10,7 @@
 
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
+#include "renderer/volume/analytic_field.hpp"
 #include "renderer/volume/segment_integral.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/camera.hpp"
@@ -23,8 +24,9 @@ class GpuTimer;
 namespace prismoid::volume {
 
 // What a frame shows: optical depth and transmittance integrate sigma (order independent);
-// colour is emission-absorption through a transfer function (order dependent).
-enum class Quantity { OpticalDepth, Transmittance, Color };
+// colour is emission-absorption through a transfer function (order dependent); an isosurface
+// (marching only) is the nearest point where the field reaches the isovalue (depth tested).
+enum class Quantity { OpticalDepth, Transmittance, Color, Isosurface };
 inline bool order_dependent(Quantity q) { return q == Quantity::Color; }
 
 // A TetMesh on the GPU. Positions are stored as float relative to `origin` (the mesh's
@@ -52,9 +54,21 @@ struct VolumeTargets {
   vk::Image emission;       // RGBA32F colour attachment: premultiplied colour, alpha; front to back
   vk::Image quantity;       // R32F: optical depth or transmittance
   vk::Image display;        // RGBA32F linear colour
+  vk::Image depth;          // D32: isosurface hits, near / depth (the greater, nearer, wins)
   VkExtent2D extent{};
 };
 VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent);
+
+// Marching inside intervals (Tricard 2024, section 3.2): each fragment samples an analytic
+// field (world coordinates) along its interval in equal steps of at most `step` (world
+// length) instead of integrating the mesh's own linear field.
+struct MarchSettings {
+  bool enabled = false;
+  AnalyticField field;
+  double step = 0.0;           // > 0 when enabled
+  double density_scale = 1.0;  // optical depth: sigma = density_scale * max(field, 0)
+  double isovalue = 0.5;       // Quantity::Isosurface
+};
 
 struct ResolveSettings {
   Quantity quantity = Quantity::Transmittance;
@@ -64,6 +78,7 @@ struct ResolveSettings {
   // fragment shader, N > 1 by lookup in an N^3 pre-integrated table (faster, approximate).
   TransferFunction transfer = preset("cool-to-warm");
   uint32_t preintegration_size = 0;
+  MarchSettings march;
   // Cells per mesh workgroup, one per invocation: 1 is the paper's one cell per workgroup.
   uint32_t tetlet_size = 16;
 };
@@ -95,14 +110,17 @@ class IntervalShadingPass {
   void bind_mesh(const GpuTetMesh& mesh);
   void bind_targets(const VolumeTargets& targets);
   void bind_order(const vk::Buffer* order);
-  VkPipeline pipeline(uint32_t tetlet_size, bool emission);
+  // What a frame's fragment stage does: optical depth and emission (exact intervals), the
+  // same marched inside intervals, or the nearest isosurface hit.
+  enum class PipelineKind { OpticalDepth, Emission, MarchDepth, MarchColor, Isosurface };
+  static PipelineKind pipeline_kind(const ResolveSettings& settings);
+  VkPipeline pipeline(uint32_t tetlet_size, PipelineKind kind);
 
   const vk::Device& device_;
   vk::UniqueDescriptorSetLayout mesh_set_layout_;
   vk::UniquePipelineLayout mesh_layout_;
-  // (cells per workgroup, emission) -> pipeline, made on first use: optical depth blends
-  // additively, emission front to back.
-  std::map<std::pair<uint32_t, bool>, vk::UniquePipeline> pipelines_;
+  // (cells per workgroup, kind) -> pipeline, made on first use.
+  std::map<std::pair<uint32_t, PipelineKind>, vk::UniquePipeline> pipelines_;
   vk::DescriptorSet mesh_set_;
   vk::UniqueDescriptorSetLayout resolve_set_layout_;
   vk::UniquePipelineLayout resolve_layout_;

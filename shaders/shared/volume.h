@@ -43,6 +43,23 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_CELL_MAX_VERTICES (3 * PRISMOID_PROXY_MAX_VERTICES)    // a near-clipped cell's proxies
 #define PRISMOID_CELL_MAX_TRIANGLES (3 * PRISMOID_PROXY_MAX_TRIANGLES)
 
+// Analytic fields, evaluated in world coordinates identically by renderer/volume/analytic_field
+// (double) and shaders/volume/analytic_field.glsl (float).
+#define PRISMOID_FIELD_LINEAR 0u          // dot(params[0].xyz, p) + params[0].w
+#define PRISMOID_FIELD_MARSCHNER_LOBB 1u  // params[0] = (f_M, alpha, 0, 0), on [-1, 1]^3
+#define PRISMOID_FIELD_GAUSSIAN_BLOBS 2u  // params[i] = (centre, width): sum of exp(-|p-c|^2 / (2 width^2))
+#define PRISMOID_FIELD_MAX_PARAMS 4
+
+// What march.frag computes along its interval (FrameUniforms.field.z).
+#define PRISMOID_MARCH_OPTICAL_DEPTH 0u  // integral of density_scale * field, additive
+#define PRISMOID_MARCH_COLOR 1u          // transfer function of the field, composited front to back
+#define PRISMOID_MARCH_ISOSURFACE 2u     // first point with field >= isovalue, depth tested
+// Most steps one fragment takes (a bound on its cost; the renderer refuses step settings
+// that would need more in the longest cell).
+#define PRISMOID_MARCH_MAX_STEPS 4096u
+// Isosurface shading: ambient + (1 - ambient) * |cos| of the angle between normal and view ray.
+#define PRISMOID_ISOSURFACE_AMBIENT 0.15
+
 struct FrameUniforms {
   mat4 view;        // mesh-local coordinates -> camera space (camera looks along -z)
   mat4 projection;  // camera space -> clip space (Vulkan: y down, depth 0..1)
@@ -53,12 +70,19 @@ struct FrameUniforms {
   vec4 transfer;    // x: scalar at the range's low end, y: 1 / (range width), z: table's longest
                     // length, w: table size per axis (texels)
   uvec4 options;    // x: transfer-function sample count, y: PRISMOID_SEGMENTS_*
+  // Marching inside intervals (march.frag): an analytic field in world coordinates.
+  mat4 camera_to_mesh;  // inverse of `view`: camera space -> mesh-local coordinates
+  vec4 mesh_origin;     // xyz: world position of mesh-local 0 (world = mesh_origin + local)
+  vec4 march;           // x: largest step (world length), y: isovalue, z: density scale, w: unused
+  uvec4 field;          // x: PRISMOID_FIELD_*, y: parameter count, z: PRISMOID_MARCH_*, w: unused
+  vec4 field_params[PRISMOID_FIELD_MAX_PARAMS];  // per field kind, see analytic_field.glsl
 };
 
 // Push constants of the resolve pass (optical depth -> display colour).
 #define PRISMOID_QUANTITY_OPTICAL_DEPTH 0u
 #define PRISMOID_QUANTITY_TRANSMITTANCE 1u
 #define PRISMOID_QUANTITY_COLOR 2u  // emission-absorption: display = colour over the background
+#define PRISMOID_QUANTITY_ISOSURFACE 3u  // emission target holds (shaded rgb, distance to the hit; 0: none)
 struct ResolvePush {
   vec4 background;    // display colour where nothing absorbs
   vec4 medium;        // colour the medium tends to where it is opaque
@@ -68,7 +92,12 @@ struct ResolvePush {
 PRISMOID_SHARED_END
 
 #ifdef __cplusplus
-static_assert(sizeof(prismoid::gpu::FrameUniforms) == 208);
+static_assert(sizeof(prismoid::gpu::FrameUniforms) == 384);
+static_assert(offsetof(prismoid::gpu::FrameUniforms, camera_to_mesh) == 208);
+static_assert(offsetof(prismoid::gpu::FrameUniforms, mesh_origin) == 272);
+static_assert(offsetof(prismoid::gpu::FrameUniforms, march) == 288);
+static_assert(offsetof(prismoid::gpu::FrameUniforms, field) == 304);
+static_assert(offsetof(prismoid::gpu::FrameUniforms, field_params) == 320);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, transfer) == 176);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, viewport) == 128);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, counts) == 160);

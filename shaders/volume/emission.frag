@@ -17,6 +17,8 @@ layout(location = 0) in vec2 v_inv_depth;
 layout(location = 1) perprimitiveEXT flat in vec4 p_field;  // x(p) = dot(xyz, p) + w, camera space
 layout(location = 0) out vec4 out_color;
 
+#include "transfer_lookup.glsl"
+
 vec4 texel(uint i, uint j, uint k, uint n) { return texels[(k * n + j) * n + i]; }
 
 // Trilinear lookup at (x_front, x_back, length), each clamped into the table's range; the
@@ -32,22 +34,6 @@ vec4 preintegrated(float x_front, float x_back, float len) {
   vec4 c01 = mix(texel(b.x, b.y, b.z + 1u, n), texel(b.x + 1u, b.y, b.z + 1u, n), f.x);
   vec4 c11 = mix(texel(b.x, b.y + 1u, b.z + 1u, n), texel(b.x + 1u, b.y + 1u, b.z + 1u, n), f.x);
   return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
-}
-
-// (rgb, sigma) of sample i, and of the transfer function at x (clamped into [0, 1]).
-vec4 tf_sample(uint i) { return vec4(tf_samples[2u * i + 1u].rgb, tf_samples[2u * i].y); }
-vec4 tf_at(float x) {
-  uint n = frame.options.x;
-  x = clamp(x, 0.0, 1.0);
-  for (uint i = 1u; i < n; ++i) {
-    float x1 = tf_samples[2u * i].x;
-    if (x <= x1) {
-      float x0 = tf_samples[2u * (i - 1u)].x;
-      float w = x1 > x0 ? (x - x0) / (x1 - x0) : 1.0;
-      return mix(tf_sample(i - 1u), tf_sample(i), w);
-    }
-  }
-  return tf_sample(n - 1u);
 }
 
 // The twin of volume::integrate_segment: pieces end where x crosses a sample.

@@ -21,6 +21,12 @@ void main() {
     imageStore(display, p, vec4(c.rgb + transmittance * push.background.rgb, 1.0));
     return;
   }
+  if (push.params.x == PRISMOID_QUANTITY_ISOSURFACE) {
+    vec4 hit = imageLoad(emission, p);  // shaded rgb, distance to the hit (0: none)
+    imageStore(quantity, p, vec4(hit.a, 0.0, 0.0, 1.0));
+    imageStore(display, p, vec4(hit.a > 0.0 ? hit.rgb : push.background.rgb, 1.0));
+    return;
+  }
   float tau = imageLoad(optical_depth, p).r;
   float transmittance = exp(-tau);
   float value = (push.params.x == PRISMOID_QUANTITY_TRANSMITTANCE) ? transmittance : tau;

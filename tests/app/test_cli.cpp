@@ -300,6 +300,14 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render --output x.png --quantity optical-depth --tf viridis", "--tf"},
       {"render --output x.png --quantity colour", "--quantity"},
       {"render --output x.png --quantity color --background 2,0,0", "--background"},
+      {"render field:marschner-lobb --output x.png --mode interval-march --isovalue 0.3", "--isovalue"},
+      {"render field:marschner-lobb --output x.png --mode interval-march --march-step 0", "--march-step"},
+      {"render field:marschner-lobb --output x.png --mode interval-march --march-step -0.1", "--march-step"},
+      {"render field:marschner-lobb --output x.png --mode interval-march --march-step 1e-9", "--march-step"},
+      {"render field:no-such-field --output x.png --mode interval-march", "field:no-such-field"},
+      {"render field:sphere --output x.png --quantity isosurface", "--quantity isosurface"},
+      {"render --output x.png --mode interval-march", "--mode interval-march"},
+      {"render field:sphere:0 --output x.png", "field:sphere:0"},
   };
   for (const auto& c : cases) {
     const CliRun r = run(c.args);

@@ -1,0 +1,68 @@
+#include "renderer/volume/interval_march.hpp"
+
+#include <cmath>
+#include <glm/matrix.hpp>
+#include <string>
+
+#include "renderer/vk/memory.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::volume {
+
+void validate_march(const GpuTetMesh& mesh, const ResolveSettings& settings) {
+  const MarchSettings& m = settings.march;
+  if (!m.enabled) {
+    if (settings.quantity == Quantity::Isosurface)
+      throw InputError("--quantity isosurface", "needs marching (--mode interval-march) over an analytic field (field:NAME)");
+    return;
+  }
+  validate(m.field);
+  if (!(m.step > 0.0) || !std::isfinite(m.step)) throw InputError("--march-step", "must be a positive number of world units");
+  if (mesh.longest_edge / m.step > double(PRISMOID_MARCH_MAX_STEPS))
+    throw InputError("--march-step", "needs more than " + std::to_string(PRISMOID_MARCH_MAX_STEPS) +
+                                         " steps in the longest cell (" + std::to_string(mesh.longest_edge) + "); use at least " +
+                                         std::to_string(mesh.longest_edge / PRISMOID_MARCH_MAX_STEPS));
+  if (!std::isfinite(m.isovalue)) throw InputError("--isovalue", "must be a finite number");
+  if (!(m.density_scale >= 0.0) || !std::isfinite(m.density_scale)) throw InputError("--density-scale", "must not be negative");
+  if (!mesh.has_scalars)
+    throw InputError("interval-march", "the mesh must carry a scalar array (the field: datasets do)");
+}
+
+const char* march_pass_name(const ResolveSettings& settings) {
+  switch (settings.quantity) {
+    case Quantity::Color: return "interval-march (color)";
+    case Quantity::Isosurface: return "interval-march (isosurface)";
+    default: return "interval-march";
+  }
+}
+
+void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& settings, const Camera& camera,
+                         const glm::dvec3& mesh_origin) {
+  const MarchSettings& m = settings.march;
+  frame.camera_to_mesh = glm::mat4(glm::inverse(view_matrix(camera, mesh_origin)));
+  frame.mesh_origin = glm::vec4(glm::vec3(mesh_origin), 0.0f);
+  frame.march = glm::vec4(float(m.step), float(m.isovalue), float(m.density_scale), 0.0f);
+  const uint32_t what = settings.quantity == Quantity::Color        ? PRISMOID_MARCH_COLOR
+                        : settings.quantity == Quantity::Isosurface ? PRISMOID_MARCH_ISOSURFACE
+                                                                    : PRISMOID_MARCH_OPTICAL_DEPTH;
+  frame.field = glm::uvec4(uint32_t(m.field.kind), uint32_t(m.field.params.size()), what, 0u);
+  for (size_t i = 0; i < m.field.params.size() && i < PRISMOID_FIELD_MAX_PARAMS; ++i) frame.field_params[i] = glm::vec4(m.field.params[i]);
+}
+
+VkRenderingAttachmentInfo begin_isosurface_depth(VkCommandBuffer cmd, const VolumeTargets& targets) {
+  vk::image_barrier(cmd, targets.depth.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                    VK_IMAGE_ASPECT_DEPTH_BIT);
+  VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  depth.imageView = targets.depth.view();
+  depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  depth.clearValue.depthStencil = {0.0f, 0};
+  return depth;
+}
+
+}  // namespace prismoid::volume
