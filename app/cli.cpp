@@ -598,6 +598,11 @@ int cmd_render(const std::vector<std::string>& args) {
   }
   std::cout << "  total: " << json_number(total) << (cpu ? " ms CPU\n" : " ms GPU\n");
   for (const auto& p : result.report.cpu_passes) std::cout << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
+  if (result.report.counted) {
+    std::cout << "  drawn: " << result.report.fragments << " fragments";
+    if (result.report.primitives > 0) std::cout << ", " << result.report.primitives << " proxy triangles";
+    std::cout << "\n";
+  }
 
   if (a.has("stats")) {
     const std::string stats_path = a.values.at("stats");
@@ -607,7 +612,12 @@ int cmd_render(const std::vector<std::string>& args) {
        << ",\n  \"mode\": \"" << mode << "\",\n  \"quantity\": \"" << quantity_name(quantity) << "\",\n  \"width\": " << size.width
        << ",\n  \"height\": " << size.height << ",\n  \"ordering\": \"" << json_escape(result.report.ordering)
        << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false")
-       << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes << ",\n  \"tetlet_size\": " << settings.resolve.tetlet_size;
+       << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes;
+    if (result.report.counted) {  // as the driver counts them (lavapipe counts no clipper input for mesh shaders)
+      js << ",\n  \"fragments\": " << result.report.fragments;
+      if (result.report.primitives > 0) js << ",\n  \"proxy_triangles\": " << result.report.primitives;
+    }
+    js << ",\n  \"tetlet_size\": " << settings.resolve.tetlet_size;
     if (color)
       js << ",\n  \"transfer_function\": \"" << json_escape(settings.resolve.transfer.name) << "\",\n  \"tf_range\": ["
          << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)

@@ -135,7 +135,7 @@ for name in $datasets; do
           printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$cells" "$size" "$config" "$i" "$pass" "$ms" >>"$times"
         done < <(passes_of "$stats")
         printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$cells" "$size" "$config" "$i" total "$(json_field "$stats" gpu_ms_total)" >>"$times"
-        echo "  $name $size $config run $i: $(json_field "$stats" gpu_ms_total) ms GPU, $(json_field "$stats" gpu_mesh_bytes) mesh bytes" >&2
+        echo "  $name $size $config run $i: $(json_field "$stats" gpu_ms_total) ms GPU, $(json_field "$stats" gpu_mesh_bytes) mesh bytes, $(json_field "$stats" fragments) fragments, $(json_field "$stats" proxy_triangles) proxy triangles" >&2
       done
     done
   done

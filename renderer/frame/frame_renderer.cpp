@@ -153,6 +153,12 @@ OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const Frame
     vk::read_image(device_, targets_.emission, 4 * sizeof(float), std::as_writable_bytes(std::span(frame.emission)));
   }
   frame.passes = offscreen_timer_.read();
+  if (interval_.counts_draws()) {
+    const auto counts = interval_.read_counts();
+    frame.report.counted = true;
+    frame.report.primitives = counts.primitives;
+    frame.report.fragments = counts.fragments;
+  }
   return frame;
 }
 

@@ -119,6 +119,7 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   caps.acceleration_structure = ext_as && as.accelerationStructure;
   caps.ray_query = ext_rq && rq.rayQuery;
   caps.timestamp_period_ns = props.properties.limits.timestampPeriod;
+  caps.pipeline_statistics = features.features.pipelineStatisticsQuery == VK_TRUE;
   caps.subpixel_precision_bits = props.properties.limits.subPixelPrecisionBits;
   if (ext_mesh) {
     caps.max_mesh_output_vertices = mesh_props.maxMeshOutputVertices;

@@ -23,6 +23,7 @@ struct DeviceCapabilities {
   bool ray_query = false;
   bool timestamps = false;  // graphics+compute queue with valid timestamp bits
   double timestamp_period_ns = 0.0;
+  bool pipeline_statistics = false;  // counts of fragment-shader invocations and primitives
   bool swapchain = false;
   uint32_t max_mesh_output_vertices = 0;
   uint32_t max_mesh_output_primitives = 0;

@@ -38,6 +38,7 @@ Device::Device(const Instance& instance, const DeviceCapabilities& caps, const D
   v12.pNext = &v13;
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.pNext = &v12;
+  features.features.pipelineStatisticsQuery = caps.pipeline_statistics ? VK_TRUE : VK_FALSE;
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};

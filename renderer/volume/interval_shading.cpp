@@ -25,6 +25,9 @@ constexpr VkFormat kDisplayFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kEmissionFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
+constexpr VkQueryPipelineStatisticFlags kCountedStatistics =
+    VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT | VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT;
+
 const std::array<vk::DescriptorBinding, 10> kMeshBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT},
     {PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
@@ -132,11 +135,32 @@ IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(dev
 
   frame_uniforms_ = vk::Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frame_uniforms_.get());
+  if (caps.pipeline_statistics) {
+    VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    info.queryType = VK_QUERY_TYPE_PIPELINE_STATISTICS;
+    info.queryCount = 1;
+    info.pipelineStatistics = kCountedStatistics;
+    VkQueryPool pool;
+    vk::check(vkCreateQueryPool(device.get(), &info, nullptr, &pool), "vkCreateQueryPool");
+    statistics_ = vk::UniqueQueryPool(device.get(), pool);
+  }
   const glm::vec4 zero(0.0f);
   stub_ = vk::upload_buffer(device, std::as_bytes(std::span(&zero, 1)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   bind_order(nullptr);
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_PREINTEGRATED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
+}
+
+IntervalShadingPass::DrawCounts IntervalShadingPass::read_counts() const {
+  DrawCounts counts;
+  if (statistics_.get() == VK_NULL_HANDLE || !counted_) return counts;
+  uint64_t values[2] = {0, 0};  // in the order of the bits: clipping invocations, fragment invocations
+  vk::check(vkGetQueryPoolResults(device_.get(), statistics_.get(), 0, 1, sizeof(values), values, sizeof(values),
+                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+            "vkGetQueryPoolResults");
+  counts.primitives = values[0];
+  counts.fragments = values[1];
+  return counts;
 }
 
 uint32_t max_tetlet_size(const vk::Device& device) {
@@ -322,7 +346,10 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
       depth = begin_isosurface_depth(cmd, targets);
       rendering.pDepthAttachment = &depth;
     }
+    const bool count = statistics_.get() != VK_NULL_HANDLE;
+    if (count) vkCmdResetQueryPool(cmd, statistics_.get(), 0, 1);
     vkCmdBeginRendering(cmd, &rendering);
+    if (count) vkCmdBeginQuery(cmd, statistics_.get(), 0, 0);
     VkViewport viewport{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
     VkRect2D scissor{{0, 0}, e};
     vkCmdSetViewport(cmd, 0, 1, &viewport);
@@ -333,6 +360,8 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
       const uint32_t groups = (mesh.tet_count + settings.tetlet_size - 1) / settings.tetlet_size;
       device_.cmd_draw_mesh_tasks(cmd, groups, 1, 1);
     }
+    if (count) vkCmdEndQuery(cmd, statistics_.get(), 0);
+    counted_ = counted_ || count;
     vkCmdEndRendering(cmd);
   }
   {

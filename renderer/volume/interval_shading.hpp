@@ -106,6 +106,16 @@ class IntervalShadingPass {
 
   const PreintegrationTable& table() const { return table_; }
 
+  // What the last recorded interval pass drew (pipeline statistics; zeros where the device
+  // cannot count): primitives the mesh shader emitted that reached the clipper, and fragments
+  // shaded. Waits for the GPU.
+  struct DrawCounts {
+    uint64_t primitives = 0;
+    uint64_t fragments = 0;
+  };
+  DrawCounts read_counts() const;
+  bool counts_draws() const { return statistics_.get() != VK_NULL_HANDLE; }
+
  private:
   void bind_mesh(const GpuTetMesh& mesh);
   void bind_targets(const VolumeTargets& targets);
@@ -133,6 +143,8 @@ class IntervalShadingPass {
   vk::Buffer tf_buffer_;
   vk::Buffer table_buffer_;
   VkBuffer bound_order_ = VK_NULL_HANDLE;
+  vk::UniqueQueryPool statistics_;  // empty where the device has no pipeline statistics
+  bool counted_ = false;            // a draw was bracketed since the pool was made
   const GpuTetMesh* bound_mesh_ = nullptr;
   const VolumeTargets* bound_targets_ = nullptr;
   VkImage bound_optical_depth_ = VK_NULL_HANDLE;
