@@ -235,7 +235,7 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     uint32_t n = 4;
     if (const auto colon = spec.find(':', 6); colon != std::string::npos) {
       n = parse_uint("field", spec.substr(colon + 1));
-      if (n == 0 || n > 64) throw InputError(spec, "the box is split into N^3 cubes with N between 1 and 64");
+      if (n == 0 || n > 128) throw InputError(spec, "the box is split into N^3 cubes with N between 1 and 128 (12.6 million cells)");
     }
     return volume::make_field_mesh(*field, n, options.density_scale);
   }
