@@ -78,6 +78,8 @@ const char* kRenderHelp =
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "  --tetlet-size N      cells per mesh workgroup: 1 (the paper's one cell per workgroup), 4, 8 or 16\n"
     "                       (default 16)\n"
+    "  --shared-vertices    tetlets: group neighbouring cells so a workgroup loads their shared points\n"
+    "                       once (order-independent quantities, or --mode interval)\n"
     "  --frames N           render N timed frames after one warm-up frame; times are the median\n"
     "                       (stats also give min and max) (default 1, no warm-up)\n"
     "\n"
@@ -471,7 +473,7 @@ int cmd_render(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf", "tf-range",
                                              "preintegration-size", "background", "array", "density-scale", "frames",
                                              "tetlet-size", "march-step", "isovalue"}),
-                       {"validate", "help"});
+                       {"validate", "help", "shared-vertices"});
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");
@@ -530,6 +532,7 @@ int cmd_render(const std::vector<std::string>& args) {
 
   settings.resolve.quantity = quantity;
   if (a.has("tetlet-size")) settings.resolve.tetlet_size = parse_uint("tetlet-size", a.values.at("tetlet-size"));
+  settings.resolve.shared_vertices = a.flags.count("shared-vertices") > 0;
   if (color) {
     settings.resolve.transfer = transfer_from(a, mesh);
     if (a.has("preintegration-size")) settings.resolve.preintegration_size = parse_uint("preintegration-size", a.values.at("preintegration-size"));
@@ -617,7 +620,10 @@ int cmd_render(const std::vector<std::string>& args) {
       js << ",\n  \"fragments\": " << result.report.fragments;
       if (result.report.primitives > 0) js << ",\n  \"proxy_triangles\": " << result.report.primitives;
     }
-    js << ",\n  \"tetlet_size\": " << settings.resolve.tetlet_size;
+    js << ",\n  \"tetlet_size\": " << settings.resolve.tetlet_size << ",\n  \"shared_vertices\": "
+       << (settings.resolve.shared_vertices ? "true" : "false");
+    if (result.report.tetlet_points_per_cell > 0.0)
+      js << ",\n  \"tetlet_points_per_cell\": " << json_number(result.report.tetlet_points_per_cell);
     if (color)
       js << ",\n  \"transfer_function\": \"" << json_escape(settings.resolve.transfer.name) << "\",\n  \"tf_range\": ["
          << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <optional>
 #include <string>
 
 #include "renderer/vk/device.hpp"
+#include "scene/input_error.hpp"
 #include "renderer/volume/visibility_order.hpp"
 #include "renderer/volume/visibility_sort.hpp"
 
@@ -29,6 +31,8 @@ struct FrameRenderer::Orderings {
   bool upload_exact_order = false;                   // record() copies host -> device first
   std::unique_ptr<volume::VisibilitySort> gpu_sort;  // records its pass in record()
   const vk::Buffer* order = nullptr;                 // what the next record() draws with (nullptr: mesh order)
+  std::map<uint32_t, volume::GpuTetlets> tetlets;    // by cells per workgroup, built on first use
+  const volume::GpuTetlets* draw_tetlets = nullptr;  // what the next record() draws (nullptr: cells)
   bool sort_on_gpu = false;                          // record() sorts before drawing
 };
 
@@ -59,6 +63,21 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
   o.order = nullptr;
   o.sort_on_gpu = false;
   o.upload_exact_order = false;
+  o.draw_tetlets = nullptr;
+  if (settings.resolve.shared_vertices) {
+    if (volume::order_dependent(settings.resolve.quantity) && settings.ordering != Ordering::MeshOrder)
+      throw InputError("--shared-vertices", "tetlets fix the order cells are drawn in: use it with optical depth or "
+                                            "transmittance, or with --mode interval");
+    auto found = o.tetlets.find(settings.resolve.tetlet_size);
+    if (found == o.tetlets.end()) {
+      const auto start = std::chrono::steady_clock::now();
+      found = o.tetlets.emplace(settings.resolve.tetlet_size, volume::upload_tetlets(device_, o.geometry, settings.resolve.tetlet_size)).first;
+      report.cpu_passes.push_back(
+          {"build-tetlets", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+    }
+    o.draw_tetlets = &found->second;
+    report.tetlet_points_per_cell = found->second.points_per_cell;
+  }
   if (!volume::order_dependent(settings.resolve.quantity)) {
     // Additive quantities: any order gives the same sum, so nothing sorts.
     report.ordering = "none (order-independent)";
@@ -130,7 +149,7 @@ void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const Fram
     dep.pBufferMemoryBarriers = &after;
     vkCmdPipelineBarrier2(cmd, &dep);
   }
-  interval_.record(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order);
+  interval_.record(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order, o.draw_tetlets);
 }
 
 OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const FrameSettings& settings, VkExtent2D extent) {

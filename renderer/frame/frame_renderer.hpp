@@ -34,6 +34,7 @@ struct FrameReport {
   bool order_exact = false;              // whether the order was exact for every ray
   std::vector<vk::PassTiming> cpu_passes;  // CPU stages (milliseconds of wall time)
   uint64_t mesh_bytes = 0;               // the mesh's GPU buffers (positions, cells, fields)
+  double tetlet_points_per_cell = 0.0;   // with shared vertices: points loaded per cell drawn (4 without)
   // What the interval pass drew (offscreen frames, on devices with pipeline statistics).
   bool counted = false;
   uint64_t primitives = 0;  // proxy triangles that reached the rasterizer's clipper

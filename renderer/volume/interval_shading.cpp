@@ -11,6 +11,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/timer.hpp"
+#include "renderer/volume/tetlets.hpp"
 #include "renderer/volume/interval_march.hpp"
 #include "scene/input_error.hpp"
 #include "shaders/shared/volume.h"
@@ -28,7 +29,7 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr VkQueryPipelineStatisticFlags kCountedStatistics =
     VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT | VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT;
 
-const std::array<vk::DescriptorBinding, 10> kMeshBindings = {{
+const std::array<vk::DescriptorBinding, 13> kMeshBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT},
     {PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
@@ -39,6 +40,9 @@ const std::array<vk::DescriptorBinding, 10> kMeshBindings = {{
     {PRISMOID_BINDING_ORDER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_PREINTEGRATED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
     {PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
+    {PRISMOID_BINDING_TETLETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_TETLET_POINTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_TETLET_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
 }};
 
 const std::array<vk::DescriptorBinding, 4> kResolveBindings = {{
@@ -149,6 +153,8 @@ IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(dev
   bind_order(nullptr);
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_PREINTEGRATED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
+  for (uint32_t binding : {PRISMOID_BINDING_TETLETS, PRISMOID_BINDING_TETLET_POINTS, PRISMOID_BINDING_TETLET_CELLS})
+    vk::write_buffer_descriptor(device, mesh_set_.set, binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
 }
 
 IntervalShadingPass::DrawCounts IntervalShadingPass::read_counts() const {
@@ -182,10 +188,11 @@ IntervalShadingPass::PipelineKind IntervalShadingPass::pipeline_kind(const Resol
   return settings.quantity == Quantity::Color ? PipelineKind::Emission : PipelineKind::OpticalDepth;
 }
 
-VkPipeline IntervalShadingPass::pipeline(uint32_t tetlet_size, PipelineKind kind) {
-  auto& slot = pipelines_[{tetlet_size, kind}];
+VkPipeline IntervalShadingPass::pipeline(uint32_t tetlet_size, PipelineKind kind, bool shared_vertices) {
+  auto& slot = pipelines_[{tetlet_size, kind, shared_vertices}];
   if (slot.get() != VK_NULL_HANDLE) return slot.get();
-  const std::string mesh_shader = tetlet_size == PRISMOID_MAX_TETS_PER_WORKGROUP
+  const std::string mesh_shader = shared_vertices ? "volume/interval_s" + std::to_string(tetlet_size) + ".mesh"
+                                  : tetlet_size == PRISMOID_MAX_TETS_PER_WORKGROUP
                                       ? std::string("volume/interval.mesh")
                                       : "volume/interval_w" + std::to_string(tetlet_size) + ".mesh";
   vk::MeshPipelineDesc desc;
@@ -216,6 +223,31 @@ VkPipeline IntervalShadingPass::pipeline(uint32_t tetlet_size, PipelineKind kind
   return slot.get();
 }
 
+GpuTetlets upload_tetlets(const vk::Device& device, const TetMesh& mesh, uint32_t tetlet_size) {
+  const Tetlets t = build_tetlets(mesh, tetlet_size, PRISMOID_TETLET_MAX_POINTS);
+  GpuTetlets gpu;
+  gpu.count = static_cast<uint32_t>(t.headers.size());
+  gpu.max_cells = tetlet_size;
+  gpu.points_per_cell = t.points_per_cell();
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  auto nonempty = [](auto v) {
+    if (v.empty()) v.resize(1);
+    return v;
+  };
+  gpu.headers = vk::upload_buffer(device, bytes_of(nonempty(t.headers)), usage);
+  gpu.points = vk::upload_buffer(device, bytes_of(nonempty(t.points)), usage);
+  gpu.cells = vk::upload_buffer(device, bytes_of(nonempty(t.cells)), usage);
+  return gpu;
+}
+
+void IntervalShadingPass::bind_tetlets(const GpuTetlets* tetlets) {
+  if (!tetlets || tetlets == bound_tetlets_) return;
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETLETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tetlets->headers.get());
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETLET_POINTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tetlets->points.get());
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETLET_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tetlets->cells.get());
+  bound_tetlets_ = tetlets;
+}
+
 void IntervalShadingPass::bind_order(const vk::Buffer* order) {
   const VkBuffer buffer = order ? order->get() : stub_.get();
   if (buffer == bound_order_) return;
@@ -230,7 +262,9 @@ double IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSetting
   if (settings.tetlet_size > max_tetlet_size(device_))
     throw InputError("--tetlet-size", device_.capabilities().name + " fits at most " + std::to_string(max_tetlet_size(device_)) +
                                           " near-clipped cells' proxies in one mesh workgroup");
-  pipeline(settings.tetlet_size, pipeline_kind(settings));  // created here, outside any frame
+  if (settings.shared_vertices && settings.tetlet_size == 1)
+    throw InputError("--shared-vertices", "groups several cells per workgroup: use --tetlet-size 4, 8 or 16");
+  pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
   if (settings.quantity != Quantity::Color) return 0.0;
   if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
   validate(settings.transfer);
@@ -289,7 +323,8 @@ void IntervalShadingPass::bind_targets(const VolumeTargets& targets) {
 }
 
 void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
-                                 const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order) {
+                                 const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order,
+                                 const GpuTetlets* tetlets) {
   validate(camera);
   const bool emission = settings.quantity == Quantity::Color;
   const bool march = settings.march.enabled, isosurface = settings.quantity == Quantity::Isosurface;
@@ -300,6 +335,9 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
   bind_mesh(mesh);
   bind_targets(targets);
   bind_order(order);
+  if (tetlets && (order || tetlets->max_cells != settings.tetlet_size))
+    throw std::logic_error("IntervalShadingPass: tetlets draw in their own order, built for their own size");
+  bind_tetlets(tetlets);
   const VkExtent2D e = targets.extent;
   const double aspect = double(e.width) / double(e.height);
   const glm::dmat4 proj = projection_matrix(camera, aspect);
@@ -355,9 +393,10 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     if (mesh.tet_count > 0) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline(settings.tetlet_size, pipeline_kind(settings)));
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                        pipeline(settings.tetlet_size, pipeline_kind(settings), tetlets != nullptr));
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mesh_layout_.get(), 0, 1, &mesh_set_.set, 0, nullptr);
-      const uint32_t groups = (mesh.tet_count + settings.tetlet_size - 1) / settings.tetlet_size;
+      const uint32_t groups = tetlets ? tetlets->count : (mesh.tet_count + settings.tetlet_size - 1) / settings.tetlet_size;
       device_.cmd_draw_mesh_tasks(cmd, groups, 1, 1);
     }
     if (count) vkCmdEndQuery(cmd, statistics_.get(), 0);

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <tuple>
 #include <utility>
 #include <glm/vec3.hpp>
 
@@ -81,12 +82,26 @@ struct ResolveSettings {
   MarchSettings march;
   // Cells per mesh workgroup, one per invocation: 1 is the paper's one cell per workgroup.
   uint32_t tetlet_size = 16;
+  // Tetlets: group cells so a workgroup loads their shared points once (needs tetlet_size > 1
+  // and GpuTetlets of that size; cells are then drawn tetlet by tetlet, in no depth order).
+  bool shared_vertices = false;
 };
 
 // The workgroup sizes there are shader variants of, and the largest the device's mesh-output
 // limits allow (a near-clipped cell emits up to 15 vertices and 12 triangles).
 inline constexpr std::array<uint32_t, 4> kTetletSizes = {1, 4, 8, 16};
 uint32_t max_tetlet_size(const vk::Device& device);
+
+// Tetlets (renderer/volume/tetlets.hpp) on the GPU, for one cells-per-workgroup size.
+struct GpuTetlets {
+  vk::Buffer headers;
+  vk::Buffer points;
+  vk::Buffer cells;
+  uint32_t count = 0;      // tetlets: the workgroups to launch
+  uint32_t max_cells = 0;  // = the tetlet size they were built for
+  double points_per_cell = 0.0;
+};
+GpuTetlets upload_tetlets(const vk::Device& device, const TetMesh& mesh, uint32_t tetlet_size);
 
 class IntervalShadingPass {
  public:
@@ -102,7 +117,8 @@ class IntervalShadingPass {
   // `targets.emission` in TRANSFER_SRC_OPTIMAL layout. `mesh`, `targets` and `order` must
   // outlive the submission. Colour needs prepare() first.
   void record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
-              const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order = nullptr);
+              const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order = nullptr,
+              const GpuTetlets* tetlets = nullptr);
 
   const PreintegrationTable& table() const { return table_; }
 
@@ -124,13 +140,15 @@ class IntervalShadingPass {
   // same marched inside intervals, or the nearest isosurface hit.
   enum class PipelineKind { OpticalDepth, Emission, MarchDepth, MarchColor, Isosurface };
   static PipelineKind pipeline_kind(const ResolveSettings& settings);
-  VkPipeline pipeline(uint32_t tetlet_size, PipelineKind kind);
+  VkPipeline pipeline(uint32_t tetlet_size, PipelineKind kind, bool shared_vertices);
+  void bind_tetlets(const GpuTetlets* tetlets);
 
   const vk::Device& device_;
   vk::UniqueDescriptorSetLayout mesh_set_layout_;
   vk::UniquePipelineLayout mesh_layout_;
   // (cells per workgroup, kind) -> pipeline, made on first use.
-  std::map<std::pair<uint32_t, PipelineKind>, vk::UniquePipeline> pipelines_;
+  std::map<std::tuple<uint32_t, PipelineKind, bool>, vk::UniquePipeline> pipelines_;
+  const GpuTetlets* bound_tetlets_ = nullptr;
   vk::DescriptorSet mesh_set_;
   vk::UniqueDescriptorSetLayout resolve_set_layout_;
   vk::UniquePipelineLayout resolve_layout_;

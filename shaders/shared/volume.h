@@ -17,6 +17,10 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_BINDING_PREINTEGRATED 8 // readonly vec4[]: pre-integrated (colour, alpha) table
 #define PRISMOID_BINDING_TRANSFER 9     // readonly vec4[]: transfer-function samples, 2 per sample:
                                         // (x, sigma, 0, 0), (r, g, b, 0), sorted by x
+#define PRISMOID_BINDING_TETLETS 10      // readonly uvec4[]: per tetlet: first point, points, first cell, cells
+#define PRISMOID_BINDING_TETLET_POINTS 11 // readonly uint[]: each tetlet's points (global indices)
+#define PRISMOID_BINDING_TETLET_CELLS 12  // readonly uvec2[]: cell index, its 4 corners as 8-bit tetlet-local indices
+#define PRISMOID_TETLET_MAX_POINTS 64     // shared-memory points per tetlet
 
 // How a segment's emission is integrated (FrameUniforms.options.y).
 #define PRISMOID_SEGMENTS_EXACT 0u   // in the fragment shader, piece by piece of the transfer function

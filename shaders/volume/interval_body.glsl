@@ -34,6 +34,16 @@ layout(location = 1) perprimitiveEXT flat out vec4 p_field[];
 shared uint s_vertex_base[PRISMOID_TETS_PER_WORKGROUP];
 shared uint s_triangle_base[PRISMOID_TETS_PER_WORKGROUP];
 
+#ifdef PRISMOID_SHARED_VERTICES
+// Tetlets: the workgroup's cells were grouped (renderer/volume/tetlets.cpp) so that they share
+// points; each point is loaded and transformed once, by one invocation, into shared memory.
+layout(std430, set = 0, binding = PRISMOID_BINDING_TETLETS) readonly buffer Tetlets { uvec4 tetlets[]; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_TETLET_POINTS) readonly buffer TetletPoints { uint tetlet_points[]; };
+layout(std430, set = 0, binding = PRISMOID_BINDING_TETLET_CELLS) readonly buffer TetletCells { uvec2 tetlet_cells[]; };
+shared vec3 s_cam[PRISMOID_TETLET_MAX_POINTS];
+shared float s_value[PRISMOID_TETLET_MAX_POINTS];  // the point field (sigma or scalar), if any
+#endif
+
 void main() {
   uint local = gl_LocalInvocationIndex;
   uint slot = gl_WorkGroupID.x * PRISMOID_TETS_PER_WORKGROUP + local;
@@ -42,33 +52,60 @@ void main() {
   // Primitives are rasterized and blended in the order the workgroups and, within one, the
   // primitive indices give (the Vulkan spec's primitive order), so drawing slot i with the
   // i-th cell of a front-to-back list composites front to back.
+  bool per_point = frame.counts.y != 0u;
+#ifdef PRISMOID_SHARED_VERTICES
+  // header: first point, point count, first cell, cell count
+  uvec4 header = tetlets[gl_WorkGroupID.x];
+  for (uint v = local; v < header.y; v += PRISMOID_TETS_PER_WORKGROUP) {
+    uint point = tetlet_points[header.x + v];
+    s_cam[v] = (frame.view * vec4(positions[point].xyz, 1.0)).xyz;
+    if (per_point) s_value[v] = emission ? point_scalar[point] : point_sigma[point];
+  }
+  barrier();
+  bool valid = local < header.w;
+  uvec2 entry = valid ? tetlet_cells[header.z + local] : uvec2(0u);  // cell, 4 x 8-bit local corners
+  uint tet_index = entry.x;
+  uint corner[4] = uint[4](entry.y & 0xffu, (entry.y >> 8) & 0xffu, (entry.y >> 16) & 0xffu, entry.y >> 24);
+#else
   uint tet_index = slot;
   if (frame.counts.w != 0u && slot < tet_count) tet_index = draw_order[slot];
+  bool valid = slot < tet_count;
+#endif
 
   TetProxy proxies[3];
   uint piece_count = 0u;
   uint vertex_count = 0u, triangle_count = 0u;
   vec4 field = vec4(0.0);
-  if (slot < tet_count) {
-    uvec4 idx = tets[tet_index];
+  if (valid) {
     vec3 cam[4];
-    for (int i = 0; i < 4; ++i) cam[i] = (frame.view * vec4(positions[idx[i]].xyz, 1.0)).xyz;
+    float value[4];  // the point field at the corners (per_point only)
+#ifdef PRISMOID_SHARED_VERTICES
+    for (int i = 0; i < 4; ++i) {
+      cam[i] = s_cam[corner[i]];
+      value[i] = per_point ? s_value[corner[i]] : 0.0;
+    }
+#else
+    uvec4 idx = tets[tet_index];
+    for (int i = 0; i < 4; ++i) {
+      cam[i] = (frame.view * vec4(positions[idx[i]].xyz, 1.0)).xyz;
+      value[i] = per_point ? (emission ? point_scalar[idx[i]] : point_sigma[idx[i]]) : 0.0;
+    }
+#endif
     float sigma_max;
     if (emission) {
       // The transfer function decides what is transparent; every cell is drawn.
       sigma_max = 1.0;
       float lo = frame.transfer.x, inv_width = frame.transfer.y;
-      if (frame.counts.y != 0u) {
+      if (per_point) {
         float x[4];
-        for (int i = 0; i < 4; ++i) x[i] = (point_scalar[idx[i]] - lo) * inv_width;
+        for (int i = 0; i < 4; ++i) x[i] = (value[i] - lo) * inv_width;
         field = linear_field(cam, x);
       } else {
         field = vec4(0.0, 0.0, 0.0, (cell_scalar[tet_index] - lo) * inv_width);
       }
-    } else if (frame.counts.y != 0u) {
-      float s[4] = float[4](point_sigma[idx.x], point_sigma[idx.y], point_sigma[idx.z], point_sigma[idx.w]);
-      field = linear_field(cam, s);
-      sigma_max = max(max(s[0], s[1]), max(s[2], s[3]));
+    } else if (per_point) {
+      field = linear_field(cam, value);
+      sigma_max = max(max(value[0], value[1]), max(value[2], value[3]));
     } else {
       sigma_max = cell_sigma[tet_index];
       field = vec4(0.0, 0.0, 0.0, sigma_max);
