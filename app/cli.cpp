@@ -322,16 +322,22 @@ int cmd_devices(const std::vector<std::string>& args) {
   return validation_exit(instance);
 }
 
+// A frame of `size` for a CPU reference to fill: one quantity and one RGBA display value per pixel.
+frame::OffscreenFrame blank_frame(VkExtent2D size) {
+  frame::OffscreenFrame f;
+  f.width = size.width;
+  f.height = size.height;
+  f.quantity.resize(size_t(size.width) * size.height);
+  f.display.resize(f.quantity.size() * 4);
+  return f;
+}
+
 // The CPU double-precision reference, resolved the way the GPU's resolve pass does it.
 frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                        VkExtent2D size) {
   const auto start = std::chrono::steady_clock::now();
-  frame::OffscreenFrame f;
-  f.width = size.width;
-  f.height = size.height;
-  const size_t pixels = size_t(size.width) * size.height;
-  f.quantity.resize(pixels);
-  f.display.resize(pixels * 4);
+  frame::OffscreenFrame f = blank_frame(size);
+  const size_t pixels = f.quantity.size();
   if (resolve.quantity == volume::Quantity::Color) {
     const auto image = reference::emission_absorption_image(mesh, resolve.transfer, camera, size.width, size.height);
     f.emission.resize(pixels * 4);
@@ -371,12 +377,8 @@ frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& 
   const volume::MarchSettings& m = resolve.march;
   const Bounds b = bounds_of(mesh);
   const double fine_step = glm::length(b.max - b.min) / 2000.0;
-  frame::OffscreenFrame f;
-  f.width = size.width;
-  f.height = size.height;
-  const size_t pixels = size_t(size.width) * size.height;
-  f.quantity.resize(pixels);
-  f.display.resize(pixels * 4);
+  frame::OffscreenFrame f = blank_frame(size);
+  const size_t pixels = f.quantity.size();
   auto put = [&](size_t i, const glm::dvec3& c) {
     for (int k = 0; k < 3; ++k) f.display[4 * i + k] = float(c[k]);
     f.display[4 * i + 3] = 1.0f;

@@ -127,27 +127,13 @@ void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const Fram
     o.gpu_sort->record(cmd, mesh_.positions, mesh_.tets, mesh_.tet_count, glm::vec3(camera.eye - mesh_.origin), timer);
   if (o.upload_exact_order) {
     vk::ScopedPass pass(timer, cmd, "upload-order");
-    VkBufferMemoryBarrier2 before{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
-    before.srcStageMask = VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
-    before.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
-    before.dstStageMask = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
-    before.dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-    before.srcQueueFamilyIndex = before.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    before.buffer = o.exact_order.get();
-    before.size = VK_WHOLE_SIZE;
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.bufferMemoryBarrierCount = 1;
-    dep.pBufferMemoryBarriers = &before;
-    vkCmdPipelineBarrier2(cmd, &dep);
+    // The previous frame's mesh shader read the buffer; this frame's reads wait for the copy.
+    vk::buffer_barrier(cmd, {o.exact_order.get()}, VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                       VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     const VkBufferCopy region{0, 0, std::min(o.exact_order_host.size(), o.exact_order.size())};
     vkCmdCopyBuffer(cmd, o.exact_order_host.get(), o.exact_order.get(), 1, &region);
-    VkBufferMemoryBarrier2 after = before;
-    after.srcStageMask = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
-    after.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-    after.dstStageMask = VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
-    after.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
-    dep.pBufferMemoryBarriers = &after;
-    vkCmdPipelineBarrier2(cmd, &dep);
+    vk::buffer_barrier(cmd, {o.exact_order.get()}, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   }
   interval_.record(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order, o.draw_tetlets);
 }

@@ -1,5 +1,7 @@
 #include "renderer/vk/memory.hpp"
 
+#include <vector>
+
 #include <cstring>
 #include <stdexcept>
 
@@ -104,6 +106,28 @@ Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUs
   VkImageView view;
   check(vkCreateImageView(d, &view_info, nullptr, &view), "vkCreateImageView");
   view_ = UniqueImageView(d, view);
+}
+
+void buffer_barrier(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers, VkPipelineStageFlags2 src_stage,
+                    VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+  std::vector<VkBufferMemoryBarrier2> barriers;
+  for (VkBuffer buffer : buffers) {
+    VkBufferMemoryBarrier2 b{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+    b.srcStageMask = src_stage;
+    b.srcAccessMask = src_access;
+    b.dstStageMask = dst_stage;
+    b.dstAccessMask = dst_access;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.buffer = buffer;
+    b.offset = 0;
+    b.size = VK_WHOLE_SIZE;
+    barriers.push_back(b);
+  }
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.bufferMemoryBarrierCount = static_cast<uint32_t>(barriers.size());
+  dep.pBufferMemoryBarriers = barriers.data();
+  vkCmdPipelineBarrier2(cmd, &dep);
 }
 
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,

@@ -1,6 +1,7 @@
 #pragma once
 // Buffers and images with their own memory. Host-visible buffers stay mapped.
 #include <cstddef>
+#include <initializer_list>
 #include <span>
 #include <vulkan/vulkan.h>
 
@@ -59,6 +60,10 @@ class Image {
 
 // The aspect an image of this format has: depth for the depth-only formats, else colour.
 VkImageAspectFlags aspect_of(VkFormat format);
+
+// One pipeline barrier on whole buffers (synchronization2).
+void buffer_barrier(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers, VkPipelineStageFlags2 src_stage,
+                    VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
 
 // A pipeline barrier on a whole image (synchronization2), colour unless told.
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,

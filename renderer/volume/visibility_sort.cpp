@@ -42,32 +42,10 @@ VkPipelineStageFlags2 readers_stages(const vk::Device& device) {
   return stages;
 }
 
-void buffer_barrier(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers, VkPipelineStageFlags2 src_stage,
-                    VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
-  std::vector<VkBufferMemoryBarrier2> barriers;
-  for (VkBuffer buffer : buffers) {
-    VkBufferMemoryBarrier2 b{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
-    b.srcStageMask = src_stage;
-    b.srcAccessMask = src_access;
-    b.dstStageMask = dst_stage;
-    b.dstAccessMask = dst_access;
-    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.buffer = buffer;
-    b.offset = 0;
-    b.size = VK_WHOLE_SIZE;
-    barriers.push_back(b);
-  }
-  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.bufferMemoryBarrierCount = static_cast<uint32_t>(barriers.size());
-  dep.pBufferMemoryBarriers = barriers.data();
-  vkCmdPipelineBarrier2(cmd, &dep);
-}
-
 // A compute dispatch's writes to `buffers` made visible to the next dispatch (the barrier's
 // execution dependency also orders the next dispatch's writes after this one's reads).
 void compute_to_compute(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers) {
-  buffer_barrier(cmd, buffers, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+  vk::buffer_barrier(cmd, buffers, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
@@ -166,7 +144,7 @@ void GpuRadixSort::record(VkCommandBuffer cmd, const vk::Buffer& keys, const vk:
   if (keys.size() < VkDeviceSize(count) * sizeof(uint32_t) || values.size() < VkDeviceSize(count) * sizeof(uint32_t))
     throw std::invalid_argument("GpuRadixSort: the key or value buffer holds fewer than " + std::to_string(count) + " entries");
   const VkBuffer caller[] = {keys.get(), values.get()};
-  buffer_barrier(cmd, {caller[0], caller[1]},
+  vk::buffer_barrier(cmd, {caller[0], caller[1]},
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT | readers_stages(device_),
                  VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -198,7 +176,7 @@ void GpuRadixSort::record(VkCommandBuffer cmd, const vk::Buffer& keys, const vk:
       if (pass + 1 < PRISMOID_SORT_PASSES) compute_to_compute(cmd, {out[0], out[1]});
     }
   }
-  buffer_barrier(cmd, {caller[0], caller[1]}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+  vk::buffer_barrier(cmd, {caller[0], caller[1]}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  readers_stages(device_), VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
@@ -237,7 +215,7 @@ void VisibilitySort::record(VkCommandBuffer cmd, const vk::Buffer& positions, co
         {keys_set_.set, PRISMOID_SORT_KEYS_BINDING_TETS, tets.get()},
     });
     // The previous frame's readers of the order must finish before the keys pass rewrites it.
-    buffer_barrier(cmd, {keys_.get(), order_.get()}, readers_stages(device_), VK_ACCESS_2_NONE,
+    vk::buffer_barrier(cmd, {keys_.get(), order_.get()}, readers_stages(device_), VK_ACCESS_2_NONE,
                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     const gpu::SortKeysPush push{glm::vec4(eye_local, 1.0f), glm::uvec4(tet_count, 0u, 0u, 0u)};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, keys_pipeline_.get());
