@@ -160,6 +160,30 @@ TEST(AnalyticField, SecondDerivativeBoundHoldsEverywhereSampled) {
   }
 }
 
+// Moving a field's coordinates (what marching uploads, relative to the mesh's centre) keeps
+// its values: g(q) = f(q + origin), up to the rounding of q + origin (2^-53 of 1e5 times
+// |grad f| <= 7) and of the moved parameters, far below 1e-9. Marschner-Lobb has no position.
+TEST(AnalyticField, TranslatedFieldKeepsItsValues) {
+  const glm::dvec3 origin(1e5 + 0.3, -1e5 + 0.1, 1e5 - 0.2);
+  for (const std::string& name : volume::field_names()) {
+    volume::AnalyticField field = volume::field_from_name(name);
+    for (glm::dvec4& p : field.params)  // put the field near `origin` (linear fields are everywhere)
+      if (field.kind == volume::FieldKind::GaussianBlobs) p = glm::dvec4(glm::dvec3(p) + origin, p.w);
+    const auto moved = volume::translated(field, origin);
+    if (field.kind == volume::FieldKind::MarschnerLobb) {
+      EXPECT_FALSE(moved.has_value());
+      continue;
+    }
+    ASSERT_TRUE(moved.has_value()) << name;
+    for (const glm::dvec3& q : sample_points(volume::field_from_name(name), 200)) {
+      const double f = volume::evaluate(field, q + origin);
+      EXPECT_NEAR(volume::evaluate(*moved, q), f, 1e-9 * (1.0 + std::abs(f))) << name;
+      const glm::dvec3 dg = volume::gradient(*moved, q) - volume::gradient(field, q + origin);
+      EXPECT_LT(glm::length(dg), 1e-8) << name;
+    }
+  }
+}
+
 // The spectral norm itself: a rotated diagonal matrix has its largest |diagonal| value.
 TEST(AnalyticField, SpectralNormOfARotatedDiagonalMatrix) {
   const double c = std::cos(0.7), s = std::sin(0.7);
