@@ -110,10 +110,11 @@ IsosurfaceImage isosurface_image(const TetMesh& mesh, const volume::AnalyticFiel
 }
 
 ColorImage field_color_image(const TetMesh& mesh, const volume::AnalyticField& field, const volume::TransferFunction& tf,
-                             const Camera& camera, uint32_t width, uint32_t height, double step) {
+                             const Camera& camera, uint32_t width, uint32_t height, double step, double offset_x,
+                             double offset_y) {
   volume::validate(tf);
   const std::vector<volume::TfSample> samples = volume::breakpoints(tf);
-  const PixelSegments s = collect(mesh, camera, width, height, 0.0, 0.0);
+  const PixelSegments s = collect(mesh, camera, width, height, offset_x, offset_y);
   ColorImage image;
   image.width = width;
   image.height = height;

@@ -35,8 +35,10 @@ IsosurfaceImage isosurface_image(const TetMesh& mesh, const volume::AnalyticFiel
 
 // Emission-absorption of the transfer function of the field, composited front to back along
 // each ray, with the field sampled at the midpoints of steps of at most `step` (constant colour
-// and extinction per step, integrated exactly): the GPU's march with a much finer step.
+// and extinction per step, integrated exactly): the GPU's march with a much finer step. Rays
+// through pixel centres moved by the offsets.
 ColorImage field_color_image(const TetMesh& mesh, const volume::AnalyticField& field, const volume::TransferFunction& tf,
-                             const Camera& camera, uint32_t width, uint32_t height, double step = 1e-3);
+                             const Camera& camera, uint32_t width, uint32_t height, double step = 1e-3, double offset_x = 0.0,
+                             double offset_y = 0.0);
 
 }  // namespace prismoid::reference

@@ -86,6 +86,18 @@ double second_derivative_bound(const AnalyticField& field) {
   return 0.0;
 }
 
+std::optional<AnalyticField> translated(const AnalyticField& field, const glm::dvec3& origin) {
+  AnalyticField moved = field;
+  switch (field.kind) {
+    case FieldKind::Linear: moved.params[0].w += glm::dot(glm::dvec3(field.params[0]), origin); return moved;
+    case FieldKind::GaussianBlobs:
+      for (glm::dvec4& b : moved.params) b = glm::dvec4(glm::dvec3(b) - origin, b.w);
+      return moved;
+    case FieldKind::MarschnerLobb: return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 AnalyticField marschner_lobb(double f_m, double alpha) {
   return {"marschner-lobb", FieldKind::MarschnerLobb, {glm::dvec4(f_m, alpha, 0.0, 0.0)}};
 }

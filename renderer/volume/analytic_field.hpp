@@ -3,6 +3,7 @@
 // section 3.2): fields that are not linear in a cell, so the fragment must march its interval.
 // The double twin of shaders/volume/analytic_field.glsl; both read the same parameters.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,12 @@ glm::dvec3 gradient(const AnalyticField& field, const glm::dvec3& p);
 // Hessian's spectral norm): the midpoint rule's error over a segment of length L in steps of
 // h is at most L h^2 / 24 times this.
 double second_derivative_bound(const AnalyticField& field);
+
+// The same field in coordinates whose 0 lies at `origin` (g(q) = f(q + origin)), its
+// parameters moved exactly in double, for kinds with a position to move (linear: the value
+// at 0; blobs: the centres). Marschner-Lobb is defined about the world origin: nullopt.
+// Marching evaluates fields in float relative to the mesh's centre this way.
+std::optional<AnalyticField> translated(const AnalyticField& field, const glm::dvec3& origin);
 
 // Marschner & Lobb (1994): (1 - sin(pi z / 2) + alpha (1 + cos(2 pi f_M cos(pi r / 2)))) /
 // (2 (1 + alpha)), r = sqrt(x^2 + y^2), on [-1, 1]^3 with values in [0, 1].

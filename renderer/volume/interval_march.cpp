@@ -1,6 +1,7 @@
 #include "renderer/volume/interval_march.hpp"
 
 #include <cmath>
+#include <optional>
 #include <glm/matrix.hpp>
 #include <string>
 
@@ -40,13 +41,18 @@ void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& setti
                          const glm::dvec3& mesh_origin) {
   const MarchSettings& m = settings.march;
   frame.camera_to_mesh = glm::mat4(glm::inverse(view_matrix(camera, mesh_origin)));
-  frame.mesh_origin = glm::vec4(glm::vec3(mesh_origin), 0.0f);
+  // The shader samples at mesh-local points (small: the mesh's size and the eye's distance
+  // to it); a field moved into the mesh frame in double needs no world offset, one that
+  // cannot be moved adds the origin in float (precise only near the world origin).
+  const std::optional<AnalyticField> local = translated(m.field, mesh_origin);
+  const AnalyticField& uploaded = local ? *local : m.field;
+  frame.field_origin = glm::vec4(local ? glm::vec3(0.0f) : glm::vec3(mesh_origin), 0.0f);
   frame.march = glm::vec4(float(m.step), float(m.isovalue), float(m.density_scale), 0.0f);
   const uint32_t what = settings.quantity == Quantity::Color        ? PRISMOID_MARCH_COLOR
                         : settings.quantity == Quantity::Isosurface ? PRISMOID_MARCH_ISOSURFACE
                                                                     : PRISMOID_MARCH_OPTICAL_DEPTH;
-  frame.field = glm::uvec4(uint32_t(m.field.kind), uint32_t(m.field.params.size()), what, 0u);
-  for (size_t i = 0; i < m.field.params.size() && i < PRISMOID_FIELD_MAX_PARAMS; ++i) frame.field_params[i] = glm::vec4(m.field.params[i]);
+  frame.field = glm::uvec4(uint32_t(uploaded.kind), uint32_t(uploaded.params.size()), what, 0u);
+  for (size_t i = 0; i < uploaded.params.size() && i < PRISMOID_FIELD_MAX_PARAMS; ++i) frame.field_params[i] = glm::vec4(uploaded.params[i]);
 }
 
 VkRenderingAttachmentInfo begin_isosurface_depth(VkCommandBuffer cmd, const VolumeTargets& targets) {

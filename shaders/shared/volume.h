@@ -76,7 +76,10 @@ struct FrameUniforms {
   uvec4 options;    // x: transfer-function sample count, y: PRISMOID_SEGMENTS_*
   // Marching inside intervals (march.frag): an analytic field in world coordinates.
   mat4 camera_to_mesh;  // inverse of `view`: camera space -> mesh-local coordinates
-  vec4 mesh_origin;     // xyz: world position of mesh-local 0 (world = mesh_origin + local)
+  // xyz: the field's coordinates of mesh-local 0 (field point = field_origin + local). Zero
+  // when the field's parameters are uploaded moved into the mesh frame (exactly, in double:
+  // volume::translated), so a field far from the world origin keeps float precision.
+  vec4 field_origin;
   vec4 march;           // x: largest step (world length), y: isovalue, z: density scale, w: unused
   uvec4 field;          // x: PRISMOID_FIELD_*, y: parameter count, z: PRISMOID_MARCH_*, w: unused
   vec4 field_params[PRISMOID_FIELD_MAX_PARAMS];  // per field kind, see analytic_field.glsl
@@ -98,7 +101,7 @@ PRISMOID_SHARED_END
 #ifdef __cplusplus
 static_assert(sizeof(prismoid::gpu::FrameUniforms) == 384);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, camera_to_mesh) == 208);
-static_assert(offsetof(prismoid::gpu::FrameUniforms, mesh_origin) == 272);
+static_assert(offsetof(prismoid::gpu::FrameUniforms, field_origin) == 272);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, march) == 288);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, field) == 304);
 static_assert(offsetof(prismoid::gpu::FrameUniforms, field_params) == 320);

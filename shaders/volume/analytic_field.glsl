@@ -1,4 +1,4 @@
-// Analytic fields in world coordinates: the float twin of renderer/volume/analytic_field.cpp,
+// Analytic fields (in the coordinates FrameUniforms.field_origin describes): the float twin of renderer/volume/analytic_field.cpp,
 // which documents each kind; parameters as in FrameUniforms.field / field_params.
 #ifndef PRISMOID_ANALYTIC_FIELD_GLSL
 #define PRISMOID_ANALYTIC_FIELD_GLSL

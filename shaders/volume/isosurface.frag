@@ -24,7 +24,7 @@ void main() {
   if (!(len >= 0.0) || isinf(len)) discard;
   float iso = frame.march.y;
   float hit = r.front;
-  if (field_at(world_at(r, r.front)) < iso) {
+  if (field_at(field_point(r, r.front)) < iso) {
     uint n = march_steps(len);
     float depth_step = (r.back - r.front) / float(n);
     float lo = r.front, hi = r.front;
@@ -32,22 +32,22 @@ void main() {
     for (uint i = 1u; i <= n && !found; ++i) {
       lo = hi;
       hi = i == n ? r.back : r.front + float(i) * depth_step;
-      found = field_at(world_at(r, hi)) >= iso;
+      found = field_at(field_point(r, hi)) >= iso;
     }
     if (!found) discard;
     // Bisection until the bracket is one float apart (at most 32 halvings of the step).
     for (int k = 0; k < 32; ++k) {
       float mid = 0.5 * (lo + hi);
       if (mid <= lo || mid >= hi) break;
-      if (field_at(world_at(r, mid)) >= iso) hi = mid;
+      if (field_at(field_point(r, mid)) >= iso) hi = mid;
       else lo = mid;
     }
     hit = hi;
   }
-  vec3 p = world_at(r, hit);
+  vec3 p = field_point(r, hit);
   vec3 g = analytic_gradient(frame.field.x, frame.field.y, frame.field_params, p);
   float g_len = length(g);
-  float lambert = g_len > 0.0 ? abs(dot(g / g_len, normalize(r.world_per_depth))) : 1.0;
+  float lambert = g_len > 0.0 ? abs(dot(g / g_len, normalize(r.field_per_depth))) : 1.0;
   float shade = PRISMOID_ISOSURFACE_AMBIENT + (1.0 - PRISMOID_ISOSURFACE_AMBIENT) * lambert;
   out_hit = vec4(vec3(shade), hit * r.length_per_depth);
   gl_FragDepth = frame.ray_scale.z / hit;  // near / depth: 1 at the near plane, smaller behind
