@@ -1,6 +1,11 @@
 #include "scene/generators.hpp"
 
 #include <cmath>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+#include <algorithm>
 #include <glm/geometric.hpp>
 
 namespace prismoid {
@@ -40,6 +45,48 @@ TetMesh make_box_mesh(const glm::dvec3& lo, const glm::dvec3& hi, uint32_t n,
     mesh.cell_extinction.push_back(sigma(centroid * 0.25));
   }
   for (const auto& p : mesh.points) mesh.point_scalars.push_back(sigma(p));
+  return mesh;
+}
+
+TetMesh make_ball_mesh(const glm::dvec3& center, double radius, uint32_t subdivisions, double sigma) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<glm::dvec3> points = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                                    {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (auto& p : points) p = glm::normalize(p);
+  std::vector<std::array<uint32_t, 3>> faces = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                                {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+                                                {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (uint32_t s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;  // shared edges get one midpoint
+    auto midpoint = [&](uint32_t a, uint32_t b) {
+      const auto key = std::minmax(a, b);
+      const auto found = midpoints.find(key);
+      if (found != midpoints.end()) return found->second;
+      points.push_back(glm::normalize(points[a] + points[b]));
+      return midpoints[key] = static_cast<uint32_t>(points.size() - 1);
+    };
+    std::vector<std::array<uint32_t, 3>> finer;
+    for (const auto& f : faces) {
+      const uint32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
+      finer.push_back({f[0], ab, ca});
+      finer.push_back({f[1], bc, ab});
+      finer.push_back({f[2], ca, bc});
+      finer.push_back({ab, bc, ca});
+    }
+    faces = std::move(finer);
+  }
+  TetMesh mesh;
+  mesh.name = "ball (" + std::to_string(faces.size()) + " tetrahedra)";
+  for (const auto& p : points) mesh.points.push_back(center + radius * p);
+  const auto centre_index = static_cast<uint32_t>(mesh.points.size());
+  mesh.points.push_back(center);
+  for (const auto& f : faces) {
+    std::array<uint32_t, 4> tet = {centre_index, f[0], f[1], f[2]};
+    const auto& p = mesh.points;
+    if (signed_volume(p[tet[0]], p[tet[1]], p[tet[2]], p[tet[3]]) < 0.0) std::swap(tet[2], tet[3]);
+    mesh.tets.push_back(tet);
+    mesh.cell_extinction.push_back(sigma);
+  }
   return mesh;
 }
 

@@ -13,6 +13,11 @@ namespace prismoid {
 TetMesh make_box_mesh(const glm::dvec3& lo, const glm::dvec3& hi, uint32_t n,
                       const std::function<double(const glm::dvec3&)>& sigma);
 
+// A ball of radius r about `center`: the convex polyhedron of an icosphere (an icosahedron
+// whose faces are split `subdivisions` times into 4, vertices pushed onto the sphere), filled
+// with one tetrahedron per boundary triangle joined to the centre. Extinction sigma per cell.
+TetMesh make_ball_mesh(const glm::dvec3& center, double radius, uint32_t subdivisions, double sigma);
+
 // The embedded default dataset: three Gaussian blobs of absorbing medium in [-1, 1]^3.
 TetMesh make_default_volume();
 

@@ -227,6 +227,49 @@ TEST_F(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
   expect_closed_form_through_cube(*this, make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 5, sigma), sigma);
 }
 
+// A tetrahedralized ball of constant extinction: the optical depth is sigma times the chord
+// through the (convex, polyhedral) ball, computed in closed form from the boundary faces'
+// planes alone (entry = the last plane entered, exit = the first left), which knows nothing
+// of the tetrahedra. The reference must match it to rounding, and the GPU the reference.
+TEST_F(IntervalShadingTest, ConstantBallEqualsSigmaTimesChordInClosedForm) {
+  const double sigma = 0.8;
+  const TetMesh mesh = make_ball_mesh(glm::dvec3(0.2, -0.1, 0.3), 1.0, 2, sigma);
+  ASSERT_EQ(mesh.tets.size(), 320u);
+  struct Plane { glm::dvec3 n; double d; };  // inside: dot(n, p) <= d
+  std::vector<Plane> planes;
+  const glm::dvec3 centre = mesh.points.back();
+  for (const auto& t : mesh.tets) {
+    const glm::dvec3 a = mesh.points[t[1]], b = mesh.points[t[2]], c = mesh.points[t[3]];
+    glm::dvec3 n = glm::cross(b - a, c - a);
+    if (glm::dot(n, centre - a) > 0.0) n = -n;
+    planes.push_back({n, glm::dot(n, a)});
+  }
+  Camera camera;
+  camera.eye = {1.5, 2.0, 3.2};
+  camera.target = glm::dvec3(0.2, -0.1, 0.3);
+  camera.fovy_degrees = 45.0;
+  camera.near_distance = 0.1;
+  const uint32_t w = 40, h = 40;
+  const std::vector<double> ref = reference::optical_depth_image(mesh, camera, w, h);
+  size_t interior = 0;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const glm::dvec3 dir = reference::ray_direction(camera, w, h, x + 0.5, y + 0.5);
+      double t0 = 0.0, t1 = 1e300;
+      for (const Plane& p : planes) {
+        const double rate = glm::dot(p.n, dir), slack = p.d - glm::dot(p.n, camera.eye);
+        if (rate > 0.0) t1 = std::min(t1, slack / rate);
+        else if (rate < 0.0) t0 = std::max(t0, slack / rate);
+      }
+      if (t1 - t0 < 0.05) continue;  // grazing rays: left to the per-pixel tolerances below
+      ++interior;
+      EXPECT_NEAR(ref[y * w + x], sigma * (t1 - t0), 1e-12) << "reference, pixel " << x << "," << y;
+    }
+  EXPECT_GT(interior, 300u);
+  const Comparison c = compare(mesh, camera, w, h);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure;
+}
+
 // Beyond the paper: per-vertex extinction, linear in each cell.
 
 TEST_F(IntervalShadingTest, GloballyLinearFieldEqualsClosedForm) {
