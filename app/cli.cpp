@@ -114,7 +114,9 @@ const char* kViewHelp =
     "usage: prismoid view [FILE] [options]\n"
     "\n"
     "  --size WxH           initial window size (default 1280x800)\n"
-    "  --array NAME --density-scale S   extinction from a cell array, as for render\n"
+    "  --mode, --quantity, --array, --density-scale, --tf, --tf-range, --preintegration-size,\n"
+    "  --background, --tetlet-size, --shared-vertices, --march-step, --isovalue\n"
+    "                       what to show and how, as for render (not --mode reference)\n"
     "  --eye/--target/--up/--fovy/--near   initial camera, as for render\n"
     "  --frames N           close after N frames (for scripted runs)\n"
     "  --device N           use Vulkan device N\n"
@@ -471,16 +473,22 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
   return tf;
 }
 
-int cmd_render(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, with_camera({"output", "stats", "mode", "quantity", "size", "device", "tf", "tf-range",
-                                             "preintegration-size", "background", "array", "density-scale", "frames",
-                                             "tetlet-size", "march-step", "isovalue"}),
-                       {"validate", "help", "shared-vertices"});
-  if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
-  if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
-  const std::string output = a.values.at("output");
-  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+// The options render and view share: the data, what to show and how.
+const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
+                                                 "array", "density-scale", "tetlet-size", "march-step", "isovalue"};
+
+struct VolumeChoice {
+  TetMesh mesh;
+  std::string mode;
   volume::Quantity quantity = volume::Quantity::Transmittance;
+  frame::FrameSettings settings;
+};
+
+// Parses the volume options, loads the data and builds the frame settings; InputError names
+// the option or file at fault.
+VolumeChoice volume_choice(const ParsedArgs& a) {
+  VolumeChoice v;
+  volume::Quantity& quantity = v.quantity;
   if (a.has("quantity")) {
     const std::string& q = a.values.at("quantity");
     if (q == "optical-depth") quantity = volume::Quantity::OpticalDepth;
@@ -490,8 +498,9 @@ int cmd_render(const std::vector<std::string>& args) {
     else throw InputError("--quantity", "unknown quantity '" + q + "' (optical-depth, transmittance, color, isosurface)");
   }
   const bool color = quantity == volume::Quantity::Color;
-  const std::string mode = a.has("mode") ? a.values.at("mode") : (color ? "interval-sorted" : "interval");
-  frame::FrameSettings settings;
+  v.mode = a.has("mode") ? a.values.at("mode") : (color ? "interval-sorted" : "interval");
+  const std::string& mode = v.mode;
+  frame::FrameSettings& settings = v.settings;
   if (mode == "interval") settings.ordering = frame::Ordering::MeshOrder;
   else if (mode == "interval-sorted") settings.ordering = frame::Ordering::GpuSort;
   else if (mode == "interval-exact-order") settings.ordering = frame::Ordering::Exact;
@@ -513,14 +522,9 @@ int cmd_render(const std::vector<std::string>& args) {
   if (!color)
     for (const char* option : {"tf", "tf-range", "preintegration-size", "background"})
       if (a.has(option)) throw InputError(std::string("--") + option, "applies to --quantity color only");
-  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
-  const auto device_index = parse_device(a);
-  const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : 1;
-  if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
-
-  const TetMesh mesh = load_scene(a, color);
+  v.mesh = load_scene(a, color);
+  const TetMesh& mesh = v.mesh;
   validate(mesh);
-  const Camera camera = camera_from(a, bounds_of(mesh));
   if (field) {
     volume::MarchSettings& m = settings.resolve.march;
     m.enabled = march;
@@ -548,6 +552,29 @@ int cmd_render(const std::vector<std::string>& args) {
       std::cerr << "prismoid: note: color is order dependent and --mode interval draws cells in mesh order (approximate); "
                    "interval-sorted or interval-exact-order composite in depth order\n";
   }
+  return v;
+}
+
+int cmd_render(const std::vector<std::string>& args) {
+  std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
+  value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
+  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices"});
+  if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
+  if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
+  const std::string output = a.values.at("output");
+  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
+  const auto device_index = parse_device(a);
+  const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : 1;
+  if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
+  const VolumeChoice choice = volume_choice(a);
+  const TetMesh& mesh = choice.mesh;
+  const std::string& mode = choice.mode;
+  const volume::Quantity quantity = choice.quantity;
+  const bool color = quantity == volume::Quantity::Color;
+  const frame::FrameSettings& settings = choice.settings;
+  const bool field = field_of(a).has_value();  // an analytic field: its own CPU reference
+  const Camera camera = camera_from(a, bounds_of(mesh));
   frame::OffscreenFrame result;
   std::vector<std::pair<double, double>> pass_spread;  // min, max per pass over the timed frames
   std::string device_name, driver;
@@ -631,7 +658,7 @@ int cmd_render(const std::vector<std::string>& args) {
          << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)
          << "],\n  \"preintegration_size\": " << settings.resolve.preintegration_size;
     if (field)
-      js << ",\n  \"field\": \"" << json_escape(field->name) << "\",\n  \"march_step\": " << json_number(settings.resolve.march.step)
+      js << ",\n  \"field\": \"" << json_escape(settings.resolve.march.field.name) << "\",\n  \"march_step\": " << json_number(settings.resolve.march.step)
          << (quantity == volume::Quantity::Isosurface ? ",\n  \"isovalue\": " + json_number(settings.resolve.march.isovalue) : "");
     js << ",\n  \"frames\": " << frames << ",\n  \"passes\": [";
     for (size_t i = 0; i < result.passes.size(); ++i) {
@@ -675,10 +702,13 @@ int cmd_convert(const std::vector<std::string>& args) {
 }
 
 int cmd_view(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, with_camera({"size", "frames", "device", "array", "density-scale"}), {"validate", "help"});
+  std::vector<std::string> value_options = with_camera({"size", "frames", "device"});
+  value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
+  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices"});
   if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
-  const TetMesh mesh = load_scene(a);
-  validate(mesh);
+  VolumeChoice choice = volume_choice(a);
+  if (choice.mode == "reference") throw InputError("--mode reference", "runs on the CPU: use `prismoid render --mode reference`");
+  const TetMesh& mesh = choice.mesh;
   ViewerOptions options;
   if (a.has("size")) {
     const VkExtent2D s = parse_size(a.values.at("size"));
@@ -687,6 +717,7 @@ int cmd_view(const std::vector<std::string>& args) {
   }
   options.validation = a.flags.count("validate") > 0;
   options.device_index = parse_device(a);
+  options.settings = choice.settings;
   if (a.has("frames")) options.max_frames = parse_uint("frames", a.values.at("frames"));
   bool any_camera = false;
   for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);

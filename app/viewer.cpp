@@ -162,7 +162,7 @@ ViewerReport run_viewer(const TetMesh& mesh, const ViewerOptions& options) {
 
   ViewerReport report;
   report.device_name = caps.name;
-  frame::FrameSettings settings;
+  const frame::FrameSettings& settings = options.settings;
   bool timer_has_results = false;
   auto last_print = std::chrono::steady_clock::now();
   uint32_t frame_index = 0;

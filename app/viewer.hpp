@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/frame/frame_renderer.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -22,6 +23,7 @@ struct ViewerOptions {
   bool validation = false;
   std::optional<uint32_t> device_index;
   std::optional<Camera> camera;           // fitted to the data when absent
+  frame::FrameSettings settings;          // what to show and how (quantity, ordering, transfer function...)
   uint32_t max_frames = 0;                // 0: until the window is closed or SIGTERM
   std::vector<ViewerAction> script;
   bool print_timings = true;              // GPU times in the title bar and once a second on stdout

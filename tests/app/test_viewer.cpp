@@ -36,5 +36,28 @@ TEST(Viewer, PresentsResizesMinimizesAndClosesWithoutValidationMessages) {
   EXPECT_EQ(report.validation_messages, 0u);
 }
 
+// The window draws what render draws: emission-absorption in exact order (a CPU order each
+// frame, copied to the GPU while no frame is in flight) and in GPU-sorted order, resizing
+// mid-way (new targets), with the validation layer silent.
+TEST(Viewer, ColourInEachOrderingPresentsWithoutValidationMessages) {
+  ASSERT_TRUE(app::display_available()) << "this test needs a display: run it through scripts/test.sh, which starts Xvfb";
+  for (const auto ordering : {frame::Ordering::Exact, frame::Ordering::GpuSort}) {
+    app::ViewerOptions options;
+    options.width = 160;
+    options.height = 120;
+    options.validation = true;
+    options.print_timings = false;
+    options.settings.resolve.quantity = volume::Quantity::Color;
+    options.settings.resolve.transfer.range_hi = 6.0;
+    options.settings.ordering = ordering;
+    using K = app::ViewerAction::Kind;
+    options.script = {{K::Resize, 3, 200, 150}, {K::Close, 8, 0, 0}};
+    options.max_frames = 100;
+    const app::ViewerReport report = app::run_viewer(make_default_volume(), options);
+    EXPECT_GE(report.frames_presented, 5u);
+    EXPECT_EQ(report.validation_messages, 0u);
+  }
+}
+
 }  // namespace
 }  // namespace prismoid
