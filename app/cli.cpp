@@ -19,6 +19,7 @@
 
 #include "app/viewer.hpp"
 #include "io/image_io.hpp"
+#include "io/surface_io.hpp"
 #include "io/transfer_function_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
@@ -107,8 +108,12 @@ const char* kRenderHelp =
     "f_M = 6, alpha = 0.25, values in [0,1]), blobs (three Gaussian blobs), sphere (one Gaussian blob:\n"
     "its isosurfaces are spheres), linear. The field is the extinction (times --density-scale) and\n"
     "the color scalar; interval modes render its linear interpolant at the mesh points,\n"
-    "interval-march and reference the field itself. With no FILE the embedded default dataset is\n"
-    "rendered.\n";
+    "interval-march and reference the field itself. FILE may also be a closed triangle surface\n"
+    "(.vtp .stl .obj .ply .off), filled with tetrahedra by TetGen (extinction 1 per cell):\n"
+    "  --tetgen-quality Q       radius-edge bound, TetGen -q (default 1.414; smaller: rounder, more cells)\n"
+    "  --tetgen-max-volume V    largest cell volume, TetGen -a (default: none)\n"
+    "  --fill-holes             close an open surface first (VTK's vtkFillHolesFilter)\n"
+    "With no FILE the embedded default dataset is rendered.\n";
 
 const char* kViewHelp =
     "usage: prismoid view [FILE] [options]\n"
@@ -243,7 +248,23 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     }
     return volume::make_field_mesh(*field, n, options.density_scale);
   }
-  return io::read_tet_mesh(a.files.front(), options);
+  const std::string& file = a.files.front();
+  if (io::is_surface_path(file)) {  // a closed surface, filled with tetrahedra by TetGen
+    if (a.has("array")) throw InputError("--array", file + " is a surface: its tetrahedra carry no arrays");
+    SurfaceMesh surface = io::read_surface(file);
+    if (a.flags.count("fill-holes")) surface = io::fill_holes(surface);
+    io::TetgenOptions tetgen;
+    if (a.has("tetgen-quality")) tetgen.radius_edge_ratio = parse_double("tetgen-quality", a.values.at("tetgen-quality"));
+    if (a.has("tetgen-max-volume")) tetgen.max_volume = parse_double("tetgen-max-volume", a.values.at("tetgen-max-volume"));
+    const auto start = std::chrono::steady_clock::now();
+    TetMesh mesh = io::tetrahedralize(surface, tetgen);
+    for (double& s : mesh.cell_extinction) s *= options.density_scale;
+    std::cerr << "prismoid: " << file << ": " << surface.triangles.size() << " triangles -> " << mesh.tets.size()
+              << " tetrahedra by TetGen in "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+    return mesh;
+  }
+  return io::read_tet_mesh(file, options);
 }
 
 Camera camera_from(const ParsedArgs& a, const Bounds& bounds) {
@@ -475,7 +496,8 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 
 // The options render and view share: the data, what to show and how.
 const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
-                                                 "array", "density-scale", "tetlet-size", "march-step", "isovalue"};
+                                                 "array", "density-scale", "tetlet-size", "march-step", "isovalue",
+                                                 "tetgen-quality", "tetgen-max-volume"};
 
 struct VolumeChoice {
   TetMesh mesh;
@@ -558,7 +580,7 @@ VolumeChoice volume_choice(const ParsedArgs& a) {
 int cmd_render(const std::vector<std::string>& args) {
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
-  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices"});
+  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");
@@ -682,13 +704,16 @@ int cmd_render(const std::vector<std::string>& args) {
 
 const char* kConvertHelp =
     "usage: prismoid convert [IN] OUT.vtu [--array NAME --density-scale S]\n"
+    "                        [--tetgen-quality Q --tetgen-max-volume V --fill-holes]\n"
     "\n"
     "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
-    "input has one, the point array 'scalars'. IN is a .vtu/.vtk file; without IN, the embedded\n"
-    "default dataset is written (its point array 'scalars' holds the field sampled at the points).\n";
+    "input has one, the point array 'scalars'. IN is a .vtu/.vtk file, a field:NAME[:N] dataset, or\n"
+    "a closed surface (.vtp .stl .obj .ply .off) tetrahedralized by TetGen (see `render --help`);\n"
+    "without IN, the embedded default dataset is written (its point array 'scalars' holds the field\n"
+    "sampled at the points).\n";
 
 int cmd_convert(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, {"array", "density-scale"}, {"help"});
+  ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume"}, {"help", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
   const std::string out = a.files.back();
@@ -704,7 +729,7 @@ int cmd_convert(const std::vector<std::string>& args) {
 int cmd_view(const std::vector<std::string>& args) {
   std::vector<std::string> value_options = with_camera({"size", "frames", "device"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
-  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices"});
+  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
   VolumeChoice choice = volume_choice(a);
   if (choice.mode == "reference") throw InputError("--mode reference", "runs on the CPU: use `prismoid render --mode reference`");

@@ -12,7 +12,7 @@ BASE_PACKAGES=(
   libgtest-dev
   libvtk9-dev
   nlohmann-json3-dev
-  tetgen
+  tetgen libtet1.5-dev
   xvfb xauth
 )
 # Mesa's lavapipe from bookworm-backports: 25.x exposes VK_EXT_mesh_shader; bookworm's 22.3 does not.

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "io/image_io.hpp"
+#include "io/surface_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
@@ -275,6 +276,41 @@ TEST(Cli, ParaViewColormapFileDrivesTheTransferFunction) {
   }
   EXPECT_GT(red, 1.0);      // the medium glows red...
   EXPECT_EQ(other, 0.0);    // ...and nothing else: green and blue are zero in every colour point
+}
+
+// A closed surface (OFF) filled with tetrahedra by TetGen renders as the enclosed medium: the
+// optical depth through a cube of side 2 with sigma 1 is the chord, whatever the cells.
+TEST(Cli, ClosedSurfaceIsTetrahedralizedAndRendered) {
+  const fs::path off = work_dir() / "cube.off";
+  std::ofstream(off) << "OFF\n8 12 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
+                        "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
+  const fs::path pfm = work_dir() / "cube.pfm";
+  const CliRun r = run("render " + off.string() + " --tetgen-max-volume 0.05 --quantity optical-depth --size 32x24 "
+                       "--eye 4,3,5 --target 1,1,1 --output " + pfm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("tetrahedra by TetGen"), std::string::npos) << r.err;
+  const io::FloatImage img = io::read_pfm(pfm.string());
+  io::TetgenOptions options;
+  options.max_volume = 0.05;
+  const TetMesh mesh = io::tetrahedralize(io::read_surface(off.string()), options);
+  EXPECT_GE(mesh.tets.size(), 160u);
+  Camera c;
+  c.eye = {4, 3, 5};
+  c.target = {1, 1, 1};
+  c.near_distance = fit_camera(bounds_of(mesh)).near_distance;
+  expect_close_to_reference(img, reference::optical_depth_image(mesh, c, 32, 24));
+
+  // The same cube without its last face: named as open, with the way out; then filled.
+  std::string text = slurp(off);
+  text.replace(text.find("8 12 0"), 6, "8 11 0");
+  text = text.substr(0, text.rfind("3 3 4 7"));
+  const fs::path open = work_dir() / "open.off";
+  std::ofstream(open) << text;
+  const CliRun bad = run("render " + open.string() + " --size 8x8 --output " + (work_dir() / "o.png").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--fill-holes"), std::string::npos) << bad.err;
+  const CliRun filled = run("render " + open.string() + " --fill-holes --size 8x8 --output " + (work_dir() / "o.png").string());
+  EXPECT_EQ(filled.code, 0) << filled.err;
 }
 
 TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {

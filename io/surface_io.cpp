@@ -1,0 +1,372 @@
+#include "io/surface_io.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <utility>
+#include <vector>
+#include <array>
+#include <cstdint>
+#include <iostream>
+#include <stdexcept>
+
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <vtkAlgorithm.h>
+#include <vtkCellArray.h>
+#include <vtkCleanPolyData.h>
+#include <vtkFillHolesFilter.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkOBJReader.h>
+#include <vtkPLYReader.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSTLReader.h>
+#include <vtkSmartPointer.h>
+#include <vtkTriangleFilter.h>
+#include <vtkXMLPolyDataReader.h>
+
+#define TETLIBRARY  // Debian's libtet is built as a library: errors throw an int, never exit()
+#include <tetgen.h>
+
+#include "io/path_util.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::io {
+
+namespace {
+
+// OFF: "OFF", then vertex, face and edge counts, the vertices, then each face as its vertex
+// count and indices. Comments (#) and blank lines are skipped.
+vtkSmartPointer<vtkPolyData> read_off(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be read");
+  std::vector<std::string> tokens;
+  std::string line;
+  while (std::getline(in, line)) {
+    line = line.substr(0, line.find('#'));
+    std::istringstream words(line);
+    std::string w;
+    while (words >> w) tokens.push_back(w);
+  }
+  size_t next = 0;
+  auto take = [&](const char* what) -> const std::string& {
+    if (next >= tokens.size()) throw InputError(path, std::string("ends early: expected ") + what);
+    return tokens[next++];
+  };
+  auto number = [&](const char* what) {
+    const std::string& t = take(what);
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end != t.c_str() + t.size() || !std::isfinite(v)) throw InputError(path, std::string("bad ") + what + " '" + t + "'");
+    return v;
+  };
+  auto count = [&](const char* what) {
+    const double v = number(what);
+    if (v < 0 || v != std::floor(v) || v > 1e9) throw InputError(path, std::string("bad ") + what);
+    return static_cast<vtkIdType>(v);
+  };
+  if (take("the OFF header") != "OFF") throw InputError(path, "is not an OFF file (no 'OFF' header)");
+  const vtkIdType nv = count("vertex count"), nf = count("face count");
+  count("edge count");
+  vtkNew<vtkPoints> points;
+  for (vtkIdType i = 0; i < nv; ++i) {
+    const double x = number("coordinate"), y = number("coordinate"), z = number("coordinate");
+    points->InsertNextPoint(x, y, z);
+  }
+  vtkNew<vtkCellArray> polys;
+  for (vtkIdType f = 0; f < nf; ++f) {
+    const vtkIdType n = count("face size");
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType k = 0; k < n; ++k) {
+      const vtkIdType v = count("vertex index");
+      if (v >= nv) throw InputError(path, "face " + std::to_string(f) + " names vertex " + std::to_string(v) + " of " + std::to_string(nv));
+      ids->InsertNextId(v);
+    }
+    polys->InsertNextCell(ids);
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetPolys(polys);
+  return poly;
+}
+
+vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::string& ext) {
+  if (ext == ".off") return read_off(path);
+  vtkSmartPointer<vtkAlgorithm> reader;
+  if (ext == ".vtp") {
+    auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    if (!r->CanReadFile(path.c_str())) throw InputError(path, "is not a VTK XML polydata file");
+    r->SetFileName(path.c_str());
+    reader = r;
+  } else if (ext == ".stl") {
+    auto r = vtkSmartPointer<vtkSTLReader>::New();
+    r->SetFileName(path.c_str());
+    reader = r;
+  } else if (ext == ".obj") {
+    auto r = vtkSmartPointer<vtkOBJReader>::New();
+    r->SetFileName(path.c_str());
+    reader = r;
+  } else {
+    auto r = vtkSmartPointer<vtkPLYReader>::New();
+    r->SetFileName(path.c_str());
+    reader = r;
+  }
+  reader->Update();
+  vtkPolyData* poly = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
+  if (reader->GetErrorCode() != 0 || !poly) throw InputError(path, "could not be read as " + ext + " (corrupt or truncated?)");
+  return poly;
+}
+
+SurfaceMesh to_surface(vtkPolyData* poly, const std::string& name) {
+  vtkNew<vtkTriangleFilter> triangles;
+  triangles->SetInputData(poly);
+  vtkNew<vtkCleanPolyData> clean;  // merge coincident points
+  clean->SetInputConnection(triangles->GetOutputPort());
+  clean->PointMergingOn();
+  clean->SetTolerance(0.0);
+  clean->Update();
+  vtkPolyData* out = clean->GetOutput();
+  SurfaceMesh s;
+  s.name = name;
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i) {
+    double p[3];
+    out->GetPoint(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw InputError(name, "point " + std::to_string(i) + " has a non-finite coordinate");
+    s.points.emplace_back(p[0], p[1], p[2]);
+  }
+  vtkCellArray* polys = out->GetPolys();
+  vtkNew<vtkIdList> ids;
+  for (polys->InitTraversal(); polys->GetNextCell(ids);)
+    if (ids->GetNumberOfIds() == 3)
+      s.triangles.push_back({uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)), uint32_t(ids->GetId(2))});
+  return s;
+}
+
+vtkSmartPointer<vtkPolyData> to_polydata(const SurfaceMesh& s) {
+  vtkNew<vtkPoints> points;
+  for (const auto& p : s.points) points->InsertNextPoint(p.x, p.y, p.z);
+  vtkNew<vtkCellArray> polys;
+  for (const auto& t : s.triangles) {
+    const vtkIdType ids[3] = {t[0], t[1], t[2]};
+    polys->InsertNextCell(3, ids);
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetPolys(polys);
+  return poly;
+}
+
+
+// What a TetGen run in a child process reports.
+struct TetgenResult {
+  int signal = 0;              // the child died of this signal
+  int error = 0;               // TetGen stopped with this code
+  size_t intersecting_faces = 0;
+  std::vector<glm::dvec3> points;
+  std::vector<std::array<uint32_t, 4>> tets;
+};
+
+bool write_all(int fd, const void* data, size_t bytes) {
+  const char* p = static_cast<const char*>(data);
+  while (bytes > 0) {
+    const ssize_t n = ::write(fd, p, bytes);
+    if (n <= 0) return false;
+    p += n;
+    bytes -= size_t(n);
+  }
+  return true;
+}
+
+bool read_all(int fd, void* data, size_t bytes) {
+  char* p = static_cast<char*>(data);
+  while (bytes > 0) {
+    const ssize_t n = ::read(fd, p, bytes);
+    if (n <= 0) return false;
+    p += n;
+    bytes -= size_t(n);
+  }
+  return true;
+}
+
+void fill_tetgen_input(const SurfaceMesh& surface, tetgenio& in) {
+  in.firstnumber = 0;
+  in.numberofpoints = static_cast<int>(surface.points.size());
+  in.pointlist = new REAL[surface.points.size() * 3];
+  for (size_t i = 0; i < surface.points.size(); ++i)
+    for (int k = 0; k < 3; ++k) in.pointlist[3 * i + k] = surface.points[i][k];
+  in.numberoffacets = static_cast<int>(surface.triangles.size());
+  in.facetlist = new tetgenio::facet[surface.triangles.size()];
+  for (size_t f = 0; f < surface.triangles.size(); ++f) {
+    tetgenio::facet& facet = in.facetlist[f];
+    tetgenio::init(&facet);
+    facet.numberofpolygons = 1;
+    facet.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&facet.polygonlist[0]);
+    facet.polygonlist[0].numberofvertices = 3;
+    facet.polygonlist[0].vertexlist = new int[3];
+    for (int k = 0; k < 3; ++k) facet.polygonlist[0].vertexlist[k] = static_cast<int>(surface.triangles[f][k]);
+  }
+}
+
+// The child's side: first TetGen's self-intersection check (-d), then the tetrahedralization;
+// everything goes down the pipe as a header of four int64 (error, intersecting faces, points,
+// tetrahedra) and the arrays.
+[[noreturn]] void tetgen_child(const SurfaceMesh& surface, const std::string& switches, int fd) {
+  int64_t header[4] = {0, 0, 0, 0};
+  std::vector<double> points;
+  std::vector<uint32_t> tets;
+  try {
+    {
+      tetgenio in, out;
+      fill_tetgen_input(surface, in);
+      std::string detect = "pdQ";
+      ::tetrahedralize(detect.data(), &in, &out);
+      header[1] = out.numberoftrifaces;
+    }
+    if (header[1] == 0) {
+      tetgenio in, out;
+      fill_tetgen_input(surface, in);
+      std::string text = switches;
+      ::tetrahedralize(text.data(), &in, &out);
+      header[2] = out.numberofpoints;
+      header[3] = out.numberoftetrahedra;
+      points.assign(out.pointlist, out.pointlist + 3 * size_t(out.numberofpoints));
+      for (int t = 0; t < out.numberoftetrahedra; ++t)
+        for (int k = 0; k < 4; ++k) tets.push_back(uint32_t(out.tetrahedronlist[size_t(t) * size_t(out.numberofcorners) + size_t(k)]));
+    }
+  } catch (int code) {
+    header[0] = code == 0 ? -1 : code;
+  } catch (...) {
+    header[0] = -1;
+  }
+  const bool ok = write_all(fd, header, sizeof header) && write_all(fd, points.data(), points.size() * sizeof(double)) &&
+                  write_all(fd, tets.data(), tets.size() * sizeof(uint32_t));
+  ::_exit(ok ? 0 : 1);
+}
+
+// TetGen 1.5.0 frees its memory twice when it stops on bad input (a crash in
+// tetgenmesh::freememory), so it runs in a child process: a crash there is an error here.
+TetgenResult run_tetgen_isolated(const SurfaceMesh& surface, const std::string& switches) {
+  int fds[2];
+  if (::pipe(fds) != 0) throw std::runtime_error("pipe() failed for TetGen");
+  std::cout.flush();
+  std::cerr.flush();
+  const pid_t child = ::fork();
+  if (child < 0) throw std::runtime_error("fork() failed for TetGen");
+  if (child == 0) {
+    ::close(fds[0]);
+    tetgen_child(surface, switches, fds[1]);
+  }
+  ::close(fds[1]);
+  TetgenResult r;
+  int64_t header[4] = {0, 0, 0, 0};
+  bool complete = read_all(fds[0], header, sizeof header);
+  if (complete) {
+    r.error = int(header[0]);
+    r.intersecting_faces = size_t(header[1]);
+    std::vector<double> points(3 * size_t(std::max<int64_t>(header[2], 0)));
+    std::vector<uint32_t> tets(4 * size_t(std::max<int64_t>(header[3], 0)));
+    complete = read_all(fds[0], points.data(), points.size() * sizeof(double)) &&
+               read_all(fds[0], tets.data(), tets.size() * sizeof(uint32_t));
+    for (size_t i = 0; i + 2 < points.size(); i += 3) r.points.emplace_back(points[i], points[i + 1], points[i + 2]);
+    for (size_t i = 0; i + 3 < tets.size(); i += 4) r.tets.push_back({tets[i], tets[i + 1], tets[i + 2], tets[i + 3]});
+  }
+  ::close(fds[0]);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  else if (!complete || WEXITSTATUS(status) != 0) r.signal = -1;
+  return r;
+}
+
+}  // namespace
+
+bool is_surface_path(const std::string& path) {
+  const std::string ext = detail::lower_extension(path);
+  return ext == ".vtp" || ext == ".stl" || ext == ".obj" || ext == ".ply" || ext == ".off";
+}
+
+SurfaceMesh read_surface(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  if (!is_surface_path(path)) throw InputError(path, "is not a surface file (.vtp .stl .obj .ply .off)");
+  vtkObject::GlobalWarningDisplayOff();
+  const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path));
+  SurfaceMesh s = to_surface(poly, path);
+  if (s.triangles.empty()) throw InputError(path, "has no surface triangles");
+  return s;
+}
+
+SurfaceCheck check_surface(const SurfaceMesh& surface) {
+  std::map<std::pair<uint32_t, uint32_t>, int> uses;
+  for (const auto& t : surface.triangles)
+    for (int i = 0; i < 3; ++i) ++uses[std::minmax(t[i], t[(i + 1) % 3])];
+  SurfaceCheck c;
+  bool found = false;
+  for (const auto& [edge, n] : uses) {
+    if (n == 2) continue;
+    (n == 1 ? c.boundary_edges : c.nonmanifold_edges)++;
+    if (!found) c.first_problem = 0.5 * (surface.points[edge.first] + surface.points[edge.second]);
+    found = true;
+  }
+  return c;
+}
+
+SurfaceMesh fill_holes(const SurfaceMesh& surface) {
+  vtkNew<vtkFillHolesFilter> fill;
+  fill->SetInputData(to_polydata(surface));
+  fill->SetHoleSize(1e300);  // every hole, whatever its size
+  fill->Update();
+  return to_surface(fill->GetOutput(), surface.name);
+}
+
+TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options) {
+  const SurfaceCheck check = check_surface(surface);
+  if (!check.closed()) {
+    std::ostringstream msg;
+    msg << "is not a closed surface: " << check.boundary_edges << " boundary (hole) edges and " << check.nonmanifold_edges
+        << " non-manifold edges, the first near (" << check.first_problem.x << ", " << check.first_problem.y << ", "
+        << check.first_problem.z << "); TetGen needs a closed surface (--fill-holes closes holes)";
+    throw InputError(surface.name, msg.str());
+  }
+  if (!(options.radius_edge_ratio >= 1.0) || !(options.max_volume >= 0.0))
+    throw InputError("--tetgen-quality", "the radius-edge bound must be at least 1 and the volume bound not negative");
+  // p: a piecewise linear complex; q: quality; a: volume bound; Q: quiet.
+  std::ostringstream switches;
+  switches << "pq" << options.radius_edge_ratio;
+  if (options.max_volume > 0.0) switches << "a" << options.max_volume;
+  switches << "Q";
+  const std::string text = switches.str();
+  const TetgenResult result = run_tetgen_isolated(surface, text);
+  if (result.signal != 0)
+    throw InputError(surface.name, "cannot be tetrahedralized: TetGen crashed (signal " + std::to_string(result.signal) +
+                                       "); the surface probably intersects itself or has features below its tolerance");
+  if (result.error != 0) {
+    const int code = result.error;
+    const char* why = code == 3   ? "the surface intersects itself"
+                      : code == 4 ? "it has a feature smaller than TetGen's tolerance"
+                      : code == 5 ? "two of its facets are too close"
+                      : code == 1 ? "TetGen ran out of memory"
+                                  : "TetGen rejected the input";
+    throw InputError(surface.name, std::string("cannot be tetrahedralized: ") + why + " (TetGen error " + std::to_string(code) + ")");
+  }
+  if (result.intersecting_faces > 0)
+    throw InputError(surface.name, "cannot be tetrahedralized: the surface intersects itself (" +
+                                       std::to_string(result.intersecting_faces) + " facets cross another)");
+  TetMesh mesh;
+  mesh.name = surface.name + " (TetGen -" + text + ")";
+  mesh.points = result.points;
+  mesh.tets = result.tets;
+  mesh.cell_extinction.assign(mesh.tets.size(), 1.0);
+  if (mesh.tets.empty()) throw InputError(surface.name, "TetGen produced no tetrahedra");
+  return mesh;
+}
+
+}  // namespace prismoid::io

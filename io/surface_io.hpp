@@ -1,0 +1,40 @@
+#pragma once
+// Triangle surfaces from files, and their tetrahedralization with TetGen (Si 2015, the Debian
+// library libtet). VTK and TetGen types never leave io/.
+#include <string>
+
+#include "scene/surface_mesh.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::io {
+
+// .vtp (VTK XML polydata), .stl, .obj, .ply through VTK's readers; .off (Object File Format)
+// through our own small reader, since VTK 9.1 has none. Polygons are split into triangles and
+// coincident points merged (STL stores each triangle's corners separately). InputError naming
+// the file for a missing, unreadable or empty file.
+bool is_surface_path(const std::string& path);
+SurfaceMesh read_surface(const std::string& path);
+
+// Edges used by one triangle (holes) or by more than two (non-manifold).
+struct SurfaceCheck {
+  size_t boundary_edges = 0;
+  size_t nonmanifold_edges = 0;
+  glm::dvec3 first_problem{0.0};  // a point on the first such edge
+  bool closed() const { return boundary_edges == 0 && nonmanifold_edges == 0; }
+};
+SurfaceCheck check_surface(const SurfaceMesh& surface);
+
+// Closes holes with VTK's vtkFillHolesFilter (each hole becomes a triangulated patch).
+SurfaceMesh fill_holes(const SurfaceMesh& surface);
+
+struct TetgenOptions {
+  double radius_edge_ratio = 1.414;  // TetGen -q: quality bound (smaller: rounder cells, more of them)
+  double max_volume = 0.0;           // TetGen -a: largest cell volume; 0: no bound
+};
+
+// A constrained Delaunay tetrahedralization of the closed surface's interior, extinction 1 per
+// cell. InputError(surface.name, ...) for open or non-manifold surfaces (saying where, and that
+// --fill-holes exists) and for what TetGen rejects (self-intersections, tiny features).
+TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options);
+
+}  // namespace prismoid::io
