@@ -201,32 +201,27 @@ TetMesh tetrahedralize(const VoxelGrid& grid, const std::string& name, const Ima
       for (uint64_t i = 0; i < nx; ++i) mesh.points.push_back(grid.origin + glm::dvec3(double(i), double(j), double(k)) * grid.spacing);
 
   // Kuhn split: the six monotone paths from corner 000 to corner 111 along the cell's edges. Every
-  // cell is a translate of the first, so each path's orientation is settled once, on cell (0,0,0).
+  // cell is a translate of cell (0,0,0), so its six tetrahedra, as index offsets from the cell's
+  // first corner and oriented positively, are worked out once there.
   static const int kPaths[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  auto path_tet = [&](const int (&path)[3], uint64_t i, uint64_t j, uint64_t k) {
-    uint64_t c[3] = {i, j, k};
-    std::array<uint32_t, 4> tet;
-    tet[0] = point_index(c[0], c[1], c[2]);
-    for (int s = 0; s < 3; ++s) {
-      ++c[path[s]];
-      tet[size_t(s) + 1] = point_index(c[0], c[1], c[2]);
-    }
-    return tet;
-  };
-  bool flip[6];
+  std::array<uint32_t, 4> offsets[6];
   for (int p = 0; p < 6; ++p) {
-    const auto t = path_tet(kPaths[p], 0, 0, 0);
-    flip[p] = signed_volume(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]) < 0.0;
+    uint64_t c[3] = {0, 0, 0};
+    offsets[p][0] = 0;
+    for (int s = 0; s < 3; ++s) {
+      ++c[kPaths[p][s]];
+      offsets[p][size_t(s) + 1] = point_index(c[0], c[1], c[2]);
+    }
+    const auto& o = offsets[p];
+    if (signed_volume(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]]) < 0.0) std::swap(offsets[p][2], offsets[p][3]);
   }
   mesh.tets.reserve(6 * (nx - 1) * (ny - 1) * (nz - 1));
   for (uint64_t k = 0; k + 1 < nz; ++k)
     for (uint64_t j = 0; j + 1 < ny; ++j)
-      for (uint64_t i = 0; i + 1 < nx; ++i)
-        for (int p = 0; p < 6; ++p) {
-          auto tet = path_tet(kPaths[p], i, j, k);
-          if (flip[p]) std::swap(tet[2], tet[3]);
-          mesh.tets.push_back(tet);
-        }
+      for (uint64_t i = 0; i + 1 < nx; ++i) {
+        const uint32_t first = point_index(i, j, k);
+        for (const auto& o : offsets) mesh.tets.push_back({first + o[0], first + o[1], first + o[2], first + o[3]});
+      }
 
   mesh.point_scalars = grid.values;
   if (options.role == ArrayRole::Extinction) {

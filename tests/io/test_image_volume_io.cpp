@@ -184,6 +184,9 @@ TEST(ImageVolumeIo, MhdBecomesConformingTetrahedraWithPointScalars) {
   expect_voxel_mesh(io::read_image_volume(path, {.role = io::ArrayRole::Scalars}), g);
   std::filesystem::remove(path);
   std::filesystem::remove(temp_path("grid.raw"));
+  const std::string single_file = write_mhd(g, "grid.mha");  // header and voxels in one file
+  expect_voxel_mesh(io::read_image_volume(single_file, {.role = io::ArrayRole::Scalars}), g);
+  std::filesystem::remove(single_file);
 }
 
 TEST(ImageVolumeIo, InrBecomesConformingTetrahedraWithPointScalars) {
