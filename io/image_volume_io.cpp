@@ -50,19 +50,31 @@ void check_size(const std::string& path, const uint64_t dims[3], const ImageRead
   for (int a = 0; a < 3; ++a)
     if (kept(dims[a], options.subsample) < 2)
       throw InputError(path, "the image is " + shape + " voxels" +
-                                 (options.subsample > 1 ? " (keeping every " + std::to_string(options.subsample) + "th)" : std::string()) +
+                                 (options.subsample > 1 ? " (keeping 1 in " + std::to_string(options.subsample) + " per axis)" : std::string()) +
                                  "; it needs at least 2 voxels along each axis to make cells");
   const uint64_t count = image_tet_count(dims, options.subsample);
   if (count > options.max_cells) {
-    uint32_t fits = options.subsample + 1;
-    while (image_tet_count(dims, fits) > options.max_cells) ++fits;
+    // The count falls as the subsample grows, while every axis keeps 2 voxels (up to the shortest
+    // axis's length - 1): a binary search finds the smallest subsample that fits.
+    std::string advice = "no subsampling fits (2 x 2 x 2 voxels already make 6)";
+    uint64_t lo = uint64_t(options.subsample) + 1;
+    uint64_t hi = std::min<uint64_t>(std::min({dims[0], dims[1], dims[2]}) - 1, std::numeric_limits<uint32_t>::max());
+    if (lo <= hi && image_tet_count(dims, uint32_t(hi)) <= options.max_cells) {
+      while (lo < hi) {
+        const uint64_t mid = lo + (hi - lo) / 2;
+        if (image_tet_count(dims, uint32_t(mid)) <= options.max_cells) hi = mid;
+        else lo = mid + 1;
+      }
+      advice = "--subsample " + std::to_string(hi) + " (1 voxel in " + std::to_string(hi) + " per axis) makes " +
+               std::to_string(image_tet_count(dims, uint32_t(hi)));
+    }
     throw InputError(path, "the image is " + shape + " voxels, which make " + std::to_string(count) +
-                               " tetrahedra, more than the limit of " + std::to_string(options.max_cells) + "; --subsample " +
-                               std::to_string(fits) + " (every " + std::to_string(fits) + "th voxel per axis) makes " +
-                               std::to_string(image_tet_count(dims, fits)));
+                               " tetrahedra, more than the limit of " + std::to_string(options.max_cells) + "; " + advice);
   }
-  if (kept(dims[0], options.subsample) * kept(dims[1], options.subsample) * kept(dims[2], options.subsample) >
-      std::numeric_limits<uint32_t>::max())
+  uint64_t points = 1;
+  for (int a = 0; a < 3; ++a)
+    if (__builtin_mul_overflow(points, kept(dims[a], options.subsample), &points)) points = std::numeric_limits<uint64_t>::max();
+  if (points > std::numeric_limits<uint32_t>::max())
     throw InputError(path, "the image has more voxels than 32-bit point indices can address; subsample it");
 }
 
@@ -242,8 +254,9 @@ TetMesh tetrahedralize(const VoxelGrid& grid, const std::string& name, const Ima
 }  // namespace
 
 uint64_t image_tet_count(const uint64_t dims[3], uint32_t subsample) {
-  uint64_t count = 6;
-  for (int a = 0; a < 3; ++a) count *= kept(dims[a], subsample) - 1;
+  uint64_t count = 6;  // saturates rather than wrapping, for headers with absurd sizes
+  for (int a = 0; a < 3; ++a)
+    if (__builtin_mul_overflow(count, kept(dims[a], subsample) - 1, &count)) return std::numeric_limits<uint64_t>::max();
   return count;
 }
 

@@ -35,7 +35,8 @@ bool is_image_volume_path(const std::string& path);
 // array, or more tetrahedra than max_cells (the message names the smallest subsample that fits).
 TetMesh read_image_volume(const std::string& path, const ImageReadOptions& options = {});
 
-// 6 (nx-1)(ny-1)(nz-1) for an image of nx x ny x nz voxels after keeping every subsample-th.
+// 6 (nx-1)(ny-1)(nz-1) for an image of nx x ny x nz voxels after keeping every subsample-th
+// (saturating at the largest uint64_t). Each of dims must be at least 1.
 uint64_t image_tet_count(const uint64_t dims[3], uint32_t subsample);
 
 }  // namespace prismoid::io

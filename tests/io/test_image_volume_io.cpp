@@ -259,9 +259,14 @@ TEST(ImageVolumeIo, SizeGuardNamesTheCountAndTheSubsampleThatFits) {
   // truncation. 6 * 1999^3 = 47928035994; every 6th voxel keeps 334 per axis, 6 * 333^3 > 2e8; every
   // 7th keeps 286, 6 * 285^3 = 138894750.
   const std::string huge = write_file("huge.inr", inr_header("XDIM=2000\nYDIM=2000\nZDIM=2000\nTYPE=float\nPIXSIZE=32 bits\nCPU=decm\n"));
-  expect_error(huge, {}, "47928035994 tetrahedra, more than the limit of 200000000; --subsample 7 (every 7th voxel per axis) makes 138894750");
+  expect_error(huge, {}, "47928035994 tetrahedra, more than the limit of 200000000; --subsample 7 (1 voxel in 7 per axis) makes 138894750");
+  expect_error(path, {.role = io::ArrayRole::Scalars, .max_cells = 5}, "no subsampling fits");
+  // Sizes whose product overflows 64 bits are refused, not wrapped around to a small count.
+  const std::string absurd = write_file("absurd.inr", inr_header("XDIM=4000000000000\nYDIM=4000000000000\nZDIM=4000000000000\nTYPE=float\nPIXSIZE=32 bits\nCPU=decm\n"));
+  expect_error(absurd, {}, "18446744073709551615 tetrahedra");
   std::filesystem::remove(path);
   std::filesystem::remove(huge);
+  std::filesystem::remove(absurd);
 }
 
 TEST(ImageVolumeIo, BadFilesNameTheFileAndTheProblem) {
