@@ -173,6 +173,12 @@ InrHeader read_inr_header(const std::string& path) {
     if (h.spacing[a] <= 0.0) throw InputError(path, std::string("INRIMAGE ") + spacing_keys[a] + " must be positive");
     if (const std::string v = take(origin_keys[a]); !v.empty()) h.origin[a] = parse_real(path, origin_keys[a], v);
   }
+  // CGAL writes these only when non-zero: an integer voxel offset (XO..) and a rotation (RX..),
+  // neither of which this reader places in space.
+  for (const char* key : {"XO", "YO", "ZO", "RX", "RY", "RZ"})
+    if (const std::string v = take(key); !v.empty() && parse_real(path, key, v) != 0.0)
+      throw InputError(path, std::string("INRIMAGE ") + key + "=" + v + ": " + (key[0] == 'R' ? "rotated" : "offset") +
+                                 " images are not supported");
   if (!fields.empty()) throw InputError(path, "INRIMAGE header field " + fields.begin()->first + " is not understood");
   return h;
 }

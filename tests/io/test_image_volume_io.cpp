@@ -295,8 +295,10 @@ TEST(ImageVolumeIo, BadFilesNameTheFileAndTheProblem) {
   expect_error(pixsize, scalars, "PIXSIZE");
   const std::string cpu = write_file("cpu.inr", with("CPU=sun", "CPU=vax"));
   expect_error(cpu, scalars, "CPU=\"vax\"");
-  const std::string unknown = write_file("unknown.inr", with("#GEOMETRY", "RX=0.5\n#GEOM"));
-  expect_error(unknown, scalars, "field RX is not understood");
+  const std::string unknown = write_file("unknown.inr", with("#GEOMETRY", "COLOR=red\n#GEOM"));
+  expect_error(unknown, scalars, "field COLOR is not understood");
+  const std::string rotated = write_file("rotated.inr", with("#GEOMETRY", "RX=0.5\n#GEOM"));
+  expect_error(rotated, scalars, "RX=0.5: rotated images are not supported");
   const std::string dims = write_file("dims.inr", with("XDIM=4", "XDIM=x"));
   expect_error(dims, scalars, "XDIM=x is not a positive integer");
   const std::string vector = write_file("vdim.inr", with("VDIM=1", "VDIM=3"));
@@ -317,7 +319,7 @@ TEST(ImageVolumeIo, BadFilesNameTheFileAndTheProblem) {
   const std::string inr_array = write_file("array.inr", good);
   expect_error(inr_array, {.array = "density"}, "one unnamed array");
 
-  for (const std::string& p : {truncated, short_header, extra, not_inr, type, pixsize, cpu, unknown, dims, vector, flat_path, vti,
+  for (const std::string& p : {truncated, short_header, extra, not_inr, type, pixsize, cpu, unknown, rotated, dims, vector, flat_path, vti,
                                garbage_vti, inr_array, mhd, temp_path("short.raw")})
     std::filesystem::remove(p);
 }
