@@ -19,6 +19,7 @@
 
 #include "app/viewer.hpp"
 #include "io/image_io.hpp"
+#include "io/image_volume_io.hpp"
 #include "io/surface_io.hpp"
 #include "io/transfer_function_io.hpp"
 #include "io/vtk_tet_io.hpp"
@@ -113,6 +114,9 @@ const char* kRenderHelp =
     "  --tetgen-quality Q       radius-edge bound, TetGen -q (default 1.414; smaller: rounder, more cells)\n"
     "  --tetgen-max-volume V    largest cell volume, TetGen -a (default: none)\n"
     "  --fill-holes             close an open surface first (VTK's vtkFillHolesFilter)\n"
+    "or an image volume (.vti .mhd .mha, .inr/.inr.gz as in CGAL's data): each cell between 8 voxel\n"
+    "centres becomes 6 tetrahedra, voxel values are point values (--array picks the .vti/.mhd array);\n"
+    "  --subsample K            keep 1 voxel in K per axis (images over 50 million cells need it)\n"
     "With no FILE the embedded default dataset is rendered.\n";
 
 const char* kViewHelp =
@@ -264,6 +268,19 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
     return mesh;
   }
+  if (io::is_image_volume_path(file)) {  // voxels: each cell between 8 voxel centres becomes 6 tetrahedra
+    io::ImageReadOptions image;
+    image.array = options.array;
+    image.role = options.role;
+    image.density_scale = options.density_scale;
+    if (a.has("subsample")) {
+      image.subsample = parse_uint("subsample", a.values.at("subsample"));
+      if (image.subsample == 0) throw InputError("--subsample", "must be at least 1");
+    }
+    image.max_cells = 50'000'000;  // about 1.2 GB on the GPU: larger needs --subsample
+    return io::read_image_volume(file, image);
+  }
+  if (a.has("subsample")) throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) only");
   return io::read_tet_mesh(file, options);
 }
 
@@ -497,7 +514,7 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 // The options render and view share: the data, what to show and how.
 const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
                                                  "array", "density-scale", "tetlet-size", "march-step", "isovalue",
-                                                 "tetgen-quality", "tetgen-max-volume"};
+                                                 "tetgen-quality", "tetgen-max-volume", "subsample"};
 
 struct VolumeChoice {
   TetMesh mesh;
@@ -713,7 +730,7 @@ const char* kConvertHelp =
     "sampled at the points).\n";
 
 int cmd_convert(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume"}, {"help", "fill-holes"});
+  ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "subsample"}, {"help", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
   const std::string out = a.files.back();

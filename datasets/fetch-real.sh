@@ -62,7 +62,7 @@ ensure_tools() {
 # bunny00.off and armadillo.off from libcgal-demo's data.tar.gz, downloaded once.
 fetch_meshes() {
   local meshes="$cache/meshes"
-  if [ -f "$meshes/bunny00.off" ] && [ -f "$meshes/armadillo.off" ]; then return; fi
+  if [ -f "$meshes/bunny00.off" ] && [ -f "$meshes/armadillo.off" ] && [ -f "$out_dir/skull_2.9.inr" ]; then return; fi
   mkdir -p "$cache/deb" "$meshes"
   step "downloading libcgal-demo (not installed: unpacked into $cache)"
   # apt-get download writes into the current folder; as root it warns that the _apt user cannot
@@ -80,6 +80,10 @@ fetch_meshes() {
   tar -xzf "$data" -C "$cache/unpacked" data/meshes/bunny00.off data/meshes/armadillo.off ||
     fail "$data has no data/meshes/bunny00.off or armadillo.off"
   mv "$cache/unpacked/data/meshes/bunny00.off" "$cache/unpacked/data/meshes/armadillo.off" "$meshes/"
+  # The CT skull opens as it is (an INRIMAGE volume, 64^3 float voxels: 1.5 M tetrahedra).
+  mkdir -p "$out_dir"
+  tar -xzf "$data" -C "$cache/unpacked" data/images/skull_2.9.inr || fail "$data has no data/images/skull_2.9.inr"
+  mv "$cache/unpacked/data/images/skull_2.9.inr" "$out_dir/"
   echo "   $(basename "$deb"): $data"
   rm -rf "$cache/unpacked" "$cache/deb"
 }
