@@ -234,6 +234,12 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     options.density_scale = parse_double("density-scale", a.values.at("density-scale"));
     if (options.density_scale < 0.0) throw InputError("--density-scale", "must not be negative");
   }
+  const bool is_image = !a.files.empty() && io::is_image_volume_path(a.files.front());
+  if (a.has("subsample") && !is_image) throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) only");
+  const bool is_surface = !a.files.empty() && io::is_surface_path(a.files.front());
+  for (const char* option : {"tetgen-quality", "tetgen-max-volume"})
+    if (a.has(option) && !is_surface) throw InputError(std::string("--") + option, "applies to surfaces (.vtp .stl .obj .ply .off) only");
+  if (a.flags.count("fill-holes") && !is_surface) throw InputError("--fill-holes", "applies to surfaces (.vtp .stl .obj .ply .off) only");
   if (a.files.empty()) {
     if (a.has("array")) throw InputError("--array", "the embedded default dataset has no arrays to choose from");
     TetMesh mesh = make_default_volume();
@@ -280,7 +286,6 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     image.max_cells = 50'000'000;  // about 1.2 GB on the GPU: larger needs --subsample
     return io::read_image_volume(file, image);
   }
-  if (a.has("subsample")) throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) only");
   return io::read_tet_mesh(file, options);
 }
 
