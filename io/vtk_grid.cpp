@@ -1,11 +1,16 @@
 #include "io/vtk_grid.hpp"
 
+#include <filesystem>
+#include <fstream>
+#include <map>
+
 #include <vtkAppendFilter.h>
 #include <vtkCommand.h>
 #include <vtkDataObjectTreeIterator.h>
 #include <vtkDataSetTriangleFilter.h>
 #include <vtkInformation.h>
 #include <vtkMultiBlockDataSet.h>
+#include <vtkLogger.h>
 #include <vtkNew.h>
 #include <vtkOutputWindow.h>
 #include <vtkUnstructuredGridReader.h>
@@ -115,6 +120,32 @@ GridSource read_multiblock(const std::string& path) {
   return merge(path, grids);
 }
 
+// The file's first bytes say what it is; a mismatch with the extension is named before a reader
+// fails on it with a vaguer message.
+void check_content(const std::string& path, const std::string& ext) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path, "is not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  std::string head(512, '\0');
+  if (!in || !in.read(head.data(), std::streamsize(head.size())).gcount())
+    throw InputError(path, "cannot be read (permissions?) or is empty");
+  head.resize(size_t(in.gcount()));
+  const bool legacy = head.rfind("# vtk DataFile", 0) == 0;
+  const auto xml_at = head.find("<VTKFile");
+  if (legacy && ext != ".vtk") throw InputError(path, "holds a legacy VTK file: its extension should be .vtk, not " + ext);
+  if (xml_at != std::string::npos) {
+    const auto type_at = head.find("type=\"", xml_at);
+    const std::string type = type_at == std::string::npos ? "" : head.substr(type_at + 6, head.find('"', type_at + 6) - type_at - 6);
+    const std::map<std::string, std::string> ext_of_type = {
+        {"UnstructuredGrid", ".vtu"}, {"vtkMultiBlockDataSet", ".vtm"}, {"PUnstructuredGrid", ".pvtu"}};
+    const auto expected = ext_of_type.find(type);
+    if (expected == ext_of_type.end())
+      throw InputError(path, "holds a VTK XML " + (type.empty() ? std::string("file") : type) +
+                                 ", not an unstructured grid (.vtu), multiblock (.vtm) or parallel unstructured grid (.pvtu)");
+    if (expected->second != ext)
+      throw InputError(path, "holds a VTK XML " + type + ": its extension should be " + expected->second + ", not " + ext);
+  }
+}
+
 }  // namespace
 
 QuietVtk::QuietVtk() : previous_(vtkOutputWindow::GetInstance()), display_(vtkObject::GetGlobalWarningDisplay()) {
@@ -123,15 +154,21 @@ QuietVtk::QuietVtk() : previous_(vtkOutputWindow::GetInstance()), display_(vtkOb
   vtkObject::GlobalWarningDisplayOn();
   vtkNew<SilentOutput> silent;
   vtkOutputWindow::SetInstance(silent);
+  // VTK 9 also logs each message to stderr through vtkLogger, before the output window sees
+  // it. With only the stderr sink (the app adds none) the cutoff is stderr's verbosity.
+  logger_verbosity_ = int(vtkLogger::GetCurrentVerbosityCutoff());
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
 }
 
 QuietVtk::~QuietVtk() {
+  vtkLogger::SetStderrVerbosity(vtkLogger::Verbosity(logger_verbosity_));
   vtkOutputWindow::SetInstance(previous_);
   vtkObject::SetGlobalWarningDisplay(display_);
 }
 
 GridSource read_unstructured_grid(const std::string& path) {
   const std::string ext = lower_extension(path);
+  check_content(path, ext);
   if (ext == ".vtm") return read_multiblock(path);
   if (ext == ".pvtu") {
     // Read piece by piece: the reader's whole output is one grid, whose shared points

@@ -23,6 +23,7 @@ class QuietVtk {
  private:
   vtkSmartPointer<vtkOutputWindow> previous_;
   int display_;
+  int logger_verbosity_ = 0;
 };
 
 struct GridSource {

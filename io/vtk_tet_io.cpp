@@ -114,6 +114,12 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
   report.merged_points = source.merged_points;
   vtkSmartPointer<vtkUnstructuredGrid> grid = source.grid;
   if (grid->GetNumberOfCells() == 0) throw InputError(path, "has no cells (empty mesh)");
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {  // before any filter computes with them
+    double p[3];
+    grid->GetPoint(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw InputError(path, "point " + std::to_string(i) + " has a non-finite coordinate (NaN or Inf)");
+  }
   survey_cells(grid, path, report);
   if (report.split() || report.dropped > 0) grid = tetrahedralize(grid);
 
