@@ -134,15 +134,47 @@ std::string cut_name(const ::testing::TestParamInfo<Cut>& cut) {
 INSTANTIATE_TEST_SUITE_P(Cells, Conversion, ::testing::Values(Cut::Hexahedra, Cut::Voxels, Cut::Wedges, Cut::Pyramids, Cut::Mixed),
                          cut_name);
 
-TEST(Conversion, ShuffledPointIdsStillConform) {
+TEST(Conversion, ShuffledIdsAndWarpedFacesStillConform) {
   // Other id orders give other diagonals; the shared faces must agree for every one of them.
-  const testgrids::Lattice lattice = testgrids::make_lattice(3);
+  // Interior corners moved by up to 10% make the quads non-planar: two neighbours splitting a
+  // shared quad along different diagonals would then overlap or leave a gap, and the volume
+  // and face counts would show it.
+  const testgrids::Lattice lattice = testgrids::make_lattice(4);
   for (unsigned seed : {1u, 2u, 3u, 4u}) {
     const std::string path = temp_path("seed.vtu");
-    testgrids::write_vtu(path, testgrids::make_grid(lattice, Cut::Mixed, seed));
+    testgrids::write_vtu(path, testgrids::make_grid(lattice, Cut::Mixed, seed, 0.1));
     expect_conforming_box(io::read_tet_mesh(path), lattice, "seed " + std::to_string(seed));
     std::filesystem::remove(path);
   }
+}
+
+TEST(Conversion, TheConformityCheckSeesHolesAndOverlaps) {
+  // The checker itself must fail on a broken mesh: one tetrahedron removed leaves its four
+  // faces unshared, inside the box; one duplicated makes its faces shared three times.
+  const testgrids::Lattice lattice = testgrids::make_lattice(3);
+  const std::string path = temp_path("control.vtu");
+  testgrids::write_vtu(path, testgrids::make_grid(lattice, Cut::Hexahedra));
+  const TetMesh mesh = io::read_tet_mesh(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(faces_of(mesh, lattice).off_boundary, 0u);
+  // The centre cube's tetrahedra touch no boundary: removing one opens four interior faces.
+  size_t inner = mesh.tets.size();
+  for (size_t t = 0; t < mesh.tets.size() && inner == mesh.tets.size(); ++t) {
+    bool touches = false;
+    for (uint32_t p : mesh.tets[t])
+      for (int axis = 0; axis < 3; ++axis) {
+        const double v = mesh.points[p][axis];
+        touches = touches || v == lattice.xs.front() || v == lattice.xs.back() || v == lattice.ys.back() || v == lattice.zs.back();
+      }
+    if (!touches) inner = t;
+  }
+  ASSERT_LT(inner, mesh.tets.size());
+  TetMesh holed = mesh;
+  holed.tets.erase(holed.tets.begin() + long(inner));
+  EXPECT_EQ(faces_of(holed, lattice).off_boundary, 4u);
+  TetMesh doubled = mesh;
+  doubled.tets.push_back(mesh.tets[inner]);
+  EXPECT_EQ(faces_of(doubled, lattice).overshared, 4u);
 }
 
 // Two quadratic hexahedra with straight edges (mid-edge nodes at the edge midpoints) sharing

@@ -54,7 +54,9 @@ inline Cut cut_of(Cut cut, int i, int j) {
   }
 }
 
-inline vtkSmartPointer<vtkUnstructuredGrid> make_grid(const Lattice& l, Cut cut, unsigned seed = 7) {
+// `jitter` > 0 moves interior corners by up to that fraction of the smallest spacing, so quad
+// faces are no longer planar: only a conforming split still tiles the box exactly.
+inline vtkSmartPointer<vtkUnstructuredGrid> make_grid(const Lattice& l, Cut cut, unsigned seed = 7, double jitter = 0.0) {
   const int n = int(l.xs.size()) - 1;
   const int corner_count = (n + 1) * (n + 1) * (n + 1);
   const int total = corner_count + n * n * n;  // corners, then cube centres (pyramid apexes)
@@ -69,6 +71,13 @@ inline vtkSmartPointer<vtkUnstructuredGrid> make_grid(const Lattice& l, Cut cut,
   for (int k = 0; k <= n; ++k)
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i) points->SetPoint(corner(i, j, k), l.xs[size_t(i)], l.ys[size_t(j)], l.zs[size_t(k)]);
+  std::mt19937 random(seed + 1000);
+  std::uniform_real_distribution<double> offset(-jitter * 0.5, jitter * 0.5);  // the smallest spacing is 0.5
+  for (int k = 1; k < n; ++k)
+    for (int j = 1; j < n; ++j)
+      for (int i = 1; i < n; ++i)
+        if (jitter > 0.0)
+          points->SetPoint(corner(i, j, k), l.xs[size_t(i)] + offset(random), l.ys[size_t(j)] + offset(random), l.zs[size_t(k)] + offset(random));
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
