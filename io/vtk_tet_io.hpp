@@ -25,12 +25,14 @@ struct TetReadOptions {
 };
 
 // What reading did to the file's cells. 3D cells other than tetrahedra (hexahedra, voxels,
-// wedges, pyramids, pentagonal/hexagonal prisms, polyhedra, quadratic and higher-order cells)
-// are split by VTK's vtkDataSetTriangleFilter, an ordered triangulation keyed on global point
-// ids, so neighbouring cells split their shared faces the same way (conforming, no cracks).
-// Quadratic cells are split through all their nodes (mid-edge nodes become tetrahedron
-// corners): the curved cell becomes piecewise linear. Cell arrays are copied to each cell's
-// tetrahedra; points and point arrays are kept.
+// wedges, pyramids, pentagonal/hexagonal prisms, quadratic and higher-order cells) are split by
+// VTK's vtkDataSetTriangleFilter: an ordered triangulation keyed on global point ids, so
+// neighbouring cells split their shared faces the same way (conforming, no cracks; pieces of a
+// .vtm/.pvtu are merged first so that they share ids). Quadratic cells are split through all
+// their nodes (mid-edge nodes become tetrahedron corners): a curved cell becomes piecewise
+// linear. Polyhedra (VTK_POLYHEDRON) go through their own Triangulate(), which VTK does not
+// document as conforming. Cell arrays are copied to each cell's tetrahedra; points and point
+// arrays are kept. Cells wound as VTK defines them give positively oriented tetrahedra.
 struct MeshConversion {
   std::map<std::string, size_t> cells_in;  // the file's cells by VTK class name, e.g. vtkHexahedron
   size_t dropped = 0;        // of those, cells without volume (2D, 1D, vertices): not drawn
