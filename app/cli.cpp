@@ -17,7 +17,9 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
+#include "app/dataset_report.hpp"
 #include "app/viewer.hpp"
+#include "io/dataset_info.hpp"
 #include "io/image_io.hpp"
 #include "io/image_volume_io.hpp"
 #include "io/surface_io.hpp"
@@ -48,6 +50,7 @@ const char* kUsage =
     "  render [FILE]      render an image headless (the default verb without a display)\n"
     "  devices            list Vulkan devices and the features each mode needs\n"
     "  convert [IN] OUT   write a tetrahedral mesh (or the default dataset) as .vtu\n"
+    "  info FILE          cells by type, points, arrays and their ranges, bounds, GPU memory, conversion\n"
     "  help [VERB]        this text, or a verb's options\n"
     "\n"
     "With no FILE the embedded default dataset is shown. `prismoid VERB --help` for options.\n"
@@ -103,7 +106,8 @@ const char* kRenderHelp =
     "                       look segments up in an N^3 pre-integrated table (faster, approximate)\n"
     "  --background R,G,B   linear colour behind the volume (default 1,1,1)\n"
     "\n"
-    "FILE: a tetrahedral .vtu or legacy .vtk unstructured grid, or field:NAME[:N], an analytic field\n"
+    "FILE: an unstructured grid (.vtu, legacy .vtk, multiblock .vtm, parallel .pvtu; cells other than\n"
+    "tetrahedra are split into conforming tetrahedra, with a note), or field:NAME[:N], an analytic field\n"
     "in world coordinates bounded by the box [-1,1]^3 split into N^3 cubes of 6 tetrahedra (default\n"
     "N = 4: each cell holds a strongly non-linear field). NAME: marschner-lobb (Marschner & Lobb 1994,\n"
     "f_M = 6, alpha = 0.25, values in [0,1]), blobs (three Gaussian blobs), sphere (one Gaussian blob:\n"
@@ -286,7 +290,11 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     image.max_cells = 50'000'000;  // about 1.2 GB on the GPU: larger needs --subsample
     return io::read_image_volume(file, image);
   }
-  return io::read_tet_mesh(file, options);
+  io::MeshConversion conversion;
+  TetMesh mesh = io::read_tet_mesh(file, options, &conversion);
+  if (const std::string note = io::conversion_note(conversion); !note.empty())
+    std::cerr << "prismoid: note: " << file << ": " << note << "\n";
+  return mesh;
 }
 
 Camera camera_from(const ParsedArgs& a, const Bounds& bounds) {
@@ -729,10 +737,11 @@ const char* kConvertHelp =
     "                        [--tetgen-quality Q --tetgen-max-volume V --fill-holes]\n"
     "\n"
     "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
-    "input has one, the point array 'scalars'. IN is a .vtu/.vtk file, a field:NAME[:N] dataset, or\n"
-    "a closed surface (.vtp .stl .obj .ply .off) tetrahedralized by TetGen (see `render --help`);\n"
-    "without IN, the embedded default dataset is written (its point array 'scalars' holds the field\n"
-    "sampled at the points).\n";
+    "input has one, the point array 'scalars'. IN is a .vtu/.vtk/.vtm/.pvtu file (other cells are\n"
+    "split into tetrahedra, pieces merged: see `prismoid info IN`), an image volume (.vti .mhd .mha\n"
+    ".inr), a field:NAME[:N] dataset, or a closed surface (.vtp .stl .obj .ply .off) tetrahedralized\n"
+    "by TetGen (see `render --help`); without IN, the embedded default dataset is written (its point\n"
+    "array 'scalars' holds the field sampled at the points).\n";
 
 int cmd_convert(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "subsample"}, {"help", "fill-holes"});
@@ -745,6 +754,22 @@ int cmd_convert(const std::vector<std::string>& args) {
   if (mesh.point_scalars.empty() && mesh.linear_extinction()) mesh.point_scalars = mesh.point_extinction;
   io::write_tet_mesh_vtu(out, mesh);
   std::cout << "wrote " << out << " (" << mesh.tets.size() << " tetrahedra, " << mesh.points.size() << " points)\n";
+  return kOk;
+}
+
+const char* kInfoHelp =
+    "usage: prismoid info FILE\n"
+    "\n"
+    "Describes a mesh file (.vtu, .vtk, .vtm, .pvtu) without rendering: its cells by type, points,\n"
+    "point and cell arrays with their ranges (vectors by magnitude), bounds, and what reading it\n"
+    "produces: the tetrahedra that other cells split into, zero-volume and inverted tetrahedra,\n"
+    "and the GPU memory of the mesh buffers.\n";
+
+int cmd_info(const std::vector<std::string>& args) {
+  ParsedArgs a = parse(args, 1, {}, {"help"});
+  if (a.flags.count("help")) { std::cout << kInfoHelp; return kOk; }
+  if (a.files.size() != 1) throw InputError("info", "expects one FILE (see --help)");
+  std::cout << format_dataset_info(a.files.front(), io::describe_dataset(a.files.front()));
   return kOk;
 }
 
@@ -792,6 +817,7 @@ int dispatch(const std::vector<std::string>& args) {
     else if (args.size() > 1 && args[1] == "view") std::cout << kViewHelp;
     else if (args.size() > 1 && args[1] == "devices") std::cout << kDevicesHelp;
     else if (args.size() > 1 && args[1] == "convert") std::cout << kConvertHelp;
+    else if (args.size() > 1 && args[1] == "info") std::cout << kInfoHelp;
     else std::cout << kUsage;
     return kOk;
   }
@@ -799,12 +825,13 @@ int dispatch(const std::vector<std::string>& args) {
   if (verb == "render") return cmd_render(args);
   if (verb == "view") return cmd_view(args);
   if (verb == "convert") return cmd_convert(args);
+  if (verb == "info") return cmd_info(args);
   if (verb.rfind("--", 0) == 0) {  // options without a verb: the default verb
     std::vector<std::string> with_verb{display_available() ? "view" : "render"};
     with_verb.insert(with_verb.end(), args.begin(), args.end());
     return with_verb.front() == "view" ? cmd_view(with_verb) : cmd_render(with_verb);
   }
-  throw InputError(verb, "unknown verb (verbs: view, render, convert, devices, help)");
+  throw InputError(verb, "unknown verb (verbs: view, render, convert, info, devices, help)");
 }
 
 }  // namespace

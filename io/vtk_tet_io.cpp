@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <vector>
 
 #include <vtkCellData.h>
 #include <vtkCellTypes.h>
@@ -11,39 +12,19 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkUnstructuredGridReader.h>
 #include <vtkDoubleArray.h>
+#include <vtkGenericCell.h>
 #include <vtkPoints.h>
-#include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include "io/path_util.hpp"
+#include "io/vtk_grid.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_quality.hpp"
 
 namespace prismoid::io {
 
 namespace {
-
-
-vtkSmartPointer<vtkUnstructuredGrid> read_grid(const std::string& path) {
-  const std::string ext = detail::lower_extension(path);
-  if (ext == ".vtu") {
-    vtkNew<vtkXMLUnstructuredGridReader> reader;
-    if (!reader->CanReadFile(path.c_str())) throw InputError(path, "is not a VTK XML unstructured grid (.vtu) file");
-    reader->SetFileName(path.c_str());
-    reader->Update();
-    if (reader->GetErrorCode() != 0 || !reader->GetOutput()) throw InputError(path, "VTK could not read the unstructured grid (corrupt file?)");
-    return reader->GetOutput();
-  }
-  vtkNew<vtkUnstructuredGridReader> reader;
-  reader->SetFileName(path.c_str());
-  if (!reader->OpenVTKFile() || !reader->ReadHeader()) throw InputError(path, "is not a legacy VTK file");
-  reader->CloseVTKFile();
-  if (!reader->IsFileUnstructuredGrid()) throw InputError(path, "is a legacy VTK file but not an UNSTRUCTURED_GRID");
-  reader->Update();
-  if (reader->GetErrorCode() != 0 || !reader->GetOutput()) throw InputError(path, "VTK could not read the unstructured grid (corrupt file?)");
-  return reader->GetOutput();
-}
 
 std::string array_names(vtkFieldData* data) {
   std::string names;
@@ -62,24 +43,91 @@ double value_of(vtkDataArray* array, vtkIdType i) {
   return std::sqrt(sum);
 }
 
+// Counts the cells by type and refuses point indices out of range before any VTK filter
+// dereferences them.
+void survey_cells(vtkUnstructuredGrid* grid, const std::string& path, MeshConversion& report) {
+  const vtkIdType point_count = grid->GetNumberOfPoints();
+  vtkNew<vtkIdList> ids;
+  std::map<int, int> dimension_of_type;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+    const int type = grid->GetCellType(c);
+    ++report.cells_in[vtkCellTypes::GetClassNameFromTypeId(type)];
+    auto [dim, fresh] = dimension_of_type.try_emplace(type, 0);
+    if (fresh) {
+      vtkSmartPointer<vtkCell> cell;
+      cell.TakeReference(vtkGenericCell::InstantiateCell(type));
+      dim->second = cell ? cell->GetCellDimension() : 0;
+    }
+    if (dim->second < 3) ++report.dropped;
+    grid->GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      if (ids->GetId(k) < 0 || ids->GetId(k) >= point_count)
+        throw InputError(path, "cell " + std::to_string(c) + " uses point " + std::to_string(ids->GetId(k)) +
+                                   " but there are " + std::to_string(point_count) + " points (index out of range)");
+  }
+}
+
 }  // namespace
+
+bool MeshConversion::split() const {
+  for (const auto& [name, count] : cells_in)
+    if (name != "vtkTetra" && count > 0) return true;
+  return false;
+}
+
+std::string conversion_note(const MeshConversion& c) {
+  std::vector<std::string> parts;
+  if (c.pieces > 1)
+    parts.push_back("merged " + std::to_string(c.pieces) + " pieces (" + std::to_string(c.merged_points) + " shared points)");
+  if (c.split()) {
+    std::string in;
+    for (const auto& [name, count] : c.cells_in) in += std::string(in.empty() ? "" : ", ") + std::to_string(count) + " " + name;
+    parts.push_back("split " + in + " into " + std::to_string(c.tets_out) + " tetrahedra");
+  }
+  if (c.dropped > 0) parts.push_back("dropped " + std::to_string(c.dropped) + " cells without volume (2D/1D/vertex)");
+  if (c.zero_volume > 0) parts.push_back(std::to_string(c.zero_volume) + " zero-volume tetrahedra (kept; they contribute nothing)");
+  if (c.inverted > 0) parts.push_back(std::to_string(c.inverted) + " inverted tetrahedra (negative orientation; rendered as they are)");
+  std::string note;
+  for (const auto& p : parts) note += (note.empty() ? "" : "; ") + p;
+  return note;
+}
 
 bool is_tet_mesh_path(const std::string& path) {
   const std::string ext = detail::lower_extension(path);
-  return ext == ".vtu" || ext == ".vtk";
+  return ext == ".vtu" || ext == ".vtk" || ext == ".vtm" || ext == ".pvtu";
 }
 
-TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options) {
+TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options, MeshConversion* conversion) {
   if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
-  if (!is_tet_mesh_path(path)) throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (this build reads .vtu and .vtk)");
-  vtkObject::GlobalWarningDisplayOff();  // failures become InputErrors, not console noise
-  vtkSmartPointer<vtkUnstructuredGrid> grid = read_grid(path);
+  if (!is_tet_mesh_path(path))
+    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (this build reads .vtu, .vtk, .vtm and .pvtu)");
+  const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
+  return detail::tet_mesh_from_grid(detail::read_unstructured_grid(path), path, options, conversion);
+}
+
+namespace detail {
+
+TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, const TetReadOptions& options,
+                           MeshConversion* conversion) {
+  MeshConversion report;
+  report.pieces = source.pieces;
+  report.merged_points = source.merged_points;
+  vtkSmartPointer<vtkUnstructuredGrid> grid = source.grid;
+  if (grid->GetNumberOfCells() == 0) throw InputError(path, "has no cells (empty mesh)");
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {  // before any filter computes with them
+    double p[3];
+    grid->GetPoint(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw InputError(path, "point " + std::to_string(i) + " has a non-finite coordinate (NaN or Inf)");
+  }
+  survey_cells(grid, path, report);
+  if (report.split() || report.dropped > 0) grid = tetrahedralize(grid);
 
   TetMesh mesh;
   mesh.name = path;
   const vtkIdType point_count = grid->GetNumberOfPoints();
   const vtkIdType cell_count = grid->GetNumberOfCells();
-  if (cell_count == 0) throw InputError(path, "has no cells");
+  if (cell_count == 0) throw InputError(path, "has no 3D cells (" + conversion_note(report) + ")");
   mesh.points.resize(size_t(point_count));
   for (vtkIdType i = 0; i < point_count; ++i) {
     double p[3];
@@ -107,14 +155,10 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options) {
     }
   }
 
-  std::map<std::string, vtkIdType> other_cells;
   vtkNew<vtkIdList> ids;
+  mesh.tets.reserve(size_t(cell_count));
   for (vtkIdType c = 0; c < cell_count; ++c) {
-    const int type = grid->GetCellType(c);
-    if (type != VTK_TETRA) {
-      ++other_cells[vtkCellTypes::GetClassNameFromTypeId(type)];
-      continue;
-    }
+    if (grid->GetCellType(c) != VTK_TETRA) continue;  // unreachable after the filter; kept as a guard
     grid->GetCellPoints(c, ids);
     mesh.tets.push_back({uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)), uint32_t(ids->GetId(2)), uint32_t(ids->GetId(3))});
     double sigma = options.density_scale;
@@ -128,15 +172,16 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options) {
     }
     mesh.cell_extinction.push_back(sigma);
   }
-  if (!other_cells.empty()) {
-    std::string list;
-    for (const auto& [name, count] : other_cells) list += std::string(list.empty() ? "" : ", ") + std::to_string(count) + " " + name;
-    throw InputError(path, "has cells that are not tetrahedra (" + list +
-                               "); splitting them into tetrahedra arrives with the data layer");
-  }
   validate(mesh);
+  const TetQuality quality = tet_quality(mesh);
+  report.tets_out = mesh.tets.size();
+  report.zero_volume = quality.zero_volume;
+  report.inverted = quality.inverted;
+  if (conversion) *conversion = report;
   return mesh;
 }
+
+}  // namespace detail
 
 void write_tet_mesh_vtu(const std::string& path, const TetMesh& mesh) {
   vtkNew<vtkPoints> points;
@@ -161,6 +206,7 @@ void write_tet_mesh_vtu(const std::string& path, const TetMesh& mesh) {
   }
   // Written beside the target and renamed, so a failed write never leaves a partial file.
   const std::string tmp = path + ".partial";
+  const detail::QuietVtk quiet;  // a failed write is an InputError, not console noise
   vtkNew<vtkXMLUnstructuredGridWriter> writer;
   writer->SetFileName(tmp.c_str());
   writer->SetInputData(grid);

@@ -1,6 +1,9 @@
 #pragma once
-// Tetrahedral meshes from VTK files (.vtu XML and legacy .vtk unstructured grids), through
-// VTK's own readers. VTK types stay inside io/: callers get a plain TetMesh.
+// Tetrahedral meshes from VTK unstructured grids (.vtu, legacy .vtk, multiblock .vtm, parallel
+// .pvtu), through VTK's own readers and filters. VTK types stay inside io/: callers get a plain
+// TetMesh and, if they ask, a report of what reading did to the file's cells.
+#include <cstddef>
+#include <map>
 #include <string>
 
 #include "scene/tet_mesh.hpp"
@@ -21,10 +24,35 @@ struct TetReadOptions {
   double density_scale = 1.0;  // multiplies the array's values (Extinction role only)
 };
 
-// Throws InputError naming the file and the problem: missing or unreadable file, not a VTK
-// unstructured grid, cells that are not tetrahedra (conversion arrives with the data layer),
-// an unknown array (the message lists the ones there are), negative or non-finite values.
-TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options = {});
+// What reading did to the file's cells. 3D cells other than tetrahedra (hexahedra, voxels,
+// wedges, pyramids, pentagonal/hexagonal prisms, quadratic and higher-order cells) are split by
+// VTK's vtkDataSetTriangleFilter: an ordered triangulation keyed on global point ids, so
+// neighbouring cells split their shared faces the same way (conforming, no cracks; pieces of a
+// .vtm/.pvtu are merged first so that they share ids). Quadratic cells are split through all
+// their nodes (mid-edge nodes become tetrahedron corners): a curved cell becomes piecewise
+// linear. Polyhedra (VTK_POLYHEDRON) go through their own Triangulate(), which VTK does not
+// document as conforming. Cell arrays are copied to each cell's tetrahedra; points and point
+// arrays are kept. Cells wound as VTK defines them give positively oriented tetrahedra.
+struct MeshConversion {
+  std::map<std::string, size_t> cells_in;  // the file's cells by VTK class name, e.g. vtkHexahedron
+  size_t dropped = 0;        // of those, cells without volume (2D, 1D, vertices): not drawn
+  size_t tets_out = 0;
+  size_t pieces = 1;         // blocks (.vtm) or pieces (.pvtu) merged into one mesh
+  size_t merged_points = 0;  // points shared between pieces, stored once after merging
+  size_t zero_volume = 0;    // flat tetrahedra, kept: they contribute nothing
+  size_t inverted = 0;       // negative orientation, kept as they are: rendering ignores orientation
+  bool split() const;        // whether any cell was not a tetrahedron
+};
+
+// One line for the user, e.g. "split 8 vtkHexahedron into 40 tetrahedra; 2 inverted
+// tetrahedra (rendered as they are)"; empty when the file held only sound tetrahedra.
+std::string conversion_note(const MeshConversion& conversion);
+
+// Throws InputError naming the file and the problem: missing, unreadable, truncated or
+// corrupt file, not a VTK unstructured grid, a .vtm block that is not one, no 3D cells,
+// point indices out of range, an unknown array (the message lists the ones there are),
+// negative or non-finite values. `conversion`, when given, receives the report above.
+TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options = {}, MeshConversion* conversion = nullptr);
 
 // Writes the mesh as a .vtu with its extinction as the cell array `extinction` (and the
 // point scalars, if any, as the point array `scalars`). InputError when it cannot write.

@@ -93,7 +93,7 @@ TEST(Cli, DevicesListsAMeshShaderDevice) {
 }
 
 TEST(Cli, EveryVerbHasHelp) {
-  for (const char* verb : {"render", "view", "devices", "convert"}) {
+  for (const char* verb : {"render", "view", "devices", "convert", "info"}) {
     const CliRun r = run(std::string(verb) + " --help");
     EXPECT_EQ(r.code, 0) << verb;
     EXPECT_NE(r.out.find("usage: prismoid " + std::string(verb)), std::string::npos) << r.out;
@@ -313,9 +313,91 @@ TEST(Cli, ClosedSurfaceIsTetrahedralizedAndRendered) {
   EXPECT_EQ(filled.code, 0) << filled.err;
 }
 
+// Two unit cubes side by side as legacy hexahedra, with a cell scalar and a point vector.
+const char* kTwoHexahedra =
+    "# vtk DataFile Version 3.0\nhex\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 12 double\n"
+    "0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1 2 0 0 2 1 0 2 0 1 2 1 1\n"
+    "CELLS 2 18\n8 0 1 2 3 4 5 6 7\n8 1 8 9 2 5 10 11 6\nCELL_TYPES 2\n12\n12\n"
+    "CELL_DATA 2\nSCALARS rho double 1\nLOOKUP_TABLE default\n0.5 2\n"
+    "POINT_DATA 12\nVECTORS v double\n3 4 0 3 4 0 3 4 0 3 4 0 0 0 1 0 0 1 0 0 1 0 0 1 0 0 2 0 0 2 0 0 2 0 0 2\n";
+
+TEST(Cli, InfoDescribesTheFileAndWhatReadingItProduces) {
+  const fs::path file = work_dir() / "two_hex.vtk";
+  std::ofstream(file) << kTwoHexahedra;
+  const CliRun r = run("info " + file.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  io::MeshConversion conversion;
+  const TetMesh mesh = io::read_tet_mesh(file.string(), {}, &conversion);
+  for (const std::string& expected : {
+           std::string("cells: 2 (2 vtkHexahedron)"), std::string("points: 12"),
+           std::string("bounds: [0, 2] x [0, 1] x [0, 1]"),
+           std::string("rho: [0.5, 2]"),                           // the cell values as written
+           std::string("v: [1, 5] (magnitude of 3 components)"),  // |(3,4,0)| = 5, |(0,0,1)| = 1
+           "split 2 vtkHexahedron into " + std::to_string(mesh.tets.size()) + " tetrahedra",
+           std::string("volume 2\n"),  // two unit cubes
+           std::string("zero-volume tetrahedra: 0"), std::string("inverted tetrahedra: 0"),
+           // 24 B per tetrahedron and 16 B per point, from the upload in interval_shading.cpp
+           "GPU memory (mesh buffers): " + std::to_string(24 * mesh.tets.size() + 16 * 12) + " B"})
+    EXPECT_NE(r.out.find(expected), std::string::npos) << "missing '" << expected << "' in\n" << r.out;
+  EXPECT_EQ(run("info --help").code, 0);
+}
+
+TEST(Cli, RenderNotesTheSplitAndTheFlatAndInvertedCells) {
+  const fs::path hex = work_dir() / "note_hex.vtk";
+  std::ofstream(hex) << kTwoHexahedra;
+  const CliRun r = run("render " + hex.string() + " --output " + (work_dir() / "note.pfm").string() + " --mode reference --size 8x8");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: " + hex.string() + ": split 2 vtkHexahedron into"), std::string::npos) << r.err;
+  // A sound tetrahedron, the same inverted, and a flat one: all kept, two reported.
+  const fs::path quality = work_dir() / "quality.vtk";
+  std::ofstream(quality) << "# vtk DataFile Version 3.0\nq\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n"
+                            "0 0 0 1 0 0 0 1 0 0 0 1 1 1 0\nCELLS 3 15\n4 0 1 2 3\n4 1 0 2 3\n4 0 1 2 4\nCELL_TYPES 3\n10\n10\n10\n";
+  const CliRun q = run("render " + quality.string() + " --output " + (work_dir() / "q.pfm").string() + " --mode reference --size 8x8");
+  ASSERT_EQ(q.code, 0) << q.err;
+  EXPECT_NE(q.err.find("1 zero-volume tetrahedra (kept"), std::string::npos) << q.err;
+  EXPECT_NE(q.err.find("1 inverted tetrahedra"), std::string::npos) << q.err;
+  const CliRun i = run("info " + quality.string());
+  EXPECT_NE(i.out.find("zero-volume tetrahedra: 1"), std::string::npos) << i.out;
+  EXPECT_NE(i.out.find("inverted tetrahedra: 1"), std::string::npos) << i.out;
+}
+
+// Broken mesh files, written into the scratch folder; each name says what is wrong.
+void write_bad_meshes() {
+  const fs::path d = work_dir();
+  const std::string two = kTwoHexahedra;
+  std::ofstream(d / "legacy_content.vtu") << two;
+  std::ofstream(d / "header.vtk") << std::string(two).replace(two.find("UNSTRUCTURED_GRID"), 17, "UNSTRUCTURED_GRIM");
+  std::ofstream(d / "range.vtk") << std::string(two).replace(two.find("8 1 8 9"), 7, "8 1 8 90");
+  std::ofstream(d / "empty.vtk") << "# vtk DataFile Version 3.0\ne\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 0 double\nCELLS 0 0\nCELL_TYPES 0\n";
+  fs::create_directories(d / "folder.vtu");
+  TetMesh box = make_box_mesh(glm::dvec3(0), glm::dvec3(1), 1, [](const glm::dvec3&) { return 1.0; });
+  io::write_tet_mesh_vtu((d / "good.vtu").string(), box);
+  std::ofstream(d / "xml_content.vtk") << slurp(d / "good.vtu");
+  const std::string whole = slurp(d / "good.vtu");
+  std::ofstream(d / "truncated.vtu") << whole.substr(0, whole.size() / 2);
+  box.points[0].y = std::nan("");
+  io::write_tet_mesh_vtu((d / "nan.vtu").string(), box);
+  box.points[0].y = INFINITY;
+  io::write_tet_mesh_vtu((d / "inf.vtu").string(), box);
+}
+
 TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
+  write_bad_meshes();
+  const std::string d = work_dir().string() + "/";
   struct Case { std::string args, fragment; };
   const std::vector<Case> cases = {
+      {"info /no/such/file.vtu", "/no/such/file.vtu: file does not exist"},
+      {"info " + d + "folder.vtu", "folder.vtu: is not a regular file"},
+      {"info " + d + "legacy_content.vtu", "holds a legacy VTK file: its extension should be .vtk"},
+      {"info " + d + "xml_content.vtk", "holds a VTK XML UnstructuredGrid: its extension should be .vtu"},
+      {"info " + d + "truncated.vtu", "truncated.vtu: VTK could not read the file (truncated or corrupt?)"},
+      {"info " + d + "header.vtk", "not an UNSTRUCTURED_GRID"},
+      {"info " + d + "nan.vtu", "point 0 has a non-finite coordinate"},
+      {"render --output x.png " + d + "inf.vtu", "point 0 has a non-finite coordinate"},
+      {"info " + d + "range.vtk", "uses point 90 but there are 12 points (index out of range)"},
+      {"info " + d + "empty.vtk", "has no cells (empty mesh)"},
+      {"render --output x.png " + d + "good.vtu --array nope", "has no array 'nope' (cell arrays: extinction"},
+      {"info", "expects one FILE"},
       {"render --output x.png --size 0x5", "--size"},
       {"render --output x.tiff", "x.tiff"},
       {"render --output x.png --eye 1,2", "--eye"},

@@ -59,11 +59,16 @@ TEST(VtkTetIo, PointArrayGivesLinearExtinction) {
   std::filesystem::remove(path);
 }
 
-TEST(VtkTetIo, LegacyFileWithHexahedraIsRefusedWithTheCellTypes) {
+TEST(VtkTetIo, LegacyFileWithAHexahedronIsSplitIntoTetrahedra) {
   const std::string path = temp_path("hex.vtk");
   std::ofstream(path) << "# vtk DataFile Version 3.0\nhex\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 8 double\n"
                          "0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1\nCELLS 1 9\n8 0 1 2 3 4 5 6 7\nCELL_TYPES 1\n12\n";
-  expect_error(path, {}, "1 vtkHexahedron");
+  io::MeshConversion report;
+  const TetMesh mesh = io::read_tet_mesh(path, {}, &report);
+  EXPECT_EQ(report.cells_in.at("vtkHexahedron"), 1u);
+  EXPECT_EQ(report.tets_out, mesh.tets.size());
+  EXPECT_GE(mesh.tets.size(), 5u);  // a cube needs at least five tetrahedra
+  EXPECT_NE(io::conversion_note(report).find("split 1 vtkHexahedron into"), std::string::npos);
   std::filesystem::remove(path);
 }
 

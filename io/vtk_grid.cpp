@@ -1,0 +1,206 @@
+#include "io/vtk_grid.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <vtkAppendFilter.h>
+#include <vtkCommand.h>
+#include <vtkDataObjectTreeIterator.h>
+#include <vtkDataSetTriangleFilter.h>
+#include <vtkInformation.h>
+#include <vtkMultiBlockDataSet.h>
+#include <vtkLogger.h>
+#include <vtkNew.h>
+#include <vtkOutputWindow.h>
+#include <vtkUnstructuredGridReader.h>
+#include <vtkXMLMultiBlockDataReader.h>
+#include <vtkXMLPUnstructuredGridReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include "io/path_util.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::io::detail {
+
+namespace {
+
+// VTK reports read failures as error events, not return codes: this collects the first
+// message of an algorithm (and of the readers it runs for the pieces) so it can name the problem.
+class ErrorCatcher : public vtkCommand {
+ public:
+  static ErrorCatcher* New() { return new ErrorCatcher; }
+  void Execute(vtkObject*, unsigned long, void* data) override {
+    if (message.empty() && data) message = static_cast<const char*>(data);
+  }
+  std::string message;
+};
+
+// Messages from VTK objects without an observer: kept from the console while io reads.
+class SilentOutput : public vtkOutputWindow {
+ public:
+  static SilentOutput* New() { return new SilentOutput; }
+  void DisplayText(const char*) override {}
+};
+
+[[noreturn]] void fail_read(const std::string& path, const std::string& what, const ErrorCatcher& errors) {
+  // VTK's text reads "ERROR: In FILE, line N\nvtkClass (0x...): the problem"; the problem is what the user needs.
+  std::string detail = errors.message;
+  if (const auto cut = detail.find("): "); cut != std::string::npos) detail = detail.substr(cut + 3);
+  while (!detail.empty() && (detail.back() == '\n' || detail.back() == ' ')) detail.pop_back();
+  throw InputError(path, what + (detail.empty() ? "" : " (VTK: " + detail + ")"));
+}
+
+template <typename Reader>
+vtkSmartPointer<Reader> run_xml_reader(const std::string& path, const char* kind) {
+  auto reader = vtkSmartPointer<Reader>::New();
+  if (!reader->CanReadFile(path.c_str())) throw InputError(path, std::string("is not a VTK XML ") + kind + " file");
+  vtkNew<ErrorCatcher> errors;
+  reader->AddObserver(vtkCommand::ErrorEvent, errors);
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  if (reader->GetErrorCode() != 0 || !errors->message.empty() || !reader->GetOutputDataObject(0))
+    fail_read(path, "VTK could not read the file (truncated or corrupt?)", *errors);
+  return reader;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read_legacy(const std::string& path) {
+  vtkNew<vtkUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  if (!reader->OpenVTKFile() || !reader->ReadHeader()) throw InputError(path, "is not a legacy VTK file");
+  reader->CloseVTKFile();
+  if (!reader->IsFileUnstructuredGrid()) throw InputError(path, "is a legacy VTK file but not an UNSTRUCTURED_GRID");
+  vtkNew<ErrorCatcher> errors;
+  reader->AddObserver(vtkCommand::ErrorEvent, errors);
+  reader->Update();
+  if (reader->GetErrorCode() != 0 || !errors->message.empty() || !reader->GetOutput())
+    fail_read(path, "VTK could not read the unstructured grid (truncated or corrupt?)", *errors);
+  return reader->GetOutput();
+}
+
+// One grid of several with coincident points merged: neighbouring pieces then share point ids.
+GridSource merge(const std::string& path, const std::vector<vtkUnstructuredGrid*>& pieces) {
+  if (pieces.empty()) throw InputError(path, "has no unstructured grid blocks (empty mesh)");
+  vtkNew<vtkAppendFilter> append;
+  append->MergePointsOn();
+  vtkIdType points_in = 0;
+  for (vtkUnstructuredGrid* piece : pieces) {
+    append->AddInputData(piece);
+    points_in += piece->GetNumberOfPoints();
+  }
+  append->Update();
+  GridSource source;
+  source.grid = append->GetOutput();
+  source.pieces = pieces.size();
+  source.merged_points = size_t(points_in - source.grid->GetNumberOfPoints());
+  return source;
+}
+
+GridSource read_multiblock(const std::string& path) {
+  auto reader = run_xml_reader<vtkXMLMultiBlockDataReader>(path, "multiblock (.vtm)");
+  auto* blocks = vtkMultiBlockDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+  if (!blocks) throw InputError(path, "VTK did not read a multiblock data set");
+  std::vector<vtkUnstructuredGrid*> grids;
+  vtkSmartPointer<vtkDataObjectTreeIterator> it;
+  it.TakeReference(blocks->NewTreeIterator());
+  it->VisitOnlyLeavesOn();
+  size_t index = 0;
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem(), ++index) {
+    vtkDataObject* leaf = it->GetCurrentDataObject();
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(leaf);
+    if (!grid) {
+      const char* name = it->GetCurrentMetaData() && it->GetCurrentMetaData()->Has(vtkCompositeDataSet::NAME())
+                             ? it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME())
+                             : nullptr;
+      throw InputError(path, "block " + std::to_string(index) + (name ? " '" + std::string(name) + "'" : std::string()) +
+                                 " is a " + leaf->GetClassName() + ", not an unstructured grid (only unstructured blocks are read)");
+    }
+    grids.push_back(grid);
+  }
+  return merge(path, grids);
+}
+
+// The file's first bytes say what it is; a mismatch with the extension is named before a reader
+// fails on it with a vaguer message.
+void check_content(const std::string& path, const std::string& ext) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path, "is not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  std::string head(512, '\0');
+  if (!in || !in.read(head.data(), std::streamsize(head.size())).gcount())
+    throw InputError(path, "cannot be read (permissions?) or is empty");
+  head.resize(size_t(in.gcount()));
+  const bool legacy = head.rfind("# vtk DataFile", 0) == 0;
+  const auto xml_at = head.find("<VTKFile");
+  if (legacy && ext != ".vtk") throw InputError(path, "holds a legacy VTK file: its extension should be .vtk, not " + ext);
+  if (xml_at != std::string::npos) {
+    const auto type_at = head.find("type=\"", xml_at);
+    const std::string type = type_at == std::string::npos ? "" : head.substr(type_at + 6, head.find('"', type_at + 6) - type_at - 6);
+    const std::map<std::string, std::string> ext_of_type = {
+        {"UnstructuredGrid", ".vtu"}, {"vtkMultiBlockDataSet", ".vtm"}, {"PUnstructuredGrid", ".pvtu"}};
+    const auto expected = ext_of_type.find(type);
+    if (expected == ext_of_type.end())
+      throw InputError(path, "holds a VTK XML " + (type.empty() ? std::string("file") : type) +
+                                 ", not an unstructured grid (.vtu), multiblock (.vtm) or parallel unstructured grid (.pvtu)");
+    if (expected->second != ext)
+      throw InputError(path, "holds a VTK XML " + type + ": its extension should be " + expected->second + ", not " + ext);
+  }
+}
+
+}  // namespace
+
+QuietVtk::QuietVtk() : previous_(vtkOutputWindow::GetInstance()), display_(vtkObject::GetGlobalWarningDisplay()) {
+  // Error events reach observers only while the global display is on; the silent window keeps
+  // the console clean of the messages no observer takes.
+  vtkObject::GlobalWarningDisplayOn();
+  vtkNew<SilentOutput> silent;
+  vtkOutputWindow::SetInstance(silent);
+  // VTK 9 also logs each message to stderr through vtkLogger, before the output window sees
+  // it. With only the stderr sink (the app adds none) the cutoff is stderr's verbosity.
+  logger_verbosity_ = int(vtkLogger::GetCurrentVerbosityCutoff());
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
+}
+
+QuietVtk::~QuietVtk() {
+  vtkLogger::SetStderrVerbosity(vtkLogger::Verbosity(logger_verbosity_));
+  vtkOutputWindow::SetInstance(previous_);
+  vtkObject::SetGlobalWarningDisplay(display_);
+}
+
+GridSource read_unstructured_grid(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  check_content(path, ext);
+  if (ext == ".vtm") return read_multiblock(path);
+  if (ext == ".pvtu") {
+    // Read piece by piece: the reader's whole output is one grid, whose shared points
+    // vtkAppendFilter would pass through unmerged.
+    auto reader = run_xml_reader<vtkXMLPUnstructuredGridReader>(path, "parallel unstructured grid (.pvtu)");
+    const int count = reader->GetNumberOfPieces();
+    std::vector<vtkSmartPointer<vtkUnstructuredGrid>> pieces;
+    vtkNew<ErrorCatcher> errors;
+    reader->AddObserver(vtkCommand::ErrorEvent, errors);
+    reader->AddObserver(vtkCommand::WarningEvent, errors);  // an unreadable piece is only a warning
+    for (int i = 0; i < count; ++i) {
+      reader->UpdatePiece(i, count, 0);
+      if (!errors->message.empty()) fail_read(path, "VTK could not read piece " + std::to_string(i), *errors);
+      pieces.push_back(vtkSmartPointer<vtkUnstructuredGrid>::New());
+      pieces.back()->DeepCopy(reader->GetOutput());
+    }
+    std::vector<vtkUnstructuredGrid*> raw;
+    for (auto& p : pieces) raw.push_back(p);
+    return merge(path, raw);
+  }
+  GridSource source;
+  if (ext == ".vtu") source.grid = run_xml_reader<vtkXMLUnstructuredGridReader>(path, "unstructured grid (.vtu)")->GetOutput();
+  else source.grid = read_legacy(path);
+  return source;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid) {
+  vtkNew<vtkDataSetTriangleFilter> filter;
+  filter->TetrahedraOnlyOn();
+  filter->SetInputData(grid);
+  filter->Update();
+  return filter->GetOutput();
+}
+
+}  // namespace prismoid::io::detail

@@ -1,0 +1,55 @@
+#pragma once
+// Internal to io/: VTK unstructured grids from every file kind we read, and their
+// tetrahedralization. Only io/ sources include this header (it exposes VTK types).
+#include <cstddef>
+#include <string>
+
+#include <vtkOutputWindow.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+
+namespace prismoid::io::detail {
+
+// While alive, VTK's error events reach the readers' observers (so they become InputErrors)
+// and nothing VTK says reaches the console. VTK's output window is process-wide: io reads on
+// one thread at a time.
+class QuietVtk {
+ public:
+  QuietVtk();
+  ~QuietVtk();
+  QuietVtk(const QuietVtk&) = delete;
+  QuietVtk& operator=(const QuietVtk&) = delete;
+
+ private:
+  vtkSmartPointer<vtkOutputWindow> previous_;
+  int display_;
+  int logger_verbosity_ = 0;
+};
+
+struct GridSource {
+  vtkSmartPointer<vtkUnstructuredGrid> grid;
+  size_t pieces = 1;           // blocks of a .vtm or pieces of a .pvtu, merged into `grid`
+  size_t merged_points = 0;    // coincident points shared between pieces, merged into one
+};
+
+// .vtu, legacy .vtk, .vtm (every leaf must be an unstructured grid) or .pvtu. Pieces are
+// appended with coincident points merged, so cells of neighbouring pieces share point ids
+// (the ordered triangulation below is conforming only across faces with shared ids).
+// InputError naming the file and the problem.
+GridSource read_unstructured_grid(const std::string& path);
+
+// Every 3D cell as tetrahedra through vtkDataSetTriangleFilter; lower-dimensional cells are
+// dropped. Cell data is copied to each cell's tetrahedra, points and point data pass through.
+vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid);
+
+}  // namespace prismoid::io::detail
+
+#include "io/vtk_tet_io.hpp"
+
+namespace prismoid::io::detail {
+
+// The tetrahedral mesh of a grid read from `path` (split as MeshConversion describes).
+TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, const TetReadOptions& options,
+                           MeshConversion* conversion);
+
+}  // namespace prismoid::io::detail
