@@ -37,7 +37,7 @@ void summarize(vtkFieldData* data, bool per_point, std::vector<ArraySummary>& ou
 DatasetInfo describe_dataset(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
   if (!is_tet_mesh_path(path))
-    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (this build reads .vtu, .vtk, .vtm and .pvtu)");
+    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (info describes .vtu .vtk .vtm .pvtu meshes; render and convert also read images .vti .mhd .mha .inr and surfaces .vtp .stl .obj .ply .off)");
   const detail::QuietVtk quiet;
   const detail::GridSource source = detail::read_unstructured_grid(path);
   vtkUnstructuredGrid* grid = source.grid;

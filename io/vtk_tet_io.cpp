@@ -100,7 +100,7 @@ bool is_tet_mesh_path(const std::string& path) {
 TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options, MeshConversion* conversion) {
   if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
   if (!is_tet_mesh_path(path))
-    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (this build reads .vtu, .vtk, .vtm and .pvtu)");
+    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (Prismoid reads meshes .vtu .vtk .vtm .pvtu, images .vti .mhd .mha .inr, surfaces .vtp .stl .obj .ply .off)");
   const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
   return detail::tet_mesh_from_grid(detail::read_unstructured_grid(path), path, options, conversion);
 }
