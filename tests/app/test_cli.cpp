@@ -311,6 +311,12 @@ TEST(Cli, ClosedSurfaceIsTetrahedralizedAndRendered) {
   EXPECT_NE(bad.err.find("--fill-holes"), std::string::npos) << bad.err;
   const CliRun filled = run("render " + open.string() + " --fill-holes --size 8x8 --output " + (work_dir() / "o.png").string());
   EXPECT_EQ(filled.code, 0) << filled.err;
+  // info tells which is which before anything is tetrahedralized.
+  const CliRun info_closed = run("info " + off.string()), info_open = run("info " + open.string());
+  EXPECT_EQ(info_closed.code, 0) << info_closed.err;
+  EXPECT_NE(info_closed.out.find("triangles: 12, points: 8"), std::string::npos) << info_closed.out;
+  EXPECT_NE(info_closed.out.find("closed: yes"), std::string::npos) << info_closed.out;
+  EXPECT_NE(info_open.out.find("closed: no: 3 boundary"), std::string::npos) << info_open.out;  // one triangle gone
 }
 
 // Two unit cubes side by side as legacy hexahedra, with a cell scalar and a point vector.
