@@ -265,17 +265,21 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
   const std::string& file = a.files.front();
   if (io::is_surface_path(file)) {  // a closed surface, filled with tetrahedra by TetGen
     if (a.has("array")) throw InputError("--array", file + " is a surface: its tetrahedra carry no arrays");
-    SurfaceMesh surface = io::read_surface(file);
-    if (a.flags.count("fill-holes")) surface = io::fill_holes(surface);
-    io::TetgenOptions tetgen;
-    if (a.has("tetgen-quality")) tetgen.radius_edge_ratio = parse_double("tetgen-quality", a.values.at("tetgen-quality"));
-    if (a.has("tetgen-max-volume")) tetgen.max_volume = parse_double("tetgen-max-volume", a.values.at("tetgen-max-volume"));
+    io::SurfaceToTets convert;
+    convert.fill_holes = a.flags.count("fill-holes") > 0;
+    if (a.has("tetgen-quality")) convert.tetgen.radius_edge_ratio = parse_double("tetgen-quality", a.values.at("tetgen-quality"));
+    if (a.has("tetgen-max-volume")) convert.tetgen.max_volume = parse_double("tetgen-max-volume", a.values.at("tetgen-max-volume"));
     const auto start = std::chrono::steady_clock::now();
-    TetMesh mesh = io::tetrahedralize(surface, tetgen);
+    io::SurfaceTets tets = io::surface_to_tets(file, convert);
+    TetMesh mesh = std::move(tets.mesh);
     for (double& s : mesh.cell_extinction) s *= options.density_scale;
-    std::cerr << "prismoid: " << file << ": " << surface.triangles.size() << " triangles -> " << mesh.tets.size()
-              << " tetrahedra by TetGen in "
-              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (tets.from_cache)
+      std::cerr << "prismoid: " << file << ": " << mesh.tets.size() << " tetrahedra from the cache (" << tets.cache_file << ") in "
+                << seconds << " s\n";
+    else
+      std::cerr << "prismoid: " << file << ": " << tets.triangles << " triangles -> " << mesh.tets.size()
+                << " tetrahedra by TetGen in " << seconds << " s\n";
     return mesh;
   }
   if (io::is_image_volume_path(file)) {  // voxels: each cell between 8 voxel centres becomes 6 tetrahedra

@@ -11,6 +11,8 @@
 #include <array>
 #include <cstdint>
 #include <iostream>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include <sys/types.h>
@@ -36,6 +38,7 @@
 #include <tetgen.h>
 
 #include "io/path_util.hpp"
+#include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::io {
@@ -367,6 +370,68 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options)
   mesh.cell_extinction.assign(mesh.tets.size(), 1.0);
   if (mesh.tets.empty()) throw InputError(surface.name, "TetGen produced no tetrahedra");
   return mesh;
+}
+
+namespace {
+
+// FNV-1a, 64 bits: a content key, not a security measure.
+uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string default_cache_dir() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/prismoid";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/prismoid";
+  return "";
+}
+
+}  // namespace
+
+SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& options) {
+  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot be read");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  std::ostringstream key;
+  key << "q" << options.tetgen.radius_edge_ratio << " a" << options.tetgen.max_volume << " fill" << options.fill_holes
+      << " v1";  // bump when the conversion changes
+  const uint64_t hash = fnv1a(key.str(), fnv1a(bytes.str()));
+  SurfaceTets result;
+  const std::string dir = options.cache_dir.empty() ? default_cache_dir() : options.cache_dir;
+  if (!dir.empty()) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%016llx.vtu", static_cast<unsigned long long>(hash));
+    result.cache_file = dir + "/" + name;
+  }
+  if (!result.cache_file.empty() && std::filesystem::exists(result.cache_file)) {
+    try {
+      result.mesh = read_tet_mesh(result.cache_file);
+      result.mesh.name = path;
+      result.from_cache = true;
+      return result;
+    } catch (const InputError&) {
+      // A damaged cache entry: make it again.
+    }
+  }
+  SurfaceMesh surface = read_surface(path);
+  if (options.fill_holes) surface = fill_holes(surface);
+  result.triangles = surface.triangles.size();
+  result.mesh = tetrahedralize(surface, options.tetgen);
+  if (!result.cache_file.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    try {
+      if (!ec) write_tet_mesh_vtu(result.cache_file, result.mesh);
+    } catch (const InputError&) {
+      // An unwritable cache costs only the next load's time.
+    }
+  }
+  return result;
 }
 
 }  // namespace prismoid::io

@@ -37,4 +37,21 @@ struct TetgenOptions {
 // --fill-holes exists) and for what TetGen rejects (self-intersections, tiny features).
 TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options);
 
+// A surface file filled with tetrahedra, through a cache: the result is stored as .vtu under
+// `cache_dir` (default $XDG_CACHE_HOME/prismoid, else ~/.cache/prismoid) keyed by a hash of the
+// file's bytes and the options, so reopening the same file with the same options skips TetGen.
+// A cache that cannot be written is skipped, not an error.
+struct SurfaceToTets {
+  TetgenOptions tetgen;
+  bool fill_holes = false;
+  std::string cache_dir;  // empty: the default above
+};
+struct SurfaceTets {
+  TetMesh mesh;
+  size_t triangles = 0;     // of the surface (0 when it came from the cache)
+  bool from_cache = false;
+  std::string cache_file;   // where the result is (or would have been) stored
+};
+SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& options);
+
 }  // namespace prismoid::io

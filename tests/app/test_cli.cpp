@@ -281,6 +281,7 @@ TEST(Cli, ParaViewColormapFileDrivesTheTransferFunction) {
 // A closed surface (OFF) filled with tetrahedra by TetGen renders as the enclosed medium: the
 // optical depth through a cube of side 2 with sigma 1 is the chord, whatever the cells.
 TEST(Cli, ClosedSurfaceIsTetrahedralizedAndRendered) {
+  ::setenv("XDG_CACHE_HOME", (work_dir() / "cache").c_str(), 1);  // a fresh TetGen cache
   const fs::path off = work_dir() / "cube.off";
   std::ofstream(off) << "OFF\n8 12 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
                         "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
@@ -299,6 +300,13 @@ TEST(Cli, ClosedSurfaceIsTetrahedralizedAndRendered) {
   c.target = {1, 1, 1};
   c.near_distance = fit_camera(bounds_of(mesh)).near_distance;
   expect_close_to_reference(img, reference::optical_depth_image(mesh, c, 32, 24));
+
+  // Reopened with the same options: TetGen's result comes from the cache, the same image.
+  const CliRun again = run("render " + off.string() + " --tetgen-max-volume 0.05 --quantity optical-depth --size 32x24 "
+                           "--eye 4,3,5 --target 1,1,1 --output " + (work_dir() / "cube2.pfm").string());
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.err.find("from the cache"), std::string::npos) << again.err;
+  EXPECT_EQ(io::read_pfm((work_dir() / "cube2.pfm").string()).pixels, img.pixels);
 
   // The same cube without its last face: named as open, with the way out; then filled.
   std::string text = slurp(off);

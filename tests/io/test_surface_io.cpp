@@ -138,6 +138,25 @@ TEST(SurfaceIo, SelfIntersectingSurfaceIsRejectedWithTetGensReason) {
   }
 }
 
+TEST(SurfaceIo, TetrahedraAreCachedByContentAndOptions) {
+  const fs::path path = scratch("cached.off"), cache = scratch("cache");
+  std::ofstream(path) << cube_off();
+  SurfaceToTets options;
+  options.cache_dir = cache.string();
+  options.tetgen.max_volume = 0.02;
+  const SurfaceTets first = surface_to_tets(path.string(), options);
+  EXPECT_FALSE(first.from_cache);
+  EXPECT_TRUE(fs::exists(first.cache_file));
+  const SurfaceTets second = surface_to_tets(path.string(), options);
+  EXPECT_TRUE(second.from_cache);
+  EXPECT_EQ(second.mesh.tets, first.mesh.tets);
+  EXPECT_EQ(second.mesh.points, first.mesh.points);  // .vtu stores doubles: exact
+  options.tetgen.max_volume = 0.05;  // other options: another entry
+  EXPECT_FALSE(surface_to_tets(path.string(), options).from_cache);
+  std::ofstream(path) << cube_off(0, 2.0);  // other content: another entry
+  EXPECT_FALSE(surface_to_tets(path.string(), options).from_cache);
+}
+
 TEST(SurfaceIo, BadFilesNameTheFileAndTheProblem) {
   struct Case { std::string name, text, fragment; };
   const std::vector<Case> cases = {
