@@ -91,6 +91,7 @@ const char* kRenderHelp =
     "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
     "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
     "                       linear in each cell; default sigma = 1 (the default dataset: its density)\n"
+    "  --component C        of a vector --array: 0, 1, 2... or x, y, z (default: magnitude)\n"
     "  --density-scale S    multiplies the extinction; for color, the extinction at opacity 1 (default 1)\n"
     "\n"
     "  interval-march only:\n"
@@ -233,6 +234,12 @@ std::optional<volume::AnalyticField> field_of(const ParsedArgs& a) {
 TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
   io::TetReadOptions options;
   if (a.has("array")) options.array = a.values.at("array");
+  if (a.has("component")) {
+    const std::string& c = a.values.at("component");
+    if (!a.has("array")) throw InputError("--component", "picks a component of the --array NAME");
+    options.component = c == "x" || c == "X" ? 0 : c == "y" || c == "Y" ? 1 : c == "z" || c == "Z" ? 2
+                        : c == "magnitude" ? -1 : int(parse_uint("component", c));
+  }
   if (scalar_field) options.role = io::ArrayRole::Scalars;
   if (a.has("density-scale")) {
     options.density_scale = parse_double("density-scale", a.values.at("density-scale"));
@@ -282,6 +289,8 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
                 << " tetrahedra by TetGen in " << seconds << " s\n";
     return mesh;
   }
+  if (a.has("component") && (io::is_image_volume_path(file) || io::is_surface_path(file)))
+    throw InputError("--component", "applies to the arrays of .vtu .vtk .vtm .pvtu meshes");
   if (io::is_image_volume_path(file)) {  // voxels: each cell between 8 voxel centres becomes 6 tetrahedra
     io::ImageReadOptions image;
     image.array = options.array;
@@ -531,7 +540,7 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 // The options render and view share: the data, what to show and how.
 const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
                                                  "array", "density-scale", "tetlet-size", "march-step", "isovalue",
-                                                 "tetgen-quality", "tetgen-max-volume", "subsample"};
+                                                 "tetgen-quality", "tetgen-max-volume", "subsample", "component"};
 
 struct VolumeChoice {
   TetMesh mesh;

@@ -35,9 +35,11 @@ std::string array_names(vtkFieldData* data) {
   return names.empty() ? "none" : names;
 }
 
-double value_of(vtkDataArray* array, vtkIdType i) {
+// One value per tuple: the chosen component, or vectors by magnitude (component < 0).
+double value_of(vtkDataArray* array, vtkIdType i, int component = -1) {
   const int components = array->GetNumberOfComponents();
   if (components == 1) return array->GetComponent(i, 0);
+  if (component >= 0) return array->GetComponent(i, component);
   double sum = 0.0;  // vectors by magnitude
   for (int c = 0; c < components; ++c) sum += array->GetComponent(i, c) * array->GetComponent(i, c);
   return std::sqrt(sum);
@@ -144,11 +146,15 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
       throw InputError(path, "has no array '" + options.array + "' (cell arrays: " + array_names(grid->GetCellData()) +
                                  "; point arrays: " + array_names(grid->GetPointData()) + ")");
   }
+  if (vtkDataArray* chosen = array ? array : point_array; chosen && options.component >= chosen->GetNumberOfComponents() &&
+                                                          chosen->GetNumberOfComponents() > 1)
+    throw InputError(path, "array '" + options.array + "' has " + std::to_string(chosen->GetNumberOfComponents()) +
+                               " components; --component " + std::to_string(options.component) + " does not exist");
   // The raw values are the scalar field; as extinction they are scaled.
   const bool extinction = options.role == ArrayRole::Extinction;
   if (point_array) {
     mesh.point_scalars.resize(mesh.points.size());
-    for (vtkIdType i = 0; i < point_count; ++i) mesh.point_scalars[size_t(i)] = value_of(point_array, i);
+    for (vtkIdType i = 0; i < point_count; ++i) mesh.point_scalars[size_t(i)] = value_of(point_array, i, options.component);
     if (extinction) {
       mesh.point_extinction.resize(mesh.points.size());
       for (size_t i = 0; i < mesh.points.size(); ++i) mesh.point_extinction[i] = mesh.point_scalars[i] * options.density_scale;
@@ -163,7 +169,7 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
     mesh.tets.push_back({uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)), uint32_t(ids->GetId(2)), uint32_t(ids->GetId(3))});
     double sigma = options.density_scale;
     if (array) {
-      mesh.cell_scalars.push_back(value_of(array, c));
+      mesh.cell_scalars.push_back(value_of(array, c, options.component));
       if (extinction) sigma = mesh.cell_scalars.back() * options.density_scale;
     }
     if (point_array && extinction) {  // the cell's mean, for statistics; rendering interpolates the points

@@ -20,6 +20,7 @@ struct TetReadOptions {
   // The array to use (vectors by magnitude): a cell array is constant per cell, a point array
   // linear in each cell. Empty: sigma = density_scale per cell, and no scalar field.
   std::string array;
+  int component = -1;  // of a vector array; -1: its magnitude
   ArrayRole role = ArrayRole::Extinction;
   double density_scale = 1.0;  // multiplies the array's values (Extinction role only)
 };

@@ -335,6 +335,29 @@ const char* kTwoHexahedra =
     "CELL_DATA 2\nSCALARS rho double 1\nLOOKUP_TABLE default\n0.5 2\n"
     "POINT_DATA 12\nVECTORS v double\n3 4 0 3 4 0 3 4 0 3 4 0 0 0 1 0 0 1 0 0 1 0 0 1 0 0 2 0 0 2 0 0 2 0 0 2\n";
 
+// A vector array drives the field by magnitude, or by the component asked for: the point
+// vector v is (3,4,0) on the left face, (0,0,1) in the middle, (0,0,2) on the right.
+TEST(Cli, VectorArraysByMagnitudeOrComponent) {
+  const fs::path file = work_dir() / "vectors.vtk";
+  std::ofstream(file) << kTwoHexahedra;
+  const fs::path pfm = work_dir() / "v.pfm";
+  auto total = [&](const std::string& extra) {
+    const CliRun r = run("render " + file.string() + " --array v " + extra + " --quantity optical-depth --size 24x16 --eye 1,0.5,6 "
+                         "--target 1,0.5,0.5 --output " + pfm.string());
+    EXPECT_EQ(r.code, 0) << r.err;
+    double sum = 0.0;
+    for (float v : io::read_pfm(pfm.string()).pixels) sum += double(v);
+    return sum;
+  };
+  const double magnitude = total(""), x = total("--component x"), y = total("--component 1");
+  EXPECT_GT(magnitude, 0.0);
+  EXPECT_GT(x, 0.0);
+  EXPECT_NEAR(y / x, 4.0 / 3.0, 1e-4);  // linear in the values: components 4 and 3 where non-zero
+  const CliRun bad = run("render " + file.string() + " --array v --component 5 --size 8x8 --output " + pfm.string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("has 3 components"), std::string::npos) << bad.err;
+}
+
 TEST(Cli, InfoDescribesTheFileAndWhatReadingItProduces) {
   const fs::path file = work_dir() / "two_hex.vtk";
   std::ofstream(file) << kTwoHexahedra;
