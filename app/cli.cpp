@@ -122,6 +122,8 @@ const char* kRenderHelp =
     "or an image volume (.vti .mhd .mha, .inr/.inr.gz as in CGAL's data): each cell between 8 voxel\n"
     "centres becomes 6 tetrahedra, voxel values are point values (--array picks the .vti/.mhd array);\n"
     "  --subsample K            keep 1 voxel in K per axis (images over 50 million cells need it)\n"
+    "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
+    "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"
     "With no FILE the embedded default dataset is rendered.\n";
 
 const char* kViewHelp =
@@ -270,6 +272,15 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     return volume::make_field_mesh(*field, n, options.density_scale);
   }
   const std::string& file = a.files.front();
+  if (file.rfind("ball", 0) == 0 && (file.size() == 4 || file[4] == ':')) {  // ball[:S]: the closed-form test volume
+    uint32_t subdivisions = 3;
+    if (file.size() > 4) {
+      subdivisions = parse_uint("ball", file.substr(5));
+      if (subdivisions > 7) throw InputError(file, "subdivisions go from 0 (an icosahedron, 20 cells) to 7 (327,680 cells)");
+    }
+    if (a.has("array")) throw InputError("--array", "the ball has no arrays to choose from");
+    return make_ball_mesh(glm::dvec3(0.0), 1.0, subdivisions, options.density_scale);
+  }
   if (io::is_surface_path(file)) {  // a closed surface, filled with tetrahedra by TetGen
     if (a.has("array")) throw InputError("--array", file + " is a surface: its tetrahedra carry no arrays");
     io::SurfaceToTets convert;

@@ -358,6 +358,21 @@ TEST(Cli, VectorArraysByMagnitudeOrComponent) {
   EXPECT_NE(bad.err.find("has 3 components"), std::string::npos) << bad.err;
 }
 
+// ball[:S]: the constant-extinction ball, whose optical depth at the centre pixel of a view
+// through its centre is sigma times the chord across the polyhedron: at most the vertices'
+// diameter 2, and at least 2 cos(largest edge angle): every face of the 3-times subdivided
+// icosahedron lies beyond radius cos(8 degrees) > 0.99, so 0.98 holds with room.
+TEST(Cli, BallDatasetHasTheClosedFormChord) {
+  const fs::path pfm = work_dir() / "ball.pfm";
+  const CliRun r = run("render ball:3 --density-scale 0.5 --quantity optical-depth --size 33x33 --eye 0,0,5 --target 0,0,0 "
+                       "--output " + pfm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("1280 cells"), std::string::npos) << r.out;
+  const float centre = io::read_pfm(pfm.string()).at(16, 16);
+  EXPECT_LE(centre, 0.5f * 2.0f * (1.0f + 1e-5f));
+  EXPECT_GE(centre, 0.5f * 2.0f * 0.98f);
+}
+
 TEST(Cli, InfoDescribesTheFileAndWhatReadingItProduces) {
   const fs::path file = work_dir() / "two_hex.vtk";
   std::ofstream(file) << kTwoHexahedra;
@@ -471,6 +486,7 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render field:sphere --output x.png --quantity isosurface", "--quantity isosurface"},
       {"render --output x.png --mode interval-march", "--mode interval-march"},
       {"render field:sphere:0 --output x.png", "field:sphere:0"},
+      {"render ball:9 --output x.png", "ball:9"},
   };
   for (const auto& c : cases) {
     const CliRun r = run(c.args);
