@@ -62,7 +62,8 @@ ensure_tools() {
 # bunny00.off and armadillo.off from libcgal-demo's data.tar.gz, downloaded once.
 fetch_meshes() {
   local meshes="$cache/meshes"
-  if [ -f "$meshes/bunny00.off" ] && [ -f "$meshes/armadillo.off" ] && [ -f "$out_dir/skull_2.9.inr" ]; then return; fi
+  if [ -f "$meshes/bunny00.off" ] && [ -f "$meshes/armadillo.off" ] && [ -f "$meshes/elephant.off" ] &&
+     [ -f "$out_dir/skull_2.9.inr" ]; then return; fi
   mkdir -p "$cache/deb" "$meshes"
   step "downloading libcgal-demo (not installed: unpacked into $cache)"
   # apt-get download writes into the current folder; as root it warns that the _apt user cannot
@@ -77,9 +78,10 @@ fetch_meshes() {
   local data
   data="$(find "$cache/unpacked" -name data.tar.gz | head -n1)"
   [ -n "$data" ] || fail "no data.tar.gz in $deb"
-  tar -xzf "$data" -C "$cache/unpacked" data/meshes/bunny00.off data/meshes/armadillo.off ||
-    fail "$data has no data/meshes/bunny00.off or armadillo.off"
-  mv "$cache/unpacked/data/meshes/bunny00.off" "$cache/unpacked/data/meshes/armadillo.off" "$meshes/"
+  tar -xzf "$data" -C "$cache/unpacked" data/meshes/bunny00.off data/meshes/armadillo.off data/meshes/elephant.off ||
+    fail "$data has no data/meshes/bunny00.off, armadillo.off or elephant.off"
+  mv "$cache/unpacked/data/meshes/bunny00.off" "$cache/unpacked/data/meshes/armadillo.off" \
+     "$cache/unpacked/data/meshes/elephant.off" "$meshes/"
   # The CT skull opens as it is (an INRIMAGE volume, 64^3 float voxels: 1.5 M tetrahedra).
   mkdir -p "$out_dir"
   tar -xzf "$data" -C "$cache/unpacked" data/images/skull_2.9.inr || fail "$data has no data/images/skull_2.9.inr"
@@ -135,6 +137,18 @@ meshprep info "$bunny_surface"
 
 tetrahedralize bunny "$bunny_surface" "$bunny_switches" "$expected_bunny"
 tetrahedralize armadillo "$cache/meshes/armadillo.off" "$armadillo_switches" "$expected_armadillo"
+# The elephant through Prismoid's own surface path (the TetGen library, in-process checks), when
+# a prismoid build is at hand: 5,558 triangles -> about 153,000 tetrahedra with -q1.2.
+prismoid_exe="${PRISMOID:-$repo/build/app/prismoid}"
+if [ -x "$prismoid_exe" ]; then
+  if [ ! -f "$out_dir/elephant.vtu" ]; then
+    step "tetrahedralizing elephant.off with prismoid convert (TetGen -pq1.2)"
+    XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" "$prismoid_exe" convert "$cache/meshes/elephant.off" "$out_dir/elephant.vtu" \
+      --tetgen-quality 1.2 || fail "prismoid convert elephant.off failed"
+  fi
+else
+  echo "   (no prismoid build at $prismoid_exe: elephant.vtu skipped; scripts/build.sh makes one)"
+fi
 if [ "$pack" -eq 1 ]; then
   mkdir -p "$out_dir/packed"
   for name in bunny armadillo; do
