@@ -18,6 +18,7 @@
 #include <glm/vector_relational.hpp>
 
 #include "app/dataset_report.hpp"
+#include "app/terminal_progress.hpp"
 #include "app/viewer.hpp"
 #include "io/dataset_info.hpp"
 #include "io/image_io.hpp"
@@ -54,7 +55,8 @@ const char* kUsage =
     "  help [VERB]        this text, or a verb's options\n"
     "\n"
     "With no FILE the embedded default dataset is shown. `prismoid VERB --help` for options.\n"
-    "Exit codes: 0 ok, 2 bad input, 3 no suitable Vulkan device, 4 validation messages (--validate), 1 other failure.\n";
+    "Exit codes: 0 ok, 2 bad input, 3 no suitable Vulkan device, 4 validation messages (--validate), 130 cancelled\n"
+    "(Ctrl-C during a long load), 1 other failure.\n";
 
 const char* kRenderHelp =
     "usage: prismoid render [FILE] --output OUT.png|OUT.pfm [options]\n"
@@ -288,6 +290,8 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     if (a.has("tetgen-quality")) convert.tetgen.radius_edge_ratio = parse_double("tetgen-quality", a.values.at("tetgen-quality"));
     if (a.has("tetgen-max-volume")) convert.tetgen.max_volume = parse_double("tetgen-max-volume", a.values.at("tetgen-max-volume"));
     const auto start = std::chrono::steady_clock::now();
+    TerminalProgress progress(file);
+    convert.progress = progress.callback();
     io::SurfaceTets tets = io::surface_to_tets(file, convert);
     TetMesh mesh = std::move(tets.mesh);
     for (double& s : mesh.cell_extinction) s *= options.density_scale;
@@ -312,6 +316,8 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
       if (image.subsample == 0) throw InputError("--subsample", "must be at least 1");
     }
     image.max_cells = 50'000'000;  // about 1.2 GB on the GPU: larger needs --subsample
+    TerminalProgress progress(file);
+    image.progress = progress.callback();
     return io::read_image_volume(file, image);
   }
   io::MeshConversion conversion;
@@ -906,6 +912,9 @@ int run_cli(const std::vector<std::string>& args) {
   } catch (const InputError& e) {
     std::cerr << "prismoid: " << e.what() << "\n";
     return kBadInput;
+  } catch (const io::Cancelled& e) {
+    std::cerr << "prismoid: " << e.what() << "\n";
+    return kCancelled;
   } catch (const vk::NoSuitableDevice& e) {
     std::cerr << "prismoid: no suitable Vulkan device: " << e.what() << "\n";
     return kNoDevice;

@@ -7,7 +7,7 @@
 
 namespace prismoid::app {
 
-enum ExitCode : int { kOk = 0, kFailure = 1, kBadInput = 2, kNoDevice = 3, kValidationMessages = 4 };
+enum ExitCode : int { kOk = 0, kFailure = 1, kBadInput = 2, kNoDevice = 3, kValidationMessages = 4, kCancelled = 130 };
 
 int run_cli(const std::vector<std::string>& args);
 

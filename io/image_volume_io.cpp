@@ -208,9 +208,11 @@ TetMesh tetrahedralize(const VoxelGrid& grid, const std::string& name, const Ima
   TetMesh mesh;
   mesh.name = name;
   mesh.points.reserve(nx * ny * nz);
-  for (uint64_t k = 0; k < nz; ++k)
+  for (uint64_t k = 0; k < nz; ++k) {
+    report(options.progress, 0.2 * double(k) / double(nz), "placing voxel points", name);
     for (uint64_t j = 0; j < ny; ++j)
       for (uint64_t i = 0; i < nx; ++i) mesh.points.push_back(grid.origin + glm::dvec3(double(i), double(j), double(k)) * grid.spacing);
+  }
 
   // Kuhn split: the six monotone paths from corner 000 to corner 111 along the cell's edges. Every
   // cell is a translate of cell (0,0,0), so its six tetrahedra, as index offsets from the cell's
@@ -228,12 +230,15 @@ TetMesh tetrahedralize(const VoxelGrid& grid, const std::string& name, const Ima
     if (signed_volume(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]]) < 0.0) std::swap(offsets[p][2], offsets[p][3]);
   }
   mesh.tets.reserve(6 * (nx - 1) * (ny - 1) * (nz - 1));
-  for (uint64_t k = 0; k + 1 < nz; ++k)
+  for (uint64_t k = 0; k + 1 < nz; ++k) {
+    report(options.progress, 0.2 + 0.8 * double(k) / double(nz - 1), "splitting voxel cells into tetrahedra", name);
     for (uint64_t j = 0; j + 1 < ny; ++j)
       for (uint64_t i = 0; i + 1 < nx; ++i) {
         const uint32_t first = point_index(i, j, k);
         for (const auto& o : offsets) mesh.tets.push_back({first + o[0], first + o[1], first + o[2], first + o[3]});
       }
+  }
+  report(options.progress, 1.0, "splitting voxel cells into tetrahedra", name);
 
   mesh.point_scalars = grid.values;
   if (options.role == ArrayRole::Extinction) {

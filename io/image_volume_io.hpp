@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 
+#include "io/progress.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -22,6 +23,7 @@ struct ImageReadOptions {
   uint32_t subsample = 1;
   // The dataset-size guard: more tetrahedra than this is refused before the voxels are read.
   uint64_t max_cells = 200'000'000;
+  Progress progress;  // called per slice while converting; returning false cancels (Cancelled)
 };
 
 // Whether `path` has an extension read_image_volume understands (.vti, .mhd, .mha, .inr, .inr.gz).

@@ -17,6 +17,8 @@
 
 #include <sys/types.h>
 #include <sys/wait.h>
+#include <poll.h>
+#include <csignal>
 #include <unistd.h>
 
 #include <vtkAlgorithm.h>
@@ -257,7 +259,7 @@ void fill_tetgen_input(const SurfaceMesh& surface, tetgenio& in) {
 
 // TetGen 1.5.0 frees its memory twice when it stops on bad input (a crash in
 // tetgenmesh::freememory), so it runs in a child process: a crash there is an error here.
-TetgenResult run_tetgen_isolated(const SurfaceMesh& surface, const std::string& switches) {
+TetgenResult run_tetgen_isolated(const SurfaceMesh& surface, const std::string& switches, const Progress& progress) {
   int fds[2];
   if (::pipe(fds) != 0) throw std::runtime_error("pipe() failed for TetGen");
   std::cout.flush();
@@ -269,6 +271,21 @@ TetgenResult run_tetgen_isolated(const SurfaceMesh& surface, const std::string& 
     tetgen_child(surface, switches, fds[1]);
   }
   ::close(fds[1]);
+  // The child writes only when done: until then, tell the caller it is working (no fraction is
+  // known), and stop the child if the caller cancels.
+  for (;;) {
+    try {
+      report(progress, -1.0, "TetGen", surface.name);
+    } catch (const Cancelled&) {
+      ::kill(child, SIGKILL);
+      ::close(fds[0]);
+      int ignored = 0;
+      ::waitpid(child, &ignored, 0);
+      throw;
+    }
+    pollfd ready{fds[0], POLLIN, 0};
+    if (::poll(&ready, 1, 100) != 0) break;  // data, end of file, or an error: read below
+  }
   TetgenResult r;
   int64_t header[4] = {0, 0, 0, 0};
   bool complete = read_all(fds[0], header, sizeof header);
@@ -330,7 +347,7 @@ SurfaceMesh fill_holes(const SurfaceMesh& surface) {
   return to_surface(fill->GetOutput(), surface.name);
 }
 
-TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options) {
+TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options, const Progress& progress) {
   const SurfaceCheck check = check_surface(surface);
   if (!check.closed()) {
     std::ostringstream msg;
@@ -347,7 +364,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options)
   if (options.max_volume > 0.0) switches << "a" << options.max_volume;
   switches << "Q";
   const std::string text = switches.str();
-  const TetgenResult result = run_tetgen_isolated(surface, text);
+  const TetgenResult result = run_tetgen_isolated(surface, text, progress);
   if (result.signal != 0)
     throw InputError(surface.name, "cannot be tetrahedralized: TetGen crashed (signal " + std::to_string(result.signal) +
                                        "); the surface probably intersects itself or has features below its tolerance");
@@ -421,7 +438,7 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
   SurfaceMesh surface = read_surface(path);
   if (options.fill_holes) surface = fill_holes(surface);
   result.triangles = surface.triangles.size();
-  result.mesh = tetrahedralize(surface, options.tetgen);
+  result.mesh = tetrahedralize(surface, options.tetgen, options.progress);
   if (!result.cache_file.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);

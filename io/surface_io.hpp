@@ -3,6 +3,7 @@
 // library libtet). VTK and TetGen types never leave io/.
 #include <string>
 
+#include "io/progress.hpp"
 #include "scene/surface_mesh.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -35,7 +36,9 @@ struct TetgenOptions {
 // A constrained Delaunay tetrahedralization of the closed surface's interior, extinction 1 per
 // cell. InputError(surface.name, ...) for open or non-manifold surfaces (saying where, and that
 // --fill-holes exists) and for what TetGen rejects (self-intersections, tiny features).
-TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options);
+// `progress` is called about ten times a second while TetGen runs (fraction -1: unknown);
+// returning false stops TetGen and throws Cancelled.
+TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options, const Progress& progress = {});
 
 // A surface file filled with tetrahedra, through a cache: the result is stored as .vtu under
 // `cache_dir` (default $XDG_CACHE_HOME/prismoid, else ~/.cache/prismoid) keyed by a hash of the
@@ -45,6 +48,7 @@ struct SurfaceToTets {
   TetgenOptions tetgen;
   bool fill_holes = false;
   std::string cache_dir;  // empty: the default above
+  Progress progress;      // passed to tetrahedralize
 };
 struct SurfaceTets {
   TetMesh mesh;

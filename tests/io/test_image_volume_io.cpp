@@ -160,6 +160,31 @@ void expect_voxel_mesh(const TetMesh& mesh, const Grid& g) {
   EXPECT_NEAR(volume, size.x * size.y * size.z, 1e-12 * size.x * size.y * size.z);
 }
 
+TEST(ImageVolumeIo, ConversionReportsProgressAndCanBeCancelled) {
+  const Grid g;
+  const std::string path = write_vti(g, "progress.vti");
+  std::vector<double> fractions;
+  io::ImageReadOptions options{.role = io::ArrayRole::Scalars};
+  options.progress = [&](double f, const std::string&) {
+    fractions.push_back(f);
+    return true;
+  };
+  const TetMesh mesh = io::read_image_volume(path, options);
+  ASSERT_FALSE(fractions.empty());
+  for (size_t i = 1; i < fractions.size(); ++i) EXPECT_GE(fractions[i], fractions[i - 1]);
+  EXPECT_GE(fractions.front(), 0.0);
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  // Cancelling half-way stops the conversion with io::Cancelled, naming the file.
+  options.progress = [](double f, const std::string&) { return f < 0.5; };
+  try {
+    io::read_image_volume(path, options);
+    ADD_FAILURE() << "the conversion was not cancelled";
+  } catch (const io::Cancelled& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(ImageVolumeIo, RecognisesImageExtensions) {
   for (const char* p : {"a.vti", "b.MHD", "c.mha", "d.inr", "e.inr.gz", "f.INR.GZ"}) EXPECT_TRUE(io::is_image_volume_path(p)) << p;
   for (const char* p : {"a.vtu", "b.vtk", "c.gz", "d.raw", "inr"}) EXPECT_FALSE(io::is_image_volume_path(p)) << p;

@@ -157,6 +157,22 @@ TEST(SurfaceIo, TetrahedraAreCachedByContentAndOptions) {
   EXPECT_FALSE(surface_to_tets(path.string(), options).from_cache);
 }
 
+TEST(SurfaceIo, TetGenReportsThatItRunsAndCanBeCancelled) {
+  const fs::path path = scratch("cancel.off");
+  std::ofstream(path) << cube_off();
+  const SurfaceMesh s = read_surface(path.string());
+  int calls = 0;
+  const TetMesh m = tetrahedralize(s, {}, [&](double f, const std::string& stage) {
+    EXPECT_LT(f, 0.0);  // TetGen cannot say how far it is
+    EXPECT_EQ(stage, "TetGen");
+    ++calls;
+    return true;
+  });
+  EXPECT_GE(calls, 1);
+  EXPECT_NEAR(total_volume(m), 1.0, 1e-12);
+  EXPECT_THROW(tetrahedralize(s, {}, [](double, const std::string&) { return false; }), Cancelled);
+}
+
 TEST(SurfaceIo, BadFilesNameTheFileAndTheProblem) {
   struct Case { std::string name, text, fragment; };
   const std::vector<Case> cases = {
