@@ -293,6 +293,7 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     TerminalProgress progress(file);
     convert.progress = progress.callback();
     io::SurfaceTets tets = io::surface_to_tets(file, convert);
+    progress.throw_if_cancelled(file);
     TetMesh mesh = std::move(tets.mesh);
     for (double& s : mesh.cell_extinction) s *= options.density_scale;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -318,7 +319,9 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false) {
     image.max_cells = 50'000'000;  // about 1.2 GB on the GPU: larger needs --subsample
     TerminalProgress progress(file);
     image.progress = progress.callback();
-    return io::read_image_volume(file, image);
+    TetMesh mesh = io::read_image_volume(file, image);
+    progress.throw_if_cancelled(file);
+    return mesh;
   }
   io::MeshConversion conversion;
   TetMesh mesh = io::read_tet_mesh(file, options, &conversion);

@@ -16,6 +16,7 @@ TerminalProgress::TerminalProgress(std::string label)
     : label_(std::move(label)), start_(std::chrono::steady_clock::now()), last_draw_(start_), terminal_(::isatty(STDERR_FILENO) == 1) {
   g_cancel_requested = 0;
   previous_handler_ = std::signal(SIGINT, request_cancel);
+  if (previous_handler_ == SIG_IGN) std::signal(SIGINT, SIG_IGN);  // a background job: Ctrl-C is not ours
 }
 
 TerminalProgress::~TerminalProgress() {
@@ -24,6 +25,10 @@ TerminalProgress::~TerminalProgress() {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     std::fprintf(stderr, "\r\033[K%s: %.1f s\n", label_.c_str(), seconds);
   }
+}
+
+void TerminalProgress::throw_if_cancelled(const std::string& source) const {
+  if (g_cancel_requested) throw io::Cancelled(source);
 }
 
 io::Progress TerminalProgress::callback() {

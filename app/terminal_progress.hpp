@@ -18,6 +18,8 @@ class TerminalProgress {
   TerminalProgress& operator=(const TerminalProgress&) = delete;
 
   io::Progress callback();
+  // Throws io::Cancelled(source) when Ctrl-C came after the work's last progress report.
+  void throw_if_cancelled(const std::string& source) const;
 
  private:
   bool update(double fraction, const std::string& stage);
