@@ -18,6 +18,7 @@
 #include <zlib.h>
 
 #include "io/image_volume_io.hpp"
+#include "support/mesh_faces.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid {
@@ -132,19 +133,12 @@ void expect_voxel_mesh(const TetMesh& mesh, const Grid& g) {
         EXPECT_EQ(mesh.point_scalars[id], g.value(i, j, k)) << i << " " << j << " " << k;  // small integers: exact in every format
       }
   ASSERT_EQ(mesh.tets.size(), size_t(6 * (nx - 1) * (ny - 1) * (nz - 1)));
-  std::map<std::array<uint32_t, 3>, int> faces;
+  const std::map<std::array<uint32_t, 3>, int> faces = test::face_uses(mesh);
   double volume = 0.0;
   for (const auto& t : mesh.tets) {
     const double v = signed_volume(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
     EXPECT_GT(v, 0.0);
     volume += v;
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<uint32_t, 3> f;
-      for (int m = 0, n = 0; m < 4; ++m)
-        if (m != skip) f[size_t(n++)] = t[size_t(m)];
-      std::sort(f.begin(), f.end());
-      ++faces[f];
-    }
   }
   const glm::dvec3 lo = g.origin, hi = g.origin + glm::dvec3(nx - 1, ny - 1, nz - 1) * g.spacing;
   for (const auto& [f, count] : faces) {

@@ -3,6 +3,8 @@
 // and the volume is the box's (computed from its extents, not from the conversion).
 #include <gtest/gtest.h>
 
+#include "support/mesh_faces.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -34,15 +36,7 @@ struct Faces {
 };
 
 Faces faces_of(const TetMesh& mesh, const testgrids::Lattice& l) {
-  std::map<std::array<uint32_t, 3>, int> count;
-  for (const auto& t : mesh.tets)
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<uint32_t, 3> f{};
-      for (int k = 0, n = 0; k < 4; ++k)
-        if (k != skip) f[size_t(n++)] = t[size_t(k)];
-      std::sort(f.begin(), f.end());
-      ++count[f];
-    }
+  const std::map<std::array<uint32_t, 3>, int> count = test::face_uses(mesh);
   const glm::dvec3 lo(l.xs.front(), l.ys.front(), l.zs.front()), hi(l.xs.back(), l.ys.back(), l.zs.back());
   Faces faces;
   for (const auto& [f, n] : count) {

@@ -2,6 +2,8 @@
 // pieces share their boundary points, so the split stays conforming across pieces.
 #include <gtest/gtest.h>
 
+#include "support/mesh_faces.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -42,15 +44,7 @@ struct TwoBoxes {
 size_t interior_faces_unshared(const TetMesh& mesh, double x_min, double x_max) {
   // Counts triangles used by one tetrahedron that are not on the outer boundary x = min or
   // max, y, z = their extremes: a crack across the pieces' common face would show up here.
-  std::map<std::array<uint32_t, 3>, int> count;
-  for (const auto& t : mesh.tets)
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<uint32_t, 3> f{};
-      for (int k = 0, n = 0; k < 4; ++k)
-        if (k != skip) f[size_t(n++)] = t[size_t(k)];
-      std::sort(f.begin(), f.end());
-      ++count[f];
-    }
+  const std::map<std::array<uint32_t, 3>, int> count = test::face_uses(mesh);
   const Bounds b = bounds_of(mesh);
   EXPECT_EQ(b.min.x, x_min);
   EXPECT_EQ(b.max.x, x_max);

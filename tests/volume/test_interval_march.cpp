@@ -12,6 +12,7 @@
 #include "renderer/reference/analytic_march.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "support/gpu_fixture.hpp"
+#include "volume/step_convergence.hpp"
 
 namespace prismoid {
 namespace {
@@ -154,19 +155,7 @@ TEST_F(IntervalMarchTest, MarschnerLobbOpticalDepthConvergesSecondOrder) {
   const std::vector<double> steps = {0.02, 0.01, 0.005, 0.0025};
   std::vector<std::vector<float>> images;
   for (double s : steps) images.push_back(render(mesh, field, volume::Quantity::OpticalDepth, s, camera, w, h).quantity);
-  std::vector<double> diff;
-  for (size_t k = 0; k + 1 < images.size(); ++k) {
-    double d = 0.0;
-    for (size_t i = 0; i < images[k].size(); ++i) d = std::max(d, std::abs(double(images[k][i]) - double(images[k + 1][i])));
-    diff.push_back(d);
-  }
-  for (size_t k = 0; k + 1 < diff.size(); ++k) {
-    const double ratio = diff[k] / diff[k + 1];
-    std::printf("step %.4f -> %.4f: max change %.3g; next halving %.3g; ratio %.2f\n", steps[k], steps[k + 1], diff[k],
-                diff[k + 1], ratio);
-    EXPECT_GE(ratio, 2.5);
-    EXPECT_LE(ratio, 6.0);
-  }
+  test::expect_second_order_in_step(steps, images);
   const std::vector<double> ref = reference::field_optical_depth_image(mesh, field, 1.0, camera, w, h);
   const double radius = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
   const std::vector<double> snap = snapping_tolerance(mesh, field, camera, w, h, radius);
