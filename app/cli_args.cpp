@@ -1,0 +1,129 @@
+#include "app/cli_args.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "app/cli.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+ParsedArgs parse(const std::vector<std::string>& args, size_t first, const std::vector<std::string>& value_options,
+                 const std::vector<std::string>& flag_options) {
+  ParsedArgs parsed;
+  for (size_t i = first; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a.rfind("--", 0) == 0) {
+      std::string name = a.substr(2), value;
+      bool inline_value = false;
+      if (auto eq = name.find('='); eq != std::string::npos) {
+        value = name.substr(eq + 1);
+        name = name.substr(0, eq);
+        inline_value = true;
+      }
+      if (std::find(flag_options.begin(), flag_options.end(), name) != flag_options.end()) {
+        parsed.flags[name] = true;
+      } else if (std::find(value_options.begin(), value_options.end(), name) != value_options.end()) {
+        if (!inline_value) {
+          if (i + 1 >= args.size()) throw InputError("--" + name, "needs a value");
+          value = args[++i];
+        }
+        parsed.values[name] = value;
+      } else {
+        throw InputError(a, "unknown option (see --help)");
+      }
+    } else {
+      parsed.files.push_back(a);
+    }
+  }
+  return parsed;
+}
+
+double parse_double(const std::string& option, const std::string& text) {
+  double v = 0.0;
+  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || ptr != text.data() + text.size() || !std::isfinite(v))
+    throw InputError("--" + option, "'" + text + "' is not a finite number");
+  return v;
+}
+
+uint32_t parse_uint(const std::string& option, const std::string& text) {
+  uint32_t v = 0;
+  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || ptr != text.data() + text.size()) throw InputError("--" + option, "'" + text + "' is not a whole number");
+  return v;
+}
+
+glm::dvec3 parse_vec3(const std::string& option, const std::string& text) {
+  std::array<double, 3> v{};
+  size_t start = 0;
+  for (int i = 0; i < 3; ++i) {
+    size_t end = text.find(',', start);
+    if ((i < 2) != (end != std::string::npos)) throw InputError("--" + option, "expects three numbers x,y,z, got '" + text + "'");
+    v[i] = parse_double(option, text.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    start = end + 1;
+  }
+  return {v[0], v[1], v[2]};
+}
+
+VkExtent2D parse_size(const std::string& text) {
+  const auto x = text.find('x');
+  if (x == std::string::npos) throw InputError("--size", "expects WxH, e.g. 800x600, got '" + text + "'");
+  const uint32_t w = parse_uint("size", text.substr(0, x)), h = parse_uint("size", text.substr(x + 1));
+  if (w == 0 || h == 0 || w > 16384 || h > 16384) throw InputError("--size", "each side must be between 1 and 16384 pixels");
+  return {w, h};
+}
+
+std::optional<uint32_t> parse_device(const ParsedArgs& a) {
+  if (!a.has("device")) return std::nullopt;
+  return parse_uint("device", a.values.at("device"));
+}
+
+Camera camera_from(const ParsedArgs& a, const Bounds& bounds) {
+  Camera c = fit_camera(bounds, a.has("fovy") ? parse_double("fovy", a.values.at("fovy")) : 40.0);
+  if (a.has("eye")) c.eye = parse_vec3("eye", a.values.at("eye"));
+  if (a.has("target")) c.target = parse_vec3("target", a.values.at("target"));
+  if (a.has("up")) c.up = parse_vec3("up", a.values.at("up"));
+  if (a.has("near")) c.near_distance = parse_double("near", a.values.at("near"));
+  validate(c);
+  return c;
+}
+
+const std::vector<std::string> kCameraOptions = {"eye", "target", "up", "fovy", "near"};
+
+std::vector<std::string> with_camera(std::vector<std::string> v) {
+  v.insert(v.end(), kCameraOptions.begin(), kCameraOptions.end());
+  return v;
+}
+
+std::string json_escape(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') { out += '\\'; out += ch; }
+    else if (static_cast<unsigned char>(ch) < 0x20) { char buf[8]; std::snprintf(buf, sizeof buf, "\\u%04x", ch); out += buf; }
+    else out += ch;
+  }
+  return out;
+}
+
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+int validation_exit(const vk::Instance& instance) {
+  const size_t n = instance.validation_log().count();
+  if (n == 0) return kOk;
+  std::cerr << "prismoid: the validation layer reported " << n << " message(s)\n";
+  return kValidationMessages;
+}
+
+}  // namespace prismoid::app

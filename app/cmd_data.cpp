@@ -1,0 +1,102 @@
+// `prismoid convert` and `prismoid info`: datasets without rendering.
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+
+#include <glm/common.hpp>
+
+#include "app/cli.hpp"
+#include "app/cli_args.hpp"
+#include "app/commands.hpp"
+#include "app/dataset_report.hpp"
+#include "app/volume_options.hpp"
+#include "io/dataset_info.hpp"
+#include "io/image_volume_io.hpp"
+#include "io/surface_io.hpp"
+#include "io/vtk_tet_io.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+const char* const kConvertHelp =
+    "usage: prismoid convert [IN] OUT.vtu [--array NAME --density-scale S]\n"
+    "                        [--tetgen-quality Q --tetgen-max-volume V --fill-holes]\n"
+    "\n"
+    "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
+    "input has one, the point array 'scalars'. IN is a .vtu/.vtk/.vtm/.pvtu file (other cells are\n"
+    "split into tetrahedra, pieces merged: see `prismoid info IN`), an image volume (.vti .mhd .mha\n"
+    ".inr), a field:NAME[:N] dataset, or a closed surface (.vtp .stl .obj .ply .off) tetrahedralized\n"
+    "by TetGen (see `render --help`); without IN, the embedded default dataset is written (its point\n"
+    "array 'scalars' holds the field sampled at the points).\n";
+
+int cmd_convert(const std::vector<std::string>& args) {
+  ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "subsample"}, {"help", "fill-holes"});
+  if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
+  if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
+  const std::string out = a.files.back();
+  if (std::filesystem::path(out).extension() != ".vtu") throw InputError(out, "convert writes .vtu files only (for now)");
+  a.files.pop_back();
+  TetMesh mesh = load_scene(a);
+  if (mesh.point_scalars.empty() && mesh.linear_extinction()) mesh.point_scalars = mesh.point_extinction;
+  io::write_tet_mesh_vtu(out, mesh);
+  std::cout << "wrote " << out << " (" << mesh.tets.size() << " tetrahedra, " << mesh.points.size() << " points)\n";
+  return kOk;
+}
+
+const char* const kInfoHelp =
+    "usage: prismoid info FILE\n"
+    "\n"
+    "Describes a mesh file (.vtu, .vtk, .vtm, .pvtu) without rendering: its cells by type, points,\n"
+    "point and cell arrays with their ranges (vectors by magnitude), bounds, and what reading it\n"
+    "produces: the tetrahedra that other cells split into, zero-volume and inverted tetrahedra,\n"
+    "and the GPU memory of the mesh buffers. An image volume (.vti .mhd .mha .inr): its voxels, value\n"
+    "range, bounds and the tetrahedra it becomes. A surface (.vtp .stl .obj .ply .off): its triangles,\n"
+    "bounds, and whether it is closed (where it is not), which TetGen needs.\n";
+
+int cmd_info(const std::vector<std::string>& args) {
+  ParsedArgs a = parse(args, 1, {}, {"help"});
+  if (a.flags.count("help")) { std::cout << kInfoHelp; return kOk; }
+  if (a.files.size() != 1) throw InputError("info", "expects one FILE (see --help)");
+  const std::string& file = a.files.front();
+  auto print_bounds = [](const Bounds& b) {
+    std::cout << "  bounds: [" << b.min.x << ", " << b.max.x << "] x [" << b.min.y << ", " << b.max.y << "] x [" << b.min.z
+              << ", " << b.max.z << "]\n";
+  };
+  if (io::is_image_volume_path(file)) {
+    io::ImageReadOptions options;
+    options.role = io::ArrayRole::Scalars;
+    options.max_cells = 50'000'000;
+    const TetMesh mesh = io::read_image_volume(file, options);
+    const auto [lo, hi] = std::minmax_element(mesh.point_scalars.begin(), mesh.point_scalars.end());
+    std::cout << file << " (image volume)\n  voxels: " << mesh.points.size() << ", values in [" << *lo << ", " << *hi << "]\n";
+    print_bounds(bounds_of(mesh));
+    std::cout << "  as tetrahedra: " << mesh.tets.size() << " (6 per cell between 8 voxel centres), " << mesh.points.size()
+              << " points\n  GPU memory (mesh buffers): " << double(io::estimated_gpu_bytes(mesh.tets.size(), mesh.points.size())) / 1048576.0
+              << " MiB\n";
+    return kOk;
+  }
+  if (io::is_surface_path(file)) {
+    const SurfaceMesh surface = io::read_surface(file);
+    const io::SurfaceCheck check = io::check_surface(surface);
+    Bounds b;
+    b.min = b.max = surface.points.front();
+    for (const auto& p : surface.points) {
+      b.min = glm::min(b.min, p);
+      b.max = glm::max(b.max, p);
+    }
+    std::cout << file << " (surface)\n  triangles: " << surface.triangles.size() << ", points: " << surface.points.size() << "\n";
+    print_bounds(b);
+    if (check.closed()) {
+      std::cout << "  closed: yes; rendering fills it with tetrahedra by TetGen (-pq1.414 unless --tetgen-* say otherwise)\n";
+    } else {
+      std::cout << "  closed: no: " << check.boundary_edges << " boundary (hole) edges, " << check.nonmanifold_edges
+                << " non-manifold edges, the first near (" << check.first_problem.x << ", " << check.first_problem.y << ", "
+                << check.first_problem.z << "); --fill-holes closes holes before TetGen\n";
+    }
+    return kOk;
+  }
+  std::cout << format_dataset_info(file, io::describe_dataset(file));
+  return kOk;
+}
+
+}  // namespace prismoid::app

@@ -1,0 +1,242 @@
+// `prismoid render`: one image headless, on the GPU or the CPU reference, with its timings.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "app/cli.hpp"
+#include "app/cli_args.hpp"
+#include "app/commands.hpp"
+#include "app/reference_frame.hpp"
+#include "app/volume_options.hpp"
+#include "io/image_io.hpp"
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/vk/capabilities.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/instance.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+const char* const kRenderHelp =
+    "usage: prismoid render [FILE] --output OUT.png|OUT.pfm [options]\n"
+    "\n"
+    "  --output PATH        image to write: .png (display colour, sRGB) or .pfm (the quantity, float32)\n"
+    "  --stats PATH         write a JSON file with the device, the passes that ran and their GPU times\n"
+    "  --mode MODE          interval               interval shading on the GPU, cells in mesh order\n"
+    "                       interval-sorted        ... cells sorted by centroid distance on the GPU each frame\n"
+    "                       interval-exact-order   ... cells in topological visibility order (exact on convex meshes)\n"
+    "                       interval-march         marching inside intervals: each fragment samples the\n"
+    "                                              analytic field of a field: dataset along its interval\n"
+    "                                              (cells sorted on the GPU for color)\n"
+    "                       interval-march-exact-order  ... cells in topological visibility order\n"
+    "                       reference              CPU, double precision, exact per-pixel order (with a\n"
+    "                                              field: dataset, of the analytic field itself)\n"
+    "                       (default: interval; interval-sorted for --quantity color)\n"
+    "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
+    "                       color: emission-absorption of a scalar field through a transfer function\n"
+    "                       isosurface: the nearest point where the field reaches --isovalue, shaded\n"
+    "                       with a headlight (interval-march or reference, field: datasets); the\n"
+    "                       .pfm quantity is the distance from the eye to it (0: no hit)\n"
+    "  --size WxH           image size in pixels (default 800x600)\n"
+    "  --eye x,y,z --target x,y,z --up x,y,z --fovy DEG --near N\n"
+    "                       camera (default: framing the data from +z, fovy 40)\n"
+    "  --device N           use Vulkan device N (see `prismoid devices`)\n"
+    "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
+    "  --tetlet-size N      cells per mesh workgroup: 1 (the paper's one cell per workgroup), 4, 8 or 16\n"
+    "                       (default 16)\n"
+    "  --shared-vertices    tetlets: group neighbouring cells so a workgroup loads their shared points\n"
+    "                       once (order-independent quantities, or --mode interval)\n"
+    "  --frames N           render N timed frames after one warm-up frame; times are the median\n"
+    "                       (stats also give min and max) (default 1, no warm-up)\n"
+    "\n"
+    "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
+    "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
+    "                       linear in each cell; default sigma = 1 (the default dataset: its density)\n"
+    "  --component C        of a vector --array: 0, 1, 2... or x, y, z (default: magnitude)\n"
+    "  --density-scale S    multiplies the extinction; for color, the extinction at opacity 1 (default 1)\n"
+    "\n"
+    "  interval-march only:\n"
+    "  --march-step S       longest step in world units: each interval is marched in equal steps of at\n"
+    "                       most S (midpoint rule) (default: 1/100 of the bounds' diagonal)\n"
+    "  --isovalue V         the isosurface's level (--quantity isosurface only; default 0.5)\n"
+    "\n"
+    "  color only:\n"
+    "  --tf PRESET|FILE     transfer function: cool-to-warm (default), viridis, grayscale, black-body,\n"
+    "                       or a ParaView colour-map JSON file (opacity from its \"Points\", else a ramp)\n"
+    "  --tf-range LO,HI     scalar values mapped to the ends of the transfer function (default: data range)\n"
+    "  --preintegration-size N   0: integrate each segment exactly in the shader (default); N in 2..256:\n"
+    "                       look segments up in an N^3 pre-integrated table (faster, approximate)\n"
+    "  --background R,G,B   linear colour behind the volume (default 1,1,1)\n"
+    "\n"
+    "FILE: an unstructured grid (.vtu, legacy .vtk, multiblock .vtm, parallel .pvtu; cells other than\n"
+    "tetrahedra are split into conforming tetrahedra, with a note), or field:NAME[:N], an analytic field\n"
+    "in world coordinates bounded by the box [-1,1]^3 split into N^3 cubes of 6 tetrahedra (default\n"
+    "N = 4: each cell holds a strongly non-linear field). NAME: marschner-lobb (Marschner & Lobb 1994,\n"
+    "f_M = 6, alpha = 0.25, values in [0,1]), blobs (three Gaussian blobs), sphere (one Gaussian blob:\n"
+    "its isosurfaces are spheres), linear. The field is the extinction (times --density-scale) and\n"
+    "the color scalar; interval modes render its linear interpolant at the mesh points,\n"
+    "interval-march and reference the field itself. FILE may also be a closed triangle surface\n"
+    "(.vtp .stl .obj .ply .off), filled with tetrahedra by TetGen (extinction 1 per cell):\n"
+    "  --tetgen-quality Q       radius-edge bound, TetGen -q (default 1.414; smaller: rounder, more cells)\n"
+    "  --tetgen-max-volume V    largest cell volume, TetGen -a (default: none)\n"
+    "  --fill-holes             close an open surface first (VTK's vtkFillHolesFilter)\n"
+    "or an image volume (.vti .mhd .mha, .inr/.inr.gz as in CGAL's data): each cell between 8 voxel\n"
+    "centres becomes 6 tetrahedra, voxel values are point values (--array picks the .vti/.mhd array);\n"
+    "  --subsample K            keep 1 voxel in K per axis (images over 50 million cells need it)\n"
+    "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
+    "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"
+    "With no FILE the embedded default dataset is rendered.\n";
+
+namespace {
+
+// Per pass, the median over the frames goes into `passes` (by name, in order); returns each
+// pass's min and max.
+std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::vector<vk::PassTiming>>& frames,
+                                                        std::vector<vk::PassTiming>& passes) {
+  std::vector<std::pair<double, double>> spread;
+  for (auto& pass : passes) {
+    std::vector<double> ms;
+    for (const auto& f : frames)
+      for (const auto& p : f)
+        if (p.name == pass.name) ms.push_back(p.gpu_ms);
+    std::sort(ms.begin(), ms.end());
+    if (ms.empty()) { spread.emplace_back(pass.gpu_ms, pass.gpu_ms); continue; }
+    const size_t n = ms.size();
+    pass.gpu_ms = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+    spread.emplace_back(ms.front(), ms.back());
+  }
+  return spread;
+}
+
+}  // namespace
+
+int cmd_render(const std::vector<std::string>& args) {
+  std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
+  value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
+  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});
+  if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
+  if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
+  const std::string output = a.values.at("output");
+  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
+  const auto device_index = parse_device(a);
+  const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : 1;
+  if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
+  const VolumeChoice choice = volume_choice(a);
+  const TetMesh& mesh = choice.mesh;
+  const std::string& mode = choice.mode;
+  const volume::Quantity quantity = choice.quantity;
+  const bool color = quantity == volume::Quantity::Color;
+  const frame::FrameSettings& settings = choice.settings;
+  const bool field = field_of(a).has_value();  // an analytic field: its own CPU reference
+  const Camera camera = camera_from(a, bounds_of(mesh));
+  frame::OffscreenFrame result;
+  std::vector<std::pair<double, double>> pass_spread;  // min, max per pass over the timed frames
+  std::string device_name, driver;
+  std::unique_ptr<vk::Instance> instance;
+  if (mode == "reference") {
+    device_name = "CPU reference (double precision)";
+    result = field ? render_field_reference(mesh, camera, settings.resolve, size) : render_reference(mesh, camera, settings.resolve, size);
+  } else {
+    instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
+    const auto devices = vk::query_devices(instance->get());
+    const auto& caps = vk::select_device(devices, device_index);
+    device_name = caps.name;
+    driver = caps.driver_info;
+    vk::Device device(*instance, caps, {});
+    frame::FrameRenderer renderer(device, mesh);
+    if (frames > 1) renderer.render_offscreen(camera, settings, size);  // warm-up: caches, clocks, first-use work
+    std::vector<std::vector<vk::PassTiming>> timings;
+    for (uint32_t i = 0; i < frames; ++i) {
+      result = renderer.render_offscreen(camera, settings, size);
+      timings.push_back(result.passes);
+    }
+    pass_spread = summarize_frames(timings, result.passes);
+  }
+  const size_t validation_messages = instance ? instance->validation_log().count() : 0;
+
+  io::FloatImage image;
+  image.width = result.width;
+  image.height = result.height;
+  const bool pfm = std::filesystem::path(output).extension() == ".pfm" || std::filesystem::path(output).extension() == ".PFM";
+  if (pfm && !color) {  // isosurface: the distance to the hit
+    image.channels = 1;
+    image.pixels = result.quantity;
+  } else if (pfm) {  // colour PFM: the linear colour over the background, RGB
+    image.channels = 3;
+    image.pixels.resize(result.display.size() / 4 * 3);
+    for (size_t i = 0; i < result.display.size() / 4; ++i)
+      for (int k = 0; k < 3; ++k) image.pixels[3 * i + k] = result.display[4 * i + k];
+  } else {
+    image.channels = 4;
+    image.pixels = result.display;
+  }
+  io::write_image(output, image);
+
+  const bool cpu = mode == "reference";
+  std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
+            << mesh.tets.size() << " cells) on " << device_name << "\n";
+  std::cout << "  ordering: " << result.report.ordering << (result.report.order_exact ? " [exact]" : " [approximate]") << "\n";
+  double total = 0.0;
+  for (const auto& p : result.passes) {
+    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps")
+              << (cpu ? " CPU" : " GPU") << "\n";
+    total += p.gpu_ms;
+  }
+  std::cout << "  total: " << json_number(total) << (cpu ? " ms CPU\n" : " ms GPU\n");
+  for (const auto& p : result.report.cpu_passes) std::cout << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
+  if (result.report.counted) {
+    std::cout << "  drawn: " << result.report.fragments << " fragments";
+    if (result.report.primitives > 0) std::cout << ", " << result.report.primitives << " proxy triangles";
+    std::cout << "\n";
+  }
+
+  if (a.has("stats")) {
+    const std::string stats_path = a.values.at("stats");
+    std::ostringstream js;
+    js << "{\n  \"device\": \"" << json_escape(device_name) << "\",\n  \"driver\": \"" << json_escape(driver)
+       << "\",\n  \"dataset\": \"" << json_escape(mesh.name) << "\",\n  \"cells\": " << mesh.tets.size()
+       << ",\n  \"mode\": \"" << mode << "\",\n  \"quantity\": \"" << quantity_name(quantity) << "\",\n  \"width\": " << size.width
+       << ",\n  \"height\": " << size.height << ",\n  \"ordering\": \"" << json_escape(result.report.ordering)
+       << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false")
+       << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes;
+    if (result.report.counted) {  // as the driver counts them (lavapipe counts no clipper input for mesh shaders)
+      js << ",\n  \"fragments\": " << result.report.fragments;
+      if (result.report.primitives > 0) js << ",\n  \"proxy_triangles\": " << result.report.primitives;
+    }
+    js << ",\n  \"tetlet_size\": " << settings.resolve.tetlet_size << ",\n  \"shared_vertices\": "
+       << (settings.resolve.shared_vertices ? "true" : "false");
+    if (result.report.tetlet_points_per_cell > 0.0)
+      js << ",\n  \"tetlet_points_per_cell\": " << json_number(result.report.tetlet_points_per_cell);
+    if (color)
+      js << ",\n  \"transfer_function\": \"" << json_escape(settings.resolve.transfer.name) << "\",\n  \"tf_range\": ["
+         << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)
+         << "],\n  \"preintegration_size\": " << settings.resolve.preintegration_size;
+    if (field)
+      js << ",\n  \"field\": \"" << json_escape(settings.resolve.march.field.name) << "\",\n  \"march_step\": " << json_number(settings.resolve.march.step)
+         << (quantity == volume::Quantity::Isosurface ? ",\n  \"isovalue\": " + json_number(settings.resolve.march.isovalue) : "");
+    js << ",\n  \"frames\": " << frames << ",\n  \"passes\": [";
+    for (size_t i = 0; i < result.passes.size(); ++i) {
+      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.passes[i].name)
+         << "\", \"gpu_ms\": " << json_number(result.passes[i].gpu_ms);
+      if (i < pass_spread.size())
+        js << ", \"min_ms\": " << json_number(pass_spread[i].first) << ", \"max_ms\": " << json_number(pass_spread[i].second);
+      js << "}";
+    }
+    js << "\n  ],\n  \"cpu_passes\": [";
+    for (size_t i = 0; i < result.report.cpu_passes.size(); ++i)
+      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.report.cpu_passes[i].name)
+         << "\", \"cpu_ms\": " << json_number(result.report.cpu_passes[i].gpu_ms) << "}";
+    js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": "
+       << validation_messages << "\n}\n";
+    std::ofstream out(stats_path);
+    if (!out || !(out << js.str())) throw InputError(stats_path, "cannot write the stats file");
+  }
+  return instance ? validation_exit(*instance) : kOk;
+}
+
+}  // namespace prismoid::app

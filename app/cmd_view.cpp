@@ -1,0 +1,58 @@
+// `prismoid view`: the window.
+#include <iostream>
+
+#include "app/cli.hpp"
+#include "app/cli_args.hpp"
+#include "app/commands.hpp"
+#include "app/viewer.hpp"
+#include "app/volume_options.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+const char* const kViewHelp =
+    "usage: prismoid view [FILE] [options]\n"
+    "\n"
+    "  --size WxH           initial window size (default 1280x800)\n"
+    "  --mode, --quantity, --array, --density-scale, --tf, --tf-range, --preintegration-size,\n"
+    "  --background, --tetlet-size, --shared-vertices, --march-step, --isovalue\n"
+    "                       what to show and how, as for render (not --mode reference)\n"
+    "  --eye/--target/--up/--fovy/--near   initial camera, as for render\n"
+    "  --frames N           close after N frames (for scripted runs)\n"
+    "  --device N           use Vulkan device N\n"
+    "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
+    "\n"
+    "Mouse: left drag orbits, wheel zooms. Keys: R resets the camera, Esc closes.\n";
+
+int cmd_view(const std::vector<std::string>& args) {
+  std::vector<std::string> value_options = with_camera({"size", "frames", "device"});
+  value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
+  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});
+  if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
+  VolumeChoice choice = volume_choice(a);
+  if (choice.mode == "reference") throw InputError("--mode reference", "runs on the CPU: use `prismoid render --mode reference`");
+  const TetMesh& mesh = choice.mesh;
+  ViewerOptions options;
+  if (a.has("size")) {
+    const VkExtent2D s = parse_size(a.values.at("size"));
+    options.width = s.width;
+    options.height = s.height;
+  }
+  options.validation = a.flags.count("validate") > 0;
+  options.device_index = parse_device(a);
+  options.settings = choice.settings;
+  if (a.has("frames")) options.max_frames = parse_uint("frames", a.values.at("frames"));
+  bool any_camera = false;
+  for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);
+  if (any_camera) options.camera = camera_from(a, bounds_of(mesh));
+  if (!display_available()) throw InputError("view", "no display (DISPLAY is not set); use `prismoid render --output X.png`");
+  const ViewerReport report = run_viewer(mesh, options);
+  std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << "\n";
+  if (options.validation && report.validation_messages > 0) {
+    std::cerr << "prismoid: the validation layer reported " << report.validation_messages << " message(s)\n";
+    return kValidationMessages;
+  }
+  return kOk;
+}
+
+}  // namespace prismoid::app

@@ -1,0 +1,21 @@
+#pragma once
+// The verbs of the command line, one file each (cmd_*.cpp), and their help texts.
+#include <string>
+#include <vector>
+
+namespace prismoid::app {
+
+// args[0] is the verb; each returns an ExitCode (app/cli.hpp) or throws InputError.
+int cmd_render(const std::vector<std::string>& args);
+int cmd_view(const std::vector<std::string>& args);
+int cmd_convert(const std::vector<std::string>& args);
+int cmd_info(const std::vector<std::string>& args);
+int cmd_devices(const std::vector<std::string>& args);
+
+extern const char* const kRenderHelp;
+extern const char* const kViewHelp;
+extern const char* const kConvertHelp;
+extern const char* const kInfoHelp;
+extern const char* const kDevicesHelp;
+
+}  // namespace prismoid::app

@@ -1,0 +1,24 @@
+#pragma once
+// CPU double-precision reference images, resolved into the same OffscreenFrame the GPU path
+// returns (quantity, display colour, emission), so `render --mode reference` and the
+// comparisons treat both alike.
+#include <vulkan/vulkan.h>
+
+#include "renderer/frame/frame_renderer.hpp"
+#include "scene/camera.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::app {
+
+// A frame of `size` for a CPU reference to fill: one quantity and one RGBA display value per pixel.
+frame::OffscreenFrame blank_frame(VkExtent2D size);
+
+// The mesh's piecewise-linear (or per-cell) field, composited in exact per-pixel order.
+frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+                                       VkExtent2D size);
+
+// The analytic field in resolve.march (what interval-march approximates).
+frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+                                             VkExtent2D size);
+
+}  // namespace prismoid::app

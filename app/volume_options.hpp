@@ -1,0 +1,40 @@
+#pragma once
+// The options `render` and `view` share: which dataset, what to show and how. Turns them into
+// a loaded mesh and frame settings; InputError names the option or file at fault.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/cli_args.hpp"
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/volume/analytic_field.hpp"
+#include "renderer/volume/transfer_function.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::app {
+
+// The analytic field of a field:NAME[:N] dataset, if that is what the command line names.
+std::optional<volume::AnalyticField> field_of(const ParsedArgs& a);
+
+// The dataset named on the command line; the embedded default when none is named.
+// scalar_field: the chosen array is the transfer function's scalar rather than the extinction.
+TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false);
+
+const char* quantity_name(volume::Quantity q);
+
+// The transfer function the color options describe, over the data's scalar range unless given.
+volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh);
+
+extern const std::vector<std::string> kVolumeOptions;
+
+struct VolumeChoice {
+  TetMesh mesh;
+  std::string mode;
+  volume::Quantity quantity = volume::Quantity::Transmittance;
+  frame::FrameSettings settings;
+};
+
+// Parses the volume options, loads the data and builds the frame settings.
+VolumeChoice volume_choice(const ParsedArgs& a);
+
+}  // namespace prismoid::app
