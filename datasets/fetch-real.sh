@@ -146,6 +146,17 @@ if [ -x "$prismoid_exe" ]; then
     XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" "$prismoid_exe" convert "$cache/meshes/elephant.off" "$out_dir/elephant.vtu" \
       --tetgen-quality 1.2 || fail "prismoid convert elephant.off failed"
   fi
+  # Generated analytic fields, for accuracy against closed forms: the constant-extinction ball
+  # (optical depth = sigma x chord) and Marschner-Lobb sampled at the points of a 32^3-cube box.
+  # (`prismoid render field:marschner-lobb:32 --mode interval-march` marches the field itself.)
+  for spec in "ball:4 ball" "field:marschner-lobb:32 marschner_lobb"; do
+    set -- $spec
+    if [ ! -f "$out_dir/$2.vtu" ]; then
+      step "generating $2.vtu ($1)"
+      XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" "$prismoid_exe" convert "$1" "$out_dir/$2.vtu" >/dev/null ||
+        fail "prismoid convert $1 failed"
+    fi
+  done
 else
   echo "   (no prismoid build at $prismoid_exe: elephant.vtu skipped; scripts/build.sh makes one)"
 fi
@@ -160,4 +171,4 @@ if [ "$pack" -eq 1 ]; then
   done
   du -h "$out_dir"/packed/*.vtk.xz
 fi
-step "done: $(cd "$out_dir" && ls -1 ./*.vtk | tr '\n' ' ')in $out_dir"
+step "done: $(cd "$out_dir" && ls -1 ./*.vtk ./*.vtu ./*.inr 2>/dev/null | tr '\n' ' ')in $out_dir"
