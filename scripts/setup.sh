@@ -13,6 +13,9 @@ BASE_PACKAGES=(
   libvtk9-dev
   nlohmann-json3-dev
   tetgen libtet1.5-dev
+  libopenvdb-dev
+  libimgui-dev
+  clang libclang-rt-14-dev
   xvfb xauth
 )
 # Mesa's lavapipe from bookworm-backports: 25.x exposes VK_EXT_mesh_shader; bookworm's 22.3 does not.
