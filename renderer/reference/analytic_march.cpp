@@ -68,6 +68,23 @@ std::vector<double> field_optical_depth_image(const TetMesh& mesh, const volume:
   return image;
 }
 
+std::vector<double> field_march_optical_depth_image(const TetMesh& mesh, const volume::AnalyticField& field,
+                                                    double density_scale, const Camera& camera, uint32_t width,
+                                                    uint32_t height, double step, double offset_x, double offset_y) {
+  const PixelSegments s = collect(mesh, camera, width, height, offset_x, offset_y);
+  std::vector<double> image(s.segments.size(), 0.0);
+  for (size_t p = 0; p < image.size(); ++p)
+    for (const Segment& seg : s.segments[p]) {
+      const uint64_t n = steps_for(seg.exit - seg.enter, step);
+      const double h = (seg.exit - seg.enter) / double(n);
+      double sum = 0.0;
+      for (uint64_t i = 0; i < n; ++i)
+        sum += std::max(volume::evaluate(field, camera.eye + (seg.enter + (double(i) + 0.5) * h) * s.direction[p]), 0.0);
+      image[p] += density_scale * sum * h;
+    }
+  return image;
+}
+
 IsosurfaceImage isosurface_image(const TetMesh& mesh, const volume::AnalyticField& field, double isovalue, const Camera& camera,
                                  uint32_t width, uint32_t height, double step) {
   const PixelSegments s = collect(mesh, camera, width, height, 0.0, 0.0);

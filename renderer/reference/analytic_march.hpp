@@ -21,6 +21,15 @@ std::vector<double> field_optical_depth_image(const TetMesh& mesh, const volume:
                                               const Camera& camera, uint32_t width, uint32_t height, double panel = 0.005,
                                               double offset_x = 0.0, double offset_y = 0.0);
 
+// The GPU's march itself in double: per cell segment, ceil(length / step) equal steps, each
+// adding density_scale * max(field, 0) at its midpoint times its length. For fields without a
+// second-derivative bound (a sampled grid's gradient jumps at voxel faces), comparing with the
+// GPU at the same step isolates the sampling from the step error.
+std::vector<double> field_march_optical_depth_image(const TetMesh& mesh, const volume::AnalyticField& field,
+                                                    double density_scale, const Camera& camera, uint32_t width,
+                                                    uint32_t height, double step, double offset_x = 0.0,
+                                                    double offset_y = 0.0);
+
 // The first point along each pixel ray inside the mesh where field >= isovalue: marched in
 // steps of at most `step`, bisected to double precision inside the first step that reaches it
 // (a segment starting at or above the isovalue hits at its start). A crossing pair closer

@@ -121,6 +121,7 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   caps.timestamp_period_ns = props.properties.limits.timestampPeriod;
   caps.pipeline_statistics = features.features.pipelineStatisticsQuery == VK_TRUE;
   caps.subpixel_precision_bits = props.properties.limits.subPixelPrecisionBits;
+  caps.max_storage_buffer_range = props.properties.limits.maxStorageBufferRange;
   if (ext_mesh) {
     caps.max_mesh_output_vertices = mesh_props.maxMeshOutputVertices;
     caps.max_mesh_output_primitives = mesh_props.maxMeshOutputPrimitives;

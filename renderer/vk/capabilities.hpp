@@ -28,6 +28,7 @@ struct DeviceCapabilities {
   uint32_t max_mesh_output_vertices = 0;
   uint32_t max_mesh_output_primitives = 0;
   uint32_t subpixel_precision_bits = 0;  // the rasterizer snaps vertices to 2^-bits pixel
+  uint64_t max_storage_buffer_range = 0;  // the largest storage buffer one descriptor may name (bytes)
   uint64_t device_local_bytes = 0;
   VkPhysicalDeviceType device_type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   uint32_t queue_family = UINT32_MAX;  // a family with graphics and compute

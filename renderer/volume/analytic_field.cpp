@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 
 #include "scene/generators.hpp"
@@ -44,6 +45,7 @@ double evaluate(const AnalyticField& field, const glm::dvec3& p) {
       }
       return sum;
     }
+    case FieldKind::Grid: return evaluate(*field.grid, p);
   }
   return 0.0;
 }
@@ -60,6 +62,7 @@ glm::dvec3 gradient(const AnalyticField& field, const glm::dvec3& p) {
       }
       return sum;
     }
+    case FieldKind::Grid: return gradient(*field.grid, p);
   }
   return glm::dvec3(0.0);
 }
@@ -82,6 +85,7 @@ double second_derivative_bound(const AnalyticField& field) {
       for (const glm::dvec4& b : field.params) sum += 1.0 / (b.w * b.w);
       return sum;
     }
+    case FieldKind::Grid: return std::numeric_limits<double>::infinity();
   }
   return 0.0;
 }
@@ -93,6 +97,12 @@ std::optional<AnalyticField> translated(const AnalyticField& field, const glm::d
     case FieldKind::GaussianBlobs:
       for (glm::dvec4& b : moved.params) b = glm::dvec4(glm::dvec3(b) - origin, b.w);
       return moved;
+    case FieldKind::Grid: {
+      auto grid = std::make_shared<SampledGrid>(*field.grid);
+      grid->origin -= origin;
+      moved.grid = std::move(grid);
+      return moved;
+    }
     case FieldKind::MarschnerLobb: return std::nullopt;
   }
   return std::nullopt;
@@ -106,6 +116,27 @@ AnalyticField gaussian_blobs(const std::vector<glm::dvec4>& blobs) { return {"bl
 
 AnalyticField linear_field(const glm::dvec3& g, double value_at_origin) {
   return {"linear", FieldKind::Linear, {glm::dvec4(g, value_at_origin)}};
+}
+
+AnalyticField grid_field(std::shared_ptr<const SampledGrid> grid) {
+  AnalyticField f{grid ? grid->name : "grid", FieldKind::Grid, {}, nullptr};
+  f.grid = std::move(grid);
+  return f;
+}
+
+SampledGrid sample_onto_grid(const AnalyticField& field, const glm::uvec3& dims, const glm::dvec3& lo, const glm::dvec3& hi) {
+  validate(field);
+  SampledGrid grid;
+  grid.name = field.name;
+  grid.dims = dims;
+  grid.origin = lo;
+  for (int a = 0; a < 3; ++a) grid.spacing[a] = dims[a] > 1 ? (hi[a] - lo[a]) / double(dims[a] - 1) : 1.0;
+  grid.values.reserve(size_t(dims.x) * dims.y * dims.z);
+  for (uint32_t k = 0; k < dims.z; ++k)
+    for (uint32_t j = 0; j < dims.y; ++j)
+      for (uint32_t i = 0; i < dims.x; ++i) grid.values.push_back(float(evaluate(field, grid.position(glm::dvec3(i, j, k)))));
+  validate(grid);
+  return grid;
 }
 
 std::vector<std::string> field_names() { return {"marschner-lobb", "blobs", "sphere", "linear"}; }
@@ -127,6 +158,11 @@ AnalyticField field_from_name(const std::string& name) {
 }
 
 void validate(const AnalyticField& field) {
+  if (field.kind == FieldKind::Grid) {
+    if (!field.grid) throw InputError(field.name, "a grid field needs its samples");
+    if (!field.params.empty()) throw InputError(field.name, "a grid field takes no parameter vectors");
+    return validate(*field.grid);
+  }
   const size_t n = field.params.size();
   if (n == 0 || n > PRISMOID_FIELD_MAX_PARAMS)
     throw InputError(field.name, "needs 1 to " + std::to_string(PRISMOID_FIELD_MAX_PARAMS) + " parameter vectors");

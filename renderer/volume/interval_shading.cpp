@@ -29,7 +29,7 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr VkQueryPipelineStatisticFlags kCountedStatistics =
     VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT | VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT;
 
-const std::array<vk::DescriptorBinding, 13> kMeshBindings = {{
+const std::array<vk::DescriptorBinding, 14> kMeshBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT},
     {PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
@@ -43,6 +43,7 @@ const std::array<vk::DescriptorBinding, 13> kMeshBindings = {{
     {PRISMOID_BINDING_TETLETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_TETLET_POINTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_TETLET_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
+    {PRISMOID_BINDING_FIELD_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
 }};
 
 const std::array<vk::DescriptorBinding, 4> kResolveBindings = {{
@@ -153,7 +154,8 @@ IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(dev
   bind_order(nullptr);
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_PREINTEGRATED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
-  for (uint32_t binding : {PRISMOID_BINDING_TETLETS, PRISMOID_BINDING_TETLET_POINTS, PRISMOID_BINDING_TETLET_CELLS})
+  for (uint32_t binding : {PRISMOID_BINDING_TETLETS, PRISMOID_BINDING_TETLET_POINTS, PRISMOID_BINDING_TETLET_CELLS,
+                           PRISMOID_BINDING_FIELD_GRID})
     vk::write_buffer_descriptor(device, mesh_set_.set, binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
 }
 
@@ -265,6 +267,7 @@ double IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSetting
   if (settings.shared_vertices && settings.tetlet_size == 1)
     throw InputError("--shared-vertices", "groups several cells per workgroup: use --tetlet-size 4, 8 or 16");
   pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
+  if (settings.march.enabled && settings.march.field.kind == FieldKind::Grid) upload_grid(settings.march.field.grid);
   if (settings.quantity != Quantity::Color) return 0.0;
   if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
   validate(settings.transfer);
@@ -301,6 +304,19 @@ double IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSetting
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+void IntervalShadingPass::upload_grid(const std::shared_ptr<const SampledGrid>& grid) {
+  if (grid == grid_) return;
+  const uint64_t bytes = uint64_t(grid->values.size()) * sizeof(float);
+  if (bytes > device_.capabilities().max_storage_buffer_range)
+    throw InputError(grid->name, "its " + std::to_string(grid->values.size()) + " samples exceed the " +
+                                     std::to_string(device_.capabilities().max_storage_buffer_range) +
+                                     " bytes one storage buffer may hold on " + device_.capabilities().name);
+  device_.wait_idle();  // the old samples may still be read by a frame in flight
+  grid_buffer_ = vk::upload_buffer(device_, bytes_of(grid->values), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_FIELD_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, grid_buffer_.get());
+  grid_ = grid;
+}
+
 void IntervalShadingPass::bind_mesh(const GpuTetMesh& mesh) {
   if (bound_mesh_ == &mesh) return;
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.positions.get());
@@ -332,6 +348,8 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
   const bool use_table = settings.preintegration_size > 0;
   if (emission && (tf_buffer_.get() == VK_NULL_HANDLE || (use_table && table_buffer_.get() == VK_NULL_HANDLE)))
     throw std::logic_error("IntervalShadingPass: colour needs prepare() before record()");
+  if (march && settings.march.field.kind == FieldKind::Grid && settings.march.field.grid != grid_)
+    throw std::logic_error("IntervalShadingPass: a grid field needs prepare() before record()");
   bind_mesh(mesh);
   bind_targets(targets);
   bind_order(order);

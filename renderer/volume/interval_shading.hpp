@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <tuple>
 #include <utility>
 #include <glm/vec3.hpp>
@@ -61,7 +62,7 @@ struct VolumeTargets {
 VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent);
 
 // Marching inside intervals (Tricard 2024, section 3.2): each fragment samples an analytic
-// field (world coordinates) along its interval in equal steps of at most `step` (world
+// field or a sampled grid (world coordinates) along its interval in equal steps of at most `step` (world
 // length) instead of integrating the mesh's own linear field.
 struct MarchSettings {
   bool enabled = false;
@@ -136,6 +137,7 @@ class IntervalShadingPass {
   void bind_mesh(const GpuTetMesh& mesh);
   void bind_targets(const VolumeTargets& targets);
   void bind_order(const vk::Buffer* order);
+  void upload_grid(const std::shared_ptr<const SampledGrid>& grid);
   // What a frame's fragment stage does: optical depth and emission (exact intervals), the
   // same marched inside intervals, or the nearest isosurface hit.
   enum class PipelineKind { OpticalDepth, Emission, MarchDepth, MarchColor, Isosurface };
@@ -161,6 +163,8 @@ class IntervalShadingPass {
   vk::Buffer tf_buffer_;
   vk::Buffer table_buffer_;
   VkBuffer bound_order_ = VK_NULL_HANDLE;
+  std::shared_ptr<const SampledGrid> grid_;  // the samples in grid_buffer_ (held, so the pointer stays unique)
+  vk::Buffer grid_buffer_;                    // bound at PRISMOID_BINDING_FIELD_GRID; the stub until a grid is marched
   vk::UniqueQueryPool statistics_;  // empty where the device has no pipeline statistics
   bool counted_ = false;            // a draw was bracketed since the pool was made
   const GpuTetMesh* bound_mesh_ = nullptr;

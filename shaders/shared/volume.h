@@ -21,6 +21,7 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_BINDING_TETLET_POINTS 11 // readonly uint[]: each tetlet's points (global indices)
 #define PRISMOID_BINDING_TETLET_CELLS 12  // readonly uvec2[]: cell index, its 4 corners as 8-bit tetlet-local indices
 #define PRISMOID_TETLET_MAX_POINTS 64     // shared-memory points per tetlet
+#define PRISMOID_BINDING_FIELD_GRID 13    // readonly float[]: a sampled grid's values, x fastest (PRISMOID_FIELD_GRID)
 
 // How a segment's emission is integrated (FrameUniforms.options.y).
 #define PRISMOID_SEGMENTS_EXACT 0u   // in the fragment shader, piece by piece of the transfer function
@@ -52,6 +53,9 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_FIELD_LINEAR 0u          // dot(params[0].xyz, p) + params[0].w
 #define PRISMOID_FIELD_MARSCHNER_LOBB 1u  // params[0] = (f_M, alpha, 0, 0), on [-1, 1]^3
 #define PRISMOID_FIELD_GAUSSIAN_BLOBS 2u  // params[i] = (centre, width): sum of exp(-|p-c|^2 / (2 width^2))
+// Trilinear interpolation of PRISMOID_BINDING_FIELD_GRID (renderer/volume/sampled_grid):
+// params[0] = (sample (0,0,0), background), params[1] = (1 / spacing, 0), params[2] = (dims, 0).
+#define PRISMOID_FIELD_GRID 3u
 #define PRISMOID_FIELD_MAX_PARAMS 4
 
 // What march.frag computes along its interval (FrameUniforms.field.z).

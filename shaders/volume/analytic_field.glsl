@@ -1,11 +1,15 @@
 // Analytic fields (in the coordinates FrameUniforms.field_origin describes): the float twin of renderer/volume/analytic_field.cpp,
-// which documents each kind; parameters as in FrameUniforms.field / field_params.
+// which documents each kind; parameters as in FrameUniforms.field / field_params. Also the
+// sampled grid (grid_field.glsl), which brings its buffer's binding.
 #ifndef PRISMOID_ANALYTIC_FIELD_GLSL
 #define PRISMOID_ANALYTIC_FIELD_GLSL
+
+#include "grid_field.glsl"
 
 const float kFieldPi = 3.14159265358979;
 
 float analytic_field(uint kind, uint count, vec4 params[PRISMOID_FIELD_MAX_PARAMS], vec3 p) {
+  if (kind == PRISMOID_FIELD_GRID) return grid_field(params, p);
   if (kind == PRISMOID_FIELD_LINEAR) return dot(params[0].xyz, p) + params[0].w;
   if (kind == PRISMOID_FIELD_MARSCHNER_LOBB) {
     float f_m = params[0].x, alpha = params[0].y;
@@ -21,6 +25,7 @@ float analytic_field(uint kind, uint count, vec4 params[PRISMOID_FIELD_MAX_PARAM
 }
 
 vec3 analytic_gradient(uint kind, uint count, vec4 params[PRISMOID_FIELD_MAX_PARAMS], vec3 p) {
+  if (kind == PRISMOID_FIELD_GRID) return grid_gradient(params, p);
   if (kind == PRISMOID_FIELD_LINEAR) return params[0].xyz;
   if (kind == PRISMOID_FIELD_MARSCHNER_LOBB) {
     float f_m = params[0].x, alpha = params[0].y;
