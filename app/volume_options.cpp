@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
+#include "app/grid_dataset.hpp"
 #include "app/terminal_progress.hpp"
 #include "io/image_volume_io.hpp"
 #include "io/surface_io.hpp"
@@ -17,8 +18,9 @@
 
 namespace prismoid::app {
 
-// The analytic field of a field:NAME[:N] dataset, if that is what the command line names.
+// The field of a field:NAME[:N] or grid:NAME[:N] dataset, if that is what the command line names.
 std::optional<volume::AnalyticField> field_of(const ParsedArgs& a) {
+  if (a.files.size() == 1 && is_grid_spec(a.files.front())) return volume::grid_field(grid_from_spec(a.files.front()));
   if (a.files.size() != 1 || a.files.front().rfind("field:", 0) != 0) return std::nullopt;
   const std::string spec = a.files.front().substr(6);
   return volume::field_from_name(spec.substr(0, spec.find(':')));
@@ -54,7 +56,8 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
   }
   if (a.files.size() > 1) throw InputError(a.files[1], "several datasets in one scene arrive with the viewer; give one FILE");
   if (const auto field = field_of(a)) {
-    if (a.has("array")) throw InputError("--array", "a field: dataset has no arrays to choose from");
+    if (a.has("array")) throw InputError("--array", "a field: or grid: dataset has no arrays to choose from");
+    if (field->kind == volume::FieldKind::Grid) return grid_dataset_mesh(*field->grid, options.density_scale);
     const std::string& spec = a.files.front();
     uint32_t n = 4;
     if (const auto colon = spec.find(':', 6); colon != std::string::npos) {
@@ -189,9 +192,10 @@ VolumeChoice volume_choice(const ParsedArgs& a) {
                                    "interval-march-exact-order, reference)");
   const bool march = mode.rfind("interval-march", 0) == 0;
   const std::optional<volume::AnalyticField> field = field_of(a);
-  if (march && !field) throw InputError("--mode " + mode, "marches an analytic field: give a field:NAME dataset (see --help)");
+  if (march && !field)
+    throw InputError("--mode " + mode, "marches a field: give a field:NAME or grid:NAME dataset (see --help)");
   if (quantity == volume::Quantity::Isosurface && !(field && (march || mode == "reference")))
-    throw InputError("--quantity isosurface", "needs a field:NAME dataset and --mode interval-march or reference");
+    throw InputError("--quantity isosurface", "needs a field:NAME or grid:NAME dataset and --mode interval-march or reference");
   if (a.has("isovalue") && quantity != volume::Quantity::Isosurface) throw InputError("--isovalue", "applies to --quantity isosurface only");
   if (a.has("march-step") && !march && mode != "reference")
     throw InputError("--march-step", "applies to --mode interval-march and interval-march-exact-order only");

@@ -13,7 +13,7 @@
 
 namespace prismoid::app {
 
-// The analytic field of a field:NAME[:N] dataset, if that is what the command line names.
+// The field of a field:NAME[:N] or grid:NAME[:N] dataset, if that is what the command line names.
 std::optional<volume::AnalyticField> field_of(const ParsedArgs& a);
 
 // The dataset named on the command line; the embedded default when none is named.

@@ -179,6 +179,26 @@ TEST(Cli, PointArrayRendersTheLinearFieldLikeTheReference) {
   expect_close_to_reference(img, ref);
 }
 
+// grid:NAME[:N] marches the sampled field; the reference renders the same trilinear field. Both
+// cover the region (blocks where Marschner-Lobb, in [0, 1], is above 1/1000: all of [-1,1]^3)
+// with finite values; the GPU test suite compares the march with the CPU pixel by pixel.
+TEST(Cli, GridDatasetMarchesAndHasAReference) {
+  const fs::path march = work_dir() / "grid_march.pfm", ref = work_dir() / "grid_ref.pfm";
+  const std::string args = "render grid:marschner-lobb:17 --quantity optical-depth --size 24x24 --eye 0.5,0.8,4 --target 0,0,0 --output ";
+  CliRun r = run(args + march.string() + " --mode interval-march");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run(args + ref.string() + " --mode reference");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto a = io::read_pfm(march.string()), b = io::read_pfm(ref.string());
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  size_t both = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    EXPECT_TRUE(std::isfinite(a.pixels[i]) && std::isfinite(b.pixels[i])) << i;
+    both += a.pixels[i] > 0.0f && b.pixels[i] > 0.0f;
+  }
+  EXPECT_GT(both, 200u);
+}
+
 TEST(Cli, DensityScaleMultipliesTheOpticalDepth) {
   const fs::path one = work_dir() / "one.pfm", two = work_dir() / "two.pfm";
   const std::string args = "render --quantity optical-depth --size 24x16 --output ";
@@ -487,6 +507,9 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render --output x.png --mode interval-march", "--mode interval-march"},
       {"render field:sphere:0 --output x.png", "field:sphere:0"},
       {"render ball:9 --output x.png", "ball:9"},
+      {"render grid:sphere:1 --output x.png", "grid:sphere:1"},
+      {"render grid:no-such-field --output x.png --mode interval-march", "grid:no-such-field: unknown analytic field"},
+      {"render grid:sphere --output x.png --array density", "--array"},
   };
   for (const auto& c : cases) {
     const CliRun r = run(c.args);
