@@ -39,6 +39,7 @@
 #define TETLIBRARY  // Debian's libtet is built as a library: errors throw an int, never exit()
 #include <tetgen.h>
 
+#include "io/off_reader.hpp"
 #include "io/path_util.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
@@ -47,54 +48,17 @@ namespace prismoid::io {
 
 namespace {
 
-// OFF: "OFF", then vertex, face and edge counts, the vertices, then each face as its vertex
-// count and indices. Comments (#) and blank lines are skipped.
 vtkSmartPointer<vtkPolyData> read_off(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot be read");
-  std::vector<std::string> tokens;
-  std::string line;
-  while (std::getline(in, line)) {
-    line = line.substr(0, line.find('#'));
-    std::istringstream words(line);
-    std::string w;
-    while (words >> w) tokens.push_back(w);
-  }
-  size_t next = 0;
-  auto take = [&](const char* what) -> const std::string& {
-    if (next >= tokens.size()) throw InputError(path, std::string("ends early: expected ") + what);
-    return tokens[next++];
-  };
-  auto number = [&](const char* what) {
-    const std::string& t = take(what);
-    char* end = nullptr;
-    const double v = std::strtod(t.c_str(), &end);
-    if (end != t.c_str() + t.size() || !std::isfinite(v)) throw InputError(path, std::string("bad ") + what + " '" + t + "'");
-    return v;
-  };
-  auto count = [&](const char* what) {
-    const double v = number(what);
-    if (v < 0 || v != std::floor(v) || v > 1e9) throw InputError(path, std::string("bad ") + what);
-    return static_cast<vtkIdType>(v);
-  };
-  if (take("the OFF header") != "OFF") throw InputError(path, "is not an OFF file (no 'OFF' header)");
-  const vtkIdType nv = count("vertex count"), nf = count("face count");
-  count("edge count");
+  const detail::OffPolygons off = detail::parse_off(in, path);
   vtkNew<vtkPoints> points;
-  for (vtkIdType i = 0; i < nv; ++i) {
-    const double x = number("coordinate"), y = number("coordinate"), z = number("coordinate");
-    points->InsertNextPoint(x, y, z);
-  }
+  for (const auto& p : off.points) points->InsertNextPoint(p.x, p.y, p.z);
   vtkNew<vtkCellArray> polys;
-  for (vtkIdType f = 0; f < nf; ++f) {
-    const vtkIdType n = count("face size");
-    vtkNew<vtkIdList> ids;
-    for (vtkIdType k = 0; k < n; ++k) {
-      const vtkIdType v = count("vertex index");
-      if (v >= nv) throw InputError(path, "face " + std::to_string(f) + " names vertex " + std::to_string(v) + " of " + std::to_string(nv));
-      ids->InsertNextId(v);
-    }
-    polys->InsertNextCell(ids);
+  std::vector<vtkIdType> ids;
+  for (const auto& face : off.faces) {
+    ids.assign(face.begin(), face.end());
+    polys->InsertNextCell(vtkIdType(ids.size()), ids.data());
   }
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(points);
