@@ -21,6 +21,7 @@
 
 #include "io/inrimage.hpp"
 #include "io/path_util.hpp"
+#include "io/vtk_progress.hpp"
 #include "io/voxel_tets.hpp"
 #include "scene/input_error.hpp"
 
@@ -102,15 +103,17 @@ detail::VoxelGrid read_vtk_image(const std::string& path, const ImageReadOptions
   reader->UpdateInformation();
   if (const std::string problem = failure(); !problem.empty())
     throw InputError(path, std::string("VTK could not read the header of this ") + format + " file: " + problem);
-  int extent[6];
-  reader->GetOutputInformation(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
+  // A header VTK could not parse sets no extent at all: it then stays empty, never uninitialized.
+  int extent[6] = {0, -1, 0, -1, 0, -1};
+  if (vtkInformation* info = reader->GetOutputInformation(0); info && info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
   uint64_t full[3];
   for (int a = 0; a < 3; ++a) full[a] = extent[2 * a + 1] >= extent[2 * a] ? uint64_t(extent[2 * a + 1] - extent[2 * a] + 1) : 0;
   if (full[0] == 0 || full[1] == 0 || full[2] == 0)
     throw InputError(path, std::string("VTK could not read any voxels from this ") + format + " file (empty or corrupt?)");
   detail::check_image_size(path, full, options);
 
-  reader->Update();
+  detail::update_with_progress(reader, options.progress, {0.0, 0.5, "reading voxels"}, path);
   vtkImageData* image = reader->GetOutput();
   if (const std::string problem = failure(); !problem.empty())
     throw InputError(path, std::string("VTK could not read the ") + format + " image: " + problem);
@@ -174,7 +177,10 @@ TetMesh read_image_volume(const std::string& path, const ImageReadOptions& optio
   detail::VoxelGrid grid = ext == ".vti"   ? read_vtk_image<vtkXMLImageDataReader>(path, options, "VTK XML image data (.vti)")
                    : is_inr_path(path) ? read_inr(path, options)
                                        : read_vtk_image<vtkMetaImageReader>(path, options, "MetaImage (.mhd/.mha)");
-  TetMesh mesh = detail::voxel_grid_to_tets(grid, path, options);
+  // VTK's readers take the first half of the bar; INRIMAGE's reading is not reported.
+  ImageReadOptions converting = options;
+  converting.progress = scaled(options.progress, 0.5, 1.0);
+  TetMesh mesh = detail::voxel_grid_to_tets(grid, path, converting);
   validate(mesh);
   return mesh;
 }

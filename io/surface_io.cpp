@@ -41,6 +41,7 @@
 
 #include "io/off_reader.hpp"
 #include "io/path_util.hpp"
+#include "io/vtk_progress.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
 
@@ -66,7 +67,7 @@ vtkSmartPointer<vtkPolyData> read_off(const std::string& path) {
   return poly;
 }
 
-vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::string& ext) {
+vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::string& ext, const Progress& progress) {
   if (ext == ".off") return read_off(path);
   vtkSmartPointer<vtkAlgorithm> reader;
   if (ext == ".vtp") {
@@ -87,20 +88,21 @@ vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::s
     r->SetFileName(path.c_str());
     reader = r;
   }
-  reader->Update();
+  detail::update_with_progress(reader, progress, {0.0, 0.6, "reading"}, path);
   vtkPolyData* poly = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
   if (reader->GetErrorCode() != 0 || !poly) throw InputError(path, "could not be read as " + ext + " (corrupt or truncated?)");
   return poly;
 }
 
-SurfaceMesh to_surface(vtkPolyData* poly, const std::string& name) {
+SurfaceMesh to_surface(vtkPolyData* poly, const std::string& name, const Progress& progress = {}) {
   vtkNew<vtkTriangleFilter> triangles;
   triangles->SetInputData(poly);
   vtkNew<vtkCleanPolyData> clean;  // merge coincident points
   clean->SetInputConnection(triangles->GetOutputPort());
   clean->PointMergingOn();
   clean->SetTolerance(0.0);
-  clean->Update();
+  detail::update_with_progress(triangles, progress, {0.6, 0.7, "splitting polygons into triangles"}, name);
+  detail::update_with_progress(clean, progress, {0.7, 1.0, "merging coincident points"}, name);
   vtkPolyData* out = clean->GetOutput();
   SurfaceMesh s;
   s.name = name;
@@ -278,12 +280,12 @@ bool is_surface_path(const std::string& path) {
   return ext == ".vtp" || ext == ".stl" || ext == ".obj" || ext == ".ply" || ext == ".off";
 }
 
-SurfaceMesh read_surface(const std::string& path) {
+SurfaceMesh read_surface(const std::string& path, const Progress& progress) {
   if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
   if (!is_surface_path(path)) throw InputError(path, "is not a surface file (.vtp .stl .obj .ply .off)");
   vtkObject::GlobalWarningDisplayOff();
-  const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path));
-  SurfaceMesh s = to_surface(poly, path);
+  const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path), progress);
+  SurfaceMesh s = to_surface(poly, path, progress);
   if (s.triangles.empty()) throw InputError(path, "has no surface triangles");
   return s;
 }
@@ -399,7 +401,7 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
       // A damaged cache entry: make it again.
     }
   }
-  SurfaceMesh surface = read_surface(path);
+  SurfaceMesh surface = read_surface(path, options.progress);
   if (options.fill_holes) surface = fill_holes(surface);
   result.triangles = surface.triangles.size();
   result.mesh = tetrahedralize(surface, options.tetgen, options.progress);

@@ -12,9 +12,10 @@ namespace prismoid::io {
 // .vtp (VTK XML polydata), .stl, .obj, .ply through VTK's readers; .off (Object File Format)
 // through our own small reader, since VTK 9.1 has none. Polygons are split into triangles and
 // coincident points merged (STL stores each triangle's corners separately). InputError naming
-// the file for a missing, unreadable or empty file.
+// the file for a missing, unreadable or empty file. `progress` sees VTK's reading and cleaning
+// (fractions rising to 1); returning false cancels (Cancelled).
 bool is_surface_path(const std::string& path);
-SurfaceMesh read_surface(const std::string& path);
+SurfaceMesh read_surface(const std::string& path, const Progress& progress = {});
 
 // Edges used by one triangle (holes) or by more than two (non-manifold).
 struct SurfaceCheck {
@@ -48,7 +49,7 @@ struct SurfaceToTets {
   TetgenOptions tetgen;
   bool fill_holes = false;
   std::string cache_dir;  // empty: the default above
-  Progress progress;      // passed to tetrahedralize
+  Progress progress;      // passed to read_surface and tetrahedralize
 };
 struct SurfaceTets {
   TetMesh mesh;
