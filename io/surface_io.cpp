@@ -39,6 +39,8 @@
 #define TETLIBRARY  // Debian's libtet is built as a library: errors throw an int, never exit()
 #include <tetgen.h>
 
+#include <glm/common.hpp>
+
 #include "io/off_reader.hpp"
 #include "io/path_util.hpp"
 #include "io/vtk_progress.hpp"
@@ -313,21 +315,29 @@ SurfaceMesh fill_holes(const SurfaceMesh& surface) {
   return to_surface(fill->GetOutput(), surface.name);
 }
 
-TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options, const Progress& progress) {
-  const SurfaceCheck check = check_surface(surface);
-  if (!check.closed()) {
-    std::ostringstream msg;
-    msg << "is not a closed surface: " << check.boundary_edges << " boundary (hole) edges and " << check.nonmanifold_edges
-        << " non-manifold edges, the first near (" << check.first_problem.x << ", " << check.first_problem.y << ", "
-        << check.first_problem.z << "); TetGen needs a closed surface (--fill-holes closes holes)";
-    throw InputError(surface.name, msg.str());
+double enclosed_volume(const SurfaceMesh& surface) {
+  // Sum of the signed volumes of the tetrahedra joining each triangle to a point; the bounds'
+  // centre keeps the terms small (less cancellation) for surfaces far from the origin.
+  glm::dvec3 lo(0.0), hi(0.0);
+  if (!surface.points.empty()) lo = hi = surface.points.front();
+  for (const auto& p : surface.points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
   }
-  if (!(options.radius_edge_ratio >= 1.0) || !(options.max_volume >= 0.0))
-    throw InputError("--tetgen-quality", "the radius-edge bound must be at least 1 and the volume bound not negative");
+  const glm::dvec3 o = 0.5 * (lo + hi);
+  double volume = 0.0;
+  for (const auto& t : surface.triangles)
+    volume += signed_volume(o, surface.points[t[0]], surface.points[t[1]], surface.points[t[2]]);
+  return volume;
+}
+
+namespace {
+
+TetMesh run_tetgen(const SurfaceMesh& surface, double radius_edge_ratio, double max_volume, const Progress& progress) {
   // p: a piecewise linear complex; q: quality; a: volume bound; Q: quiet.
   std::ostringstream switches;
-  switches << "pq" << options.radius_edge_ratio;
-  if (options.max_volume > 0.0) switches << "a" << options.max_volume;
+  switches << "pq" << radius_edge_ratio;
+  if (max_volume > 0.0) switches << "a" << max_volume;
   switches << "Q";
   const std::string text = switches.str();
   const TetgenResult result = run_tetgen_isolated(surface, text, progress);
@@ -353,6 +363,49 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options,
   mesh.cell_extinction.assign(mesh.tets.size(), 1.0);
   if (mesh.tets.empty()) throw InputError(surface.name, "TetGen produced no tetrahedra");
   return mesh;
+}
+
+double relative_miss(size_t cells, uint64_t target) { return std::abs(double(cells) - double(target)) / double(target); }
+
+}  // namespace
+
+TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options, const Progress& progress) {
+  const SurfaceCheck check = check_surface(surface);
+  if (!check.closed()) {
+    std::ostringstream msg;
+    msg << "is not a closed surface: " << check.boundary_edges << " boundary (hole) edges and " << check.nonmanifold_edges
+        << " non-manifold edges, the first near (" << check.first_problem.x << ", " << check.first_problem.y << ", "
+        << check.first_problem.z << "); TetGen needs a closed surface (--fill-holes closes holes)";
+    throw InputError(surface.name, msg.str());
+  }
+  if (!(options.radius_edge_ratio >= 1.0) || !(options.max_volume >= 0.0))
+    throw InputError("--tetgen-quality", "the radius-edge bound must be at least 1 and the volume bound not negative");
+  if (options.target_cells == 0) return run_tetgen(surface, options.radius_edge_ratio, options.max_volume, progress);
+  if (options.max_volume > 0.0) throw InputError("--tetgen-cells", "sets the volume bound itself: give it or --tetgen-max-volume, not both");
+
+  // Cells fill the volume at about `a` each when the bound binds, so a = V / N first. Quality
+  // refinement and the surface's own detail add cells beyond that, and the count falls more
+  // slowly than 1 / a: model count = k a^-p, correcting first with p = 1, then with p measured
+  // from the last two runs (a secant step in log-log), kept within [0.3, 1.5] against noise.
+  const double volume = std::abs(enclosed_volume(surface));
+  if (!(volume > 0.0)) throw InputError(surface.name, "encloses no volume, so no cell count can be aimed at (--tetgen-cells)");
+  const uint64_t target = options.target_cells;
+  double bound = volume / double(target), previous_bound = 0.0;
+  size_t previous_count = 0;
+  TetMesh last = run_tetgen(surface, options.radius_edge_ratio, bound, progress);
+  TetMesh best = last;
+  for (int correction = 0; correction < 2 && relative_miss(best.tets.size(), target) > kTargetCellsTolerance; ++correction) {
+    const double count = double(last.tets.size());
+    double exponent = 1.0;
+    if (previous_count > 0 && previous_count != last.tets.size())
+      exponent = std::clamp(std::log(double(previous_count) / count) / std::log(bound / previous_bound), 0.3, 1.5);
+    previous_bound = bound;
+    previous_count = last.tets.size();
+    bound *= std::pow(count / double(target), 1.0 / exponent);
+    last = run_tetgen(surface, options.radius_edge_ratio, bound, progress);
+    if (relative_miss(last.tets.size(), target) < relative_miss(best.tets.size(), target)) best = last;
+  }
+  return best;
 }
 
 namespace {
@@ -381,8 +434,8 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
   std::ostringstream bytes;
   bytes << in.rdbuf();
   std::ostringstream key;
-  key << "q" << options.tetgen.radius_edge_ratio << " a" << options.tetgen.max_volume << " fill" << options.fill_holes
-      << " v1";  // bump when the conversion changes
+  key << "q" << options.tetgen.radius_edge_ratio << " a" << options.tetgen.max_volume << " n" << options.tetgen.target_cells
+      << " fill" << options.fill_holes << " v1";  // bump when the conversion changes
   const uint64_t hash = fnv1a(key.str(), fnv1a(bytes.str()));
   SurfaceTets result;
   const std::string dir = options.cache_dir.empty() ? default_cache_dir() : options.cache_dir;

@@ -1,6 +1,7 @@
 #pragma once
 // Triangle surfaces from files, and their tetrahedralization with TetGen (Si 2015, the Debian
 // library libtet). VTK and TetGen types never leave io/.
+#include <cstdint>
 #include <string>
 
 #include "io/progress.hpp"
@@ -32,7 +33,16 @@ SurfaceMesh fill_holes(const SurfaceMesh& surface);
 struct TetgenOptions {
   double radius_edge_ratio = 1.414;  // TetGen -q: quality bound (smaller: rounder cells, more of them)
   double max_volume = 0.0;           // TetGen -a: largest cell volume; 0: no bound
+  // About this many tetrahedra (0: no target; then max_volume must be 0): the volume bound starts
+  // at the enclosed volume / target_cells and is corrected from the count TetGen returns (quality
+  // refinement adds cells), at most twice, until the count is within kTargetCellsTolerance.
+  uint64_t target_cells = 0;
 };
+inline constexpr double kTargetCellsTolerance = 0.15;  // relative
+
+// The volume a closed, consistently wound surface encloses (divergence theorem; positive for
+// outward-facing triangles, negative for inward).
+double enclosed_volume(const SurfaceMesh& surface);
 
 // A constrained Delaunay tetrahedralization of the closed surface's interior, extinction 1 per
 // cell. InputError(surface.name, ...) for open or non-manifold surfaces (saying where, and that
