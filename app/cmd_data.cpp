@@ -20,7 +20,7 @@ namespace prismoid::app {
 
 const char* const kConvertHelp =
     "usage: prismoid convert [IN] OUT.vtu [--array NAME --density-scale S]\n"
-    "                        [--tetgen-quality Q --tetgen-max-volume V --fill-holes]\n"
+    "                        [--tetgen-quality Q --tetgen-max-volume V --tetgen-cells N --fill-holes]\n"
     "\n"
     "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
     "input has one, the point array 'scalars'. IN is a .vtu/.vtk/.vtm/.pvtu file (other cells are\n"
@@ -30,7 +30,7 @@ const char* const kConvertHelp =
     "array 'scalars' holds the field sampled at the points).\n";
 
 int cmd_convert(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "subsample"}, {"help", "fill-holes"});
+  ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample"}, {"help", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
   const std::string out = a.files.back();

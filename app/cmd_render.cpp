@@ -86,6 +86,7 @@ const char* const kRenderHelp =
     "(.vtp .stl .obj .ply .off), filled with tetrahedra by TetGen (extinction 1 per cell):\n"
     "  --tetgen-quality Q       radius-edge bound, TetGen -q (default 1.414; smaller: rounder, more cells)\n"
     "  --tetgen-max-volume V    largest cell volume, TetGen -a (default: none)\n"
+    "  --tetgen-cells N         about N tetrahedra (within 15%): TetGen -a chosen for it, 1-3 runs\n"
     "  --fill-holes             close an open surface first (VTK's vtkFillHolesFilter)\n"
     "or an image volume (.vti .mhd .mha, .inr/.inr.gz as in CGAL's data): each cell between 8 voxel\n"
     "centres becomes 6 tetrahedra, voxel values are point values (--array picks the .vti/.mhd array);\n"

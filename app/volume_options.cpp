@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
 #include <iostream>
 
 #include <glm/geometric.hpp>
@@ -26,6 +27,18 @@ std::optional<volume::AnalyticField> field_of(const ParsedArgs& a) {
   return volume::field_from_name(spec.substr(0, spec.find(':')));
 }
 
+namespace {
+
+// Loads that took over a second say how long (the "report their time"); quick ones stay quiet.
+void report_load_time(const std::string& file, const TetMesh& mesh, std::chrono::steady_clock::time_point start) {
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (seconds > 1.0)
+    std::cerr << "prismoid: loaded " << file << ": " << mesh.tets.size() << " cells in " << std::fixed << std::setprecision(2)
+              << seconds << std::defaultfloat << " s\n";
+}
+
+}  // namespace
+
 // The dataset named on the command line; the embedded default when none is named.
 TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
   io::TetReadOptions options;
@@ -44,7 +57,7 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
   const bool is_image = !a.files.empty() && io::is_image_volume_path(a.files.front());
   if (a.has("subsample") && !is_image) throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) only");
   const bool is_surface = !a.files.empty() && io::is_surface_path(a.files.front());
-  for (const char* option : {"tetgen-quality", "tetgen-max-volume"})
+  for (const char* option : {"tetgen-quality", "tetgen-max-volume", "tetgen-cells"})
     if (a.has(option) && !is_surface) throw InputError(std::string("--") + option, "applies to surfaces (.vtp .stl .obj .ply .off) only");
   if (a.flags.count("fill-holes") && !is_surface) throw InputError("--fill-holes", "applies to surfaces (.vtp .stl .obj .ply .off) only");
   if (a.files.empty()) {
@@ -82,6 +95,10 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
     convert.fill_holes = a.flags.count("fill-holes") > 0;
     if (a.has("tetgen-quality")) convert.tetgen.radius_edge_ratio = parse_double("tetgen-quality", a.values.at("tetgen-quality"));
     if (a.has("tetgen-max-volume")) convert.tetgen.max_volume = parse_double("tetgen-max-volume", a.values.at("tetgen-max-volume"));
+    if (a.has("tetgen-cells")) {
+      convert.tetgen.target_cells = parse_uint("tetgen-cells", a.values.at("tetgen-cells"));
+      if (convert.tetgen.target_cells == 0) throw InputError("--tetgen-cells", "must be at least 1");
+    }
     const auto start = std::chrono::steady_clock::now();
     TerminalProgress progress(file);
     convert.progress = progress.callback();
@@ -95,7 +112,8 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
                 << seconds << " s\n";
     else
       std::cerr << "prismoid: " << file << ": " << tets.triangles << " triangles -> " << mesh.tets.size()
-                << " tetrahedra by TetGen in " << seconds << " s\n";
+                << " tetrahedra by TetGen in " << seconds << " s"
+                << (convert.tetgen.target_cells ? " (target " + std::to_string(convert.tetgen.target_cells) + ")" : "") << "\n";
     return mesh;
   }
   if (a.has("component") && (io::is_image_volume_path(file) || io::is_surface_path(file)))
@@ -110,16 +128,24 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
       if (image.subsample == 0) throw InputError("--subsample", "must be at least 1");
     }
     image.max_cells = 50'000'000;  // about 1.2 GB on the GPU: larger needs --subsample
+    const auto start = std::chrono::steady_clock::now();
     TerminalProgress progress(file);
     image.progress = progress.callback();
     TetMesh mesh = io::read_image_volume(file, image);
     progress.throw_if_cancelled(file);
+    report_load_time(file, mesh, start);
     return mesh;
   }
+  const auto start = std::chrono::steady_clock::now();
   io::MeshConversion conversion;
-  TetMesh mesh = io::read_tet_mesh(file, options, &conversion);
+  io::TetReadOptions reading = options;
+  TerminalProgress progress(file);
+  reading.progress = progress.callback();
+  TetMesh mesh = io::read_tet_mesh(file, reading, &conversion);
+  progress.throw_if_cancelled(file);
   if (const std::string note = io::conversion_note(conversion); !note.empty())
     std::cerr << "prismoid: note: " << file << ": " << note << "\n";
+  report_load_time(file, mesh, start);
   return mesh;
 }
 
@@ -162,7 +188,7 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 // The options render and view share: the data, what to show and how.
 const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
                                                  "array", "density-scale", "tetlet-size", "march-step", "isovalue",
-                                                 "tetgen-quality", "tetgen-max-volume", "subsample", "component"};
+                                                 "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "component"};
 
 // Parses the volume options, loads the data and builds the frame settings; InputError names
 // the option or file at fault.

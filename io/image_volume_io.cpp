@@ -21,19 +21,13 @@
 
 #include "io/inrimage.hpp"
 #include "io/path_util.hpp"
+#include "io/vtk_progress.hpp"
+#include "io/voxel_tets.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::io {
 
 namespace {
-
-// A voxel grid after subsampling: value (i, j, k) at index i + nx (j + ny k), at origin + (i, j, k) * spacing.
-struct VoxelGrid {
-  uint64_t dims[3] = {0, 0, 0};
-  glm::dvec3 origin{0.0};
-  glm::dvec3 spacing{1.0};
-  std::vector<double> values;
-};
 
 bool is_inr_path(const std::string& path) {
   const std::string ext = detail::lower_extension(path);
@@ -41,50 +35,13 @@ bool is_inr_path(const std::string& path) {
   return ext == ".gz" && detail::lower_extension(std::filesystem::path(path).stem().string()) == ".inr";
 }
 
-uint64_t kept(uint64_t n, uint32_t subsample) { return (n - 1) / subsample + 1; }
-
-// The guard runs on the header alone, before the voxels are read.
-void check_size(const std::string& path, const uint64_t dims[3], const ImageReadOptions& options) {
-  const std::string shape = std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " + std::to_string(dims[2]);
-  if (options.subsample == 0) throw InputError(path, "subsample must be at least 1");
-  for (int a = 0; a < 3; ++a)
-    if (kept(dims[a], options.subsample) < 2)
-      throw InputError(path, "the image is " + shape + " voxels" +
-                                 (options.subsample > 1 ? " (keeping 1 in " + std::to_string(options.subsample) + " per axis)" : std::string()) +
-                                 "; it needs at least 2 voxels along each axis to make cells");
-  const uint64_t count = image_tet_count(dims, options.subsample);
-  if (count > options.max_cells) {
-    // The count falls as the subsample grows, while every axis keeps 2 voxels (up to the shortest
-    // axis's length - 1): a binary search finds the smallest subsample that fits.
-    std::string advice = "no subsampling fits (2 x 2 x 2 voxels already make 6)";
-    uint64_t lo = uint64_t(options.subsample) + 1;
-    uint64_t hi = std::min<uint64_t>(std::min({dims[0], dims[1], dims[2]}) - 1, std::numeric_limits<uint32_t>::max());
-    if (lo <= hi && image_tet_count(dims, uint32_t(hi)) <= options.max_cells) {
-      while (lo < hi) {
-        const uint64_t mid = lo + (hi - lo) / 2;
-        if (image_tet_count(dims, uint32_t(mid)) <= options.max_cells) hi = mid;
-        else lo = mid + 1;
-      }
-      advice = "--subsample " + std::to_string(hi) + " (1 voxel in " + std::to_string(hi) + " per axis) makes " +
-               std::to_string(image_tet_count(dims, uint32_t(hi)));
-    }
-    throw InputError(path, "the image is " + shape + " voxels, which make " + std::to_string(count) +
-                               " tetrahedra, more than the limit of " + std::to_string(options.max_cells) + "; " + advice);
-  }
-  uint64_t points = 1;
-  for (int a = 0; a < 3; ++a)
-    if (__builtin_mul_overflow(points, kept(dims[a], options.subsample), &points)) points = std::numeric_limits<uint64_t>::max();
-  if (points > std::numeric_limits<uint32_t>::max())
-    throw InputError(path, "the image has more voxels than 32-bit point indices can address; subsample it");
-}
-
-VoxelGrid read_inr(const std::string& path, const ImageReadOptions& options) {
+detail::VoxelGrid read_inr(const std::string& path, const ImageReadOptions& options) {
   if (!options.array.empty())
     throw InputError(path, "INRIMAGE files hold one unnamed array; no array '" + options.array + "' to choose");
   const detail::InrHeader header = detail::read_inr_header(path);
-  check_size(path, header.dims, options);
-  VoxelGrid grid;
-  for (int a = 0; a < 3; ++a) grid.dims[a] = kept(header.dims[a], options.subsample);
+  detail::check_image_size(path, header.dims, options);
+  detail::VoxelGrid grid;
+  for (int a = 0; a < 3; ++a) grid.dims[a] = detail::kept_voxels(header.dims[a], options.subsample);
   grid.origin = header.origin;
   grid.spacing = header.spacing * double(options.subsample);
   grid.values = detail::read_inr_voxels(path, header, options.subsample);
@@ -128,7 +85,7 @@ class CerrCapture {
 };
 
 template <typename Reader>
-VoxelGrid read_vtk_image(const std::string& path, const ImageReadOptions& options, const char* format) {
+detail::VoxelGrid read_vtk_image(const std::string& path, const ImageReadOptions& options, const char* format) {
   vtkNew<Reader> reader;
   std::string vtk_error;
   vtkNew<vtkCallbackCommand> on_error;
@@ -146,15 +103,17 @@ VoxelGrid read_vtk_image(const std::string& path, const ImageReadOptions& option
   reader->UpdateInformation();
   if (const std::string problem = failure(); !problem.empty())
     throw InputError(path, std::string("VTK could not read the header of this ") + format + " file: " + problem);
-  int extent[6];
-  reader->GetOutputInformation(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
+  // A header VTK could not parse sets no extent at all: it then stays empty, never uninitialized.
+  int extent[6] = {0, -1, 0, -1, 0, -1};
+  if (vtkInformation* info = reader->GetOutputInformation(0); info && info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
   uint64_t full[3];
   for (int a = 0; a < 3; ++a) full[a] = extent[2 * a + 1] >= extent[2 * a] ? uint64_t(extent[2 * a + 1] - extent[2 * a] + 1) : 0;
   if (full[0] == 0 || full[1] == 0 || full[2] == 0)
     throw InputError(path, std::string("VTK could not read any voxels from this ") + format + " file (empty or corrupt?)");
-  check_size(path, full, options);
+  detail::check_image_size(path, full, options);
 
-  reader->Update();
+  detail::update_with_progress(reader, options.progress, {0.0, 0.5, "reading voxels"}, path);
   vtkImageData* image = reader->GetOutput();
   if (const std::string problem = failure(); !problem.empty())
     throw InputError(path, std::string("VTK could not read the ") + format + " image: " + problem);
@@ -175,11 +134,11 @@ VoxelGrid read_vtk_image(const std::string& path, const ImageReadOptions& option
                                                   : "has no point array '" + options.array + "'") +
                                " (point arrays: " + point_array_names(point_data) + ")");
 
-  VoxelGrid grid;
+  detail::VoxelGrid grid;
   const double* origin = image->GetOrigin();
   const double* spacing = image->GetSpacing();
   for (int a = 0; a < 3; ++a) {
-    grid.dims[a] = kept(full[a], options.subsample);
+    grid.dims[a] = detail::kept_voxels(full[a], options.subsample);
     grid.origin[a] = origin[a] + extent[2 * a] * spacing[a];
     grid.spacing[a] = spacing[a] * options.subsample;
   }
@@ -202,68 +161,7 @@ VoxelGrid read_vtk_image(const std::string& path, const ImageReadOptions& option
   return grid;
 }
 
-TetMesh tetrahedralize(const VoxelGrid& grid, const std::string& name, const ImageReadOptions& options) {
-  const uint64_t nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
-  auto point_index = [nx, ny](uint64_t i, uint64_t j, uint64_t k) { return uint32_t(i + nx * (j + ny * k)); };
-  TetMesh mesh;
-  mesh.name = name;
-  mesh.points.reserve(nx * ny * nz);
-  for (uint64_t k = 0; k < nz; ++k) {
-    report(options.progress, 0.2 * double(k) / double(nz), "placing voxel points", name);
-    for (uint64_t j = 0; j < ny; ++j)
-      for (uint64_t i = 0; i < nx; ++i) mesh.points.push_back(grid.origin + glm::dvec3(double(i), double(j), double(k)) * grid.spacing);
-  }
-
-  // Kuhn split: the six monotone paths from corner 000 to corner 111 along the cell's edges. Every
-  // cell is a translate of cell (0,0,0), so its six tetrahedra, as index offsets from the cell's
-  // first corner and oriented positively, are worked out once there.
-  static const int kPaths[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  std::array<uint32_t, 4> offsets[6];
-  for (int p = 0; p < 6; ++p) {
-    uint64_t c[3] = {0, 0, 0};
-    offsets[p][0] = 0;
-    for (int s = 0; s < 3; ++s) {
-      ++c[kPaths[p][s]];
-      offsets[p][size_t(s) + 1] = point_index(c[0], c[1], c[2]);
-    }
-    const auto& o = offsets[p];
-    if (signed_volume(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]]) < 0.0) std::swap(offsets[p][2], offsets[p][3]);
-  }
-  mesh.tets.reserve(6 * (nx - 1) * (ny - 1) * (nz - 1));
-  for (uint64_t k = 0; k + 1 < nz; ++k) {
-    report(options.progress, 0.2 + 0.8 * double(k) / double(nz - 1), "splitting voxel cells into tetrahedra", name);
-    for (uint64_t j = 0; j + 1 < ny; ++j)
-      for (uint64_t i = 0; i + 1 < nx; ++i) {
-        const uint32_t first = point_index(i, j, k);
-        for (const auto& o : offsets) mesh.tets.push_back({first + o[0], first + o[1], first + o[2], first + o[3]});
-      }
-  }
-  report(options.progress, 1.0, "splitting voxel cells into tetrahedra", name);
-
-  mesh.point_scalars = grid.values;
-  if (options.role == ArrayRole::Extinction) {
-    mesh.point_extinction.resize(grid.values.size());
-    for (size_t i = 0; i < grid.values.size(); ++i) mesh.point_extinction[i] = grid.values[i] * options.density_scale;
-    mesh.cell_extinction.reserve(mesh.tets.size());
-    for (const auto& tet : mesh.tets) {  // the cell's mean, for statistics; rendering interpolates the points
-      double sigma = 0.0;
-      for (uint32_t v : tet) sigma += 0.25 * mesh.point_extinction[v];
-      mesh.cell_extinction.push_back(sigma);
-    }
-  } else {
-    mesh.cell_extinction.assign(mesh.tets.size(), options.density_scale);
-  }
-  return mesh;
-}
-
 }  // namespace
-
-uint64_t image_tet_count(const uint64_t dims[3], uint32_t subsample) {
-  uint64_t count = 6;  // saturates rather than wrapping, for headers with absurd sizes
-  for (int a = 0; a < 3; ++a)
-    if (__builtin_mul_overflow(count, kept(dims[a], subsample) - 1, &count)) return std::numeric_limits<uint64_t>::max();
-  return count;
-}
 
 bool is_image_volume_path(const std::string& path) {
   const std::string ext = detail::lower_extension(path);
@@ -276,10 +174,13 @@ TetMesh read_image_volume(const std::string& path, const ImageReadOptions& optio
     throw InputError(path, "unknown image type '" + detail::lower_extension(path) + "' (this build reads .vti, .mhd, .mha, .inr, .inr.gz)");
   vtkObject::GlobalWarningDisplayOff();  // failures become InputErrors, not console noise
   const std::string ext = detail::lower_extension(path);
-  VoxelGrid grid = ext == ".vti"   ? read_vtk_image<vtkXMLImageDataReader>(path, options, "VTK XML image data (.vti)")
+  detail::VoxelGrid grid = ext == ".vti"   ? read_vtk_image<vtkXMLImageDataReader>(path, options, "VTK XML image data (.vti)")
                    : is_inr_path(path) ? read_inr(path, options)
                                        : read_vtk_image<vtkMetaImageReader>(path, options, "MetaImage (.mhd/.mha)");
-  TetMesh mesh = tetrahedralize(grid, path, options);
+  // VTK's readers take the first half of the bar; INRIMAGE's reading is not reported.
+  ImageReadOptions converting = options;
+  converting.progress = scaled(options.progress, 0.5, 1.0);
+  TetMesh mesh = detail::voxel_grid_to_tets(grid, path, converting);
   validate(mesh);
   return mesh;
 }

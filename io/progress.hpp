@@ -20,4 +20,13 @@ inline void report(const Progress& progress, double fraction, const std::string&
   if (progress && !progress(fraction, stage)) throw Cancelled(source);
 }
 
+// `progress` for a step that fills [start, end] of the whole: fraction f becomes
+// start + f (end - start); an unknown fraction (negative) stays unknown.
+inline Progress scaled(const Progress& progress, double start, double end) {
+  if (!progress) return {};
+  return [progress, start, end](double fraction, const std::string& stage) {
+    return progress(fraction < 0.0 ? fraction : start + fraction * (end - start), stage);
+  };
+}
+
 }  // namespace prismoid::io

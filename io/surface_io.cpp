@@ -39,7 +39,11 @@
 #define TETLIBRARY  // Debian's libtet is built as a library: errors throw an int, never exit()
 #include <tetgen.h>
 
+#include <glm/common.hpp>
+
+#include "io/off_reader.hpp"
 #include "io/path_util.hpp"
+#include "io/vtk_progress.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
 
@@ -47,54 +51,17 @@ namespace prismoid::io {
 
 namespace {
 
-// OFF: "OFF", then vertex, face and edge counts, the vertices, then each face as its vertex
-// count and indices. Comments (#) and blank lines are skipped.
 vtkSmartPointer<vtkPolyData> read_off(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot be read");
-  std::vector<std::string> tokens;
-  std::string line;
-  while (std::getline(in, line)) {
-    line = line.substr(0, line.find('#'));
-    std::istringstream words(line);
-    std::string w;
-    while (words >> w) tokens.push_back(w);
-  }
-  size_t next = 0;
-  auto take = [&](const char* what) -> const std::string& {
-    if (next >= tokens.size()) throw InputError(path, std::string("ends early: expected ") + what);
-    return tokens[next++];
-  };
-  auto number = [&](const char* what) {
-    const std::string& t = take(what);
-    char* end = nullptr;
-    const double v = std::strtod(t.c_str(), &end);
-    if (end != t.c_str() + t.size() || !std::isfinite(v)) throw InputError(path, std::string("bad ") + what + " '" + t + "'");
-    return v;
-  };
-  auto count = [&](const char* what) {
-    const double v = number(what);
-    if (v < 0 || v != std::floor(v) || v > 1e9) throw InputError(path, std::string("bad ") + what);
-    return static_cast<vtkIdType>(v);
-  };
-  if (take("the OFF header") != "OFF") throw InputError(path, "is not an OFF file (no 'OFF' header)");
-  const vtkIdType nv = count("vertex count"), nf = count("face count");
-  count("edge count");
+  const detail::OffPolygons off = detail::parse_off(in, path);
   vtkNew<vtkPoints> points;
-  for (vtkIdType i = 0; i < nv; ++i) {
-    const double x = number("coordinate"), y = number("coordinate"), z = number("coordinate");
-    points->InsertNextPoint(x, y, z);
-  }
+  for (const auto& p : off.points) points->InsertNextPoint(p.x, p.y, p.z);
   vtkNew<vtkCellArray> polys;
-  for (vtkIdType f = 0; f < nf; ++f) {
-    const vtkIdType n = count("face size");
-    vtkNew<vtkIdList> ids;
-    for (vtkIdType k = 0; k < n; ++k) {
-      const vtkIdType v = count("vertex index");
-      if (v >= nv) throw InputError(path, "face " + std::to_string(f) + " names vertex " + std::to_string(v) + " of " + std::to_string(nv));
-      ids->InsertNextId(v);
-    }
-    polys->InsertNextCell(ids);
+  std::vector<vtkIdType> ids;
+  for (const auto& face : off.faces) {
+    ids.assign(face.begin(), face.end());
+    polys->InsertNextCell(vtkIdType(ids.size()), ids.data());
   }
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(points);
@@ -102,7 +69,7 @@ vtkSmartPointer<vtkPolyData> read_off(const std::string& path) {
   return poly;
 }
 
-vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::string& ext) {
+vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::string& ext, const Progress& progress) {
   if (ext == ".off") return read_off(path);
   vtkSmartPointer<vtkAlgorithm> reader;
   if (ext == ".vtp") {
@@ -123,20 +90,21 @@ vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::s
     r->SetFileName(path.c_str());
     reader = r;
   }
-  reader->Update();
+  detail::update_with_progress(reader, progress, {0.0, 0.6, "reading"}, path);
   vtkPolyData* poly = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
   if (reader->GetErrorCode() != 0 || !poly) throw InputError(path, "could not be read as " + ext + " (corrupt or truncated?)");
   return poly;
 }
 
-SurfaceMesh to_surface(vtkPolyData* poly, const std::string& name) {
+SurfaceMesh to_surface(vtkPolyData* poly, const std::string& name, const Progress& progress = {}) {
   vtkNew<vtkTriangleFilter> triangles;
   triangles->SetInputData(poly);
   vtkNew<vtkCleanPolyData> clean;  // merge coincident points
   clean->SetInputConnection(triangles->GetOutputPort());
   clean->PointMergingOn();
   clean->SetTolerance(0.0);
-  clean->Update();
+  detail::update_with_progress(triangles, progress, {0.6, 0.7, "splitting polygons into triangles"}, name);
+  detail::update_with_progress(clean, progress, {0.7, 1.0, "merging coincident points"}, name);
   vtkPolyData* out = clean->GetOutput();
   SurfaceMesh s;
   s.name = name;
@@ -314,12 +282,12 @@ bool is_surface_path(const std::string& path) {
   return ext == ".vtp" || ext == ".stl" || ext == ".obj" || ext == ".ply" || ext == ".off";
 }
 
-SurfaceMesh read_surface(const std::string& path) {
+SurfaceMesh read_surface(const std::string& path, const Progress& progress) {
   if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
   if (!is_surface_path(path)) throw InputError(path, "is not a surface file (.vtp .stl .obj .ply .off)");
   vtkObject::GlobalWarningDisplayOff();
-  const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path));
-  SurfaceMesh s = to_surface(poly, path);
+  const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path), progress);
+  SurfaceMesh s = to_surface(poly, path, progress);
   if (s.triangles.empty()) throw InputError(path, "has no surface triangles");
   return s;
 }
@@ -347,21 +315,29 @@ SurfaceMesh fill_holes(const SurfaceMesh& surface) {
   return to_surface(fill->GetOutput(), surface.name);
 }
 
-TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options, const Progress& progress) {
-  const SurfaceCheck check = check_surface(surface);
-  if (!check.closed()) {
-    std::ostringstream msg;
-    msg << "is not a closed surface: " << check.boundary_edges << " boundary (hole) edges and " << check.nonmanifold_edges
-        << " non-manifold edges, the first near (" << check.first_problem.x << ", " << check.first_problem.y << ", "
-        << check.first_problem.z << "); TetGen needs a closed surface (--fill-holes closes holes)";
-    throw InputError(surface.name, msg.str());
+double enclosed_volume(const SurfaceMesh& surface) {
+  // Sum of the signed volumes of the tetrahedra joining each triangle to a point; the bounds'
+  // centre keeps the terms small (less cancellation) for surfaces far from the origin.
+  glm::dvec3 lo(0.0), hi(0.0);
+  if (!surface.points.empty()) lo = hi = surface.points.front();
+  for (const auto& p : surface.points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
   }
-  if (!(options.radius_edge_ratio >= 1.0) || !(options.max_volume >= 0.0))
-    throw InputError("--tetgen-quality", "the radius-edge bound must be at least 1 and the volume bound not negative");
+  const glm::dvec3 o = 0.5 * (lo + hi);
+  double volume = 0.0;
+  for (const auto& t : surface.triangles)
+    volume += signed_volume(o, surface.points[t[0]], surface.points[t[1]], surface.points[t[2]]);
+  return volume;
+}
+
+namespace {
+
+TetMesh run_tetgen(const SurfaceMesh& surface, double radius_edge_ratio, double max_volume, const Progress& progress) {
   // p: a piecewise linear complex; q: quality; a: volume bound; Q: quiet.
   std::ostringstream switches;
-  switches << "pq" << options.radius_edge_ratio;
-  if (options.max_volume > 0.0) switches << "a" << options.max_volume;
+  switches << "pq" << radius_edge_ratio;
+  if (max_volume > 0.0) switches << "a" << max_volume;
   switches << "Q";
   const std::string text = switches.str();
   const TetgenResult result = run_tetgen_isolated(surface, text, progress);
@@ -387,6 +363,49 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options,
   mesh.cell_extinction.assign(mesh.tets.size(), 1.0);
   if (mesh.tets.empty()) throw InputError(surface.name, "TetGen produced no tetrahedra");
   return mesh;
+}
+
+double relative_miss(size_t cells, uint64_t target) { return std::abs(double(cells) - double(target)) / double(target); }
+
+}  // namespace
+
+TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options, const Progress& progress) {
+  const SurfaceCheck check = check_surface(surface);
+  if (!check.closed()) {
+    std::ostringstream msg;
+    msg << "is not a closed surface: " << check.boundary_edges << " boundary (hole) edges and " << check.nonmanifold_edges
+        << " non-manifold edges, the first near (" << check.first_problem.x << ", " << check.first_problem.y << ", "
+        << check.first_problem.z << "); TetGen needs a closed surface (--fill-holes closes holes)";
+    throw InputError(surface.name, msg.str());
+  }
+  if (!(options.radius_edge_ratio >= 1.0) || !(options.max_volume >= 0.0))
+    throw InputError("--tetgen-quality", "the radius-edge bound must be at least 1 and the volume bound not negative");
+  if (options.target_cells == 0) return run_tetgen(surface, options.radius_edge_ratio, options.max_volume, progress);
+  if (options.max_volume > 0.0) throw InputError("--tetgen-cells", "sets the volume bound itself: give it or --tetgen-max-volume, not both");
+
+  // Cells fill the volume at about `a` each when the bound binds, so a = V / N first. Quality
+  // refinement and the surface's own detail add cells beyond that, and the count falls more
+  // slowly than 1 / a: model count = k a^-p, correcting first with p = 1, then with p measured
+  // from the last two runs (a secant step in log-log), kept within [0.3, 1.5] against noise.
+  const double volume = std::abs(enclosed_volume(surface));
+  if (!(volume > 0.0)) throw InputError(surface.name, "encloses no volume, so no cell count can be aimed at (--tetgen-cells)");
+  const uint64_t target = options.target_cells;
+  double bound = volume / double(target), previous_bound = 0.0;
+  size_t previous_count = 0;
+  TetMesh last = run_tetgen(surface, options.radius_edge_ratio, bound, progress);
+  TetMesh best = last;
+  for (int correction = 0; correction < 2 && relative_miss(best.tets.size(), target) > kTargetCellsTolerance; ++correction) {
+    const double count = double(last.tets.size());
+    double exponent = 1.0;
+    if (previous_count > 0 && previous_count != last.tets.size())
+      exponent = std::clamp(std::log(double(previous_count) / count) / std::log(bound / previous_bound), 0.3, 1.5);
+    previous_bound = bound;
+    previous_count = last.tets.size();
+    bound *= std::pow(count / double(target), 1.0 / exponent);
+    last = run_tetgen(surface, options.radius_edge_ratio, bound, progress);
+    if (relative_miss(last.tets.size(), target) < relative_miss(best.tets.size(), target)) best = last;
+  }
+  return best;
 }
 
 namespace {
@@ -415,8 +434,8 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
   std::ostringstream bytes;
   bytes << in.rdbuf();
   std::ostringstream key;
-  key << "q" << options.tetgen.radius_edge_ratio << " a" << options.tetgen.max_volume << " fill" << options.fill_holes
-      << " v1";  // bump when the conversion changes
+  key << "q" << options.tetgen.radius_edge_ratio << " a" << options.tetgen.max_volume << " n" << options.tetgen.target_cells
+      << " fill" << options.fill_holes << " v1";  // bump when the conversion changes
   const uint64_t hash = fnv1a(key.str(), fnv1a(bytes.str()));
   SurfaceTets result;
   const std::string dir = options.cache_dir.empty() ? default_cache_dir() : options.cache_dir;
@@ -435,7 +454,7 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
       // A damaged cache entry: make it again.
     }
   }
-  SurfaceMesh surface = read_surface(path);
+  SurfaceMesh surface = read_surface(path, options.progress);
   if (options.fill_holes) surface = fill_holes(surface);
   result.triangles = surface.triangles.size();
   result.mesh = tetrahedralize(surface, options.tetgen, options.progress);

@@ -1,6 +1,7 @@
 #pragma once
 // Triangle surfaces from files, and their tetrahedralization with TetGen (Si 2015, the Debian
 // library libtet). VTK and TetGen types never leave io/.
+#include <cstdint>
 #include <string>
 
 #include "io/progress.hpp"
@@ -12,9 +13,10 @@ namespace prismoid::io {
 // .vtp (VTK XML polydata), .stl, .obj, .ply through VTK's readers; .off (Object File Format)
 // through our own small reader, since VTK 9.1 has none. Polygons are split into triangles and
 // coincident points merged (STL stores each triangle's corners separately). InputError naming
-// the file for a missing, unreadable or empty file.
+// the file for a missing, unreadable or empty file. `progress` sees VTK's reading and cleaning
+// (fractions rising to 1); returning false cancels (Cancelled).
 bool is_surface_path(const std::string& path);
-SurfaceMesh read_surface(const std::string& path);
+SurfaceMesh read_surface(const std::string& path, const Progress& progress = {});
 
 // Edges used by one triangle (holes) or by more than two (non-manifold).
 struct SurfaceCheck {
@@ -31,7 +33,16 @@ SurfaceMesh fill_holes(const SurfaceMesh& surface);
 struct TetgenOptions {
   double radius_edge_ratio = 1.414;  // TetGen -q: quality bound (smaller: rounder cells, more of them)
   double max_volume = 0.0;           // TetGen -a: largest cell volume; 0: no bound
+  // About this many tetrahedra (0: no target; then max_volume must be 0): the volume bound starts
+  // at the enclosed volume / target_cells and is corrected from the count TetGen returns (quality
+  // refinement adds cells), at most twice, until the count is within kTargetCellsTolerance.
+  uint64_t target_cells = 0;
 };
+inline constexpr double kTargetCellsTolerance = 0.15;  // relative
+
+// The volume a closed, consistently wound surface encloses (divergence theorem; positive for
+// outward-facing triangles, negative for inward).
+double enclosed_volume(const SurfaceMesh& surface);
 
 // A constrained Delaunay tetrahedralization of the closed surface's interior, extinction 1 per
 // cell. InputError(surface.name, ...) for open or non-manifold surfaces (saying where, and that
@@ -48,7 +59,7 @@ struct SurfaceToTets {
   TetgenOptions tetgen;
   bool fill_holes = false;
   std::string cache_dir;  // empty: the default above
-  Progress progress;      // passed to tetrahedralize
+  Progress progress;      // passed to read_surface and tetrahedralize
 };
 struct SurfaceTets {
   TetMesh mesh;

@@ -34,6 +34,10 @@ volume::TransferFunction read_paraview_colormap(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot be read");
+  return parse_paraview_colormap(in, path);
+}
+
+volume::TransferFunction parse_paraview_colormap(std::istream& in, const std::string& path) {
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(in);

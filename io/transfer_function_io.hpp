@@ -3,6 +3,7 @@
 // an array of objects with "Name", "RGBPoints" [x, r, g, b, ...] and optionally "Points"
 // [x, opacity, midpoint, sharpness, ...]. The points' positions are rescaled so the colour
 // points span [0, 1], as ParaView does when it applies a preset to a data range.
+#include <istream>
 #include <string>
 
 #include "renderer/volume/transfer_function.hpp"
@@ -13,6 +14,8 @@ namespace prismoid::io {
 // no "RGBPoints", point lists of the wrong length or not sorted, values outside [0, 1],
 // midpoint/sharpness other than ParaView's linear defaults (0.5, 0).
 volume::TransferFunction read_paraview_colormap(const std::string& path);
+// The same from a stream; errors name `name`.
+volume::TransferFunction parse_paraview_colormap(std::istream& in, const std::string& name);
 
 // Writes `tf` as a one-entry ParaView colour-map file (positions in [0, 1], sRGB colours).
 void write_paraview_colormap(const std::string& path, const volume::TransferFunction& tf);

@@ -19,6 +19,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "io/path_util.hpp"
+#include "io/vtk_progress.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::io::detail {
@@ -52,19 +53,19 @@ class SilentOutput : public vtkOutputWindow {
 }
 
 template <typename Reader>
-vtkSmartPointer<Reader> run_xml_reader(const std::string& path, const char* kind) {
+vtkSmartPointer<Reader> run_xml_reader(const std::string& path, const char* kind, const Progress& progress, const ProgressSpan& span) {
   auto reader = vtkSmartPointer<Reader>::New();
   if (!reader->CanReadFile(path.c_str())) throw InputError(path, std::string("is not a VTK XML ") + kind + " file");
   vtkNew<ErrorCatcher> errors;
   reader->AddObserver(vtkCommand::ErrorEvent, errors);
   reader->SetFileName(path.c_str());
-  reader->Update();
+  update_with_progress(reader, progress, span, path);
   if (reader->GetErrorCode() != 0 || !errors->message.empty() || !reader->GetOutputDataObject(0))
     fail_read(path, "VTK could not read the file (truncated or corrupt?)", *errors);
   return reader;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> read_legacy(const std::string& path) {
+vtkSmartPointer<vtkUnstructuredGrid> read_legacy(const std::string& path, const Progress& progress, const ProgressSpan& span) {
   vtkNew<vtkUnstructuredGridReader> reader;
   reader->SetFileName(path.c_str());
   if (!reader->OpenVTKFile() || !reader->ReadHeader()) throw InputError(path, "is not a legacy VTK file");
@@ -72,14 +73,15 @@ vtkSmartPointer<vtkUnstructuredGrid> read_legacy(const std::string& path) {
   if (!reader->IsFileUnstructuredGrid()) throw InputError(path, "is a legacy VTK file but not an UNSTRUCTURED_GRID");
   vtkNew<ErrorCatcher> errors;
   reader->AddObserver(vtkCommand::ErrorEvent, errors);
-  reader->Update();
+  update_with_progress(reader, progress, span, path);
   if (reader->GetErrorCode() != 0 || !errors->message.empty() || !reader->GetOutput())
     fail_read(path, "VTK could not read the unstructured grid (truncated or corrupt?)", *errors);
   return reader->GetOutput();
 }
 
 // One grid of several with coincident points merged: neighbouring pieces then share point ids.
-GridSource merge(const std::string& path, const std::vector<vtkUnstructuredGrid*>& pieces) {
+GridSource merge(const std::string& path, const std::vector<vtkUnstructuredGrid*>& pieces, const Progress& progress,
+                 const ProgressSpan& span) {
   if (pieces.empty()) throw InputError(path, "has no unstructured grid blocks (empty mesh)");
   vtkNew<vtkAppendFilter> append;
   append->MergePointsOn();
@@ -88,7 +90,7 @@ GridSource merge(const std::string& path, const std::vector<vtkUnstructuredGrid*
     append->AddInputData(piece);
     points_in += piece->GetNumberOfPoints();
   }
-  append->Update();
+  update_with_progress(append, progress, span, path);
   GridSource source;
   source.grid = append->GetOutput();
   source.pieces = pieces.size();
@@ -96,8 +98,8 @@ GridSource merge(const std::string& path, const std::vector<vtkUnstructuredGrid*
   return source;
 }
 
-GridSource read_multiblock(const std::string& path) {
-  auto reader = run_xml_reader<vtkXMLMultiBlockDataReader>(path, "multiblock (.vtm)");
+GridSource read_multiblock(const std::string& path, const Progress& progress, double read_end) {
+  auto reader = run_xml_reader<vtkXMLMultiBlockDataReader>(path, "multiblock (.vtm)", progress, {0.0, 0.8 * read_end, "reading blocks"});
   auto* blocks = vtkMultiBlockDataSet::SafeDownCast(reader->GetOutputDataObject(0));
   if (!blocks) throw InputError(path, "VTK did not read a multiblock data set");
   std::vector<vtkUnstructuredGrid*> grids;
@@ -117,7 +119,7 @@ GridSource read_multiblock(const std::string& path) {
     }
     grids.push_back(grid);
   }
-  return merge(path, grids);
+  return merge(path, grids, progress, {0.8 * read_end, read_end, "merging blocks"});
 }
 
 // The file's first bytes say what it is; a mismatch with the extension is named before a reader
@@ -166,40 +168,45 @@ QuietVtk::~QuietVtk() {
   vtkObject::SetGlobalWarningDisplay(display_);
 }
 
-GridSource read_unstructured_grid(const std::string& path) {
+GridSource read_unstructured_grid(const std::string& path, const Progress& progress, double read_end) {
   const std::string ext = lower_extension(path);
   check_content(path, ext);
-  if (ext == ".vtm") return read_multiblock(path);
+  if (ext == ".vtm") return read_multiblock(path, progress, read_end);
   if (ext == ".pvtu") {
     // Read piece by piece: the reader's whole output is one grid, whose shared points
     // vtkAppendFilter would pass through unmerged.
-    auto reader = run_xml_reader<vtkXMLPUnstructuredGridReader>(path, "parallel unstructured grid (.pvtu)");
+    // The first Update reads only the summary file; the pieces come after.
+    auto reader = run_xml_reader<vtkXMLPUnstructuredGridReader>(path, "parallel unstructured grid (.pvtu)", progress,
+                                                                {0.0, 0.1 * read_end, "reading pieces"});
     const int count = reader->GetNumberOfPieces();
     std::vector<vtkSmartPointer<vtkUnstructuredGrid>> pieces;
     vtkNew<ErrorCatcher> errors;
     reader->AddObserver(vtkCommand::ErrorEvent, errors);
     reader->AddObserver(vtkCommand::WarningEvent, errors);  // an unreadable piece is only a warning
     for (int i = 0; i < count; ++i) {
-      reader->UpdatePiece(i, count, 0);
+      const ProgressSpan piece{(0.1 + 0.7 * i / count) * read_end, (0.1 + 0.7 * (i + 1) / count) * read_end, "reading pieces"};
+      update_with_progress(reader, progress, piece, path, [&] { reader->UpdatePiece(i, count, 0); });
       if (!errors->message.empty()) fail_read(path, "VTK could not read piece " + std::to_string(i), *errors);
       pieces.push_back(vtkSmartPointer<vtkUnstructuredGrid>::New());
       pieces.back()->DeepCopy(reader->GetOutput());
     }
     std::vector<vtkUnstructuredGrid*> raw;
     for (auto& p : pieces) raw.push_back(p);
-    return merge(path, raw);
+    return merge(path, raw, progress, {0.8 * read_end, read_end, "merging pieces"});
   }
   GridSource source;
-  if (ext == ".vtu") source.grid = run_xml_reader<vtkXMLUnstructuredGridReader>(path, "unstructured grid (.vtu)")->GetOutput();
-  else source.grid = read_legacy(path);
+  const ProgressSpan reading{0.0, read_end, "reading"};
+  if (ext == ".vtu") source.grid = run_xml_reader<vtkXMLUnstructuredGridReader>(path, "unstructured grid (.vtu)", progress, reading)->GetOutput();
+  else source.grid = read_legacy(path, progress, reading);
   return source;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid) {
+vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid, const std::string& path, const Progress& progress,
+                                                    double start, double end) {
   vtkNew<vtkDataSetTriangleFilter> filter;
   filter->TetrahedraOnlyOn();
   filter->SetInputData(grid);
-  filter->Update();
+  update_with_progress(filter, progress, {start, end, "splitting cells into tetrahedra"}, path);
   return filter->GetOutput();
 }
 

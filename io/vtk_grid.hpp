@@ -8,6 +8,8 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
+#include "io/progress.hpp"
+
 namespace prismoid::io::detail {
 
 // While alive, VTK's error events reach the readers' observers (so they become InputErrors)
@@ -35,12 +37,15 @@ struct GridSource {
 // .vtu, legacy .vtk, .vtm (every leaf must be an unstructured grid) or .pvtu. Pieces are
 // appended with coincident points merged, so cells of neighbouring pieces share point ids
 // (the ordered triangulation below is conforming only across faces with shared ids).
-// InputError naming the file and the problem.
-GridSource read_unstructured_grid(const std::string& path);
+// InputError naming the file and the problem. `progress` sees fractions 0 to `read_end` while VTK
+// reads (and merges pieces); returning false cancels (Cancelled).
+GridSource read_unstructured_grid(const std::string& path, const Progress& progress = {}, double read_end = 1.0);
 
 // Every 3D cell as tetrahedra through vtkDataSetTriangleFilter; lower-dimensional cells are
 // dropped. Cell data is copied to each cell's tetrahedra, points and point data pass through.
-vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid);
+// `progress` sees fractions from `start` to `end`; returning false cancels (Cancelled(path)).
+vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid, const std::string& path, const Progress& progress = {},
+                                                    double start = 0.0, double end = 1.0);
 
 }  // namespace prismoid::io::detail
 

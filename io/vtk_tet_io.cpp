@@ -104,7 +104,7 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options, Me
   if (!is_tet_mesh_path(path))
     throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (Prismoid reads meshes .vtu .vtk .vtm .pvtu, images .vti .mhd .mha .inr, surfaces .vtp .stl .obj .ply .off)");
   const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
-  return detail::tet_mesh_from_grid(detail::read_unstructured_grid(path), path, options, conversion);
+  return detail::tet_mesh_from_grid(detail::read_unstructured_grid(path, options.progress, 0.7), path, options, conversion);
 }
 
 namespace detail {
@@ -123,7 +123,7 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
       throw InputError(path, "point " + std::to_string(i) + " has a non-finite coordinate (NaN or Inf)");
   }
   survey_cells(grid, path, report);
-  if (report.split() || report.dropped > 0) grid = tetrahedralize(grid);
+  if (report.split() || report.dropped > 0) grid = tetrahedralize(grid, path, options.progress, 0.7, 0.95);
 
   TetMesh mesh;
   mesh.name = path;
@@ -179,6 +179,7 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
     mesh.cell_extinction.push_back(sigma);
   }
   validate(mesh);
+  io::report(options.progress, 1.0, "converting to tetrahedra", path);
   const TetQuality quality = tet_quality(mesh);
   report.tets_out = mesh.tets.size();
   report.zero_volume = quality.zero_volume;

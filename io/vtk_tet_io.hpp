@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "io/progress.hpp"
 #include "scene/tet_mesh.hpp"
 
 namespace prismoid::io {
@@ -23,6 +24,9 @@ struct TetReadOptions {
   int component = -1;  // of a vector array; -1: its magnitude
   ArrayRole role = ArrayRole::Extinction;
   double density_scale = 1.0;  // multiplies the array's values (Extinction role only)
+  // Called while VTK reads and splits cells (fractions rise to 1); returning false cancels:
+  // read_tet_mesh then throws Cancelled.
+  Progress progress;
 };
 
 // What reading did to the file's cells. 3D cells other than tetrahedra (hexahedra, voxels,

@@ -11,3 +11,5 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
   mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
 fi
 xvfb-run -a -s "-screen 0 1280x1024x24" ctest --test-dir build --output-on-failure -j "$(nproc)" "$@"
+# libFuzzer on Prismoid's own parsers (fuzz/), briefly: 20 s per target, about 2 minutes in all.
+./scripts/fuzz.sh 20

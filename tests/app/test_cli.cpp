@@ -347,6 +347,25 @@ TEST(Cli, ClosedSurfaceIsTetrahedralizedAndRendered) {
   EXPECT_NE(info_open.out.find("closed: no: 3 boundary"), std::string::npos) << info_open.out;  // one triangle gone
 }
 
+// --tetgen-cells aims TetGen at a cell count; bad counts are exit code 2 naming the option.
+TEST(Cli, TetgenCellsLandsNearTheTargetAndRejectsBadCounts) {
+  ::setenv("XDG_CACHE_HOME", (work_dir() / "cache-cells").c_str(), 1);
+  const fs::path off = work_dir() / "cube-cells.off";
+  std::ofstream(off) << "OFF\n8 12 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
+                        "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
+  const fs::path vtu = work_dir() / "cube-cells.vtu";
+  const CliRun r = run("convert " + off.string() + " " + vtu.string() + " --tetgen-cells 5000");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("(target 5000)"), std::string::npos) << r.err;
+  const size_t cells = io::read_tet_mesh(vtu.string()).tets.size();
+  EXPECT_LE(std::abs(double(cells) - 5000.0), io::kTargetCellsTolerance * 5000.0) << cells;
+  for (const char* bad : {"0", "many", "-3"}) {
+    const CliRun b = run("convert " + off.string() + " " + vtu.string() + " --tetgen-cells " + bad);
+    EXPECT_EQ(b.code, 2) << bad;
+    EXPECT_NE(b.err.find("--tetgen-cells"), std::string::npos) << b.err;
+  }
+}
+
 // Two unit cubes side by side as legacy hexahedra, with a cell scalar and a point vector.
 const char* kTwoHexahedra =
     "# vtk DataFile Version 3.0\nhex\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 12 double\n"

@@ -40,6 +40,34 @@ double total_volume(const TetMesh& m) {
   return v;
 }
 
+TEST(SurfaceIo, EnclosedVolumeIsTheCubesAndSignedByWinding) {
+  const fs::path path = scratch("cube3.off");
+  std::ofstream(path) << cube_off(0, 3.0);
+  SurfaceMesh s = read_surface(path.string());
+  // Exact: every term is a product of small integers and halves, exactly representable.
+  EXPECT_EQ(enclosed_volume(s), 27.0);
+  for (auto& t : s.triangles) std::swap(t[1], t[2]);
+  EXPECT_EQ(enclosed_volume(s), -27.0);
+}
+
+TEST(SurfaceIo, TargetCellCountLandsWithinTheTolerance) {
+  const fs::path path = scratch("cube-target.off");
+  std::ofstream(path) << cube_off(0, 2.0);
+  const SurfaceMesh s = read_surface(path.string());
+  for (uint64_t target : {2000u, 20000u}) {
+    TetgenOptions options;
+    options.target_cells = target;
+    const TetMesh m = tetrahedralize(s, options);
+    EXPECT_LE(std::abs(double(m.tets.size()) - double(target)), kTargetCellsTolerance * double(target))
+        << m.tets.size() << " cells for a target of " << target;
+    EXPECT_NEAR(total_volume(m), 8.0, 1e-12);  // still a partition of the cube
+  }
+  TetgenOptions both;
+  both.target_cells = 100;
+  both.max_volume = 0.1;
+  EXPECT_THROW(tetrahedralize(s, both), InputError);
+}
+
 TEST(SurfaceIo, ClosedCubeFillsWithTetrahedraOfItsVolume) {
   const fs::path path = scratch("cube.off");
   std::ofstream(path) << cube_off(0, 2.0);
