@@ -51,31 +51,27 @@ bool combo(const char* label, const std::vector<T>& items, const T& current, T& 
 const char* string_name(const std::string& s) { return s.c_str(); }
 const char* quantity_label(const volume::Quantity& q) { return quantity_name(q); }
 
-void draw_frame_plan(const ViewState& state, const FrameStats& stats) {
-  ImGui::Text("Frame plan (last frame): ordering %s", stats.report.ordering.c_str());
-  if (!ImGui::BeginTable("plan", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) return;
-  ImGui::TableSetupColumn("pass");
-  ImGui::TableSetupColumn("ms");
-  ImGui::TableSetupColumn("why");
-  ImGui::TableHeadersRow();
+void draw_frame_plan_rows(const ViewState& state, const FrameStats& stats) {
+  ImGui::TextWrapped("ordering: %s", stats.report.ordering.c_str());
   auto row = [&](const std::string& name, double ms, const char* where) {
-    ImGui::TableNextRow();
-    ImGui::TableNextColumn();
-    ImGui::Text("%s%s", name.c_str(), where);
-    ImGui::TableNextColumn();
-    if (std::isfinite(ms)) ImGui::Text("%.3f", ms);
-    else ImGui::TextUnformatted("-");
-    ImGui::TableNextColumn();
-    ImGui::TextWrapped("%s", pass_reason(name, state.settings).c_str());
+    if (std::isfinite(ms)) ImGui::Text("%s%s  %.3f ms", name.c_str(), where, ms);
+    else ImGui::Text("%s%s", name.c_str(), where);
+    const std::string why = pass_reason(name, state.settings);
+    if (!why.empty()) {
+      ImGui::Indent();
+      ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+      ImGui::TextWrapped("%s", why.c_str());
+      ImGui::PopStyleColor();
+      ImGui::Unindent();
+    }
   };
   for (const auto& p : stats.report.cpu_passes) row(p.name, p.gpu_ms, " (CPU)");
   for (const auto& p : stats.gpu_passes) row(p.name, p.gpu_ms, "");
-  ImGui::EndTable();
 }
 
 }  // namespace
 
-void draw_mode_section(ViewState& state, PanelState& panel, const FrameStats& stats, uint32_t max_tetlet_size) {
+void draw_mode_section(ViewState& state, PanelState& panel, uint32_t max_tetlet_size) {
   std::string mode = state.mode;
   if (combo<std::string>("mode", modes_for(state.dataset()), state.mode, mode, string_name)) panel.message = set_mode(state, mode);
   volume::Quantity quantity = state.settings.resolve.quantity;
@@ -132,8 +128,8 @@ void draw_mode_section(ViewState& state, PanelState& panel, const FrameStats& st
   } else {
     ImGui::TextDisabled("density scale: applied at load (--density-scale)");
   }
-  ImGui::Separator();
-  draw_frame_plan(state, stats);
 }
+
+void draw_frame_plan(const ViewState& state, const FrameStats& stats) { draw_frame_plan_rows(state, stats); }
 
 }  // namespace prismoid::app

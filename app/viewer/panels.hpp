@@ -57,7 +57,9 @@ struct PanelState {
 UiRequests draw_side_panel(ViewState& state, PanelState& panel, const FrameStats& stats, const CameraController& camera,
                            uint32_t max_tetlet_size);
 void draw_view_section(PanelState& panel, const CameraController& camera, UiRequests& requests);
-void draw_mode_section(ViewState& state, PanelState& panel, const FrameStats& stats, uint32_t max_tetlet_size);
+void draw_mode_section(ViewState& state, PanelState& panel, uint32_t max_tetlet_size);
+// The passes of the last frame, their times and why each runs.
+void draw_frame_plan(const ViewState& state, const FrameStats& stats);
 void draw_tf_section(ViewState& state, PanelState& panel);
 // The HUD in the top-right corner.
 void draw_hud(const FrameStats& stats, const ViewState& state);

@@ -47,16 +47,20 @@ UiRequests draw_side_panel(ViewState& state, PanelState& panel, const FrameStats
   ImGui::SetNextWindowSize(ImVec2(std::min(340.0f, 0.45f * viewport->WorkSize.x), viewport->WorkSize.y), ImGuiCond_Once);
   ImGui::SetNextWindowBgAlpha(0.85f);
   if (ImGui::Begin("Prismoid")) {
+    ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);  // room for the labels on the right
     ImGui::TextWrapped("%s", state.dataset().name.c_str());
+    if (!panel.message.empty()) {  // the last refusal or confirmation, where it is seen
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.85f, 0.4f, 1.0f));
+      ImGui::TextWrapped("%s", panel.message.c_str());
+      ImGui::PopStyleColor();
+    }
     if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) draw_view_section(panel, camera, requests);
-    if (ImGui::CollapsingHeader("Mode", ImGuiTreeNodeFlags_DefaultOpen)) draw_mode_section(state, panel, stats, max_tetlet_size);
+    if (ImGui::CollapsingHeader("Mode", ImGuiTreeNodeFlags_DefaultOpen)) draw_mode_section(state, panel, max_tetlet_size);
     if (state.settings.resolve.quantity == volume::Quantity::Color &&
         ImGui::CollapsingHeader("Transfer function", ImGuiTreeNodeFlags_DefaultOpen))
       draw_tf_section(state, panel);
-    if (!panel.message.empty()) {
-      ImGui::Separator();
-      ImGui::TextWrapped("%s", panel.message.c_str());
-    }
+    if (ImGui::CollapsingHeader("Frame plan", ImGuiTreeNodeFlags_DefaultOpen)) draw_frame_plan(state, stats);
+    ImGui::PopItemWidth();
   }
   ImGui::End();
   return requests;

@@ -170,7 +170,11 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     ++report.swapchain_recreations;
   };
   auto finish_capture = [&] {
-    if (const auto written = capture.finish()) report.files_written.push_back(*written);
+    try {
+      if (const auto written = capture.finish()) report.files_written.push_back(*written);
+    } catch (const InputError& e) {  // an unwritable path: say so, keep the window
+      s.message(e.what());
+    }
   };
 
   bool frame_in_flight = false;
