@@ -1,4 +1,5 @@
 // `prismoid view`: the window.
+#include <chrono>
 #include <iostream>
 
 #include "app/cli.hpp"
@@ -55,8 +56,11 @@ int cmd_view(const std::vector<std::string>& args) {
   if (!display_available()) throw InputError("view", "no display (DISPLAY is not set); use `prismoid render --output X.png`");
   ViewState state;
   state.datasets.push_back(make_dataset(std::move(choice.mesh), field_of(a)));
+  const auto start = std::chrono::steady_clock::now();
   const ViewerReport report = run_viewer(std::move(state), options);
-  std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << "\n";
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << " in " << seconds << " s ("
+            << report.frames_presented / seconds << " frames per second, window set-up included)\n";
   if (options.validation && report.validation_messages > 0) {
     std::cerr << "prismoid: the validation layer reported " << report.validation_messages << " message(s)\n";
     return kValidationMessages;

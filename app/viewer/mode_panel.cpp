@@ -101,7 +101,8 @@ void draw_mode_section(ViewState& state, PanelState& panel, uint32_t max_tetlet_
   const bool color = r.quantity == volume::Quantity::Color;
   const bool march = r.march.enabled;
   if (color && !march) {
-    static constexpr std::array<int, 5> kTables = {0, 16, 32, 64, 128};
+    // Larger tables take seconds to build on the CPU (exact integrals per texel): the CLI has them.
+    static constexpr std::array<int, 4> kTables = {0, 16, 32, 64};
     const std::string label = r.preintegration_size ? std::to_string(r.preintegration_size) + "^3" : "off (exact)";
     if (ImGui::BeginCombo("pre-integration", label.c_str())) {
       for (int n : kTables)

@@ -72,6 +72,42 @@ void handle_mouse(ViewerSession& s, MouseState& mouse, bool ui_wants_mouse, doub
   }
 }
 
+// The frame's passes, the blit into swapchain image `index`, the UI over it, a screenshot.
+void record_frame(VkCommandBuffer cmd, ViewerSession& s, ImGuiLayer& ui, SwapchainCapture& capture, vk::GpuTimer& timer,
+                  uint32_t index) {
+  vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+  timer.reset(cmd);
+  s.renderer.record(cmd, s.camera.camera(), s.state.settings, timer);
+  {
+    vk::ScopedPass pass(timer, cmd, "present-blit");
+    blit_to_swapchain(cmd, s.renderer.display(), s.swapchain.image(index), s.swapchain.extent());
+  }
+  {
+    vk::ScopedPass pass(timer, cmd, "ui");
+    ui.record(cmd, index, s.state.show_ui);
+  }
+  if (s.capture_path)
+    capture.record(cmd, s.swapchain.image(index), s.swapchain.extent(), s.swapchain.format(), *std::exchange(s.capture_path, std::nullopt));
+  vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+}
+
+// Waits for the acquired image before the blit writes it; signals `done` for presentation.
+void submit_frame(const vk::Device& device, VkCommandBuffer cmd, VkSemaphore acquired, VkSemaphore done, VkFence fence) {
+  VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.waitSemaphoreCount = 1;
+  submit.pWaitSemaphores = &acquired;
+  submit.pWaitDstStageMask = &wait_stage;
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  submit.signalSemaphoreCount = 1;
+  submit.pSignalSemaphores = &done;
+  vk::check(vkQueueSubmit(device.queue(), 1, &submit, fence), "vkQueueSubmit");
+}
+
 void print_timings(GLFWwindow* window, const FrameStats& stats) {
   std::ostringstream title;
   title << "Prismoid - " << stats.device_name << " -";
@@ -252,37 +288,10 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
       continue;
     }
     vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
-    vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
-    timer.reset(cmd);
-    renderer.record(cmd, s.camera.camera(), s.state.settings, timer);
-    {
-      vk::ScopedPass pass(timer, cmd, "present-blit");
-      blit_to_swapchain(cmd, renderer.display(), swapchain.image(*index), swapchain.extent());
-    }
-    {
-      vk::ScopedPass pass(timer, cmd, "ui");
-      ui.record(cmd, *index, s.state.show_ui);
-    }
-    if (s.capture_path) capture.record(cmd, swapchain.image(*index), swapchain.extent(), swapchain.format(), *std::exchange(s.capture_path, std::nullopt));
-    vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-
-    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    VkSemaphore done = swapchain.render_finished(*index);
-    VkSemaphore acquired = image_available.get();
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.waitSemaphoreCount = 1;
-    submit.pWaitSemaphores = &acquired;
-    submit.pWaitDstStageMask = &wait_stage;
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd;
-    submit.signalSemaphoreCount = 1;
-    submit.pSignalSemaphores = &done;
-    vk::check(vkQueueSubmit(device.queue(), 1, &submit, in_flight.get()), "vkQueueSubmit");
+    record_frame(cmd, s, ui, capture, timer, *index);
+    submit_frame(device, cmd, image_available.get(), swapchain.render_finished(*index), in_flight.get());
     frame_in_flight = true;
-    if (!swapchain.present(*index, done)) recreate();
+    if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
     ++report.frames_presented;
   }
   device.wait_idle();
