@@ -10,6 +10,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
@@ -49,20 +50,16 @@ void handle_mouse(ViewerSession& s, MouseState& mouse, bool ui_wants_mouse, doub
   glfwGetCursorPos(w, &now.x, &now.y);
   const glm::dvec2 delta = now - mouse.last;
   mouse.last = now;
-  const bool left = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-  const bool middle = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
-  const bool right = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
-  const bool shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+  MouseButtons buttons;
+  buttons.left = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  buttons.middle = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+  buttons.right = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+  buttons.shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
   const glm::dvec2 viewport(s.swapchain.extent().width, s.swapchain.extent().height);
-  const bool any = left || middle || right;
-  if (!any) mouse.dragging = false;
-  else if (!mouse.dragging && !ui_wants_mouse) mouse.dragging = true;
-  if (mouse.dragging && (delta.x != 0.0 || delta.y != 0.0)) {
-    if (left && s.camera.flying()) s.camera.fly_look(delta, viewport);
-    else if ((left && shift) || middle) s.camera.pan(delta, viewport);
-    else if (left) s.camera.rotate(delta, viewport);
-    else if (right) s.camera.zoom(-delta.y / 20.0);
-  }
+  const auto gesture = drag_gesture(buttons, s.camera.flying());
+  if (!gesture) mouse.dragging = false;
+  else if (!mouse.dragging && !ui_wants_mouse) mouse.dragging = true;  // drags that start on a panel stay the panel's
+  if (mouse.dragging && gesture && (delta.x != 0.0 || delta.y != 0.0)) apply_drag(s.camera, *gesture, delta, viewport);
   const double scroll = s.window.take_scroll();
   if (!ui_wants_mouse && scroll != 0.0) s.camera.zoom(scroll);
   if (s.camera.flying() && !ImGui::GetIO().WantCaptureKeyboard) {

@@ -10,6 +10,7 @@
 #include "app/cli_args.hpp"
 #include "app/frame_image.hpp"
 #include "app/viewer/camera_line.hpp"
+#include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "app/volume_options.hpp"
 #include "io/image_io.hpp"
@@ -171,6 +172,17 @@ void ViewerSession::run(const ScriptCommand& c) {
   else if (c.verb == "rotate") camera.rotate({number(0), number(1)}, viewport);
   else if (c.verb == "pan") camera.pan({number(0), number(1)}, viewport);
   else if (c.verb == "zoom") camera.zoom(number(0));
+  else if (c.verb == "drag") {  // what the mouse bindings make of a drag with these buttons
+    MouseButtons b;
+    for (size_t i = 2; i < a.size(); ++i) {
+      if (a[i] == "left") b.left = true;
+      else if (a[i] == "middle") b.middle = true;
+      else if (a[i] == "right") b.right = true;
+      else if (a[i] == "shift") b.shift = true;
+      else throw InputError(c.where, "drag DX DY takes buttons left, middle, right and shift");
+    }
+    if (const auto gesture = drag_gesture(b, camera.flying())) apply_drag(camera, *gesture, {number(0), number(1)}, viewport);
+  }
   else if (c.verb == "fly") camera.set_flying(on_off(c));
   else if (c.verb == "fly-move") camera.fly_move({number(0), number(1), number(2)}, number(3));
   else if (c.verb == "fly-look") camera.fly_look({number(0), number(1)}, viewport);

@@ -21,7 +21,7 @@ const std::map<std::string, int>& verbs() {
       {"zoom", 1},       {"fly", 1},           {"fly-move", 4},     {"fly-look", 2},
       {"ui", 1},         {"screenshot", 1},    {"render", 3},       {"print-camera", 0},
       {"resize", 2},     {"iconify", 0},       {"restore", 0},      {"close", 0},
-      {"rss", 0}};
+      {"rss", 0},        {"drag", -1}};
   return v;
 }
 
@@ -50,6 +50,7 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
     }
     const auto found = verbs().find(c.verb);
     if (found == verbs().end()) throw InputError(c.where, "unknown command '" + c.verb + "'");
+    if (c.verb == "drag" && c.args.size() < 3) throw InputError(c.where, "drag takes DX DY and at least one button");
     if (found->second >= 0 && c.args.size() != size_t(found->second))
       throw InputError(c.where, c.verb + " takes " + std::to_string(found->second) + " argument(s)");
     c.frame = frame;

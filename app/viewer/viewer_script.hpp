@@ -15,6 +15,7 @@
 //   camera OPTIONS          --eye x,y,z --target x,y,z --up x,y,z --fovy D --near N (as render)
 //   view +X|-X|+Y|-Y|+Z|-Z  an axis-aligned view;  reset: fit the data
 //   rotate DX DY | pan DX DY | zoom STEPS      what mouse drags and the wheel do (pixels, steps)
+//   drag DX DY BUTTON...    a mouse drag as the bindings see it (left, middle, right, shift)
 //   fly on|off | fly-move RIGHT UP FORWARD SECONDS | fly-look DX DY
 //   ui on|off               show or hide the panels
 //   screenshot FILE         the window as displayed (with the panels when shown), PNG

@@ -8,6 +8,7 @@
 
 #include "app/viewer/camera_controller.hpp"
 #include "app/viewer/camera_line.hpp"
+#include "app/viewer/mouse_bindings.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid {
@@ -147,6 +148,24 @@ TEST(CameraController, FlyingIntoTheVolumeKeepsAValidNearPlane) {
 TEST(CameraController, NearPlaneIsHalfTheDistanceToTheBoundsOutsideThem) {
   const glm::dvec3 eye = kBounds.max + glm::dvec3(0.0, 0.0, 2.0);
   EXPECT_DOUBLE_EQ(app::near_distance_for(eye, kBounds), 1.0);
+}
+
+// ParaView's mouse bindings: left rotates, shift+left and middle pan, right zooms; in fly mode
+// left looks around.
+TEST(MouseBindings, DragsMakeParaViewsGestures) {
+  using app::DragGesture;
+  using B = app::MouseButtons;
+  EXPECT_EQ(app::drag_gesture(B{true, false, false, false}, false), DragGesture::Rotate);
+  EXPECT_EQ(app::drag_gesture(B{true, false, false, true}, false), DragGesture::Pan);
+  EXPECT_EQ(app::drag_gesture(B{false, true, false, false}, false), DragGesture::Pan);
+  EXPECT_EQ(app::drag_gesture(B{false, false, true, false}, false), DragGesture::Zoom);
+  EXPECT_EQ(app::drag_gesture(B{true, false, false, false}, true), DragGesture::Look);
+  EXPECT_FALSE(app::drag_gesture(B{}, false).has_value());
+  // A right drag upwards (negative screen y) brings the eye closer, 20 pixels a wheel step.
+  CameraController c(kBounds);
+  const double before = glm::distance(c.camera().eye, c.camera().target);
+  app::apply_drag(c, DragGesture::Zoom, {0.0, -40.0}, kViewport);
+  EXPECT_NEAR(glm::distance(c.camera().eye, c.camera().target), before * 0.81, kTight * before);
 }
 
 // The line the window prints and copies parses back through render's own option parser to

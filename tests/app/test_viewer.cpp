@@ -120,6 +120,7 @@ TEST(Viewer, ScriptedSessionChangesWhatIsDrawnAndReportsIt) {
   const fs::path dir = out_dir("session");
   std::ostringstream script;
   script << "frame 1\nui off\nmode interval-sorted\nquantity color\ndensity-scale 8\ntf cool-to-warm\ntf-range data\n"
+         << "drag 40 -20 left\ndrag 6 3 middle\ndrag 0 -20 right\n"
          << "frame 3\nscreenshot " << (dir / "cool.png").string() << "\n"
          << "frame 4\ntf black-body\n"
          << "frame 6\nscreenshot " << (dir / "black-body.png").string() << "\n"
@@ -170,6 +171,12 @@ TEST(Viewer, ScriptedSessionChangesWhatIsDrawnAndReportsIt) {
   ASSERT_EQ(report.camera_lines.size(), 1u);
   const Camera parsed = app::camera_from_line(report.camera_lines[0], bounds_of(mesh));
   EXPECT_NEAR(glm::distance(parsed.eye, report.camera.eye), 0.0, 1e-9);
+  // The drags moved the camera: rotated (the eye off the +z axis), zoomed in (the fitted eye
+  // is at its distance times 0.9 after one step of right drag), panned (target off the centre).
+  const Camera fitted = fit_camera(bounds_of(mesh));
+  EXPECT_GT(std::abs(report.camera.eye.x), 1e-3);
+  EXPECT_NEAR(glm::distance(report.camera.eye, report.camera.target), 0.9 * glm::distance(fitted.eye, fitted.target), 1e-9);
+  EXPECT_GT(glm::distance(report.camera.target, fitted.target), 1e-3);
   EXPECT_EQ(report.mode, "interval-sorted");
   EXPECT_EQ(report.quantity, volume::Quantity::Color);
   for (const char* pass : {"sort", "interval-shading (emission)", "resolve", "present-blit", "ui"}) EXPECT_TRUE(has_pass(report, pass)) << pass;
