@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "app/commands.hpp"
-#include "app/viewer.hpp"
+#include "app/viewer/viewer.hpp"
 #include "io/progress.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/error.hpp"

@@ -10,6 +10,7 @@
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/frame_image.hpp"
 #include "app/reference_frame.hpp"
 #include "app/volume_options.hpp"
 #include "io/image_io.hpp"
@@ -163,22 +164,7 @@ int cmd_render(const std::vector<std::string>& args) {
   }
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
-  io::FloatImage image;
-  image.width = result.width;
-  image.height = result.height;
-  const bool pfm = std::filesystem::path(output).extension() == ".pfm" || std::filesystem::path(output).extension() == ".PFM";
-  if (pfm && !color) {  // isosurface: the distance to the hit
-    image.channels = 1;
-    image.pixels = result.quantity;
-  } else if (pfm) {  // colour PFM: the linear colour over the background, RGB
-    image.channels = 3;
-    image.pixels.resize(result.display.size() / 4 * 3);
-    for (size_t i = 0; i < result.display.size() / 4; ++i)
-      for (int k = 0; k < 3; ++k) image.pixels[3 * i + k] = result.display[4 * i + k];
-  } else {
-    image.channels = 4;
-    image.pixels = result.display;
-  }
+  const io::FloatImage image = frame_image(result, output, color);
   io::write_image(output, image);
 
   const bool cpu = mode == "reference";

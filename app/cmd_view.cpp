@@ -1,10 +1,11 @@
 // `prismoid view`: the window.
+#include <chrono>
 #include <iostream>
 
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
-#include "app/viewer.hpp"
+#include "app/viewer/viewer.hpp"
 #include "app/volume_options.hpp"
 #include "scene/input_error.hpp"
 
@@ -19,15 +20,19 @@ const char* const kViewHelp =
     "                       what to show and how, as for render (not --mode reference)\n"
     "  --eye/--target/--up/--fovy/--near   initial camera, as for render\n"
     "  --frames N           close after N frames (for scripted runs)\n"
+    "  --script FILE        drive the window from a command file (see docs/user-guide.md)\n"
+    "  --no-ui              start with the panels hidden (H shows them)\n"
     "  --device N           use Vulkan device N\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "\n"
-    "Mouse: left drag orbits, wheel zooms. Keys: R resets the camera, Esc closes.\n";
+    "Mouse: left drag rotates, shift+left or middle drag pans, right drag or wheel zooms.\n"
+    "Keys: R fit, X/Y/Z (shift: negative) axis views, F fly (WASD/QE move, drag looks), C copy the\n"
+    "camera as render options, P screenshot, H hide the panels, Esc close.\n";
 
 int cmd_view(const std::vector<std::string>& args) {
-  std::vector<std::string> value_options = with_camera({"size", "frames", "device"});
+  std::vector<std::string> value_options = with_camera({"size", "frames", "device", "script"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
-  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});
+  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes", "no-ui"});
   if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
   VolumeChoice choice = volume_choice(a);
   if (choice.mode == "reference") throw InputError("--mode reference", "runs on the CPU: use `prismoid render --mode reference`");
@@ -41,13 +46,21 @@ int cmd_view(const std::vector<std::string>& args) {
   options.validation = a.flags.count("validate") > 0;
   options.device_index = parse_device(a);
   options.settings = choice.settings;
+  options.mode = choice.mode;
+  options.show_ui = a.flags.count("no-ui") == 0;
+  if (a.has("script")) options.script = read_script(a.values.at("script"));
   if (a.has("frames")) options.max_frames = parse_uint("frames", a.values.at("frames"));
   bool any_camera = false;
   for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);
   if (any_camera) options.camera = camera_from(a, bounds_of(mesh));
   if (!display_available()) throw InputError("view", "no display (DISPLAY is not set); use `prismoid render --output X.png`");
-  const ViewerReport report = run_viewer(mesh, options);
-  std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << "\n";
+  ViewState state;
+  state.datasets.push_back(make_dataset(std::move(choice.mesh), field_of(a)));
+  const auto start = std::chrono::steady_clock::now();
+  const ViewerReport report = run_viewer(std::move(state), options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << " in " << seconds << " s ("
+            << report.frames_presented / seconds << " frames per second, window set-up included)\n";
   if (options.validation && report.validation_messages > 0) {
     std::cerr << "prismoid: the validation layer reported " << report.validation_messages << " message(s)\n";
     return kValidationMessages;

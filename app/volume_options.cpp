@@ -159,6 +159,21 @@ const char* quantity_name(volume::Quantity q) {
   return "?";
 }
 
+volume::Quantity quantity_of_name(const std::string& q) {
+  if (q == "optical-depth") return volume::Quantity::OpticalDepth;
+  if (q == "transmittance") return volume::Quantity::Transmittance;
+  if (q == "color") return volume::Quantity::Color;
+  if (q == "isosurface") return volume::Quantity::Isosurface;
+  throw InputError("--quantity", "unknown quantity '" + q + "' (optical-depth, transmittance, color, isosurface)");
+}
+
+std::optional<frame::Ordering> ordering_of_mode(const std::string& mode) {
+  if (mode == "interval") return frame::Ordering::MeshOrder;
+  if (mode == "interval-sorted" || mode == "interval-march") return frame::Ordering::GpuSort;
+  if (mode == "interval-exact-order" || mode == "interval-march-exact-order") return frame::Ordering::Exact;
+  return std::nullopt;
+}
+
 // The transfer function the color options describe, over the data's scalar range unless given.
 volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh) {
   volume::TransferFunction tf = io::transfer_function_from(a.has("tf") ? a.values.at("tf") : "cool-to-warm");
@@ -195,23 +210,12 @@ const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-r
 VolumeChoice volume_choice(const ParsedArgs& a) {
   VolumeChoice v;
   volume::Quantity& quantity = v.quantity;
-  if (a.has("quantity")) {
-    const std::string& q = a.values.at("quantity");
-    if (q == "optical-depth") quantity = volume::Quantity::OpticalDepth;
-    else if (q == "transmittance") quantity = volume::Quantity::Transmittance;
-    else if (q == "color") quantity = volume::Quantity::Color;
-    else if (q == "isosurface") quantity = volume::Quantity::Isosurface;
-    else throw InputError("--quantity", "unknown quantity '" + q + "' (optical-depth, transmittance, color, isosurface)");
-  }
+  if (a.has("quantity")) quantity = quantity_of_name(a.values.at("quantity"));
   const bool color = quantity == volume::Quantity::Color;
   v.mode = a.has("mode") ? a.values.at("mode") : (color ? "interval-sorted" : "interval");
   const std::string& mode = v.mode;
   frame::FrameSettings& settings = v.settings;
-  if (mode == "interval") settings.ordering = frame::Ordering::MeshOrder;
-  else if (mode == "interval-sorted") settings.ordering = frame::Ordering::GpuSort;
-  else if (mode == "interval-exact-order") settings.ordering = frame::Ordering::Exact;
-  else if (mode == "interval-march") settings.ordering = frame::Ordering::GpuSort;
-  else if (mode == "interval-march-exact-order") settings.ordering = frame::Ordering::Exact;
+  if (const auto ordering = ordering_of_mode(mode)) settings.ordering = *ordering;
   else if (mode != "reference")
     throw InputError("--mode", "unknown mode '" + mode +
                                    "' (available: interval, interval-sorted, interval-exact-order, interval-march, "

@@ -21,6 +21,10 @@ std::optional<volume::AnalyticField> field_of(const ParsedArgs& a);
 TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false);
 
 const char* quantity_name(volume::Quantity q);
+// The inverse of quantity_name; InputError("--quantity") for an unknown name.
+volume::Quantity quantity_of_name(const std::string& name);
+// The GPU modes' cell orderings (interval, interval-sorted, ...); nullopt for other names.
+std::optional<frame::Ordering> ordering_of_mode(const std::string& mode);
 
 // The transfer function the color options describe, over the data's scalar range unless given.
 volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh);

@@ -8,7 +8,7 @@ BASE_PACKAGES=(
   build-essential cmake ninja-build ccache pkg-config
   libvulkan-dev vulkan-tools vulkan-validationlayers
   glslang-tools
-  libglfw3-dev libglm-dev libstb-dev
+  libglfw3-dev libglm-dev libstb-dev libimgui-dev
   libgtest-dev
   libvtk9-dev
   nlohmann-json3-dev

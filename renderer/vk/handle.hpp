@@ -52,5 +52,7 @@ using UniqueFence = DeviceHandle<VkFence, vkDestroyFence>;
 using UniqueSemaphore = DeviceHandle<VkSemaphore, vkDestroySemaphore>;
 using UniqueQueryPool = DeviceHandle<VkQueryPool, vkDestroyQueryPool>;
 using UniqueSwapchain = DeviceHandle<VkSwapchainKHR, vkDestroySwapchainKHR>;
+using UniqueRenderPass = DeviceHandle<VkRenderPass, vkDestroyRenderPass>;
+using UniqueFramebuffer = DeviceHandle<VkFramebuffer, vkDestroyFramebuffer>;
 
 }  // namespace prismoid::vk

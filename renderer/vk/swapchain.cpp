@@ -35,8 +35,12 @@ void Swapchain::recreate(VkExtent2D framebuffer_size) {
   device_.wait_idle();
   VkSurfaceCapabilitiesKHR caps;
   check(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(device_.physical(), surface_, &caps), "vkGetPhysicalDeviceSurfaceCapabilitiesKHR");
-  if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
-    throw NoSuitableDevice("the window surface does not accept transfer writes");
+  // Transfer writes (the frame's display image is blitted in), colour attachment (the UI is
+  // drawn over it) and transfer reads (screenshots of what the window shows).
+  constexpr VkImageUsageFlags usage =
+      VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  if ((caps.supportedUsageFlags & usage) != usage)
+    throw NoSuitableDevice("the window surface does not accept transfer writes, transfer reads and drawing");
 
   uint32_t count = 0;
   check(vkGetPhysicalDeviceSurfaceFormatsKHR(device_.physical(), surface_, &count, nullptr), "vkGetPhysicalDeviceSurfaceFormatsKHR");
@@ -68,7 +72,7 @@ void Swapchain::recreate(VkExtent2D framebuffer_size) {
   info.imageColorSpace = chosen.colorSpace;
   info.imageExtent = extent_;
   info.imageArrayLayers = 1;
-  info.imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  info.imageUsage = usage;
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = caps.currentTransform;
   info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;

@@ -1,6 +1,7 @@
 #pragma once
 // A swapchain over a surface the caller owns; recreated on resize. Images are written by
-// transfer (the frame's display image is blitted into them), then presented.
+// transfer (the frame's display image is blitted into them), may be drawn over (the UI) and
+// read back (screenshots), then presented.
 #include <optional>
 #include <vector>
 #include <vulkan/vulkan.h>

@@ -1,0 +1,37 @@
+// The HUD: what the last frame cost and what it drew, in the top-right corner.
+#include <imgui.h>
+
+#include <cmath>
+
+#include "app/viewer/panels.hpp"
+#include "app/volume_options.hpp"
+
+namespace prismoid::app {
+
+void draw_hud(const FrameStats& stats, const ViewState& state) {
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 10.0f, viewport->WorkPos.y + 10.0f), ImGuiCond_Always,
+                          ImVec2(1.0f, 0.0f));
+  ImGui::SetNextWindowBgAlpha(0.6f);
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
+                                 ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove;
+  if (!ImGui::Begin("HUD", nullptr, flags)) {
+    ImGui::End();
+    return;
+  }
+  ImGui::Text("%s", stats.device_name.c_str());
+  ImGui::Text("%s, %s", state.mode.c_str(), quantity_name(state.settings.resolve.quantity));
+  ImGui::Text("frame (CPU) %.2f ms", stats.cpu_frame_ms);
+  double gpu_total = 0.0;
+  for (const auto& p : stats.gpu_passes) {
+    if (std::isfinite(p.gpu_ms)) gpu_total += p.gpu_ms;
+    ImGui::Text("  %s %.3f ms", p.name.c_str(), p.gpu_ms);
+  }
+  ImGui::Text("GPU total %.3f ms", gpu_total);
+  ImGui::Text("cells drawn %llu", static_cast<unsigned long long>(stats.cells));
+  if (stats.counted) ImGui::Text("fragments shaded %llu", static_cast<unsigned long long>(stats.fragments));
+  ImGui::Text("mesh on GPU %.1f MiB", double(stats.report.mesh_bytes) / (1024.0 * 1024.0));
+  ImGui::End();
+}
+
+}  // namespace prismoid::app

@@ -1,0 +1,70 @@
+#pragma once
+// The window's panels, drawn with Dear ImGui each frame: the view (camera) panel, the mode
+// panel with the frame plan, the transfer-function editor, and the HUD. They edit the
+// ViewState directly; what needs the frame loop (camera moves, screenshots, renders) they ask
+// for through UiRequests, which the loop carries out exactly as it does for keys and scripts.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/viewer/camera_controller.hpp"
+#include "app/viewer/view_state.hpp"
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/vk/timer.hpp"
+
+namespace prismoid::app {
+
+// What the HUD and the frame plan show about the last frame that finished.
+struct FrameStats {
+  std::string device_name;
+  std::vector<vk::PassTiming> gpu_passes;  // the last finished frame's passes
+  frame::FrameReport report;               // what prepare() did for it
+  double cpu_frame_ms = 0.0;               // wall time between the last two frames
+  uint64_t cells = 0;                      // cells drawn (every cell of the dataset)
+  bool counted = false;                    // fragments counted (pipeline statistics)
+  uint64_t fragments = 0;
+  uint64_t primitives = 0;
+};
+
+struct RenderRequest {
+  uint32_t width = 1920, height = 1080;
+  std::string path;
+};
+
+struct UiRequests {
+  std::optional<AxisView> axis_view;
+  bool reset_camera = false;
+  bool toggle_fly = false;
+  bool copy_camera = false;
+  std::optional<std::string> apply_camera_line;
+  std::optional<std::string> screenshot;  // path
+  std::optional<RenderRequest> render;
+};
+
+// Text the panels keep between frames (text boxes, messages, the dragged point).
+struct PanelState {
+  char camera_text[512] = "";
+  char screenshot_path[256] = "prismoid-screenshot.png";
+  char render_path[256] = "prismoid-render.png";
+  int render_size[2] = {1920, 1080};
+  char tf_path[256] = "colormap.json";
+  int dragged_point = -1;
+  std::string message;  // the last error or confirmation, shown under the panels
+};
+
+// The left-hand panel: view, mode and transfer function; returns the requests it made.
+UiRequests draw_side_panel(ViewState& state, PanelState& panel, const FrameStats& stats, const CameraController& camera,
+                           uint32_t max_tetlet_size);
+void draw_view_section(PanelState& panel, const CameraController& camera, UiRequests& requests);
+void draw_mode_section(ViewState& state, PanelState& panel, uint32_t max_tetlet_size);
+// The passes of the last frame, their times and why each runs.
+void draw_frame_plan(const ViewState& state, const FrameStats& stats);
+void draw_tf_section(ViewState& state, PanelState& panel);
+// The HUD in the top-right corner.
+void draw_hud(const FrameStats& stats, const ViewState& state);
+
+// Why a pass of the frame runs, for the frame plan (the planner of issue 6 will say this itself).
+std::string pass_reason(const std::string& pass, const frame::FrameSettings& settings);
+
+}  // namespace prismoid::app

@@ -1,0 +1,59 @@
+#pragma once
+// What the window shows, apart from the camera: the datasets, which one is drawn, the mode and
+// its settings, and the UI's own switches. Plain data and free functions; the panels and the
+// script edit it, the frame loop reads it. Several datasets and the compare setting are
+// already here so split view and background loading can be added without reshaping it.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/volume/analytic_field.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::app {
+
+// One loaded dataset and what the UI needs to know about it.
+struct Dataset {
+  std::string name;
+  std::shared_ptr<const TetMesh> mesh;
+  std::optional<volume::AnalyticField> field;  // field:NAME datasets: what interval-march samples
+  Bounds bounds;
+  bool has_scalars = false;                    // colour needs a scalar field
+  double scalar_lo = 0.0, scalar_hi = 1.0;     // the data's range (hi > lo)
+};
+
+// Builds the description of a loaded mesh. Touches no global state, so a loader thread may
+// call it and hand the result to the window.
+Dataset make_dataset(TetMesh mesh, std::optional<volume::AnalyticField> field = std::nullopt);
+
+// How the view compares modes. Only Off exists now: split (A | B) and the difference heat map
+// come later and will read the second mode from here.
+enum class CompareMode { Off };
+
+struct ViewState {
+  std::vector<Dataset> datasets;
+  size_t active = 0;  // the dataset drawn
+  CompareMode compare = CompareMode::Off;
+  std::string mode = "interval";  // the CLI's --mode names
+  frame::FrameSettings settings;
+  std::string tf_preset = "cool-to-warm";
+  bool show_ui = true;
+  const Dataset& dataset() const { return datasets.at(active); }
+};
+
+// The GPU modes the dataset can use (the march modes only for analytic fields).
+std::vector<std::string> modes_for(const Dataset& dataset);
+// The quantities a mode can show for the dataset.
+std::vector<volume::Quantity> quantities_for(const Dataset& dataset, const std::string& mode);
+
+// Each returns an empty string when applied, else why not (the state is then unchanged).
+std::string set_mode(ViewState& state, const std::string& mode);
+std::string set_quantity(ViewState& state, volume::Quantity quantity);
+std::string set_preset(ViewState& state, const std::string& preset_name);
+// Whether shared vertices (tetlets) can be used now: they fix the draw order, so not with an
+// order-dependent quantity in a sorted mode. Empty when they can.
+std::string shared_vertices_problem(const ViewState& state);
+
+}  // namespace prismoid::app

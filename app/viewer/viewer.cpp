@@ -1,0 +1,307 @@
+#include "app/viewer/viewer.hpp"
+
+#include <imgui.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+
+#include "app/viewer/mouse_bindings.hpp"
+#include "app/viewer/viewer_session.hpp"
+#include "renderer/vk/error.hpp"
+#include "renderer/vk/instance.hpp"
+#include "renderer/vk/memory.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+namespace {
+
+std::atomic<bool> g_terminate{false};
+extern "C" void on_terminate_signal(int) { g_terminate = true; }
+
+// The display image into the swapchain image, which stays in TRANSFER_DST for the UI pass.
+void blit_to_swapchain(VkCommandBuffer cmd, const vk::Image& display, VkImage target, VkExtent2D extent) {
+  vk::image_barrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                    VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  VkImageBlit region{};
+  region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.srcOffsets[1] = {int32_t(display.extent().width), int32_t(display.extent().height), 1};
+  region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.dstOffsets[1] = {int32_t(extent.width), int32_t(extent.height), 1};
+  vkCmdBlitImage(cmd, display.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                 &region, VK_FILTER_NEAREST);
+}
+
+// Mouse drags and held keys: ParaView's bindings, fly mode's WASD/QE.
+struct MouseState {
+  glm::dvec2 last{0.0};
+  bool dragging = false;  // a drag that began outside the panels
+};
+
+void handle_mouse(ViewerSession& s, MouseState& mouse, bool ui_wants_mouse, double seconds) {
+  GLFWwindow* w = s.window.get();
+  glm::dvec2 now;
+  glfwGetCursorPos(w, &now.x, &now.y);
+  const glm::dvec2 delta = now - mouse.last;
+  mouse.last = now;
+  MouseButtons buttons;
+  buttons.left = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  buttons.middle = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+  buttons.right = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+  buttons.shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+  const glm::dvec2 viewport(s.swapchain.extent().width, s.swapchain.extent().height);
+  const auto gesture = drag_gesture(buttons, s.camera.flying());
+  if (!gesture) mouse.dragging = false;
+  else if (!mouse.dragging && !ui_wants_mouse) mouse.dragging = true;  // drags that start on a panel stay the panel's
+  if (mouse.dragging && gesture && (delta.x != 0.0 || delta.y != 0.0)) apply_drag(s.camera, *gesture, delta, viewport);
+  const double scroll = s.window.take_scroll();
+  if (!ui_wants_mouse && scroll != 0.0) s.camera.zoom(scroll);
+  if (s.camera.flying() && !ImGui::GetIO().WantCaptureKeyboard) {
+    auto held = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS ? 1.0 : 0.0; };
+    const glm::dvec3 direction(held(GLFW_KEY_D) - held(GLFW_KEY_A), held(GLFW_KEY_E) - held(GLFW_KEY_Q), held(GLFW_KEY_W) - held(GLFW_KEY_S));
+    if (direction != glm::dvec3(0.0)) s.camera.fly_move(direction, seconds);
+  }
+}
+
+// The frame's passes, the blit into swapchain image `index`, the UI over it, a screenshot.
+void record_frame(VkCommandBuffer cmd, ViewerSession& s, ImGuiLayer& ui, SwapchainCapture& capture, vk::GpuTimer& timer,
+                  uint32_t index) {
+  vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+  timer.reset(cmd);
+  s.renderer.record(cmd, s.camera.camera(), s.state.settings, timer);
+  {
+    vk::ScopedPass pass(timer, cmd, "present-blit");
+    blit_to_swapchain(cmd, s.renderer.display(), s.swapchain.image(index), s.swapchain.extent());
+  }
+  {
+    vk::ScopedPass pass(timer, cmd, "ui");
+    ui.record(cmd, index, s.state.show_ui);
+  }
+  if (s.capture_path)
+    capture.record(cmd, s.swapchain.image(index), s.swapchain.extent(), s.swapchain.format(), *std::exchange(s.capture_path, std::nullopt));
+  vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+}
+
+// Waits for the acquired image before the blit writes it; signals `done` for presentation.
+void submit_frame(const vk::Device& device, VkCommandBuffer cmd, VkSemaphore acquired, VkSemaphore done, VkFence fence) {
+  VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.waitSemaphoreCount = 1;
+  submit.pWaitSemaphores = &acquired;
+  submit.pWaitDstStageMask = &wait_stage;
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  submit.signalSemaphoreCount = 1;
+  submit.pSignalSemaphores = &done;
+  vk::check(vkQueueSubmit(device.queue(), 1, &submit, fence), "vkQueueSubmit");
+}
+
+void print_timings(GLFWwindow* window, const FrameStats& stats) {
+  std::ostringstream title;
+  title << "Prismoid - " << stats.device_name << " -";
+  for (const auto& t : stats.gpu_passes) title << " " << t.name << " " << t.gpu_ms << " ms";
+  glfwSetWindowTitle(window, title.str().c_str());
+  std::printf("%s\n", title.str().c_str());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+bool display_available() {
+  const char* x = std::getenv("DISPLAY");
+  const char* wl = std::getenv("WAYLAND_DISPLAY");
+  return (x && *x) || (wl && *wl);
+}
+
+std::string mode_of(const frame::FrameSettings& settings) {
+  const bool march = settings.resolve.march.enabled;
+  switch (settings.ordering) {
+    case frame::Ordering::MeshOrder: return march ? "interval-march" : "interval";
+    case frame::Ordering::GpuSort: return march ? "interval-march" : "interval-sorted";
+    case frame::Ordering::Exact: return march ? "interval-march-exact-order" : "interval-exact-order";
+  }
+  return "interval";
+}
+
+ViewerReport run_viewer(const TetMesh& mesh, const ViewerOptions& options) {
+  ViewState state;
+  state.datasets.push_back(make_dataset(mesh, options.settings.resolve.march.enabled
+                                                  ? std::optional<volume::AnalyticField>(options.settings.resolve.march.field)
+                                                  : std::nullopt));
+  return run_viewer(std::move(state), options);
+}
+
+ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
+  g_terminate = false;
+  auto previous_term = std::signal(SIGTERM, on_terminate_signal);
+  auto previous_int = std::signal(SIGINT, on_terminate_signal);
+  struct RestoreSignals {
+    decltype(previous_term) term, intr;
+    ~RestoreSignals() { std::signal(SIGTERM, term); std::signal(SIGINT, intr); }
+  } restore{previous_term, previous_int};
+
+  state.settings = options.settings;
+  state.mode = options.mode.empty() ? mode_of(options.settings) : options.mode;
+  state.show_ui = options.show_ui;
+  state.tf_preset = options.settings.resolve.transfer.name;
+
+  GlfwSession glfw;
+  if (!glfwVulkanSupported()) throw vk::NoSuitableDevice("GLFW found no Vulkan loader able to present");
+  uint32_t ext_count = 0;
+  const char** exts = glfwGetRequiredInstanceExtensions(&ext_count);
+  vk::InstanceOptions instance_options;
+  instance_options.validation = options.validation;
+  for (uint32_t i = 0; i < ext_count; ++i) instance_options.extensions.emplace_back(exts[i]);
+  vk::Instance instance(instance_options);
+  const auto devices = vk::query_devices(instance.get());
+  const auto& caps = vk::select_device(devices, options.device_index);
+  vk::Device device(instance, caps, {.presentation = true});
+
+  Window window(options.width, options.height, "Prismoid");
+  Surface surface(instance.get(), window.get());
+  vk::Swapchain swapchain(device, surface.get(), window.framebuffer_extent());
+  frame::FrameRenderer renderer(device, *state.dataset().mesh);
+  ImGuiLayer ui(device, window.get(), swapchain);
+  SwapchainCapture capture(device);
+
+  ViewerReport report;
+  report.device_name = caps.name;
+  const Bounds bounds = state.dataset().bounds;
+  ViewerSession s{std::move(state), options.settings, window, device, swapchain, renderer,
+                  options.camera ? CameraController(bounds, *options.camera) : CameraController(bounds), {}, {}, report};
+  s.stats.device_name = caps.name;
+  s.stats.cells = s.state.dataset().mesh->tets.size();
+  const uint32_t max_tetlet = volume::max_tetlet_size(device);
+
+  vk::GpuTimer timer(device, 16);
+  vk::UniqueSemaphore image_available = vk::create_semaphore(device);
+  vk::UniqueFence in_flight = vk::create_fence(device, true);
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = device.command_pool();
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  vk::check(vkAllocateCommandBuffers(device.get(), &alloc, &cmd), "vkAllocateCommandBuffers");
+  struct FreeCommandBuffer {
+    const vk::Device& d;
+    VkCommandBuffer c;
+    ~FreeCommandBuffer() { d.wait_idle(); vkFreeCommandBuffers(d.get(), d.command_pool(), 1, &c); }
+  } free_cmd{device, cmd};
+
+  auto recreate = [&] {
+    swapchain.recreate(window.framebuffer_extent());
+    ui.swapchain_changed();
+    ++report.swapchain_recreations;
+  };
+  auto finish_capture = [&] {
+    try {
+      if (const auto written = capture.finish()) report.files_written.push_back(*written);
+    } catch (const InputError& e) {  // an unwritable path: say so, keep the window
+      s.message(e.what());
+    }
+  };
+
+  bool frame_in_flight = false;
+  MouseState mouse;
+  glfwGetCursorPos(window.get(), &mouse.last.x, &mouse.last.y);
+  auto last_frame = std::chrono::steady_clock::now();
+  auto last_print = last_frame;
+  size_t next_command = 0;
+
+  while (!glfwWindowShouldClose(window.get()) && !g_terminate) {
+    for (; next_command < options.script.size() && options.script[next_command].frame <= s.frame_index; ++next_command) {
+      try {
+        s.run(options.script[next_command]);
+      } catch (const InputError& e) {
+        s.message(options.script[next_command].where + ": " + e.what());
+      }
+    }
+    ++s.frame_index;
+    if (options.max_frames && s.frame_index > options.max_frames) break;
+    glfwPollEvents();
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::min(std::chrono::duration<double>(now - last_frame).count(), 0.1);
+    s.stats.cpu_frame_ms = std::chrono::duration<double, std::milli>(now - last_frame).count();
+    last_frame = now;
+    handle_mouse(s, mouse, s.state.show_ui && ui.wants_mouse(), seconds);
+    for (const KeyPress& key : window.take_keys())
+      if (!(s.state.show_ui && ui.wants_keyboard())) s.on_key(key);
+
+    const VkExtent2D fb = window.framebuffer_extent();
+    if (fb.width == 0 || fb.height == 0 || glfwGetWindowAttrib(window.get(), GLFW_ICONIFIED)) {
+      ++report.frames_skipped_minimized;
+      glfwWaitEventsTimeout(0.05);
+      continue;
+    }
+    if (fb.width != swapchain.extent().width || fb.height != swapchain.extent().height) recreate();
+
+    vk::check(vkWaitForFences(device.get(), 1, in_flight.ptr(), VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    if (frame_in_flight) {  // the last frame finished: its numbers and its screenshot
+      s.stats.gpu_passes = timer.read();
+      if (renderer.interval_pass().counts_draws()) {
+        const auto counts = renderer.interval_pass().read_counts();
+        s.stats.counted = true;
+        s.stats.fragments = counts.fragments;
+        s.stats.primitives = counts.primitives;
+      }
+      finish_capture();
+      frame_in_flight = false;
+      if (options.print_timings && now - last_print > std::chrono::seconds(1)) {
+        print_timings(window.get(), s.stats);
+        last_print = now;
+      }
+    }
+
+    ui.begin_frame();
+    if (s.state.show_ui) {
+      const UiRequests requests = draw_side_panel(s.state, s.panel, s.stats, s.camera, max_tetlet);
+      draw_hud(s.stats, s.state);
+      s.apply(requests);
+    }
+    ui.finish_frame();
+
+    renderer.resize(swapchain.extent());
+    try {
+      s.stats.report = renderer.prepare(s.camera.camera(), s.state.settings);
+      s.last_good = s.state.settings;
+    } catch (const InputError& e) {  // a setting this data or device refuses: say so, keep the last good one
+      s.message(e.what());
+      s.state.settings = s.last_good;
+      s.stats.report = renderer.prepare(s.camera.camera(), s.state.settings);
+    }
+
+    const auto index = swapchain.acquire(image_available.get());
+    if (!index) {
+      recreate();
+      continue;
+    }
+    vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
+    record_frame(cmd, s, ui, capture, timer, *index);
+    submit_frame(device, cmd, image_available.get(), swapchain.render_finished(*index), in_flight.get());
+    frame_in_flight = true;
+    if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
+    ++report.frames_presented;
+  }
+  device.wait_idle();
+  if (frame_in_flight) {
+    s.stats.gpu_passes = timer.read();
+    finish_capture();
+  }
+  report.last_frame = s.stats;
+  report.camera = s.camera.camera();
+  report.mode = s.state.mode;
+  report.quantity = s.state.settings.resolve.quantity;
+  report.validation_messages = instance.validation_log().count();
+  return report;
+}
+
+}  // namespace prismoid::app

@@ -1,0 +1,61 @@
+#pragma once
+// The window: GLFW + a Vulkan swapchain over the same FrameRenderer the offscreen path uses,
+// Dear ImGui panels over it, a ParaView-like camera, and a script option that drives all of it
+// without a person (tests, benchmarks).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/viewer/panels.hpp"
+#include "app/viewer/view_state.hpp"
+#include "app/viewer/viewer_script.hpp"
+#include "renderer/frame/frame_renderer.hpp"
+#include "scene/camera.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::app {
+
+struct ViewerOptions {
+  uint32_t width = 1280, height = 800;
+  bool validation = false;
+  std::optional<uint32_t> device_index;
+  std::optional<Camera> camera;   // fitted to the data when absent
+  frame::FrameSettings settings;  // what to show and how (quantity, ordering, transfer function...)
+  std::string mode;               // the CLI's --mode name; empty: from settings.ordering
+  uint32_t max_frames = 0;        // 0: until the window is closed or SIGTERM
+  std::vector<ScriptCommand> script;
+  bool print_timings = true;      // GPU times in the title bar and once a second on stdout
+  bool show_ui = true;
+};
+
+struct ViewerReport {
+  uint32_t frames_presented = 0;
+  uint32_t swapchain_recreations = 0;
+  uint32_t frames_skipped_minimized = 0;
+  size_t validation_messages = 0;
+  std::string device_name;
+  FrameStats last_frame;                 // the HUD's numbers for the last finished frame
+  Camera camera;                         // at the end
+  std::string mode;                      // at the end
+  volume::Quantity quantity{};           // at the end
+  std::vector<std::string> files_written;  // screenshots and renders, in order
+  std::vector<std::string> camera_lines;   // printed by C / print-camera
+  std::vector<std::string> messages;       // refused commands and settings, errors
+  std::vector<std::pair<uint32_t, uint64_t>> resident_kib;  // (frame, resident memory) at each `rss`
+};
+
+// Opens the window on the state's active dataset and runs until closed. Throws
+// vk::NoSuitableDevice when no device can present, std::runtime_error when no display can be
+// opened, InputError for a bad initial setting.
+ViewerReport run_viewer(ViewState state, const ViewerOptions& options);
+ViewerReport run_viewer(const TetMesh& mesh, const ViewerOptions& options);
+
+// Whether a display server looks reachable (DISPLAY or WAYLAND_DISPLAY set).
+bool display_available();
+
+// The mode name of settings (interval, interval-sorted, ..., interval-march-exact-order).
+std::string mode_of(const frame::FrameSettings& settings);
+
+}  // namespace prismoid::app

@@ -1,0 +1,200 @@
+// What keys, panel buttons and script commands do: one implementation each, so a scripted test
+// exercises the same code a person does.
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <fstream>
+#include <iostream>
+#include <unistd.h>
+
+#include "app/cli_args.hpp"
+#include "app/frame_image.hpp"
+#include "app/viewer/camera_line.hpp"
+#include "app/viewer/mouse_bindings.hpp"
+#include "app/viewer/viewer_session.hpp"
+#include "app/volume_options.hpp"
+#include "io/image_io.hpp"
+#include "io/transfer_function_io.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+namespace {
+
+uint64_t resident_kib() {
+  std::ifstream statm("/proc/self/statm");
+  uint64_t pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return resident * uint64_t(sysconf(_SC_PAGESIZE)) / 1024;
+}
+
+bool on_off(const ScriptCommand& c) {
+  if (c.args.at(0) == "on") return true;
+  if (c.args.at(0) == "off") return false;
+  throw InputError(c.where, c.verb + " takes on or off");
+}
+
+AxisView axis_from_name(const std::string& where, const std::string& name) {
+  for (AxisView v : {AxisView::PlusX, AxisView::MinusX, AxisView::PlusY, AxisView::MinusY, AxisView::PlusZ, AxisView::MinusZ})
+    if (name == axis_view_name(v)) return v;
+  throw InputError(where, "view takes +X, -X, +Y, -Y, +Z or -Z");
+}
+
+}  // namespace
+
+KeyPress key_from_name(const std::string& name) {
+  KeyPress k;
+  std::string key = name;
+  if (key.rfind("shift+", 0) == 0) {
+    k.mods = GLFW_MOD_SHIFT;
+    key = key.substr(6);
+  }
+  if (key == "Escape") k.key = GLFW_KEY_ESCAPE;
+  else if (key.size() == 1 && key[0] >= 'A' && key[0] <= 'Z') k.key = GLFW_KEY_A + (key[0] - 'A');
+  else if (key.size() == 1 && key[0] >= '0' && key[0] <= '9') k.key = GLFW_KEY_0 + (key[0] - '0');
+  else throw InputError("key " + name, "names a letter A-Z, a digit or Escape, optionally after shift+");
+  return k;
+}
+
+double ViewerSession::aspect() const {
+  const VkExtent2D e = swapchain.extent();
+  return e.height ? double(e.width) / double(e.height) : 1.0;
+}
+
+void ViewerSession::message(const std::string& text) {
+  if (text.empty()) return;
+  panel.message = text;
+  report.messages.push_back(text);
+  std::cerr << "prismoid: " << text << "\n";
+}
+
+void ViewerSession::copy_camera() {
+  const std::string line = camera_line(camera.camera());
+  glfwSetClipboardString(window.get(), line.c_str());
+  std::snprintf(panel.camera_text, sizeof panel.camera_text, "%s", line.c_str());
+  std::cout << line << std::endl;
+  report.camera_lines.push_back(line);
+}
+
+void ViewerSession::render_at(uint32_t width, uint32_t height, const std::string& path) {
+  // The same path as `prismoid render`: an offscreen frame of this camera and these settings.
+  device.wait_idle();
+  const frame::OffscreenFrame frame = renderer.render_offscreen(camera.camera(), state.settings, {width, height});
+  io::write_image(path, frame_image(frame, path, state.settings.resolve.quantity == volume::Quantity::Color));
+  report.files_written.push_back(path);
+  panel.message = "wrote " + path;
+}
+
+void ViewerSession::on_key(const KeyPress& key) {
+  const bool shift = (key.mods & GLFW_MOD_SHIFT) != 0;
+  switch (key.key) {
+    case GLFW_KEY_R: camera.reset(aspect()); break;
+    case GLFW_KEY_F: camera.set_flying(!camera.flying()); break;
+    case GLFW_KEY_X: camera.axis_view(shift ? AxisView::MinusX : AxisView::PlusX, aspect()); break;
+    case GLFW_KEY_Y: camera.axis_view(shift ? AxisView::MinusY : AxisView::PlusY, aspect()); break;
+    case GLFW_KEY_Z: camera.axis_view(shift ? AxisView::MinusZ : AxisView::PlusZ, aspect()); break;
+    case GLFW_KEY_H: state.show_ui = !state.show_ui; break;
+    case GLFW_KEY_C: copy_camera(); break;
+    case GLFW_KEY_P: capture_path = "prismoid-screenshot-" + std::to_string(++screenshot_count) + ".png"; break;
+    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window.get(), GLFW_TRUE); break;
+    default: break;
+  }
+}
+
+void ViewerSession::apply(const UiRequests& r) {
+  if (r.reset_camera) camera.reset(aspect());
+  if (r.toggle_fly) camera.set_flying(!camera.flying());
+  if (r.axis_view) camera.axis_view(*r.axis_view, aspect());
+  if (r.copy_camera) copy_camera();
+  if (r.apply_camera_line) {
+    try {
+      camera.set_camera(camera_from_line(*r.apply_camera_line, state.dataset().bounds));
+    } catch (const InputError& e) {
+      message(e.what());
+    }
+  }
+  if (r.screenshot) capture_path = *r.screenshot;
+  if (r.render) {
+    try {
+      render_at(r.render->width, r.render->height, r.render->path);
+    } catch (const InputError& e) {
+      message(e.what());
+    }
+  }
+}
+
+void ViewerSession::run(const ScriptCommand& c) {
+  const auto& a = c.args;
+  const auto number = [&](size_t i) { return parse_double(c.verb, a.at(i)); };
+  const auto whole = [&](size_t i) { return parse_uint(c.verb, a.at(i)); };
+  volume::ResolveSettings& r = state.settings.resolve;
+  const glm::dvec2 viewport(swapchain.extent().width, swapchain.extent().height);
+  if (c.verb == "key") on_key(key_from_name(a[0]));
+  else if (c.verb == "mode") message(set_mode(state, a[0]));
+  else if (c.verb == "quantity") message(set_quantity(state, quantity_of_name(a[0])));
+  else if (c.verb == "tf") {
+    const auto names = volume::preset_names();
+    if (std::find(names.begin(), names.end(), a[0]) != names.end()) {
+      message(set_preset(state, a[0]));
+    } else {
+      volume::TransferFunction read = io::read_paraview_colormap(a[0]);
+      read.range_lo = r.transfer.range_lo;
+      read.range_hi = r.transfer.range_hi;
+      read.density_scale = r.transfer.density_scale;
+      r.transfer = std::move(read);
+      state.tf_preset = r.transfer.name;
+    }
+  } else if (c.verb == "tf-range") {
+    if (a.size() == 1 && a[0] == "data") {
+      r.transfer.range_lo = state.dataset().scalar_lo;
+      r.transfer.range_hi = state.dataset().scalar_hi;
+    } else if (a.size() == 2 && number(1) > number(0)) {
+      r.transfer.range_lo = number(0);
+      r.transfer.range_hi = number(1);
+    } else {
+      throw InputError(c.where, "tf-range takes LO HI with HI > LO, or data");
+    }
+  } else if (c.verb == "tf-export") {
+    io::write_paraview_colormap(a[0], r.transfer);
+    report.files_written.push_back(a[0]);
+  } else if (c.verb == "tetlet-size") r.tetlet_size = whole(0);
+  else if (c.verb == "shared-vertices") {
+    const bool on = on_off(c);
+    const std::string problem = shared_vertices_problem(state);
+    if (on && !problem.empty()) message("shared-vertices: " + problem);
+    else r.shared_vertices = on;
+  } else if (c.verb == "preintegration-size") r.preintegration_size = whole(0);
+  else if (c.verb == "march-step") r.march.step = number(0);
+  else if (c.verb == "density-scale") (r.quantity == volume::Quantity::Color ? r.transfer.density_scale : r.march.density_scale) = number(0);
+  else if (c.verb == "camera") camera.set_camera(camera_from_line(c.rest, state.dataset().bounds));
+  else if (c.verb == "view") camera.axis_view(axis_from_name(c.where, a[0]), aspect());
+  else if (c.verb == "reset") camera.reset(aspect());
+  else if (c.verb == "rotate") camera.rotate({number(0), number(1)}, viewport);
+  else if (c.verb == "pan") camera.pan({number(0), number(1)}, viewport);
+  else if (c.verb == "zoom") camera.zoom(number(0));
+  else if (c.verb == "drag") {  // what the mouse bindings make of a drag with these buttons
+    MouseButtons b;
+    for (size_t i = 2; i < a.size(); ++i) {
+      if (a[i] == "left") b.left = true;
+      else if (a[i] == "middle") b.middle = true;
+      else if (a[i] == "right") b.right = true;
+      else if (a[i] == "shift") b.shift = true;
+      else throw InputError(c.where, "drag DX DY takes buttons left, middle, right and shift");
+    }
+    if (const auto gesture = drag_gesture(b, camera.flying())) apply_drag(camera, *gesture, {number(0), number(1)}, viewport);
+  }
+  else if (c.verb == "fly") camera.set_flying(on_off(c));
+  else if (c.verb == "fly-move") camera.fly_move({number(0), number(1), number(2)}, number(3));
+  else if (c.verb == "fly-look") camera.fly_look({number(0), number(1)}, viewport);
+  else if (c.verb == "ui") state.show_ui = on_off(c);
+  else if (c.verb == "screenshot") capture_path = a[0];
+  else if (c.verb == "render") render_at(whole(0), whole(1), a[2]);
+  else if (c.verb == "print-camera") copy_camera();
+  else if (c.verb == "resize") glfwSetWindowSize(window.get(), int(whole(0)), int(whole(1)));
+  else if (c.verb == "iconify") glfwIconifyWindow(window.get());
+  else if (c.verb == "restore") glfwRestoreWindow(window.get());
+  else if (c.verb == "close") glfwSetWindowShouldClose(window.get(), GLFW_TRUE);
+  else if (c.verb == "rss") report.resident_kib.emplace_back(frame_index, resident_kib());
+}
+
+}  // namespace prismoid::app

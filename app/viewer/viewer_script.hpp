@@ -1,0 +1,44 @@
+#pragma once
+// Scripted sessions: a text file of commands, one a line, that drives the window the way a
+// person would (keys, camera, mode and transfer-function changes, screenshots), so tests and
+// benchmarks need no one at the keyboard. `#` starts a comment.
+//
+//   frame N                 run the following commands at frame N (frames count from 0)
+//   wait N                  ... N frames after the previous ones
+//   key NAME                a key press as the window gets it: R, F, P, H, C, X, shift+X, W...
+//   mode NAME               interval, interval-sorted, interval-exact-order, interval-march...
+//   quantity NAME           optical-depth, transmittance, color, isosurface
+//   tf PRESET|FILE          a preset or a ParaView JSON colour map
+//   tf-range LO HI          the transfer function's scalar range ("tf-range data": the data's)
+//   tf-export FILE          writes the transfer function as ParaView JSON
+//   tetlet-size N | shared-vertices on|off | preintegration-size N | march-step X | density-scale X
+//   camera OPTIONS          --eye x,y,z --target x,y,z --up x,y,z --fovy D --near N (as render)
+//   view +X|-X|+Y|-Y|+Z|-Z  an axis-aligned view;  reset: fit the data
+//   rotate DX DY | pan DX DY | zoom STEPS      what mouse drags and the wheel do (pixels, steps)
+//   drag DX DY BUTTON...    a mouse drag as the bindings see it (left, middle, right, shift)
+//   fly on|off | fly-move RIGHT UP FORWARD SECONDS | fly-look DX DY
+//   ui on|off               show or hide the panels
+//   screenshot FILE         the window as displayed (with the panels when shown), PNG
+//   render W H FILE         this view at W x H through render's path (no panels), PNG or PFM
+//   print-camera            the camera as render options, on stdout
+//   resize W H | iconify | restore | close
+//   rss                     records the process's resident memory (for leak checks)
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace prismoid::app {
+
+struct ScriptCommand {
+  uint32_t frame = 0;              // when it runs
+  std::string verb;
+  std::vector<std::string> args;   // the words after the verb
+  std::string rest;                // the text after the verb, as written (camera options)
+  std::string where;               // "FILE:LINE", for messages
+};
+
+// Parses a script; InputError("FILE:LINE", ...) for an unknown verb or a wrong argument count.
+std::vector<ScriptCommand> parse_script(const std::string& text, const std::string& source);
+std::vector<ScriptCommand> read_script(const std::string& path);
+
+}  // namespace prismoid::app

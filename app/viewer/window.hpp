@@ -1,0 +1,58 @@
+#pragma once
+// The window's platform side: GLFW, one window, its Vulkan surface, and the input events the
+// frame loop consumes (key presses and wheel steps queued by callbacks, so none is missed
+// between two frames).
+#include <cstdint>
+#include <vector>
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+
+namespace prismoid::app {
+
+class GlfwSession {
+ public:
+  GlfwSession();
+  ~GlfwSession();
+  GlfwSession(const GlfwSession&) = delete;
+  GlfwSession& operator=(const GlfwSession&) = delete;
+};
+
+struct KeyPress {
+  int key = 0;   // GLFW_KEY_*
+  int mods = 0;  // GLFW_MOD_*
+};
+
+class Window {
+ public:
+  Window(uint32_t width, uint32_t height, const char* title);
+  ~Window();
+  Window(const Window&) = delete;
+  Window& operator=(const Window&) = delete;
+
+  GLFWwindow* get() const { return handle_; }
+  VkExtent2D framebuffer_extent() const;
+  // Events since the last call.
+  std::vector<KeyPress> take_keys();
+  double take_scroll();
+
+ private:
+  GLFWwindow* handle_ = nullptr;
+  std::vector<KeyPress> keys_;
+  double scroll_ = 0.0;
+};
+
+class Surface {
+ public:
+  Surface(VkInstance instance, GLFWwindow* window);
+  ~Surface();
+  Surface(const Surface&) = delete;
+  Surface& operator=(const Surface&) = delete;
+  VkSurfaceKHR get() const { return handle_; }
+
+ private:
+  VkInstance instance_;
+  VkSurfaceKHR handle_ = VK_NULL_HANDLE;
+};
+
+}  // namespace prismoid::app

@@ -1,0 +1,106 @@
+// The viewer's logic that needs no window: scripts, opacity-point edits, mode and quantity
+// rules of the view state.
+#include <gtest/gtest.h>
+
+#include "app/viewer/tf_edit.hpp"
+#include "app/viewer/view_state.hpp"
+#include "app/viewer/viewer_script.hpp"
+#include "scene/generators.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid {
+namespace {
+
+TEST(ViewerScript, FramesAccumulateAndCommandsKeepTheirArguments) {
+  const auto script = app::parse_script(
+      "# a comment\n"
+      "frame 5\n"
+      "mode interval-sorted   # trailing comment\n"
+      "camera --eye 1,2,3 --target 0,0,0\n"
+      "wait 10\n"
+      "screenshot out/a.png\n"
+      "frame 40\n"
+      "close\n",
+      "test.script");
+  ASSERT_EQ(script.size(), 4u);
+  EXPECT_EQ(script[0].frame, 5u);
+  EXPECT_EQ(script[0].verb, "mode");
+  EXPECT_EQ(script[0].args, std::vector<std::string>{"interval-sorted"});
+  EXPECT_EQ(script[1].frame, 5u);
+  EXPECT_EQ(script[1].rest, " --eye 1,2,3 --target 0,0,0");
+  EXPECT_EQ(script[2].frame, 15u);
+  EXPECT_EQ(script[2].where, "test.script:6");
+  EXPECT_EQ(script[3].frame, 40u);
+}
+
+TEST(ViewerScript, UnknownCommandsAndWrongArgumentCountsNameTheLine) {
+  try {
+    app::parse_script("frame 1\nfrobnicate 3\n", "s.txt");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "s.txt:2");
+  }
+  EXPECT_THROW(app::parse_script("resize 100\n", "s"), InputError);
+  EXPECT_THROW(app::parse_script("frame x\n", "s"), InputError);
+}
+
+TEST(TfEdit, OpacityPointsStaySortedInsideTheUnitSquare) {
+  volume::TransferFunction tf = volume::preset("viridis");
+  const size_t before = tf.opacity.size();
+  const size_t i = app::add_opacity_point(tf, 0.3, 1.7);
+  EXPECT_EQ(tf.opacity.size(), before + 1);
+  EXPECT_DOUBLE_EQ(tf.opacity[i].opacity, 1.0);
+  app::move_opacity_point(tf, i, 5.0, -1.0);  // dragged far right and below: stops at its neighbour
+  for (size_t k = 0; k + 1 < tf.opacity.size(); ++k) EXPECT_LE(tf.opacity[k].x, tf.opacity[k + 1].x);
+  EXPECT_DOUBLE_EQ(tf.opacity[i].opacity, 0.0);
+  EXPECT_EQ(app::nearest_opacity_point(tf, tf.opacity[i].x, 0.01, 0.05), i);
+  EXPECT_EQ(app::nearest_opacity_point(tf, 0.5, 0.5, 1e-6), tf.opacity.size());
+  while (tf.opacity.size() > 1) ASSERT_TRUE(app::remove_opacity_point(tf, 0));
+  EXPECT_FALSE(app::remove_opacity_point(tf, 0)) << "the last point must stay";
+  EXPECT_NO_THROW(volume::validate(tf));
+}
+
+TEST(ViewState, MarchModesOnlyForFieldsAndQuantitiesFollowTheMode) {
+  app::ViewState state;
+  state.datasets.push_back(app::make_dataset(make_default_volume()));
+  EXPECT_EQ(app::modes_for(state.dataset()).size(), 3u);
+  EXPECT_FALSE(app::set_mode(state, "interval-march").empty());
+  EXPECT_TRUE(app::set_mode(state, "interval-exact-order").empty());
+  EXPECT_EQ(state.settings.ordering, frame::Ordering::Exact);
+  EXPECT_FALSE(app::set_quantity(state, volume::Quantity::Isosurface).empty());
+  // Shared vertices fix the draw order: refused for colour in a sorted mode, fine in mesh order.
+  state.settings.resolve.shared_vertices = true;
+  ASSERT_TRUE(state.dataset().has_scalars);
+  EXPECT_TRUE(app::set_quantity(state, volume::Quantity::Color).empty());
+  EXPECT_FALSE(state.settings.resolve.shared_vertices);
+  EXPECT_TRUE(app::set_mode(state, "interval").empty());
+  EXPECT_TRUE(app::shared_vertices_problem(state).empty());
+
+  app::ViewState field;
+  field.datasets.push_back(app::make_dataset(volume::make_field_mesh(volume::field_from_name("marschner-lobb"), 4, 1.0),
+                                             volume::field_from_name("marschner-lobb")));
+  EXPECT_TRUE(app::set_mode(field, "interval-march").empty());
+  EXPECT_TRUE(field.settings.resolve.march.enabled);
+  EXPECT_GT(field.settings.resolve.march.step, 0.0);
+  EXPECT_TRUE(app::set_quantity(field, volume::Quantity::Isosurface).empty());
+  EXPECT_TRUE(app::set_mode(field, "interval-sorted").empty());
+  EXPECT_FALSE(field.settings.resolve.march.enabled);
+  EXPECT_NE(field.settings.resolve.quantity, volume::Quantity::Isosurface) << "interval-sorted cannot show an isosurface";
+}
+
+TEST(ViewState, PresetsKeepTheRangeAndDensity) {
+  app::ViewState state;
+  state.datasets.push_back(app::make_dataset(make_default_volume()));
+  state.settings.resolve.transfer.range_lo = -2.0;
+  state.settings.resolve.transfer.range_hi = 7.0;
+  state.settings.resolve.transfer.density_scale = 3.0;
+  EXPECT_TRUE(app::set_preset(state, "black-body").empty());
+  EXPECT_EQ(state.settings.resolve.transfer.name, "black-body");
+  EXPECT_DOUBLE_EQ(state.settings.resolve.transfer.range_lo, -2.0);
+  EXPECT_DOUBLE_EQ(state.settings.resolve.transfer.range_hi, 7.0);
+  EXPECT_DOUBLE_EQ(state.settings.resolve.transfer.density_scale, 3.0);
+  EXPECT_FALSE(app::set_preset(state, "rainbow").empty());
+}
+
+}  // namespace
+}  // namespace prismoid
