@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -12,6 +13,7 @@
 #include <glm/common.hpp>
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/MeshToVolume.h>
 
@@ -32,23 +34,28 @@ void initialize_openvdb() {
   std::call_once(once, [] { openvdb::initialize(); });
 }
 
-// Every grid of the file, fully read. Delayed loading stays off: it would map the file and read
-// voxels on first touch, so a truncated file would fault later instead of failing here.
+// Every grid of the file, fully read, in the file's order. OpenVDB trusts the lengths it reads:
+// past the end of a truncated file its reads fail silently and it goes on with garbage sizes (an
+// 800 MB string, for one). A stream that throws on the first failed read stops it there.
+// Delayed loading stays off: it would read voxels on first touch, after we checked the file.
 openvdb::GridPtrVec read_grids(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
   if (!is_vdb_path(path)) throw InputError(path, "is not a .vdb file");
   initialize_openvdb();
   try {
-    openvdb::io::File file(path);
-    file.open(/*delayLoad=*/false);
-    openvdb::GridPtrVecPtr grids = file.getGrids();
-    file.close();
-    if (!grids || grids->empty()) throw InputError(path, "the VDB file holds no grids");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, "cannot open the file for reading");
+    in.exceptions(std::ios::failbit | std::ios::badbit);
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    openvdb::GridPtrVecPtr grids = stream.getGrids();
+    if (!grids || grids->empty()) throw InputError(path, "is not a readable VDB file (truncated?): it holds no grids");
     return *grids;
   } catch (const InputError&) {
     throw;
   } catch (const std::bad_alloc&) {
     throw InputError(path, "is not a readable VDB file (corrupt: a size in it is impossibly large)");
+  } catch (const std::ios_base::failure&) {
+    throw InputError(path, "is not a readable VDB file (truncated or corrupt: it ends where OpenVDB expects more)");
   } catch (const std::exception& e) {  // openvdb::Exception and the standard library's, from corrupt or truncated files
     throw InputError(path, std::string("is not a readable VDB file (truncated or corrupt?): ") + e.what());
   }
@@ -230,12 +237,6 @@ TetMesh read_vdb_voxels(const std::string& path, const VdbReadOptions& options) 
     shape = grid->deepCopy();
     openvdb::tools::sdfToFogVolume(*shape);
     if (shape->activeVoxelCount() == 0) throw InputError(path, label + " is a level set with no inside (no negative distance)");
-  } else if (options.role == ArrayRole::Extinction) {
-    float lowest = grid->background();
-    for (auto it = grid->cbeginValueOn(); it; ++it) lowest = std::min(lowest, *it);
-    if (lowest < 0.0f)
-      throw InputError(path, label + " holds negative values (down to " + std::to_string(lowest) +
-                                 "), which cannot be densities; mark it a level set, or map it with --quantity color --tf");
   }
 
   const uint32_t k = options.subsample;
@@ -310,6 +311,9 @@ TetMesh read_vdb_voxels(const std::string& path, const VdbReadOptions& options) 
   report(options.progress, 1.0, "splitting voxel cells into tetrahedra", path);
 
   if (options.role == ArrayRole::Extinction) {
+    if (const double lowest = *std::min_element(density.begin(), density.end()); lowest < 0.0)
+      throw InputError(path, label + " holds negative values (down to " + std::to_string(lowest) +
+                                 "), which cannot be densities; mark it a level set, or map it with --quantity color --tf");
     mesh.point_extinction.resize(density.size());
     for (size_t i = 0; i < density.size(); ++i) mesh.point_extinction[i] = density[i] * options.density_scale;
     mesh.cell_extinction.reserve(mesh.tets.size());

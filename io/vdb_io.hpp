@@ -46,7 +46,7 @@ struct VdbInfo {
   std::vector<VdbGridInfo> grids;
 };
 
-// Every grid of the file. InputError naming the file when it is missing, not a VDB file,
+// Every grid of the file, in the file's order. InputError naming the file when it is missing, not a VDB file,
 // truncated or corrupt.
 VdbInfo inspect_vdb(const std::string& path);
 
