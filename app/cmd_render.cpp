@@ -92,6 +92,9 @@ const char* const kRenderHelp =
     "or an image volume (.vti .mhd .mha, .inr/.inr.gz as in CGAL's data): each cell between 8 voxel\n"
     "centres becomes 6 tetrahedra, voxel values are point values (--array picks the .vti/.mhd array);\n"
     "  --subsample K            keep 1 voxel in K per axis (images over 50 million cells need it)\n"
+    "or an OpenVDB file (.vdb): a float grid's voxels the same way, cells around its active voxels\n"
+    "(a level set's inside is filled: extinction 0 outside, rising to 1 across the inner band);\n"
+    "  --grid NAME              the float grid to open (default: the file's first; --subsample applies)\n"
     "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
     "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"
     "With no FILE the embedded default dataset is rendered.\n";

@@ -13,6 +13,7 @@
 #include "io/image_volume_io.hpp"
 #include "io/surface_io.hpp"
 #include "io/transfer_function_io.hpp"
+#include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
@@ -54,8 +55,11 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
     options.density_scale = parse_double("density-scale", a.values.at("density-scale"));
     if (options.density_scale < 0.0) throw InputError("--density-scale", "must not be negative");
   }
+  const bool is_vdb = !a.files.empty() && io::is_vdb_path(a.files.front());
   const bool is_image = !a.files.empty() && io::is_image_volume_path(a.files.front());
-  if (a.has("subsample") && !is_image) throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) only");
+  if (a.has("subsample") && !is_image && !is_vdb)
+    throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) and OpenVDB grids (.vdb) only");
+  if (a.has("grid") && !is_vdb) throw InputError("--grid", "applies to OpenVDB files (.vdb) only");
   const bool is_surface = !a.files.empty() && io::is_surface_path(a.files.front());
   for (const char* option : {"tetgen-quality", "tetgen-max-volume", "tetgen-cells"})
     if (a.has(option) && !is_surface) throw InputError(std::string("--") + option, "applies to surfaces (.vtp .stl .obj .ply .off) only");
@@ -114,6 +118,24 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
       std::cerr << "prismoid: " << file << ": " << tets.triangles << " triangles -> " << mesh.tets.size()
                 << " tetrahedra by TetGen in " << seconds << " s"
                 << (convert.tetgen.target_cells ? " (target " + std::to_string(convert.tetgen.target_cells) + ")" : "") << "\n";
+    return mesh;
+  }
+  if (is_vdb) {  // an OpenVDB float grid: voxel tetrahedra, as image volumes
+    if (a.has("array")) throw InputError("--array", "picks arrays of meshes and images; a .vdb grid is chosen with --grid NAME");
+    if (a.has("component")) throw InputError("--component", "applies to the arrays of .vtu .vtk .vtm .pvtu meshes");
+    io::VdbReadOptions vdb;
+    if (a.has("grid")) vdb.grid = a.values.at("grid");
+    vdb.role = options.role;
+    vdb.density_scale = options.density_scale;
+    if (a.has("subsample")) {
+      vdb.subsample = parse_uint("subsample", a.values.at("subsample"));
+      if (vdb.subsample == 0) throw InputError("--subsample", "must be at least 1");
+    }
+    vdb.max_cells = 50'000'000;  // the image volumes' guard
+    TerminalProgress progress(file);
+    vdb.progress = progress.callback();
+    TetMesh mesh = io::read_vdb_voxels(file, vdb);
+    progress.throw_if_cancelled(file);
     return mesh;
   }
   if (a.has("component") && (io::is_image_volume_path(file) || io::is_surface_path(file)))
@@ -203,7 +225,8 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 // The options render and view share: the data, what to show and how.
 const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
                                                  "array", "density-scale", "tetlet-size", "march-step", "isovalue",
-                                                 "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "component"};
+                                                 "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "component",
+                                                 "grid"};
 
 // Parses the volume options, loads the data and builds the frame settings; InputError names
 // the option or file at fault.

@@ -15,6 +15,7 @@
 
 #include "io/image_io.hpp"
 #include "io/surface_io.hpp"
+#include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
@@ -177,6 +178,64 @@ TEST(Cli, PointArrayRendersTheLinearFieldLikeTheReference) {
   const auto ref = reference::optical_depth_image(mesh, c, 32, 24);
   const auto img = io::read_pfm(pfm.string());
   expect_close_to_reference(img, ref);
+}
+
+// An OpenVDB fog volume made by `convert` from the ball's surface, rendered: the image is the
+// reference's optical depth through the same voxel tetrahedra (read here by io, as the CLI does).
+TEST(Cli, VdbFogVolumeFromASurfaceRendersLikeTheReference) {
+  const fs::path vdb = work_dir() / "ball_fog.vdb", pfm = work_dir() / "ball_fog.pfm", vtu = work_dir() / "ball_fog.vtu";
+  const CliRun made = run("convert ball:2 " + vdb.string() + " --voxel-size 0.2");
+  ASSERT_EQ(made.code, 0) << made.err;
+  EXPECT_NE(made.out.find("fog volume 'density', voxel size 0.2"), std::string::npos) << made.out;
+  EXPECT_FALSE(fs::exists(vdb.string() + ".partial"));
+  const CliRun r = run("render " + vdb.string() + " --quantity optical-depth --size 24x24 --eye 0.5,1,4 --target 0,0,0 --near 0.1 "
+                       "--output " + pfm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const TetMesh mesh = io::read_vdb_voxels(vdb.string());
+  Camera c;
+  c.eye = {0.5, 1, 4};
+  c.target = {0, 0, 0};
+  c.near_distance = 0.1;
+  expect_close_to_reference(io::read_pfm(pfm.string()), reference::optical_depth_image(mesh, c, 24, 24));
+
+  const CliRun info = run("info " + vdb.string());
+  ASSERT_EQ(info.code, 0) << info.err;
+  EXPECT_NE(info.out.find("grid 'density': float, fog volume"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("as tetrahedra: " + std::to_string(mesh.tets.size()) + " "), std::string::npos) << info.out;
+  const CliRun converted = run("convert " + vdb.string() + " " + vtu.string());
+  ASSERT_EQ(converted.code, 0) << converted.err;
+  EXPECT_EQ(io::read_tet_mesh(vtu.string()).tets.size(), mesh.tets.size());
+}
+
+TEST(Cli, BadVdbInputExitsWithTwoAndLeavesNoFile) {
+  const std::string d = work_dir().string() + "/";
+  std::ofstream(d + "garbage.vdb") << "not an OpenVDB file, only some words";
+  const CliRun made = run("convert ball:1 " + d + "small.vdb --vdb levelset --voxel-size 0.25");
+  ASSERT_EQ(made.code, 0) << made.err;
+  std::string bytes = slurp(d + "small.vdb");
+  std::ofstream(d + "cut.vdb", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  std::ofstream(d + "open.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  struct Case { std::string args, fragment; };
+  const std::vector<Case> cases = {
+      {"info " + d + "garbage.vdb", "garbage.vdb: is not a readable VDB file"},
+      {"render --output x.png " + d + "cut.vdb", "cut.vdb: is not a readable VDB file"},
+      {"render --output x.png " + d + "small.vdb --grid smoke", "small.vdb: has no grid 'smoke' (grids: 'surface' (float))"},
+      {"render --output x.png " + d + "small.vdb --array a", "--array"},
+      {"render --output x.png ball --grid a", "--grid: applies to OpenVDB files"},
+      {"convert ball:1 " + d + "x.vdb --vdb smoke", "--vdb: is fog or levelset"},
+      {"convert ball:1 " + d + "x.vdb --voxel-size 0", "--voxel-size: must be positive"},
+      {"convert ball:1 " + d + "x.vdb --voxel-size 0.00001", "voxels in the bounding box"},
+      {"convert " + d + "open.off " + d + "x.vdb", "open.off: the surface is not closed"},
+      {"convert ball:1 /no/such/dir/x.vdb", "/no/such/dir/x.vdb: cannot write the .vdb file"},
+      {"convert ball:1 " + d + "x.vtu --vdb fog", "--vdb: applies to .vdb output only"},
+  };
+  for (const auto& c : cases) {
+    const CliRun r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.fragment), std::string::npos) << c.args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(d + "x.vdb"));
+  EXPECT_FALSE(fs::exists(d + "x.vdb.partial"));
 }
 
 // grid:NAME[:N] marches the sampled field; the reference renders the same trilinear field. Both
