@@ -23,6 +23,16 @@ namespace prismoid::app {
 // The field of a field:NAME[:N] or grid:NAME[:N] dataset, if that is what the command line names.
 std::optional<volume::AnalyticField> field_of(const ParsedArgs& a) {
   if (a.files.size() == 1 && is_grid_spec(a.files.front())) return volume::grid_field(grid_from_spec(a.files.front()));
+  // A .vdb grid is marched inside its active regions by the march modes, and the reference is
+  // its own trilinear field (what the grid means); the other modes draw its voxel tetrahedra
+  // (exact linear interpolation of the same samples).
+  if (a.files.size() == 1 && io::is_vdb_path(a.files.front()) && a.has("mode") &&
+      (a.values.at("mode").rfind("interval-march", 0) == 0 || a.values.at("mode") == "reference")) {
+    io::VdbReadOptions vdb;
+    if (a.has("grid")) vdb.grid = a.values.at("grid");
+    if (a.has("subsample")) vdb.subsample = std::max(1u, parse_uint("subsample", a.values.at("subsample")));
+    return volume::grid_field(grid_from_vdb(a.files.front(), vdb));
+  }
   if (a.files.size() != 1 || a.files.front().rfind("field:", 0) != 0) return std::nullopt;
   const std::string spec = a.files.front().substr(6);
   return volume::field_from_name(spec.substr(0, spec.find(':')));
@@ -73,7 +83,7 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
   }
   if (a.files.size() > 1) throw InputError(a.files[1], "several datasets in one scene arrive with the viewer; give one FILE");
   if (const auto field = field_of(a)) {
-    if (a.has("array")) throw InputError("--array", "a field: or grid: dataset has no arrays to choose from");
+    if (a.has("array")) throw InputError("--array", "a field:, grid: or marched .vdb dataset has no arrays to choose from");
     if (field->kind == volume::FieldKind::Grid) return grid_dataset_mesh(*field->grid, options.density_scale);
     const std::string& spec = a.files.front();
     uint32_t n = 4;
@@ -246,7 +256,7 @@ VolumeChoice volume_choice(const ParsedArgs& a) {
   const bool march = mode.rfind("interval-march", 0) == 0;
   const std::optional<volume::AnalyticField> field = field_of(a);
   if (march && !field)
-    throw InputError("--mode " + mode, "marches a field: give a field:NAME or grid:NAME dataset (see --help)");
+    throw InputError("--mode " + mode, "marches a field: give a field:NAME or grid:NAME dataset or an OpenVDB .vdb grid (see --help)");
   if (quantity == volume::Quantity::Isosurface && !(field && (march || mode == "reference")))
     throw InputError("--quantity isosurface", "needs a field:NAME or grid:NAME dataset and --mode interval-march or reference");
   if (a.has("isovalue") && quantity != volume::Quantity::Isosurface) throw InputError("--isovalue", "applies to --quantity isosurface only");

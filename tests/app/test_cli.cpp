@@ -13,12 +13,14 @@
 #include <thread>
 #include <unistd.h>
 
+#include "app/grid_dataset.hpp"
 #include "io/image_io.hpp"
 #include "io/surface_io.hpp"
 #include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "renderer/volume/region_mesh.hpp"
 #include "scene/generators.hpp"
 
 namespace prismoid {
@@ -205,6 +207,50 @@ TEST(Cli, VdbFogVolumeFromASurfaceRendersLikeTheReference) {
   const CliRun converted = run("convert " + vdb.string() + " " + vtu.string());
   ASSERT_EQ(converted.code, 0) << converted.err;
   EXPECT_EQ(io::read_tet_mesh(vtu.string()).tets.size(), mesh.tets.size());
+}
+
+// The march modes take a .vdb grid as a field over its active regions (not its voxel
+// tetrahedra), and --mode reference marches the same trilinear field on the CPU. Both are
+// midpoint sums of sigma = max(f, 0), which is G-Lipschitz along a line (G = the grid's gradient
+// bound), so each step of length h is within G h^2 / 4 of the integral: along a chord of length
+// L <= D (the regions' diagonal) the GPU (h = D / 100) and the reference (h = D / 2000) are within
+// G D (D / 100 + D / 2000) / 4 of each other, plus float rounding (1e-4 of the depth here).
+TEST(Cli, VdbMarchesItsActiveRegionsLikeTheReference) {
+  const fs::path vdb = work_dir() / "march_fog.vdb", march = work_dir() / "vdb_march.pfm", ref = work_dir() / "vdb_ref.pfm";
+  const fs::path stats = work_dir() / "vdb_march.json";
+  ASSERT_EQ(run("convert ball:2 " + vdb.string() + " --voxel-size 0.2").code, 0);
+  const std::string args = "render " + vdb.string() + " --quantity optical-depth --size 24x24 --eye 0.5,1,4 --target 0,0,0 --output ";
+  CliRun r = run(args + march.string() + " --mode interval-march --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run(args + ref.string() + " --mode reference");
+  ASSERT_EQ(r.code, 0) << r.err;
+
+  const auto grid = app::grid_from_vdb(vdb.string(), {});
+  const TetMesh regions = app::grid_dataset_mesh(*grid, 1.0);
+  const TetMesh voxels = io::read_vdb_voxels(vdb.string());
+  EXPECT_LT(regions.tets.size(), voxels.tets.size() / 4);  // leaf boxes, not voxels
+  EXPECT_NE(slurp(stats.string()).find("\"cells\": " + std::to_string(regions.tets.size()) + ","), std::string::npos);
+  // The marched grid is the file's grid: at every voxel centre (the voxel mesh's points, read by
+  // the independent voxel path) its trilinear field is the voxel's value.
+  ASSERT_EQ(voxels.point_extinction.size(), voxels.points.size());
+  for (size_t i = 0; i < voxels.points.size(); ++i)
+    ASSERT_NEAR(volume::evaluate(*grid, voxels.points[i]), voxels.point_extinction[i], 1e-6) << "voxel centre " << i;
+
+  const Bounds b = bounds_of(regions);
+  const double D = glm::length(b.max - b.min), G = volume::gradient_bound(*grid);
+  const double tol = G * D * (D / 100.0 + D / 2000.0) / 4.0;
+  const auto a = io::read_pfm(march.string()), c = io::read_pfm(ref.string());
+  ASSERT_EQ(a.pixels.size(), c.pixels.size());
+  size_t covered = 0;
+  double peak = 0.0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(a.pixels[i]) && std::isfinite(c.pixels[i])) << i;
+    EXPECT_NEAR(a.pixels[i], c.pixels[i], tol + 1e-4 * (1.0 + double(c.pixels[i]))) << "pixel " << i;
+    covered += c.pixels[i] > 0.1f;
+    peak = std::max(peak, double(c.pixels[i]));
+  }
+  EXPECT_GT(covered, 100u);
+  EXPECT_GT(peak, 5.0 * tol);  // the bound is tight enough to mean something
 }
 
 TEST(Cli, BadVdbInputExitsWithTwoAndLeavesNoFile) {
