@@ -23,7 +23,7 @@ namespace prismoid::app {
 
 const char* const kConvertHelp =
     "usage: prismoid convert [IN] OUT.vtu [--array NAME --density-scale S]\n"
-    "                        [--tetgen-quality Q --tetgen-max-volume V --tetgen-cells N --fill-holes]\n"
+    "                        [--tetgen-quality Q --tetgen-max-volume V --tetgen-cells N --fill-holes --remesh H]\n"
     "       prismoid convert IN OUT.vdb [--vdb fog|levelset] [--voxel-size H] [--fill-holes]\n"
     "\n"
     "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
@@ -78,7 +78,7 @@ int convert_to_vdb(ParsedArgs& a, const std::string& out) {
 
 int cmd_convert(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "grid", "vdb",
-                                 "voxel-size"},
+                                 "voxel-size", "remesh"},
                        {"help", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");

@@ -89,6 +89,8 @@ const char* const kRenderHelp =
     "  --tetgen-max-volume V    largest cell volume, TetGen -a (default: none)\n"
     "  --tetgen-cells N         about N tetrahedra (within 15%): TetGen -a chosen for it, 1-3 runs\n"
     "  --fill-holes             close an open surface first (VTK's vtkFillHolesFilter)\n"
+    "  --remesh H               replace the surface by its OpenVDB level set's zero crossing at voxel\n"
+    "                           size H (closed, no self-intersections; detail below H is lost)\n"
     "or an image volume (.vti .mhd .mha, .inr/.inr.gz as in CGAL's data): each cell between 8 voxel\n"
     "centres becomes 6 tetrahedra, voxel values are point values (--array picks the .vti/.mhd array);\n"
     "  --subsample K            keep 1 voxel in K per axis (images over 50 million cells need it)\n"

@@ -71,7 +71,7 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
     throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) and OpenVDB grids (.vdb) only");
   if (a.has("grid") && !is_vdb) throw InputError("--grid", "applies to OpenVDB files (.vdb) only");
   const bool is_surface = !a.files.empty() && io::is_surface_path(a.files.front());
-  for (const char* option : {"tetgen-quality", "tetgen-max-volume", "tetgen-cells"})
+  for (const char* option : {"tetgen-quality", "tetgen-max-volume", "tetgen-cells", "remesh"})
     if (a.has(option) && !is_surface) throw InputError(std::string("--") + option, "applies to surfaces (.vtp .stl .obj .ply .off) only");
   if (a.flags.count("fill-holes") && !is_surface) throw InputError("--fill-holes", "applies to surfaces (.vtp .stl .obj .ply .off) only");
   if (a.files.empty()) {
@@ -107,6 +107,10 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field) {
     if (a.has("array")) throw InputError("--array", file + " is a surface: its tetrahedra carry no arrays");
     io::SurfaceToTets convert;
     convert.fill_holes = a.flags.count("fill-holes") > 0;
+    if (a.has("remesh")) {
+      convert.remesh_voxel_size = parse_double("remesh", a.values.at("remesh"));
+      if (!(convert.remesh_voxel_size > 0.0)) throw InputError("--remesh", "is a voxel size: a positive length");
+    }
     if (a.has("tetgen-quality")) convert.tetgen.radius_edge_ratio = parse_double("tetgen-quality", a.values.at("tetgen-quality"));
     if (a.has("tetgen-max-volume")) convert.tetgen.max_volume = parse_double("tetgen-max-volume", a.values.at("tetgen-max-volume"));
     if (a.has("tetgen-cells")) {
@@ -235,7 +239,7 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 // The options render and view share: the data, what to show and how.
 const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
                                                  "array", "density-scale", "tetlet-size", "march-step", "isovalue",
-                                                 "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "component",
+                                                 "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "remesh", "subsample", "component",
                                                  "grid"};
 
 // Parses the volume options, loads the data and builds the frame settings; InputError names

@@ -16,6 +16,7 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/VolumeToMesh.h>
 
 #include "io/kuhn_split.hpp"
 #include "io/path_util.hpp"
@@ -415,8 +416,11 @@ class ProgressInterrupter : public openvdb::util::NullInterrupter {
 
 }  // namespace
 
-VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh& surface, const VdbWriteOptions& options) {
-  if (!is_vdb_path(path)) throw InputError(path, "is not a .vdb file name");
+namespace {
+
+// A closed surface as a narrow-band level set of voxel size `voxel_size` (<= 0: the bounding
+// box's diagonal / 128), refusing open surfaces and sizes over max_voxels.
+FloatGrid::Ptr surface_level_set(const SurfaceMesh& surface, double voxel_size, uint64_t max_voxels, const Progress& progress) {
   if (surface.triangles.empty()) throw InputError(surface.name, "the surface has no triangles");
   if (const SurfaceCheck check = check_surface(surface); !check.closed())
     throw InputError(surface.name, "the surface is not closed (" + std::to_string(check.boundary_edges) + " boundary edges, " +
@@ -428,14 +432,14 @@ VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh
   }
   const double diagonal = 2.0 * b.radius();
   if (!(diagonal > 0.0) || !std::isfinite(diagonal)) throw InputError(surface.name, "the surface has no extent (or non-finite points)");
-  const double h = options.voxel_size > 0.0 ? options.voxel_size : diagonal / 128.0;
+  const double h = voxel_size > 0.0 ? voxel_size : diagonal / 128.0;
   constexpr float kHalfWidth = 3.0f;  // voxels each side of the surface: OpenVDB's default band
   double voxels = 1.0;
   for (int a = 0; a < 3; ++a) voxels *= std::ceil((b.max[a] - b.min[a]) / h) + 2.0 * double(kHalfWidth) + 1.0;
-  if (voxels > double(options.max_voxels))
+  if (voxels > double(max_voxels))
     throw InputError(surface.name, "a voxel size of " + std::to_string(h) + " makes " + std::to_string(uint64_t(voxels)) +
-                                       " voxels in the bounding box, more than " + std::to_string(options.max_voxels) + "; try --voxel-size " +
-                                       std::to_string(h * std::cbrt(voxels / double(options.max_voxels)) * 1.05));
+                                       " voxels in the bounding box, more than " + std::to_string(max_voxels) + "; try --voxel-size " +
+                                       std::to_string(h * std::cbrt(voxels / double(max_voxels)) * 1.05));
 
   initialize_openvdb();
   std::vector<openvdb::Vec3s> points;
@@ -445,9 +449,20 @@ VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh
   triangles.reserve(surface.triangles.size());
   for (const auto& t : surface.triangles) triangles.emplace_back(t[0], t[1], t[2]);
   const openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(h);
-  ProgressInterrupter interrupter(options.progress, "converting the surface to a level set");
+  ProgressInterrupter interrupter(progress, "converting the surface to a level set");
   FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<FloatGrid>(interrupter, *xform, points, triangles, kHalfWidth);
   if (interrupter.cancelled()) throw Cancelled(surface.name);
+  if (grid->activeVoxelCount() == 0)
+    throw InputError(surface.name, "OpenVDB found no inside at voxel size " + std::to_string(h) + " (the shape is thinner than a voxel?)");
+  return grid;
+}
+
+}  // namespace
+
+VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh& surface, const VdbWriteOptions& options) {
+  if (!is_vdb_path(path)) throw InputError(path, "is not a .vdb file name");
+  FloatGrid::Ptr grid = surface_level_set(surface, options.voxel_size, options.max_voxels, options.progress);
+  const double h = grid->voxelSize()[0];
   if (options.fog) {
     report(options.progress, -1.0, "level set to fog volume", surface.name);
     openvdb::tools::sdfToFogVolume(*grid);
@@ -458,8 +473,6 @@ VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh
     grid->setName("surface");
   }
   VdbWriteReport result{h, grid->activeVoxelCount()};
-  if (result.active_voxels == 0)
-    throw InputError(surface.name, "OpenVDB found no inside at voxel size " + std::to_string(h) + " (the shape is thinner than a voxel?)");
 
   // Written beside the target and renamed, so a failed write never leaves a partial file.
   const std::string tmp = path + ".partial";
@@ -478,6 +491,28 @@ VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh
     throw InputError(path, "cannot write the .vdb file: " + ec.message());
   }
   return result;
+}
+
+SurfaceMesh remesh_through_level_set(const SurfaceMesh& surface, double voxel_size, const Progress& progress) {
+  FloatGrid::Ptr grid = surface_level_set(surface, voxel_size, kMaxDenseVoxels, progress);
+  report(progress, -1.0, "extracting the level set's zero crossing", surface.name);
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> triangles;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(*grid, points, triangles, quads, 0.0, 0.0);  // isovalue 0, no adaptivity
+  SurfaceMesh out;
+  out.name = surface.name;
+  out.points.reserve(points.size());
+  for (const auto& p : points) out.points.emplace_back(p.x(), p.y(), p.z());
+  out.triangles.reserve(triangles.size() + 2 * quads.size());
+  // OpenVDB winds its polygons the opposite way to the outward-facing convention: reversed here.
+  for (const auto& t : triangles) out.triangles.push_back({t[0], t[2], t[1]});
+  for (const auto& q : quads) {
+    out.triangles.push_back({q[0], q[2], q[1]});
+    out.triangles.push_back({q[0], q[3], q[2]});
+  }
+  if (out.triangles.empty()) throw InputError(surface.name, "the level set has no zero crossing at this voxel size");
+  return out;
 }
 
 SurfaceMesh boundary_surface(const TetMesh& mesh) {

@@ -121,6 +121,13 @@ struct VdbWriteReport {
 };
 VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh& surface, const VdbWriteOptions& options);
 
+// A new surface for a closed one: its narrow-band level set at `voxel_size` (<= 0: the bounding
+// box's diagonal / 128), contoured at zero by OpenVDB's volumeToMesh (quads split in two), facing
+// outward. The result is closed and free of self-intersections whatever the input's were (a
+// scanned mesh's folds are resolved by the level set's inside/outside), at the price of detail
+// below the voxel size. InputError as write_vdb_from_surface.
+SurfaceMesh remesh_through_level_set(const SurfaceMesh& surface, double voxel_size, const Progress& progress = {});
+
 // The triangles of a tetrahedral mesh's boundary (faces used by one cell), facing outward.
 SurfaceMesh boundary_surface(const TetMesh& mesh);
 
