@@ -438,7 +438,7 @@ FloatGrid::Ptr surface_level_set(const SurfaceMesh& surface, double voxel_size, 
   for (int a = 0; a < 3; ++a) voxels *= std::ceil((b.max[a] - b.min[a]) / h) + 2.0 * double(kHalfWidth) + 1.0;
   if (voxels > double(max_voxels))
     throw InputError(surface.name, "a voxel size of " + std::to_string(h) + " makes " + std::to_string(uint64_t(voxels)) +
-                                       " voxels in the bounding box, more than " + std::to_string(max_voxels) + "; try --voxel-size " +
+                                       " voxels in the bounding box, more than " + std::to_string(max_voxels) + "; try a voxel size of " +
                                        std::to_string(h * std::cbrt(voxels / double(max_voxels)) * 1.05));
 
   initialize_openvdb();
