@@ -307,9 +307,11 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     ++report.frames_presented;
   }
   if (s.loading.job) {  // closed mid-load: stop it and wait (promptly: the io layer checks often)
+    const auto stop = std::chrono::steady_clock::now();
     s.loading.job->cancel();
     s.loading.job.reset();
     ++report.loads_cancelled;
+    report.seconds_to_stop_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - stop).count();
   }
   device.wait_idle();
   if (frame_in_flight) {

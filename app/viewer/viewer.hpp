@@ -64,6 +64,7 @@ struct ViewerReport {
   size_t datasets_visible = 0;
   std::string last_load_error;
   uint32_t loads_cancelled = 0;            // by Cancel, cancel-load or closing the window
+  double seconds_to_stop_load = 0.0;       // closed mid-load: from the close to the load's thread ending
 };
 
 // Opens the window on the state's visible datasets and runs until closed (a load still running
