@@ -31,10 +31,11 @@ void draw_datasets(const ViewState& state, DataRequests& requests) {
 void draw_progress(const LoadStatus& load, DataRequests& requests) {
   // An unknown fraction (TetGen) sweeps back and forth, so the bar still shows the work is alive.
   const float shown = load.fraction >= 0.0 ? float(load.fraction) : float(0.5 + 0.5 * std::sin(2.0 * load.seconds));
-  char overlay[160];
-  std::snprintf(overlay, sizeof overlay, "%s, %.1f s", load.stage.c_str(), load.seconds);
-  ImGui::TextWrapped("loading %s%s", load.label.c_str(),
-                     load.queued ? (" (" + std::to_string(load.queued) + " more queued)").c_str() : "");
+  const std::string queued = load.queued ? " (" + std::to_string(load.queued) + " more queued)" : "";
+  ImGui::TextWrapped("loading %s%s: %s, %.1f s", load.label.c_str(), queued.c_str(), load.stage.c_str(), load.seconds);
+  char overlay[32];
+  if (load.fraction >= 0.0) std::snprintf(overlay, sizeof overlay, "%d%%", int(100.0 * load.fraction + 0.5));
+  else std::snprintf(overlay, sizeof overlay, "working");
   ImGui::ProgressBar(shown, ImVec2(-80.0f, 0.0f), overlay);
   ImGui::SameLine();
   if (ImGui::Button("Cancel")) requests.cancel = true;
