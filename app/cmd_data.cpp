@@ -1,5 +1,6 @@
 // `prismoid convert` and `prismoid info`: datasets without rendering.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 
@@ -9,10 +10,12 @@
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
 #include "app/dataset_report.hpp"
+#include "app/terminal_progress.hpp"
 #include "app/volume_options.hpp"
 #include "io/dataset_info.hpp"
 #include "io/image_volume_io.hpp"
 #include "io/surface_io.hpp"
+#include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
 
@@ -20,22 +23,71 @@ namespace prismoid::app {
 
 const char* const kConvertHelp =
     "usage: prismoid convert [IN] OUT.vtu [--array NAME --density-scale S]\n"
-    "                        [--tetgen-quality Q --tetgen-max-volume V --tetgen-cells N --fill-holes]\n"
+    "                        [--tetgen-quality Q --tetgen-max-volume V --tetgen-cells N --fill-holes --remesh H]\n"
+    "       prismoid convert IN OUT.vdb [--vdb fog|levelset] [--voxel-size H] [--fill-holes]\n"
     "\n"
     "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
     "input has one, the point array 'scalars'. IN is a .vtu/.vtk/.vtm/.pvtu file (other cells are\n"
     "split into tetrahedra, pieces merged: see `prismoid info IN`), an image volume (.vti .mhd .mha\n"
     ".inr), a field:NAME[:N] dataset, or a closed surface (.vtp .stl .obj .ply .off) tetrahedralized\n"
     "by TetGen (see `render --help`); without IN, the embedded default dataset is written (its point\n"
-    "array 'scalars' holds the field sampled at the points).\n";
+    "array 'scalars' holds the field sampled at the points).\n"
+    "\n"
+    "OUT.vdb: an OpenVDB grid made by OpenVDB's own tools from a closed surface (IN a surface file, or\n"
+    "the boundary of any tetrahedral mesh above): meshToLevelSet's narrow-band level set (3 voxels each\n"
+    "side; grid 'surface'), or with --vdb fog (the default) that level set through sdfToFogVolume\n"
+    "(density 1 inside, 0 outside; grid 'density'). --voxel-size H: default the bounding box's\n"
+    "diagonal / 128. The file is written beside OUT and renamed, so a failure leaves nothing.\n";
+
+namespace {
+
+// IN as a closed surface: read as it is, or the boundary of the tetrahedral mesh it loads as.
+int convert_to_vdb(ParsedArgs& a, const std::string& out) {
+  if (a.files.size() != 1) throw InputError("convert", "writing .vdb needs IN: a closed surface or a tetrahedral mesh");
+  for (const char* option : {"array", "density-scale"})
+    if (a.has(option)) throw InputError(std::string("--") + option, "does not apply to .vdb output (a grid made from a surface)");
+  io::VdbWriteOptions options;
+  const std::string kind = a.has("vdb") ? a.values.at("vdb") : "fog";
+  if (kind != "fog" && kind != "levelset") throw InputError("--vdb", "is fog or levelset, not '" + kind + "'");
+  options.fog = kind == "fog";
+  if (a.has("voxel-size")) {
+    options.voxel_size = parse_double("voxel-size", a.values.at("voxel-size"));
+    if (!(options.voxel_size > 0.0)) throw InputError("--voxel-size", "must be positive");
+  }
+  const std::string& in = a.files.front();
+  const auto start = std::chrono::steady_clock::now();
+  SurfaceMesh surface;
+  if (io::is_surface_path(in)) {
+    surface = io::read_surface(in);
+    if (a.flags.count("fill-holes")) surface = io::fill_holes(surface);
+  } else {
+    surface = io::boundary_surface(load_scene(a));
+    surface.name = in;
+  }
+  TerminalProgress progress(in);
+  options.progress = progress.callback();
+  const io::VdbWriteReport report = io::write_vdb_from_surface(out, surface, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "wrote " << out << " (" << (options.fog ? "fog volume 'density'" : "level set 'surface'") << ", voxel size "
+            << report.voxel_size << ", " << report.active_voxels << " active voxels, from " << surface.triangles.size()
+            << " triangles) in " << seconds << " s\n";
+  return kOk;
+}
+
+}  // namespace
 
 int cmd_convert(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample"}, {"help", "fill-holes"});
+  ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "grid", "vdb",
+                                 "voxel-size", "remesh"},
+                       {"help", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
   const std::string out = a.files.back();
-  if (std::filesystem::path(out).extension() != ".vtu") throw InputError(out, "convert writes .vtu files only (for now)");
   a.files.pop_back();
+  if (io::is_vdb_path(out)) return convert_to_vdb(a, out);
+  if (std::filesystem::path(out).extension() != ".vtu") throw InputError(out, "convert writes .vtu and .vdb files");
+  for (const char* option : {"vdb", "voxel-size"})
+    if (a.has(option)) throw InputError(std::string("--") + option, "applies to .vdb output only");
   TetMesh mesh = load_scene(a);
   if (mesh.point_scalars.empty() && mesh.linear_extinction()) mesh.point_scalars = mesh.point_extinction;
   io::write_tet_mesh_vtu(out, mesh);
@@ -51,7 +103,9 @@ const char* const kInfoHelp =
     "produces: the tetrahedra that other cells split into, zero-volume and inverted tetrahedra,\n"
     "and the GPU memory of the mesh buffers. An image volume (.vti .mhd .mha .inr): its voxels, value\n"
     "range, bounds and the tetrahedra it becomes. A surface (.vtp .stl .obj .ply .off): its triangles,\n"
-    "bounds, and whether it is closed (where it is not), which TetGen needs.\n";
+    "bounds, and whether it is closed (where it is not), which TetGen needs. An OpenVDB file (.vdb):\n"
+    "each grid's type, class, voxel size, active voxels, index and world boxes, value range, leaf\n"
+    "nodes, memory, and for float grids the tetrahedra it becomes.\n";
 
 int cmd_info(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, {}, {"help"});
@@ -73,6 +127,10 @@ int cmd_info(const std::vector<std::string>& args) {
     std::cout << "  as tetrahedra: " << mesh.tets.size() << " (6 per cell between 8 voxel centres), " << mesh.points.size()
               << " points\n  GPU memory (mesh buffers): " << double(io::estimated_gpu_bytes(mesh.tets.size(), mesh.points.size())) / 1048576.0
               << " MiB\n";
+    return kOk;
+  }
+  if (io::is_vdb_path(file)) {
+    std::cout << format_vdb_info(io::inspect_vdb(file));
     return kOk;
   }
   if (io::is_surface_path(file)) {

@@ -28,7 +28,7 @@ Dataset load_for_view(const LoadRequest& request, bool color) {
     progress.throw_if_cancelled(request.path);
   }
   validate(mesh);
-  Dataset d = make_dataset(std::move(mesh), field_of_path(request.path));
+  Dataset d = make_dataset(std::move(mesh), field_of_request(request));
   if (color && !d.has_scalars)
     throw InputError(request.path, "has no scalar field for --quantity color, which needs one in every dataset shown "
                                    "(choose a point or cell array with --array NAME)");

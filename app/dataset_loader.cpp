@@ -8,6 +8,7 @@
 
 #include "app/grid_dataset.hpp"
 #include "io/image_volume_io.hpp"
+#include "io/vdb_io.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
 
@@ -43,7 +44,7 @@ TetMesh load_default(const LoadRequest& r) {
 }
 
 TetMesh load_field(const LoadRequest& r, const volume::AnalyticField& field) {
-  if (!r.array.empty()) throw InputError("--array", "a field: or grid: dataset has no arrays to choose from");
+  if (!r.array.empty()) throw InputError("--array", "a field:, grid: or marched .vdb dataset has no arrays to choose from");
   if (field.kind == volume::FieldKind::Grid) return grid_dataset_mesh(*field.grid, r.density_scale);
   uint32_t n = 4;
   if (const auto colon = r.path.find(':', 6); colon != std::string::npos) {
@@ -69,6 +70,7 @@ TetMesh load_surface(const LoadRequest& r, const io::Progress& progress) {  // f
   io::SurfaceToTets convert;
   convert.fill_holes = r.fill_holes;
   convert.tetgen = r.tetgen;
+  convert.remesh_voxel_size = r.remesh_voxel_size;
   convert.progress = progress;
   const auto start = std::chrono::steady_clock::now();
   io::SurfaceTets tets = io::surface_to_tets(r.path, convert);
@@ -84,6 +86,19 @@ TetMesh load_surface(const LoadRequest& r, const io::Progress& progress) {  // f
          << (r.tetgen.target_cells ? " (target " + std::to_string(r.tetgen.target_cells) + ")" : "") << "\n";
   std::cerr << line.str();
   return mesh;
+}
+
+TetMesh load_vdb(const LoadRequest& r, const io::Progress& progress) {  // an OpenVDB float grid: voxel tetrahedra, as image volumes
+  if (!r.array.empty()) throw InputError("--array", "picks arrays of meshes and images; a .vdb grid is chosen with --grid NAME");
+  if (r.component) throw InputError("--component", "applies to the arrays of .vtu .vtk .vtm .pvtu meshes");
+  io::VdbReadOptions vdb;
+  vdb.grid = r.vdb_grid;
+  vdb.role = r.role;
+  vdb.density_scale = r.density_scale;
+  vdb.subsample = r.subsample.value_or(1);
+  vdb.max_cells = 50'000'000;  // the image volumes' guard
+  vdb.progress = progress;
+  return io::read_vdb_voxels(r.path, vdb);
 }
 
 TetMesh load_image(const LoadRequest& r, const io::Progress& progress) {  // each voxel cell becomes 6 tetrahedra
@@ -119,6 +134,19 @@ TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress) { 
 
 }  // namespace
 
+std::optional<volume::AnalyticField> field_of_request(const LoadRequest& r) {
+  // A .vdb grid is marched inside its active regions by the march modes, and the reference is
+  // its own trilinear field (what the grid means); the other modes draw its voxel tetrahedra
+  // (exact linear interpolation of the same samples).
+  if (r.vdb_marched) {
+    io::VdbReadOptions vdb;
+    vdb.grid = r.vdb_grid;
+    vdb.subsample = r.subsample.value_or(1);
+    return volume::grid_field(grid_from_vdb(r.path, vdb));
+  }
+  return field_of_path(r.path);
+}
+
 std::optional<volume::AnalyticField> field_of_path(const std::string& path) {
   if (is_grid_spec(path)) return volume::grid_field(grid_from_spec(path));
   if (path.rfind("field:", 0) != 0) return std::nullopt;
@@ -141,10 +169,15 @@ LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool
     r.density_scale = parse_double("density-scale", a.values.at("density-scale"));
     if (r.density_scale < 0.0) throw InputError("--density-scale", "must not be negative");
   }
+  const bool is_vdb = !path.empty() && io::is_vdb_path(path);
   const bool is_image = !path.empty() && io::is_image_volume_path(path);
-  if (a.has("subsample") && !is_image) throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) only");
+  if (a.has("subsample") && !is_image && !is_vdb)
+    throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) and OpenVDB grids (.vdb) only");
+  if (a.has("grid") && !is_vdb) throw InputError("--grid", "applies to OpenVDB files (.vdb) only");
+  if (a.has("grid")) r.vdb_grid = a.values.at("grid");
+  r.vdb_marched = is_vdb && a.has("mode") && (a.values.at("mode").rfind("interval-march", 0) == 0 || a.values.at("mode") == "reference");
   const bool is_surface = !path.empty() && io::is_surface_path(path);
-  for (const char* option : {"tetgen-quality", "tetgen-max-volume", "tetgen-cells"})
+  for (const char* option : {"tetgen-quality", "tetgen-max-volume", "tetgen-cells", "remesh"})
     if (a.has(option) && !is_surface) throw InputError(std::string("--") + option, kSurfaceKinds);
   if (a.flags.count("fill-holes") && !is_surface) throw InputError("--fill-holes", kSurfaceKinds);
   r.fill_holes = a.flags.count("fill-holes") > 0;
@@ -153,6 +186,10 @@ LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool
   if (a.has("tetgen-cells")) {
     r.tetgen.target_cells = parse_uint("tetgen-cells", a.values.at("tetgen-cells"));
     if (r.tetgen.target_cells == 0) throw InputError("--tetgen-cells", "must be at least 1");
+  }
+  if (a.has("remesh")) {
+    r.remesh_voxel_size = parse_double("remesh", a.values.at("remesh"));
+    if (!(r.remesh_voxel_size > 0.0)) throw InputError("--remesh", "is a voxel size: a positive length");
   }
   if (a.has("subsample")) {
     r.subsample = parse_uint("subsample", a.values.at("subsample"));
@@ -168,9 +205,10 @@ LoadRequest load_request_from(const ParsedArgs& a, bool scalar_field) {
 
 TetMesh load_dataset(const LoadRequest& r, const io::Progress& progress) {
   if (r.path.empty()) return load_default(r);
-  if (const auto field = field_of_path(r.path)) return load_field(r, *field);
+  if (const auto field = field_of_request(r)) return load_field(r, *field);
   if (is_ball_spec(r.path)) return load_ball(r);
   if (io::is_surface_path(r.path)) return load_surface(r, progress);
+  if (io::is_vdb_path(r.path)) return load_vdb(r, progress);
   if (io::is_image_volume_path(r.path)) return load_image(r, progress);
   return load_unstructured(r, progress);
 }

@@ -28,6 +28,12 @@ struct LoadRequest {
   std::optional<uint32_t> subsample;  // image volumes only
   io::TetgenOptions tetgen;           // surfaces only
   bool fill_holes = false;            // surfaces only
+  double remesh_voxel_size = 0.0;     // surfaces only: OpenVDB remeshing before TetGen (0: none)
+  std::string vdb_grid;               // .vdb only: the grid (empty: the first float grid)
+  // .vdb only: drawn as its active regions for the march modes (the grid is then the field
+  // they march) rather than as voxel tetrahedra. Reads through a cache that belongs to the main
+  // thread: the viewer's loader never sets it.
+  bool vdb_marched = false;
 };
 
 // The request the dataset options describe for `path`; InputError names an option that is
@@ -44,6 +50,8 @@ TetMesh load_dataset(const LoadRequest& request, const io::Progress& progress = 
 
 // The analytic field of a field:NAME[:N] or grid:NAME[:N] spec; nullopt for anything else.
 std::optional<volume::AnalyticField> field_of_path(const std::string& path);
+// The same, and a marched .vdb's grid (vdb_marched).
+std::optional<volume::AnalyticField> field_of_request(const LoadRequest& request);
 
 // A short label for the request, for progress bars and messages (the file name).
 std::string load_label(const LoadRequest& request);

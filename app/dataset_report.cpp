@@ -58,4 +58,27 @@ std::string format_dataset_info(const std::string& path, const io::DatasetInfo& 
   return s.str();
 }
 
+std::string format_vdb_info(const io::VdbInfo& info) {
+  std::ostringstream s;
+  s.precision(9);
+  s << info.path << " (OpenVDB, " << bytes_text(info.file_bytes) << ", " << info.grids.size() << " grid" << (info.grids.size() == 1 ? "" : "s") << ")\n";
+  for (const io::VdbGridInfo& g : info.grids) {
+    s << "  grid '" << g.name << "': " << g.value_type << ", " << io::vdb_class_name(g.grid_class) << "\n";
+    s << "    voxel size: " << g.voxel_size.x << " x " << g.voxel_size.y << " x " << g.voxel_size.z
+      << (g.linear_transform ? "" : " (non-linear transform: cannot be opened)") << "\n";
+    s << "    active voxels: " << g.active_voxels << " in " << g.leaf_nodes << " leaf nodes (and tiles); in memory "
+      << bytes_text(g.memory_bytes) << "\n";
+    if (g.active_voxels == 0) continue;
+    s << "    active index box: [" << g.index_min.x << ", " << g.index_max.x << "] x [" << g.index_min.y << ", " << g.index_max.y
+      << "] x [" << g.index_min.z << ", " << g.index_max.z << "]\n";
+    s << "    world bounds (voxel centres): [" << g.world.min.x << ", " << g.world.max.x << "] x [" << g.world.min.y << ", "
+      << g.world.max.y << "] x [" << g.world.min.z << ", " << g.world.max.z << "]\n";
+    if (g.has_range) s << "    values (active voxels): [" << g.value_min << ", " << g.value_max << "]\n";
+    if (g.dual_cells > 0)
+      s << "    as tetrahedra: " << g.tets() << " (6 per cell between 8 voxel centres, " << g.dual_cells << " cells), " << g.mesh_points
+        << " points; GPU memory (mesh buffers): " << bytes_text(io::estimated_gpu_bytes(g.tets(), g.mesh_points)) << "\n";
+  }
+  return s.str();
+}
+
 }  // namespace prismoid::app

@@ -9,6 +9,7 @@
 #include "app/dataset_loader.hpp"
 #include "app/terminal_progress.hpp"
 #include "io/transfer_function_io.hpp"
+#include "io/vdb_io.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -16,7 +17,13 @@ namespace prismoid::app {
 // The field of a field:NAME[:N] or grid:NAME[:N] dataset, if that is what the command line names.
 std::optional<volume::AnalyticField> field_of(const ParsedArgs& a) {
   if (a.files.size() != 1) return std::nullopt;
-  return field_of_path(a.files.front());
+  LoadRequest r;  // only what picks the field: the options are checked when the dataset loads
+  r.path = a.files.front();
+  r.vdb_marched = io::is_vdb_path(r.path) && a.has("mode") &&
+                  (a.values.at("mode").rfind("interval-march", 0) == 0 || a.values.at("mode") == "reference");
+  if (a.has("grid")) r.vdb_grid = a.values.at("grid");
+  if (a.has("subsample")) r.subsample = std::max(1u, parse_uint("subsample", a.values.at("subsample")));
+  return field_of_request(r);
 }
 
 // The dataset named on the command line; the embedded default when none is named.
@@ -82,7 +89,8 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 // The options render and view share: the data, what to show and how.
 const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
                                                  "array", "density-scale", "tetlet-size", "march-step", "isovalue",
-                                                 "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "component"};
+                                                 "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "remesh", "subsample", "component",
+                                                 "grid"};
 
 // Parses the volume options, loads the data and builds the frame settings; InputError names
 // the option or file at fault.
@@ -102,7 +110,7 @@ VolumeChoice volume_choice(const ParsedArgs& a) {
   const bool march = mode.rfind("interval-march", 0) == 0;
   const std::optional<volume::AnalyticField> field = field_of(a);
   if (march && !field)
-    throw InputError("--mode " + mode, "marches a field: give a field:NAME or grid:NAME dataset (see --help)");
+    throw InputError("--mode " + mode, "marches a field: give a field:NAME or grid:NAME dataset or an OpenVDB .vdb grid (see --help)");
   if (quantity == volume::Quantity::Isosurface && !(field && (march || mode == "reference")))
     throw InputError("--quantity isosurface", "needs a field:NAME or grid:NAME dataset and --mode interval-march or reference");
   if (a.has("isovalue") && quantity != volume::Quantity::Isosurface) throw InputError("--isovalue", "applies to --quantity isosurface only");

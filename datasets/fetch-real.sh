@@ -2,6 +2,7 @@
 # Builds the real datasets the interval-shading paper times, as tetrahedral legacy .vtk files:
 #   datasets/real/bunny.vtk      Stanford bunny, about 61k tetrahedra (the paper: 61,042)
 #   datasets/real/armadillo.vtk  armadillo, about 962k tetrahedra (the paper: 959,042)
+#   datasets/real/bunny_fog.vdb  an OpenVDB fog volume of the bunny (prismoid convert, with a build)
 # from the closed surface meshes in Debian's libcgal-demo (downloaded and unpacked into a cache,
 # never installed), tetrahedralized by Debian's TetGen 1.5. Each file carries a cell array
 # 'extinction' = 1 (TetGen writes no arrays). Idempotent: existing outputs are kept.
@@ -146,6 +147,13 @@ if [ -x "$prismoid_exe" ]; then
     XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" "$prismoid_exe" convert "$cache/meshes/elephant.off" "$out_dir/elephant.vtu" \
       --tetgen-quality 1.2 || fail "prismoid convert elephant.off failed"
   fi
+  # An OpenVDB fog volume made from the full-resolution bunny by OpenVDB's meshToLevelSet and
+  # sdfToFogVolume (voxel size: the bounding-box diagonal / 128; about 100k active voxels).
+  if [ ! -f "$out_dir/bunny_fog.vdb" ] || [ "$force" -eq 1 ]; then
+    step "bunny00.off -> bunny_fog.vdb with prismoid convert (OpenVDB fog volume)"
+    XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" "$prismoid_exe" convert "$cache/meshes/bunny00.off" "$out_dir/bunny_fog.vdb" \
+      --vdb fog --fill-holes || fail "prismoid convert bunny00.off bunny_fog.vdb failed"
+  fi
   # Generated analytic fields, for accuracy against closed forms: the constant-extinction ball
   # (optical depth = sigma x chord) and Marschner-Lobb sampled at the points of a 32^3-cube box.
   # (`prismoid render field:marschner-lobb:32 --mode interval-march` marches the field itself.)
@@ -158,7 +166,7 @@ if [ -x "$prismoid_exe" ]; then
     fi
   done
 else
-  echo "   (no prismoid build at $prismoid_exe: elephant.vtu skipped; scripts/build.sh makes one)"
+  echo "   (no prismoid build at $prismoid_exe: elephant.vtu, bunny_fog.vdb skipped; scripts/build.sh makes one)"
 fi
 if [ "$pack" -eq 1 ]; then
   mkdir -p "$out_dir/packed"
@@ -171,4 +179,4 @@ if [ "$pack" -eq 1 ]; then
   done
   du -h "$out_dir"/packed/*.vtk.xz
 fi
-step "done: $(cd "$out_dir" && ls -1 ./*.vtk ./*.vtu ./*.inr 2>/dev/null | tr '\n' ' ')in $out_dir"
+step "done: $(cd "$out_dir" && ls -1 ./*.vtk ./*.vtu ./*.inr ./*.vdb 2>/dev/null | tr '\n' ' ')in $out_dir"

@@ -1,4 +1,5 @@
 #include "io/surface_io.hpp"
+#include "io/vdb_io.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -435,7 +436,7 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
   bytes << in.rdbuf();
   std::ostringstream key;
   key << "q" << options.tetgen.radius_edge_ratio << " a" << options.tetgen.max_volume << " n" << options.tetgen.target_cells
-      << " fill" << options.fill_holes << " v1";  // bump when the conversion changes
+      << " fill" << options.fill_holes << " remesh" << options.remesh_voxel_size << " v1";  // bump when the conversion changes
   const uint64_t hash = fnv1a(key.str(), fnv1a(bytes.str()));
   SurfaceTets result;
   const std::string dir = options.cache_dir.empty() ? default_cache_dir() : options.cache_dir;
@@ -456,6 +457,7 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
   }
   SurfaceMesh surface = read_surface(path, options.progress);
   if (options.fill_holes) surface = fill_holes(surface);
+  if (options.remesh_voxel_size > 0.0) surface = remesh_through_level_set(surface, options.remesh_voxel_size, options.progress);
   result.triangles = surface.triangles.size();
   result.mesh = tetrahedralize(surface, options.tetgen, options.progress);
   if (!result.cache_file.empty()) {

@@ -58,6 +58,9 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options,
 struct SurfaceToTets {
   TetgenOptions tetgen;
   bool fill_holes = false;
+  // > 0: replace the surface (after hole filling) by its level set's zero crossing at this voxel
+  // size (remesh_through_level_set in io/vdb_io.hpp) before TetGen: for self-intersecting scans.
+  double remesh_voxel_size = 0.0;
   std::string cache_dir;  // empty: the default above
   Progress progress;      // passed to read_surface and tetrahedralize
 };

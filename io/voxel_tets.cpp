@@ -4,6 +4,7 @@
 #include <array>
 #include <limits>
 
+#include "io/kuhn_split.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::io {
@@ -64,20 +65,17 @@ TetMesh voxel_grid_to_tets(const VoxelGrid& grid, const std::string& name, const
       for (uint64_t i = 0; i < nx; ++i) mesh.points.push_back(grid.origin + glm::dvec3(double(i), double(j), double(k)) * grid.spacing);
   }
 
-  // Kuhn split: the six monotone paths from corner 000 to corner 111 along the cell's edges. Every
-  // cell is a translate of cell (0,0,0), so its six tetrahedra, as index offsets from the cell's
-  // first corner and oriented positively, are worked out once there.
-  static const int kPaths[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  // Every cell is a translate of cell (0,0,0), so its six tetrahedra (io/kuhn_split.hpp), as
+  // index offsets from the cell's first corner and oriented positively (spacings may be
+  // negative), are worked out once there.
   std::array<uint32_t, 4> offsets[6];
-  for (int p = 0; p < 6; ++p) {
-    uint64_t c[3] = {0, 0, 0};
-    offsets[p][0] = 0;
-    for (int s = 0; s < 3; ++s) {
-      ++c[kPaths[p][s]];
-      offsets[p][size_t(s) + 1] = point_index(c[0], c[1], c[2]);
+  for (size_t t = 0; t < 6; ++t) {
+    for (size_t v = 0; v < 4; ++v) {
+      const uint32_t corner = kKuhnTets[t][v];
+      offsets[t][v] = point_index(corner & 1u, (corner >> 1) & 1u, (corner >> 2) & 1u);
     }
-    const auto& o = offsets[p];
-    if (signed_volume(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]]) < 0.0) std::swap(offsets[p][2], offsets[p][3]);
+    const auto& o = offsets[t];
+    if (signed_volume(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]]) < 0.0) std::swap(offsets[t][2], offsets[t][3]);
   }
   mesh.tets.reserve(6 * (nx - 1) * (ny - 1) * (nz - 1));
   for (uint64_t k = 0; k + 1 < nz; ++k) {

@@ -46,7 +46,7 @@ void DatasetLoad::run() {
     if (mesh.name.empty()) mesh.name = request_.path;
     validate(mesh);
     progress(1.0, "measuring");
-    outcome.dataset = make_dataset(std::move(mesh), field_of_path(request_.path));
+    outcome.dataset = make_dataset(std::move(mesh), field_of_request(request_));
   } catch (const io::Cancelled& e) {
     outcome.cancelled = true;
     outcome.error = e.what();

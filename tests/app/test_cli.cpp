@@ -13,11 +13,14 @@
 #include <thread>
 #include <unistd.h>
 
+#include "app/grid_dataset.hpp"
 #include "io/image_io.hpp"
 #include "io/surface_io.hpp"
+#include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "renderer/volume/region_mesh.hpp"
 #include "scene/generators.hpp"
 
 namespace prismoid {
@@ -177,6 +180,108 @@ TEST(Cli, PointArrayRendersTheLinearFieldLikeTheReference) {
   const auto ref = reference::optical_depth_image(mesh, c, 32, 24);
   const auto img = io::read_pfm(pfm.string());
   expect_close_to_reference(img, ref);
+}
+
+// An OpenVDB fog volume made by `convert` from the ball's surface, rendered: the image is the
+// reference's optical depth through the same voxel tetrahedra (read here by io, as the CLI does).
+TEST(Cli, VdbFogVolumeFromASurfaceRendersLikeTheReference) {
+  const fs::path vdb = work_dir() / "ball_fog.vdb", pfm = work_dir() / "ball_fog.pfm", vtu = work_dir() / "ball_fog.vtu";
+  const CliRun made = run("convert ball:2 " + vdb.string() + " --voxel-size 0.2");
+  ASSERT_EQ(made.code, 0) << made.err;
+  EXPECT_NE(made.out.find("fog volume 'density', voxel size 0.2"), std::string::npos) << made.out;
+  EXPECT_FALSE(fs::exists(vdb.string() + ".partial"));
+  const CliRun r = run("render " + vdb.string() + " --quantity optical-depth --size 24x24 --eye 0.5,1,4 --target 0,0,0 --near 0.1 "
+                       "--output " + pfm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const TetMesh mesh = io::read_vdb_voxels(vdb.string());
+  Camera c;
+  c.eye = {0.5, 1, 4};
+  c.target = {0, 0, 0};
+  c.near_distance = 0.1;
+  expect_close_to_reference(io::read_pfm(pfm.string()), reference::optical_depth_image(mesh, c, 24, 24));
+
+  const CliRun info = run("info " + vdb.string());
+  ASSERT_EQ(info.code, 0) << info.err;
+  EXPECT_NE(info.out.find("grid 'density': float, fog volume"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("as tetrahedra: " + std::to_string(mesh.tets.size()) + " "), std::string::npos) << info.out;
+  const CliRun converted = run("convert " + vdb.string() + " " + vtu.string());
+  ASSERT_EQ(converted.code, 0) << converted.err;
+  EXPECT_EQ(io::read_tet_mesh(vtu.string()).tets.size(), mesh.tets.size());
+}
+
+// The march modes take a .vdb grid as a field over its active regions (not its voxel
+// tetrahedra), and --mode reference marches the same trilinear field on the CPU. Both are
+// midpoint sums of sigma = max(f, 0), which is G-Lipschitz along a line (G = the grid's gradient
+// bound), so each step of length h is within G h^2 / 4 of the integral: along a chord of length
+// L <= D (the regions' diagonal) the GPU (h = D / 100) and the reference (h = D / 2000) are within
+// G D (D / 100 + D / 2000) / 4 of each other, plus float rounding (1e-4 of the depth here).
+TEST(Cli, VdbMarchesItsActiveRegionsLikeTheReference) {
+  const fs::path vdb = work_dir() / "march_fog.vdb", march = work_dir() / "vdb_march.pfm", ref = work_dir() / "vdb_ref.pfm";
+  const fs::path stats = work_dir() / "vdb_march.json";
+  ASSERT_EQ(run("convert ball:2 " + vdb.string() + " --voxel-size 0.2").code, 0);
+  const std::string args = "render " + vdb.string() + " --quantity optical-depth --size 24x24 --eye 0.5,1,4 --target 0,0,0 --output ";
+  CliRun r = run(args + march.string() + " --mode interval-march --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run(args + ref.string() + " --mode reference");
+  ASSERT_EQ(r.code, 0) << r.err;
+
+  const auto grid = app::grid_from_vdb(vdb.string(), {});
+  const TetMesh regions = app::grid_dataset_mesh(*grid, 1.0);
+  const TetMesh voxels = io::read_vdb_voxels(vdb.string());
+  EXPECT_LT(regions.tets.size(), voxels.tets.size() / 4);  // leaf boxes, not voxels
+  EXPECT_NE(slurp(stats.string()).find("\"cells\": " + std::to_string(regions.tets.size()) + ","), std::string::npos);
+  // The marched grid is the file's grid: at every voxel centre (the voxel mesh's points, read by
+  // the independent voxel path) its trilinear field is the voxel's value.
+  ASSERT_EQ(voxels.point_extinction.size(), voxels.points.size());
+  for (size_t i = 0; i < voxels.points.size(); ++i)
+    ASSERT_NEAR(volume::evaluate(*grid, voxels.points[i]), voxels.point_extinction[i], 1e-6) << "voxel centre " << i;
+
+  const Bounds b = bounds_of(regions);
+  const double D = glm::length(b.max - b.min), G = volume::gradient_bound(*grid);
+  const double tol = G * D * (D / 100.0 + D / 2000.0) / 4.0;
+  const auto a = io::read_pfm(march.string()), c = io::read_pfm(ref.string());
+  ASSERT_EQ(a.pixels.size(), c.pixels.size());
+  size_t covered = 0;
+  double peak = 0.0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(a.pixels[i]) && std::isfinite(c.pixels[i])) << i;
+    EXPECT_NEAR(a.pixels[i], c.pixels[i], tol + 1e-4 * (1.0 + double(c.pixels[i]))) << "pixel " << i;
+    covered += c.pixels[i] > 0.1f;
+    peak = std::max(peak, double(c.pixels[i]));
+  }
+  EXPECT_GT(covered, 100u);
+  EXPECT_GT(peak, 5.0 * tol);  // the bound is tight enough to mean something
+}
+
+TEST(Cli, BadVdbInputExitsWithTwoAndLeavesNoFile) {
+  const std::string d = work_dir().string() + "/";
+  std::ofstream(d + "garbage.vdb") << "not an OpenVDB file, only some words";
+  const CliRun made = run("convert ball:1 " + d + "small.vdb --vdb levelset --voxel-size 0.25");
+  ASSERT_EQ(made.code, 0) << made.err;
+  std::string bytes = slurp(d + "small.vdb");
+  std::ofstream(d + "cut.vdb", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  std::ofstream(d + "open.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  struct Case { std::string args, fragment; };
+  const std::vector<Case> cases = {
+      {"info " + d + "garbage.vdb", "garbage.vdb: is not a readable VDB file"},
+      {"render --output x.png " + d + "cut.vdb", "cut.vdb: is not a readable VDB file"},
+      {"render --output x.png " + d + "small.vdb --grid smoke", "small.vdb: has no grid 'smoke' (grids: 'surface' (float))"},
+      {"render --output x.png " + d + "small.vdb --array a", "--array"},
+      {"render --output x.png ball --grid a", "--grid: applies to OpenVDB files"},
+      {"convert ball:1 " + d + "x.vdb --vdb smoke", "--vdb: is fog or levelset"},
+      {"convert ball:1 " + d + "x.vdb --voxel-size 0", "--voxel-size: must be positive"},
+      {"convert ball:1 " + d + "x.vdb --voxel-size 0.00001", "voxels in the bounding box"},
+      {"convert " + d + "open.off " + d + "x.vdb", "open.off: the surface is not closed"},
+      {"convert ball:1 /no/such/dir/x.vdb", "/no/such/dir/x.vdb: cannot write the .vdb file"},
+      {"convert ball:1 " + d + "x.vtu --vdb fog", "--vdb: applies to .vdb output only"},
+  };
+  for (const auto& c : cases) {
+    const CliRun r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.fragment), std::string::npos) << c.args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(d + "x.vdb"));
+  EXPECT_FALSE(fs::exists(d + "x.vdb.partial"));
 }
 
 // grid:NAME[:N] marches the sampled field; the reference renders the same trilinear field. Both
