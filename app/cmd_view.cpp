@@ -2,17 +2,56 @@
 #include <chrono>
 #include <iostream>
 
+#include <glm/common.hpp>
+
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/dataset_loader.hpp"
+#include "app/terminal_progress.hpp"
+#include "app/viewer/recent_files.hpp"
 #include "app/viewer/viewer.hpp"
 #include "app/volume_options.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
 
+namespace {
+
+// A dataset after the first on the command line, loaded before the window opens (with the
+// terminal's progress bar and Ctrl-C) as the first one is.
+Dataset load_for_view(const LoadRequest& request, bool color) {
+  TetMesh mesh;
+  {
+    TerminalProgress progress(request.path);
+    mesh = load_dataset(request, progress.callback());
+    progress.throw_if_cancelled(request.path);
+  }
+  validate(mesh);
+  Dataset d = make_dataset(std::move(mesh), field_of_request(request));
+  if (color && !d.has_scalars)
+    throw InputError(request.path, "has no scalar field for --quantity color, which needs one in every dataset shown "
+                                   "(choose a point or cell array with --array NAME)");
+  return d;
+}
+
+Bounds union_bounds(const std::vector<Dataset>& datasets) {
+  Bounds b = datasets.front().bounds;
+  for (const Dataset& d : datasets) {
+    b.min = glm::min(b.min, d.bounds.min);
+    b.max = glm::max(b.max, d.bounds.max);
+  }
+  return b;
+}
+
+}  // namespace
+
 const char* const kViewHelp =
-    "usage: prismoid view [FILE] [options]\n"
+    "usage: prismoid view [FILE...] [options]\n"
+    "\n"
+    "Several FILEs open together in one scene (drawn as their union; each can be hidden in the\n"
+    "panel's Data section). More can be opened from the window: the path box, the recent files,\n"
+    "or by dropping files onto it; they load in the background with a progress bar and Cancel.\n"
     "\n"
     "  --size WxH           initial window size (default 1280x800)\n"
     "  --mode, --quantity, --array, --density-scale, --tf, --tf-range, --preintegration-size,\n"
@@ -34,9 +73,16 @@ int cmd_view(const std::vector<std::string>& args) {
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes", "no-ui"});
   if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
-  VolumeChoice choice = volume_choice(a);
+  ParsedArgs first = a;  // the first dataset decides the settings (the transfer function's range among them)
+  if (first.files.size() > 1) first.files.resize(1);
+  VolumeChoice choice = volume_choice(first);
   if (choice.mode == "reference") throw InputError("--mode reference", "runs on the CPU: use `prismoid render --mode reference`");
-  const TetMesh& mesh = choice.mesh;
+  if (a.files.size() > 1 && choice.settings.resolve.march.enabled)
+    throw InputError("--mode " + choice.mode, "marches the field of one dataset: give one FILE");
+  const bool color = choice.settings.resolve.quantity == volume::Quantity::Color;
+  ViewState state;
+  state.datasets.push_back(make_dataset(std::move(choice.mesh), field_of(first)));
+  for (size_t i = 1; i < a.files.size(); ++i) state.datasets.push_back(load_for_view(load_request_from(a, a.files[i], color), color));
   ViewerOptions options;
   if (a.has("size")) {
     const VkExtent2D s = parse_size(a.values.at("size"));
@@ -52,10 +98,12 @@ int cmd_view(const std::vector<std::string>& args) {
   if (a.has("frames")) options.max_frames = parse_uint("frames", a.values.at("frames"));
   bool any_camera = false;
   for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);
-  if (any_camera) options.camera = camera_from(a, bounds_of(mesh));
+  if (any_camera) options.camera = camera_from(a, union_bounds(state.datasets));
   if (!display_available()) throw InputError("view", "no display (DISPLAY is not set); use `prismoid render --output X.png`");
-  ViewState state;
-  state.datasets.push_back(make_dataset(std::move(choice.mesh), field_of(a)));
+  options.open_defaults.role = color ? io::ArrayRole::Scalars : io::ArrayRole::Extinction;
+  if (a.has("density-scale")) options.open_defaults.density_scale = parse_double("density-scale", a.values.at("density-scale"));
+  options.recent_file = recent_files_path();
+  for (const std::string& file : a.files) remember_opened(options.recent_file, file);
   const auto start = std::chrono::steady_clock::now();
   const ViewerReport report = run_viewer(std::move(state), options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

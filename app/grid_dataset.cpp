@@ -1,6 +1,7 @@
 #include "app/grid_dataset.hpp"
 
 #include <algorithm>
+#include <mutex>
 
 #include "app/cli_args.hpp"
 #include "renderer/volume/region_mesh.hpp"
@@ -11,6 +12,8 @@ namespace prismoid::app {
 bool is_grid_spec(const std::string& spec) { return spec.rfind("grid:", 0) == 0; }
 
 std::shared_ptr<const volume::SampledGrid> grid_from_spec(const std::string& spec) {
+  static std::mutex mutex;  // the viewer's loader thread calls this too
+  const std::lock_guard lock(mutex);
   static std::string last_spec;
   static std::shared_ptr<const volume::SampledGrid> last;
   if (last && spec == last_spec) return last;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/viewer/camera_controller.hpp"
+#include "app/viewer/open_panel.hpp"
 #include "app/viewer/view_state.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/vk/timer.hpp"
@@ -40,6 +41,7 @@ struct UiRequests {
   std::optional<std::string> apply_camera_line;
   std::optional<std::string> screenshot;  // path
   std::optional<RenderRequest> render;
+  DataRequests data;  // open, cancel, show, active
 };
 
 // Text the panels keep between frames (text boxes, messages, the dragged point).
@@ -51,9 +53,10 @@ struct PanelState {
   char tf_path[256] = "colormap.json";
   int dragged_point = -1;
   std::string message;  // the last error or confirmation, shown under the panels
+  DataPanel data;       // the Data section: path box, recent files, load progress
 };
 
-// The left-hand panel: view, mode and transfer function; returns the requests it made.
+// The left-hand panel: data, view, mode and transfer function; returns the requests it made.
 UiRequests draw_side_panel(ViewState& state, PanelState& panel, const FrameStats& stats, const CameraController& camera,
                            uint32_t max_tetlet_size);
 void draw_view_section(PanelState& panel, const CameraController& camera, UiRequests& requests);

@@ -48,12 +48,12 @@ UiRequests draw_side_panel(ViewState& state, PanelState& panel, const FrameStats
   ImGui::SetNextWindowBgAlpha(0.85f);
   if (ImGui::Begin("Prismoid")) {
     ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);  // room for the labels on the right
-    ImGui::TextWrapped("%s", state.dataset().name.c_str());
     if (!panel.message.empty()) {  // the last refusal or confirmation, where it is seen
       ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.85f, 0.4f, 1.0f));
       ImGui::TextWrapped("%s", panel.message.c_str());
       ImGui::PopStyleColor();
     }
+    if (ImGui::CollapsingHeader("Data", ImGuiTreeNodeFlags_DefaultOpen)) draw_data_section(state, panel.data, requests.data);
     if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) draw_view_section(panel, camera, requests);
     if (ImGui::CollapsingHeader("Mode", ImGuiTreeNodeFlags_DefaultOpen)) draw_mode_section(state, panel, max_tetlet_size);
     if (state.settings.resolve.quantity == volume::Quantity::Color &&
@@ -63,6 +63,7 @@ UiRequests draw_side_panel(ViewState& state, PanelState& panel, const FrameStats
     ImGui::PopItemWidth();
   }
   ImGui::End();
+  draw_load_error_popup(panel.data);
   return requests;
 }
 

@@ -51,9 +51,9 @@ bool contains(const std::vector<volume::Quantity>& list, volume::Quantity q) {
 }  // namespace
 
 std::string set_mode(ViewState& state, const std::string& mode) {
-  const auto modes = modes_for(state.dataset());
+  const auto modes = modes_for(state.drawn());
   if (std::find(modes.begin(), modes.end(), mode) == modes.end())
-    return "mode '" + mode + "' is not available for " + state.dataset().name;
+    return "mode '" + mode + "' is not available for " + state.drawn().name;
   const auto ordering = ordering_of_mode(mode);
   if (!ordering) return "mode '" + mode + "' has no GPU ordering";
   state.mode = mode;
@@ -61,19 +61,19 @@ std::string set_mode(ViewState& state, const std::string& mode) {
   const bool march = mode.rfind("interval-march", 0) == 0;
   volume::MarchSettings& m = state.settings.resolve.march;
   m.enabled = march;
-  if (state.dataset().field) {
-    m.field = *state.dataset().field;
-    if (!(m.step > 0.0)) m.step = glm::length(state.dataset().bounds.max - state.dataset().bounds.min) / 100.0;
+  if (state.drawn().field) {
+    m.field = *state.drawn().field;
+    if (!(m.step > 0.0)) m.step = glm::length(state.drawn().bounds.max - state.drawn().bounds.min) / 100.0;
   }
   // A quantity the new mode cannot show falls back to the first one it can.
-  const auto quantities = quantities_for(state.dataset(), mode);
+  const auto quantities = quantities_for(state.drawn(), mode);
   if (!contains(quantities, state.settings.resolve.quantity)) state.settings.resolve.quantity = quantities.front();
   if (!shared_vertices_problem(state).empty()) state.settings.resolve.shared_vertices = false;
   return {};
 }
 
 std::string set_quantity(ViewState& state, volume::Quantity quantity) {
-  if (!contains(quantities_for(state.dataset(), state.mode), quantity))
+  if (!contains(quantities_for(state.drawn(), state.mode), quantity))
     return std::string("quantity '") + quantity_name(quantity) + "' is not available in mode " + state.mode;
   state.settings.resolve.quantity = quantity;
   if (!shared_vertices_problem(state).empty()) state.settings.resolve.shared_vertices = false;

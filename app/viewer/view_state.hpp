@@ -22,6 +22,7 @@ struct Dataset {
   Bounds bounds;
   bool has_scalars = false;                    // colour needs a scalar field
   double scalar_lo = 0.0, scalar_hi = 1.0;     // the data's range (hi > lo)
+  bool visible = true;                         // drawn as part of the scene
 };
 
 // Builds the description of a loaded mesh. Touches no global state, so a loader thread may
@@ -34,16 +35,20 @@ enum class CompareMode { Off };
 
 struct ViewState {
   std::vector<Dataset> datasets;
-  size_t active = 0;  // the dataset drawn
+  size_t active = 0;  // the dataset whose arrays and range the transfer function uses
+  // What is drawn: the visible datasets as one (dataset_list.hpp keeps it current). Empty until
+  // first built; drawn() then falls back to the active dataset.
+  Dataset scene;
   CompareMode compare = CompareMode::Off;
   std::string mode = "interval";  // the CLI's --mode names
   frame::FrameSettings settings;
   std::string tf_preset = "cool-to-warm";
   bool show_ui = true;
   const Dataset& dataset() const { return datasets.at(active); }
+  const Dataset& drawn() const { return scene.mesh ? scene : dataset(); }
 };
 
-// The GPU modes the dataset can use (the march modes only for analytic fields).
+// The GPU modes the dataset can use (set_mode and set_quantity ask this of the drawn scene) (the march modes only for analytic fields).
 std::vector<std::string> modes_for(const Dataset& dataset);
 // The quantities a mode can show for the dataset.
 std::vector<volume::Quantity> quantities_for(const Dataset& dataset, const std::string& mode);

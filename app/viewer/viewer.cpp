@@ -2,6 +2,7 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -10,6 +11,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/viewer/dataset_list.hpp"
 #include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "renderer/vk/error.hpp"
@@ -153,6 +155,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   state.mode = options.mode.empty() ? mode_of(options.settings) : options.mode;
   state.show_ui = options.show_ui;
   state.tf_preset = options.settings.resolve.transfer.name;
+  rebuild_scene(state);
 
   GlfwSession glfw;
   if (!glfwVulkanSupported()) throw vk::NoSuitableDevice("GLFW found no Vulkan loader able to present");
@@ -169,17 +172,24 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   Window window(options.width, options.height, "Prismoid");
   Surface surface(instance.get(), window.get());
   vk::Swapchain swapchain(device, surface.get(), window.framebuffer_extent());
-  frame::FrameRenderer renderer(device, *state.dataset().mesh);
+  // Held in place so a new scene can replace it (sync_renderer) under the same references.
+  std::optional<frame::FrameRenderer> renderer_slot;
+  renderer_slot.emplace(device, *state.drawn().mesh);
+  frame::FrameRenderer& renderer = *renderer_slot;
   ImGuiLayer ui(device, window.get(), swapchain);
   SwapchainCapture capture(device);
 
   ViewerReport report;
   report.device_name = caps.name;
-  const Bounds bounds = state.dataset().bounds;
+  const Bounds bounds = state.drawn().bounds;
   ViewerSession s{std::move(state), options.settings, window, device, swapchain, renderer,
                   options.camera ? CameraController(bounds, *options.camera) : CameraController(bounds), {}, {}, report};
   s.stats.device_name = caps.name;
-  s.stats.cells = s.state.dataset().mesh->tets.size();
+  s.stats.cells = s.state.drawn().mesh->tets.size();
+  s.loading.defaults = options.open_defaults;
+  s.loading.recent_file = options.recent_file;
+  s.loading.renderer_slot = &renderer_slot;
+  s.loading.drawn_mesh = s.state.drawn().mesh;
   const uint32_t max_tetlet = volume::max_tetlet_size(device);
 
   vk::GpuTimer timer(device, 16);
@@ -218,7 +228,10 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   size_t next_command = 0;
 
   while (!glfwWindowShouldClose(window.get()) && !g_terminate) {
-    for (; next_command < options.script.size() && options.script[next_command].frame <= s.frame_index; ++next_command) {
+    poll_loads(s);
+    for (; next_command < options.script.size() && options.script[next_command].frame + s.loading.script_shift <= s.frame_index &&
+           !script_waiting(s);
+         ++next_command) {
       try {
         s.run(options.script[next_command]);
       } catch (const InputError& e) {
@@ -235,6 +248,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     handle_mouse(s, mouse, s.state.show_ui && ui.wants_mouse(), seconds);
     for (const KeyPress& key : window.take_keys())
       if (!(s.state.show_ui && ui.wants_keyboard())) s.on_key(key);
+    for (const auto& dropped : window.take_drops()) open_datasets(s, dropped, s.panel.data.array);
 
     const VkExtent2D fb = window.framebuffer_extent();
     if (fb.width == 0 || fb.height == 0 || glfwGetWindowAttrib(window.get(), GLFW_ICONIFIED)) {
@@ -269,6 +283,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     }
     ui.finish_frame();
 
+    sync_renderer(s);
     renderer.resize(swapchain.extent());
     try {
       s.stats.report = renderer.prepare(s.camera.camera(), s.state.settings);
@@ -291,6 +306,13 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
     ++report.frames_presented;
   }
+  if (s.loading.job) {  // closed mid-load: stop it and wait (promptly: the io layer checks often)
+    const auto stop = std::chrono::steady_clock::now();
+    s.loading.job->cancel();
+    s.loading.job.reset();
+    ++report.loads_cancelled;
+    report.seconds_to_stop_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - stop).count();
+  }
   device.wait_idle();
   if (frame_in_flight) {
     s.stats.gpu_passes = timer.read();
@@ -301,6 +323,8 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   report.mode = s.state.mode;
   report.quantity = s.state.settings.resolve.quantity;
   report.validation_messages = instance.validation_log().count();
+  report.datasets = s.state.datasets.size();
+  report.datasets_visible = size_t(std::count_if(s.state.datasets.begin(), s.state.datasets.end(), [](const Dataset& d) { return d.visible; }));
   return report;
 }
 

@@ -3,11 +3,13 @@
 // Dear ImGui panels over it, a ParaView-like camera, and a script option that drives all of it
 // without a person (tests, benchmarks).
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "app/dataset_loader.hpp"
 #include "app/viewer/panels.hpp"
 #include "app/viewer/view_state.hpp"
 #include "app/viewer/viewer_script.hpp"
@@ -28,6 +30,19 @@ struct ViewerOptions {
   std::vector<ScriptCommand> script;
   bool print_timings = true;      // GPU times in the title bar and once a second on stdout
   bool show_ui = true;
+  LoadRequest open_defaults;          // how files opened in the window are read (density scale, role)
+  std::filesystem::path recent_file;  // the recent-files list (recent_files_path()); empty: none kept
+};
+
+// One dataset the window tried to open.
+struct LoadRecord {
+  std::string path;
+  bool loaded = false;
+  bool cancelled = false;
+  std::string error;             // the data layer's message when it did not load
+  uint32_t frames_presented = 0;  // while it loaded: the window kept drawing
+  double seconds = 0.0;
+  uint64_t cells = 0;
 };
 
 struct ViewerReport {
@@ -44,9 +59,16 @@ struct ViewerReport {
   std::vector<std::string> camera_lines;   // printed by C / print-camera
   std::vector<std::string> messages;       // refused commands and settings, errors
   std::vector<std::pair<uint32_t, uint64_t>> resident_kib;  // (frame, resident memory) at each `rss`
+  std::vector<LoadRecord> loads;           // opened in the window, in the order they ended
+  size_t datasets = 0;                     // in the scene at the end
+  size_t datasets_visible = 0;
+  std::string last_load_error;
+  uint32_t loads_cancelled = 0;            // by Cancel, cancel-load or closing the window
+  double seconds_to_stop_load = 0.0;       // closed mid-load: from the close to the load's thread ending
 };
 
-// Opens the window on the state's active dataset and runs until closed. Throws
+// Opens the window on the state's visible datasets and runs until closed (a load still running
+// is cancelled and waited for). Throws
 // vk::NoSuitableDevice when no device can present, std::runtime_error when no display can be
 // opened, InputError for a bad initial setting.
 ViewerReport run_viewer(ViewState state, const ViewerOptions& options);

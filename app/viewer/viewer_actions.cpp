@@ -10,6 +10,7 @@
 #include "app/cli_args.hpp"
 #include "app/frame_image.hpp"
 #include "app/viewer/camera_line.hpp"
+#include "app/viewer/dataset_list.hpp"
 #include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "app/volume_options.hpp"
@@ -28,9 +29,9 @@ uint64_t resident_kib() {
   return resident * uint64_t(sysconf(_SC_PAGESIZE)) / 1024;
 }
 
-bool on_off(const ScriptCommand& c) {
-  if (c.args.at(0) == "on") return true;
-  if (c.args.at(0) == "off") return false;
+bool on_off(const ScriptCommand& c, size_t index = 0) {
+  if (c.args.at(index) == "on") return true;
+  if (c.args.at(index) == "off") return false;
   throw InputError(c.where, c.verb + " takes on or off");
 }
 
@@ -102,13 +103,14 @@ void ViewerSession::on_key(const KeyPress& key) {
 }
 
 void ViewerSession::apply(const UiRequests& r) {
+  apply_data_requests(*this, r.data);
   if (r.reset_camera) camera.reset(aspect());
   if (r.toggle_fly) camera.set_flying(!camera.flying());
   if (r.axis_view) camera.axis_view(*r.axis_view, aspect());
   if (r.copy_camera) copy_camera();
   if (r.apply_camera_line) {
     try {
-      camera.set_camera(camera_from_line(*r.apply_camera_line, state.dataset().bounds));
+      camera.set_camera(camera_from_line(*r.apply_camera_line, state.drawn().bounds));
     } catch (const InputError& e) {
       message(e.what());
     }
@@ -166,7 +168,7 @@ void ViewerSession::run(const ScriptCommand& c) {
   } else if (c.verb == "preintegration-size") r.preintegration_size = whole(0);
   else if (c.verb == "march-step") r.march.step = number(0);
   else if (c.verb == "density-scale") (r.quantity == volume::Quantity::Color ? r.transfer.density_scale : r.march.density_scale) = number(0);
-  else if (c.verb == "camera") camera.set_camera(camera_from_line(c.rest, state.dataset().bounds));
+  else if (c.verb == "camera") camera.set_camera(camera_from_line(c.rest, state.drawn().bounds));
   else if (c.verb == "view") camera.axis_view(axis_from_name(c.where, a[0]), aspect());
   else if (c.verb == "reset") camera.reset(aspect());
   else if (c.verb == "rotate") camera.rotate({number(0), number(1)}, viewport);
@@ -195,6 +197,12 @@ void ViewerSession::run(const ScriptCommand& c) {
   else if (c.verb == "restore") glfwRestoreWindow(window.get());
   else if (c.verb == "close") glfwSetWindowShouldClose(window.get(), GLFW_TRUE);
   else if (c.verb == "rss") report.resident_kib.emplace_back(frame_index, resident_kib());
+  else if (c.verb == "open") open_datasets(*this, {a[0]}, a.size() > 1 ? a[1] : std::string());
+  else if (c.verb == "drop") window.queue_drop(a);
+  else if (c.verb == "wait-load") begin_script_wait(*this, a.empty() ? 120.0 : number(0));
+  else if (c.verb == "cancel-load") cancel_loads(*this);
+  else if (c.verb == "show") message(show_dataset(state, whole(0), on_off(c, 1)));
+  else if (c.verb == "active") message(set_active(state, whole(0)));
 }
 
 }  // namespace prismoid::app

@@ -21,7 +21,8 @@ const std::map<std::string, int>& verbs() {
       {"zoom", 1},       {"fly", 1},           {"fly-move", 4},     {"fly-look", 2},
       {"ui", 1},         {"screenshot", 1},    {"render", 3},       {"print-camera", 0},
       {"resize", 2},     {"iconify", 0},       {"restore", 0},      {"close", 0},
-      {"rss", 0},        {"drag", -1}};
+      {"rss", 0},        {"drag", -1},         {"open", -1},        {"wait-load", -1},
+      {"cancel-load", 0}, {"show", 2},         {"active", 1},       {"drop", -1}};
   return v;
 }
 
@@ -51,6 +52,9 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
     const auto found = verbs().find(c.verb);
     if (found == verbs().end()) throw InputError(c.where, "unknown command '" + c.verb + "'");
     if (c.verb == "drag" && c.args.size() < 3) throw InputError(c.where, "drag takes DX DY and at least one button");
+    if (c.verb == "open" && (c.args.empty() || c.args.size() > 2)) throw InputError(c.where, "open takes PATH and optionally an ARRAY");
+    if (c.verb == "drop" && c.args.empty()) throw InputError(c.where, "drop takes one or more paths");
+    if (c.verb == "wait-load" && c.args.size() > 1) throw InputError(c.where, "wait-load takes at most a timeout in seconds");
     if (found->second >= 0 && c.args.size() != size_t(found->second))
       throw InputError(c.where, c.verb + " takes " + std::to_string(found->second) + " argument(s)");
     c.frame = frame;

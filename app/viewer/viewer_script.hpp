@@ -23,6 +23,13 @@
 //   print-camera            the camera as render options, on stdout
 //   resize W H | iconify | restore | close
 //   rss                     records the process's resident memory (for leak checks)
+//   open PATH [ARRAY]       opens a dataset in the background, as the path box does
+//   drop PATH...            files dropped onto the window (the drop callback's path)
+//   wait-load [SECONDS]     later commands wait until the loads end (default timeout 120 s);
+//                           frames keep being drawn, and `wait N` after it counts from the end
+//   cancel-load             the panel's Cancel: stops the load and drops the queued ones
+//   show INDEX on|off       shows or hides dataset INDEX (from 0, in the order opened)
+//   active INDEX            makes dataset INDEX the one the transfer function's range follows
 #include <cstdint>
 #include <string>
 #include <vector>

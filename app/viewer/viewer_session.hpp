@@ -12,6 +12,7 @@
 #include "app/viewer/screenshot.hpp"
 #include "app/viewer/view_state.hpp"
 #include "app/viewer/viewer.hpp"
+#include "app/viewer/viewer_loading.hpp"
 #include "app/viewer/window.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/vk/device.hpp"
@@ -33,6 +34,7 @@ struct ViewerSession {
   uint32_t frame_index = 0;
   std::optional<std::string> capture_path;  // a screenshot the next recorded frame takes
   uint32_t screenshot_count = 0;
+  LoadingState loading;  // datasets opening in the background (viewer_loading.cpp)
 
   double aspect() const;
   void message(const std::string& text);  // shown in the panel, kept in the report, on stderr

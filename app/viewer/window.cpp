@@ -27,6 +27,9 @@ Window::Window(uint32_t width, uint32_t height, const char* title) {
     if (action == GLFW_PRESS) static_cast<Window*>(glfwGetWindowUserPointer(w))->keys_.push_back({key, mods});
   });
   glfwSetScrollCallback(handle_, [](GLFWwindow* w, double, double dy) { static_cast<Window*>(glfwGetWindowUserPointer(w))->scroll_ += dy; });
+  glfwSetDropCallback(handle_, [](GLFWwindow* w, int count, const char** paths) {
+    static_cast<Window*>(glfwGetWindowUserPointer(w))->queue_drop(std::vector<std::string>(paths, paths + count));
+  });
 }
 
 Window::~Window() { glfwDestroyWindow(handle_); }
@@ -40,6 +43,12 @@ VkExtent2D Window::framebuffer_extent() const {
 std::vector<KeyPress> Window::take_keys() { return std::exchange(keys_, {}); }
 
 double Window::take_scroll() { return std::exchange(scroll_, 0.0); }
+
+std::vector<std::vector<std::string>> Window::take_drops() { return std::exchange(drops_, {}); }
+
+void Window::queue_drop(std::vector<std::string> paths) {
+  if (!paths.empty()) drops_.push_back(std::move(paths));
+}
 
 Surface::Surface(VkInstance instance, GLFWwindow* window) : instance_(instance) {
   vk::check(glfwCreateWindowSurface(instance, window, nullptr, &handle_), "glfwCreateWindowSurface");

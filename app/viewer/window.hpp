@@ -1,8 +1,9 @@
 #pragma once
 // The window's platform side: GLFW, one window, its Vulkan surface, and the input events the
-// frame loop consumes (key presses and wheel steps queued by callbacks, so none is missed
+// frame loop consumes (key presses, wheel steps and dropped files queued by callbacks, so none is missed
 // between two frames).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #define GLFW_INCLUDE_VULKAN
@@ -35,11 +36,16 @@ class Window {
   // Events since the last call.
   std::vector<KeyPress> take_keys();
   double take_scroll();
+  // Files dropped onto the window, one list per drop. Scripts queue drops here too, so they
+  // take the same path as a drop from the desktop.
+  std::vector<std::vector<std::string>> take_drops();
+  void queue_drop(std::vector<std::string> paths);
 
  private:
   GLFWwindow* handle_ = nullptr;
   std::vector<KeyPress> keys_;
   double scroll_ = 0.0;
+  std::vector<std::vector<std::string>> drops_;
 };
 
 class Surface {

@@ -7,6 +7,7 @@
 #include <stb/stb_image.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -20,6 +21,7 @@
 #include "app/cli.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/viewer.hpp"
+#include "io/vtk_tet_io.hpp"
 #include "scene/generators.hpp"
 
 namespace prismoid {
@@ -298,6 +300,107 @@ TEST(Viewer, ViewVerbRunsAScriptAndExitsCleanly) {
   const int status = app::run_cli({"view", "ball:1", "--size", "160x120", "--validate", "--script", (dir / "s.txt").string()});
   EXPECT_EQ(status, 0);
   EXPECT_TRUE(fs::exists(dir / "shot.png"));
+}
+
+// The unit cube as OFF, outward-wound: TetGen fills it, slowly at a small volume bound.
+fs::path write_cube_off(const fs::path& dir) {
+  const fs::path path = dir / "cube.off";
+  std::ofstream out(path);
+  out << "OFF\n8 12 0\n";
+  for (int i = 0; i < 8; ++i)
+    out << (i == 1 || i == 2 || i == 5 || i == 6) << " " << (i == 2 || i == 3 || i == 6 || i == 7) << " " << (i >= 4) << "\n";
+  for (const char* f : {"0 2 1", "0 3 2", "4 5 6", "4 6 7", "0 1 5", "0 5 4", "1 2 6", "1 6 5", "2 3 7", "2 7 6", "3 0 4", "3 4 7"})
+    out << "3 " << f << "\n";
+  setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);  // a fresh TetGen cache: the fill really runs
+  return path;
+}
+
+// A surface filled by TetGen in the background: frames keep being presented while it loads,
+// and then both datasets are drawn (the cells drawn are the sum of theirs).
+TEST(ViewerLoading, OpensASecondDatasetWhileTheWindowKeepsDrawing) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("open");
+  const fs::path cube = write_cube_off(dir);
+  app::ViewerOptions options = window_options(200, 150, "frame 1\nopen " + cube.string() + "\nwait-load\nframe 3\nclose\n");
+  options.open_defaults.tetgen.max_volume = 2e-5;  // tens of thousands of cells: a load of many frames
+  const TetMesh first = make_default_volume();
+  const app::ViewerReport report = app::run_viewer(first, options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  ASSERT_EQ(report.loads.size(), 1u);
+  const app::LoadRecord& load = report.loads[0];
+  ASSERT_TRUE(load.loaded) << load.error;
+  EXPECT_GT(load.frames_presented, 0u) << "the window froze during the load (" << load.seconds << " s)";
+  EXPECT_GE(load.cells, size_t(1.0 / 2e-5));  // the bound caps each cell's volume
+  EXPECT_EQ(report.datasets, 2u);
+  EXPECT_EQ(report.datasets_visible, 2u);
+  EXPECT_EQ(report.last_frame.cells, first.tets.size() + load.cells);
+  std::cout << "TetGen load: " << load.cells << " cells in " << load.seconds << " s, " << load.frames_presented
+            << " frames presented meanwhile\n";
+}
+
+// Bad files (missing, truncated) give the data layer's message naming the file; the window
+// keeps running and opens the next file (dropped), and hiding a dataset changes what is drawn.
+TEST(ViewerLoading, BadFilesReportTheirErrorAndTheWindowStaysUsable) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("bad");
+  const fs::path missing = dir / "missing.vtu", truncated = dir / "truncated.vtu";
+  std::ofstream(truncated) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\">\n<UnstructuredGrid>\n<Piece";
+  std::ostringstream script;
+  script << "frame 1\nopen " << missing.string() << "\nwait-load\nopen " << truncated.string() << "\nwait-load\n"
+         << "drop ball:1\nwait-load\nframe 3\nshow 0 off\nframe 5\nclose\n";
+  const app::ViewerReport report = app::run_viewer(make_default_volume(), window_options(200, 150, script.str()));
+  EXPECT_EQ(report.validation_messages, 0u);
+  ASSERT_EQ(report.loads.size(), 3u);
+  EXPECT_FALSE(report.loads[0].loaded);
+  EXPECT_NE(report.loads[0].error.find(missing.string()), std::string::npos) << report.loads[0].error;
+  EXPECT_FALSE(report.loads[1].loaded);
+  EXPECT_NE(report.loads[1].error.find(truncated.string()), std::string::npos) << report.loads[1].error;
+  EXPECT_EQ(report.last_load_error, report.loads[1].error);
+  EXPECT_TRUE(report.loads[2].loaded) << report.loads[2].error;
+  EXPECT_EQ(report.datasets, 2u);
+  EXPECT_EQ(report.datasets_visible, 1u);
+  EXPECT_EQ(report.last_frame.cells, 80u);  // the ball alone (20 cells, each split in 4)
+  EXPECT_GE(report.frames_presented, 5u);
+}
+
+// Cancel on a slow load (over a million cells to fill): it stops, nothing is added, no crash.
+// Closing the window mid-load cancels and waits for the load, and returns promptly.
+TEST(ViewerLoading, CancelAndClosingMidLoadEndTheLoadCleanly) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("cancel");
+  const fs::path cube = write_cube_off(dir);
+  for (const char* ending : {"frame 4\ncancel-load\nwait-load 10\nframe 6\nclose\n", "frame 4\nclose\n"}) {
+    // Cancelled by cancel-load, the load ends before the window closes; closed mid-load, the
+    // window stops it.
+    app::ViewerOptions options = window_options(160, 120, "frame 1\nopen " + cube.string() + "\n" + ending);
+    options.open_defaults.tetgen.max_volume = 5e-7;
+    const app::ViewerReport report = app::run_viewer(make_default_volume(), options);
+    EXPECT_EQ(report.validation_messages, 0u);
+    EXPECT_EQ(report.loads_cancelled, 1u) << ending;
+    EXPECT_EQ(report.datasets, 1u);
+    // TetGen's runner checks for cancellation every 100 ms and kills its child; the fill alone
+    // would take tens of seconds. 2 s leaves room for a loaded machine.
+    EXPECT_LT(report.seconds_to_stop_load, 2.0) << ending;
+  }
+}
+
+// `prismoid view a.vtu b.vtu`: both open in one scene, exit status 0, and both enter the
+// recent-files list (the later first).
+TEST(ViewerLoading, ViewVerbOpensSeveralFiles) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("several");
+  io::write_tet_mesh_vtu((dir / "a.vtu").string(), make_default_volume());
+  io::write_tet_mesh_vtu((dir / "b.vtu").string(), make_ball_mesh(glm::dvec3(3.0), 1.0, 2, 1.0));
+  setenv("XDG_CONFIG_HOME", (dir / "config").c_str(), 1);
+  const int status = app::run_cli({"view", (dir / "a.vtu").string(), (dir / "b.vtu").string(), "--size", "160x120", "--validate",
+                                   "--frames", "5"});
+  EXPECT_EQ(status, 0);
+  std::ifstream recent(dir / "config" / "prismoid" / "recent.txt");
+  std::string line1, line2;
+  std::getline(recent, line1);
+  std::getline(recent, line2);
+  EXPECT_EQ(line1, (dir / "b.vtu").string());
+  EXPECT_EQ(line2, (dir / "a.vtu").string());
 }
 
 }  // namespace

@@ -1,0 +1,222 @@
+#include "app/dataset_loader.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "app/grid_dataset.hpp"
+#include "io/image_volume_io.hpp"
+#include "io/vdb_io.hpp"
+#include "scene/generators.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+namespace {
+
+const char* const kSurfaceKinds = "applies to surfaces (.vtp .stl .obj .ply .off) only";
+
+bool is_ball_spec(const std::string& path) { return path.rfind("ball", 0) == 0 && (path.size() == 4 || path[4] == ':'); }
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Loads that took over a second say how long (the "report their time"); quick ones stay quiet.
+void report_load_time(const std::string& file, const TetMesh& mesh, std::chrono::steady_clock::time_point start) {
+  const double seconds = seconds_since(start);
+  if (seconds > 1.0) {
+    std::ostringstream line;
+    line << "prismoid: loaded " << file << ": " << mesh.tets.size() << " cells in " << std::fixed << std::setprecision(2) << seconds
+         << " s\n";
+    std::cerr << line.str();  // one write: a loader thread's line does not interleave with others
+  }
+}
+
+TetMesh load_default(const LoadRequest& r) {
+  if (!r.array.empty()) throw InputError("--array", "the embedded default dataset has no arrays to choose from");
+  TetMesh mesh = make_default_volume();
+  if (r.role == io::ArrayRole::Extinction)
+    for (double& s : mesh.cell_extinction) s *= r.density_scale;
+  return mesh;
+}
+
+TetMesh load_field(const LoadRequest& r, const volume::AnalyticField& field) {
+  if (!r.array.empty()) throw InputError("--array", "a field:, grid: or marched .vdb dataset has no arrays to choose from");
+  if (field.kind == volume::FieldKind::Grid) return grid_dataset_mesh(*field.grid, r.density_scale);
+  uint32_t n = 4;
+  if (const auto colon = r.path.find(':', 6); colon != std::string::npos) {
+    n = parse_uint("field", r.path.substr(colon + 1));
+    if (n == 0 || n > 128) throw InputError(r.path, "the box is split into N^3 cubes with N between 1 and 128 (12.6 million cells)");
+  }
+  return volume::make_field_mesh(field, n, r.density_scale);
+}
+
+TetMesh load_ball(const LoadRequest& r) {  // ball[:S]: the closed-form test volume
+  uint32_t subdivisions = 3;
+  if (r.path.size() > 4) {
+    subdivisions = parse_uint("ball", r.path.substr(5));
+    if (subdivisions > 7) throw InputError(r.path, "subdivisions go from 0 (an icosahedron, 20 cells) to 7 (327,680 cells)");
+  }
+  if (!r.array.empty()) throw InputError("--array", "the ball has no arrays to choose from");
+  return make_ball_mesh(glm::dvec3(0.0), 1.0, subdivisions, r.density_scale);
+}
+
+TetMesh load_surface(const LoadRequest& r, const io::Progress& progress) {  // filled with tetrahedra by TetGen
+  if (!r.array.empty()) throw InputError("--array", r.path + " is a surface: its tetrahedra carry no arrays");
+  if (r.component) throw InputError("--component", "applies to the arrays of .vtu .vtk .vtm .pvtu meshes");
+  io::SurfaceToTets convert;
+  convert.fill_holes = r.fill_holes;
+  convert.tetgen = r.tetgen;
+  convert.remesh_voxel_size = r.remesh_voxel_size;
+  convert.progress = progress;
+  const auto start = std::chrono::steady_clock::now();
+  io::SurfaceTets tets = io::surface_to_tets(r.path, convert);
+  TetMesh mesh = std::move(tets.mesh);
+  for (double& s : mesh.cell_extinction) s *= r.density_scale;
+  std::ostringstream line;
+  if (tets.from_cache)
+    line << "prismoid: " << r.path << ": " << mesh.tets.size() << " tetrahedra from the cache (" << tets.cache_file << ") in "
+         << seconds_since(start) << " s\n";
+  else
+    line << "prismoid: " << r.path << ": " << tets.triangles << " triangles -> " << mesh.tets.size() << " tetrahedra by TetGen in "
+         << seconds_since(start) << " s"
+         << (r.tetgen.target_cells ? " (target " + std::to_string(r.tetgen.target_cells) + ")" : "") << "\n";
+  std::cerr << line.str();
+  return mesh;
+}
+
+TetMesh load_vdb(const LoadRequest& r, const io::Progress& progress) {  // an OpenVDB float grid: voxel tetrahedra, as image volumes
+  if (!r.array.empty()) throw InputError("--array", "picks arrays of meshes and images; a .vdb grid is chosen with --grid NAME");
+  if (r.component) throw InputError("--component", "applies to the arrays of .vtu .vtk .vtm .pvtu meshes");
+  io::VdbReadOptions vdb;
+  vdb.grid = r.vdb_grid;
+  vdb.role = r.role;
+  vdb.density_scale = r.density_scale;
+  vdb.subsample = r.subsample.value_or(1);
+  vdb.max_cells = 50'000'000;  // the image volumes' guard
+  vdb.progress = progress;
+  return io::read_vdb_voxels(r.path, vdb);
+}
+
+TetMesh load_image(const LoadRequest& r, const io::Progress& progress) {  // each voxel cell becomes 6 tetrahedra
+  if (r.component) throw InputError("--component", "applies to the arrays of .vtu .vtk .vtm .pvtu meshes");
+  io::ImageReadOptions image;
+  image.array = r.array;
+  image.role = r.role;
+  image.density_scale = r.density_scale;
+  image.subsample = r.subsample.value_or(1);
+  image.max_cells = 50'000'000;  // about 1.2 GB on the GPU: larger needs --subsample
+  image.progress = progress;
+  const auto start = std::chrono::steady_clock::now();
+  TetMesh mesh = io::read_image_volume(r.path, image);
+  report_load_time(r.path, mesh, start);
+  return mesh;
+}
+
+TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress) {  // .vtu .vtk .vtm .pvtu through VTK
+  io::TetReadOptions reading;
+  reading.array = r.array;
+  reading.component = r.component.value_or(-1);
+  reading.role = r.role;
+  reading.density_scale = r.density_scale;
+  reading.progress = progress;
+  const auto start = std::chrono::steady_clock::now();
+  io::MeshConversion conversion;
+  TetMesh mesh = io::read_tet_mesh(r.path, reading, &conversion);
+  if (const std::string note = io::conversion_note(conversion); !note.empty())
+    std::cerr << "prismoid: note: " + r.path + ": " + note + "\n";
+  report_load_time(r.path, mesh, start);
+  return mesh;
+}
+
+}  // namespace
+
+std::optional<volume::AnalyticField> field_of_request(const LoadRequest& r) {
+  // A .vdb grid is marched inside its active regions by the march modes, and the reference is
+  // its own trilinear field (what the grid means); the other modes draw its voxel tetrahedra
+  // (exact linear interpolation of the same samples).
+  if (r.vdb_marched) {
+    io::VdbReadOptions vdb;
+    vdb.grid = r.vdb_grid;
+    vdb.subsample = r.subsample.value_or(1);
+    return volume::grid_field(grid_from_vdb(r.path, vdb));
+  }
+  return field_of_path(r.path);
+}
+
+std::optional<volume::AnalyticField> field_of_path(const std::string& path) {
+  if (is_grid_spec(path)) return volume::grid_field(grid_from_spec(path));
+  if (path.rfind("field:", 0) != 0) return std::nullopt;
+  const std::string spec = path.substr(6);
+  return volume::field_from_name(spec.substr(0, spec.find(':')));
+}
+
+LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool scalar_field) {
+  LoadRequest r;
+  r.path = path;
+  if (a.has("array")) r.array = a.values.at("array");
+  if (a.has("component")) {
+    const std::string& c = a.values.at("component");
+    if (!a.has("array")) throw InputError("--component", "picks a component of the --array NAME");
+    r.component = c == "x" || c == "X" ? 0 : c == "y" || c == "Y" ? 1 : c == "z" || c == "Z" ? 2
+                  : c == "magnitude" ? -1 : int(parse_uint("component", c));
+  }
+  if (scalar_field) r.role = io::ArrayRole::Scalars;
+  if (a.has("density-scale")) {
+    r.density_scale = parse_double("density-scale", a.values.at("density-scale"));
+    if (r.density_scale < 0.0) throw InputError("--density-scale", "must not be negative");
+  }
+  const bool is_vdb = !path.empty() && io::is_vdb_path(path);
+  const bool is_image = !path.empty() && io::is_image_volume_path(path);
+  if (a.has("subsample") && !is_image && !is_vdb)
+    throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) and OpenVDB grids (.vdb) only");
+  if (a.has("grid") && !is_vdb) throw InputError("--grid", "applies to OpenVDB files (.vdb) only");
+  if (a.has("grid")) r.vdb_grid = a.values.at("grid");
+  r.vdb_marched = is_vdb && a.has("mode") && (a.values.at("mode").rfind("interval-march", 0) == 0 || a.values.at("mode") == "reference");
+  const bool is_surface = !path.empty() && io::is_surface_path(path);
+  for (const char* option : {"tetgen-quality", "tetgen-max-volume", "tetgen-cells", "remesh"})
+    if (a.has(option) && !is_surface) throw InputError(std::string("--") + option, kSurfaceKinds);
+  if (a.flags.count("fill-holes") && !is_surface) throw InputError("--fill-holes", kSurfaceKinds);
+  r.fill_holes = a.flags.count("fill-holes") > 0;
+  if (a.has("tetgen-quality")) r.tetgen.radius_edge_ratio = parse_double("tetgen-quality", a.values.at("tetgen-quality"));
+  if (a.has("tetgen-max-volume")) r.tetgen.max_volume = parse_double("tetgen-max-volume", a.values.at("tetgen-max-volume"));
+  if (a.has("tetgen-cells")) {
+    r.tetgen.target_cells = parse_uint("tetgen-cells", a.values.at("tetgen-cells"));
+    if (r.tetgen.target_cells == 0) throw InputError("--tetgen-cells", "must be at least 1");
+  }
+  if (a.has("remesh")) {
+    r.remesh_voxel_size = parse_double("remesh", a.values.at("remesh"));
+    if (!(r.remesh_voxel_size > 0.0)) throw InputError("--remesh", "is a voxel size: a positive length");
+  }
+  if (a.has("subsample")) {
+    r.subsample = parse_uint("subsample", a.values.at("subsample"));
+    if (*r.subsample == 0) throw InputError("--subsample", "must be at least 1");
+  }
+  return r;
+}
+
+LoadRequest load_request_from(const ParsedArgs& a, bool scalar_field) {
+  if (a.files.size() > 1) throw InputError(a.files[1], "this command takes one dataset; `prismoid view` opens several");
+  return load_request_from(a, a.files.empty() ? std::string() : a.files.front(), scalar_field);
+}
+
+TetMesh load_dataset(const LoadRequest& r, const io::Progress& progress) {
+  if (r.path.empty()) return load_default(r);
+  if (const auto field = field_of_request(r)) return load_field(r, *field);
+  if (is_ball_spec(r.path)) return load_ball(r);
+  if (io::is_surface_path(r.path)) return load_surface(r, progress);
+  if (io::is_vdb_path(r.path)) return load_vdb(r, progress);
+  if (io::is_image_volume_path(r.path)) return load_image(r, progress);
+  return load_unstructured(r, progress);
+}
+
+std::string load_label(const LoadRequest& request) {
+  if (request.path.empty()) return "the default dataset";
+  const std::filesystem::path p(request.path);
+  return p.has_filename() && p.has_parent_path() && request.path.find(':') == std::string::npos ? p.filename().string() : request.path;
+}
+
+}  // namespace prismoid::app

@@ -1,0 +1,86 @@
+// The panel's Data section and the load-error popup.
+#include "app/viewer/open_panel.hpp"
+
+#include <imgui.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace prismoid::app {
+
+namespace {
+
+constexpr const char* kErrorPopup = "Could not open";
+
+void draw_datasets(const ViewState& state, DataRequests& requests) {
+  for (size_t i = 0; i < state.datasets.size(); ++i) {
+    const Dataset& d = state.datasets[i];
+    ImGui::PushID(int(i));
+    bool visible = d.visible;
+    if (ImGui::Checkbox("##visible", &visible)) requests.show = std::make_pair(i, visible);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("show or hide");
+    ImGui::SameLine();
+    if (ImGui::RadioButton("##active", state.active == i)) requests.make_active = i;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("active: the transfer function uses its range");
+    ImGui::SameLine();
+    ImGui::TextWrapped("%s (%zu cells)", d.name.c_str(), d.mesh ? d.mesh->tets.size() : size_t(0));
+    ImGui::PopID();
+  }
+}
+
+void draw_progress(const LoadStatus& load, DataRequests& requests) {
+  // An unknown fraction (TetGen) sweeps back and forth, so the bar still shows the work is alive.
+  const float shown = load.fraction >= 0.0 ? float(load.fraction) : float(0.5 + 0.5 * std::sin(2.0 * load.seconds));
+  const std::string queued = load.queued ? " (" + std::to_string(load.queued) + " more queued)" : "";
+  ImGui::TextWrapped("loading %s%s: %s, %.1f s", load.label.c_str(), queued.c_str(), load.stage.c_str(), load.seconds);
+  char overlay[32];
+  if (load.fraction >= 0.0) std::snprintf(overlay, sizeof overlay, "%d%%", int(100.0 * load.fraction + 0.5));
+  else std::snprintf(overlay, sizeof overlay, "working");
+  ImGui::ProgressBar(shown, ImVec2(-80.0f, 0.0f), overlay);
+  ImGui::SameLine();
+  if (ImGui::Button("Cancel")) requests.cancel = true;
+}
+
+}  // namespace
+
+void draw_data_section(const ViewState& state, DataPanel& panel, DataRequests& requests) {
+  draw_datasets(state, requests);
+  if (panel.load.running) draw_progress(panel.load, requests);
+  const bool entered = ImGui::InputTextWithHint("##path", "file, field:NAME, grid:NAME, ball:S", panel.path, sizeof panel.path,
+                                                ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::SameLine();
+  if ((ImGui::Button("Open") || entered) && panel.path[0] != '\0') requests.open.emplace_back(panel.path);
+  ImGui::InputTextWithHint("array", "none", panel.array, sizeof panel.array);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("the point or cell array to read (as --array); files can also be dropped on the window");
+  requests.array = panel.array;
+  if (!panel.recent.empty() && ImGui::TreeNode("Recent files")) {
+    for (const RecentEntry& r : panel.recent) {
+      if (!r.exists) ImGui::BeginDisabled();
+      if (ImGui::Selectable(r.path.c_str())) requests.open.push_back(r.path);
+      if (!r.exists) {
+        ImGui::EndDisabled();
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("missing");
+      }
+    }
+    ImGui::TreePop();
+  }
+}
+
+void draw_load_error_popup(DataPanel& panel) {
+  if (panel.show_error) {
+    ImGui::OpenPopup(kErrorPopup);
+    panel.show_error = false;
+  }
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(viewport->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 0.0f), ImVec2(0.8f * viewport->WorkSize.x, 0.8f * viewport->WorkSize.y));
+  if (ImGui::BeginPopupModal(kErrorPopup, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::PushTextWrapPos(0.6f * viewport->WorkSize.x);
+    ImGui::TextUnformatted(panel.error.c_str());
+    ImGui::PopTextWrapPos();
+    if (ImGui::Button("OK") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+}
+
+}  // namespace prismoid::app
