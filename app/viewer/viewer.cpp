@@ -10,6 +10,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/viewer/compare_panel.hpp"
+#include "app/viewer/compare_view.hpp"
 #include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "renderer/vk/error.hpp"
@@ -23,20 +25,6 @@ namespace {
 
 std::atomic<bool> g_terminate{false};
 extern "C" void on_terminate_signal(int) { g_terminate = true; }
-
-// The display image into the swapchain image, which stays in TRANSFER_DST for the UI pass.
-void blit_to_swapchain(VkCommandBuffer cmd, const vk::Image& display, VkImage target, VkExtent2D extent) {
-  vk::image_barrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                    VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                    VK_ACCESS_2_TRANSFER_WRITE_BIT);
-  VkImageBlit region{};
-  region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.srcOffsets[1] = {int32_t(display.extent().width), int32_t(display.extent().height), 1};
-  region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.dstOffsets[1] = {int32_t(extent.width), int32_t(extent.height), 1};
-  vkCmdBlitImage(cmd, display.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
-                 &region, VK_FILTER_NEAREST);
-}
 
 // Mouse drags and held keys: ParaView's bindings, fly mode's WASD/QE.
 struct MouseState {
@@ -69,18 +57,20 @@ void handle_mouse(ViewerSession& s, MouseState& mouse, bool ui_wants_mouse, doub
   }
 }
 
-// The frame's passes, the blit into swapchain image `index`, the UI over it, a screenshot.
-void record_frame(VkCommandBuffer cmd, ViewerSession& s, ImGuiLayer& ui, SwapchainCapture& capture, vk::GpuTimer& timer,
-                  uint32_t index) {
+// The frame's passes (A's, and B's in split view), the view into swapchain image `index`, the
+// UI over it, a screenshot.
+void record_frame(VkCommandBuffer cmd, ViewerSession& s, CompareView& compare, ImGuiLayer& ui, SwapchainCapture& capture,
+                  vk::GpuTimer& timer, uint32_t index) {
   vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
   timer.reset(cmd);
   s.renderer.record(cmd, s.camera.camera(), s.state.settings, timer);
+  compare.record(cmd, s);
   {
     vk::ScopedPass pass(timer, cmd, "present-blit");
-    blit_to_swapchain(cmd, s.renderer.display(), s.swapchain.image(index), s.swapchain.extent());
+    compare.present(cmd, s, s.renderer.display(), s.swapchain.image(index), s.swapchain.extent());
   }
   {
     vk::ScopedPass pass(timer, cmd, "ui");
@@ -89,6 +79,28 @@ void record_frame(VkCommandBuffer cmd, ViewerSession& s, ImGuiLayer& ui, Swapcha
   if (s.capture_path)
     capture.record(cmd, s.swapchain.image(index), s.swapchain.extent(), s.swapchain.format(), *std::exchange(s.capture_path, std::nullopt));
   vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+}
+
+// Runs the script's commands that are due, unless a wait-reference holds them.
+void run_script(ViewerSession& s, const CompareView& compare, const std::vector<ScriptCommand>& script, size_t& next) {
+  if (s.reference_deadline) {
+    if (compare.reference_settled()) {
+      s.reference_deadline.reset();
+    } else if (std::chrono::steady_clock::now() > *s.reference_deadline) {
+      s.message("wait-reference: timed out");
+      s.reference_deadline.reset();
+    } else {
+      return;
+    }
+  }
+  for (; next < script.size() && script[next].frame <= s.script_frame && !s.reference_deadline; ++next) {
+    try {
+      s.run(script[next]);
+    } catch (const InputError& e) {
+      s.message(script[next].where + ": " + e.what());
+    }
+  }
+  if (!s.reference_deadline) ++s.script_frame;
 }
 
 // Waits for the acquired image before the blit writes it; signals `done` for presentation.
@@ -178,6 +190,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   const Bounds bounds = state.dataset().bounds;
   ViewerSession s{std::move(state), options.settings, window, device, swapchain, renderer,
                   options.camera ? CameraController(bounds, *options.camera) : CameraController(bounds), {}, {}, report};
+  CompareView compare(device);
   s.stats.device_name = caps.name;
   s.stats.cells = s.state.dataset().mesh->tets.size();
   const uint32_t max_tetlet = volume::max_tetlet_size(device);
@@ -218,13 +231,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   size_t next_command = 0;
 
   while (!glfwWindowShouldClose(window.get()) && !g_terminate) {
-    for (; next_command < options.script.size() && options.script[next_command].frame <= s.frame_index; ++next_command) {
-      try {
-        s.run(options.script[next_command]);
-      } catch (const InputError& e) {
-        s.message(options.script[next_command].where + ": " + e.what());
-      }
-    }
+    run_script(s, compare, options.script, next_command);
     ++s.frame_index;
     if (options.max_frames && s.frame_index > options.max_frames) break;
     glfwPollEvents();
@@ -253,6 +260,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
         s.stats.fragments = counts.fragments;
         s.stats.primitives = counts.primitives;
       }
+      compare.frame_finished();
       finish_capture();
       frame_in_flight = false;
       if (options.print_timings && now - last_print > std::chrono::seconds(1)) {
@@ -265,6 +273,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     if (s.state.show_ui) {
       const UiRequests requests = draw_side_panel(s.state, s.panel, s.stats, s.camera, max_tetlet);
       draw_hud(s.stats, s.state);
+      draw_compare_overlay(compare.status(), s.state, s.stats);
       s.apply(requests);
     }
     ui.finish_frame();
@@ -278,6 +287,8 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
       s.state.settings = s.last_good;
       s.stats.report = renderer.prepare(s.camera.camera(), s.state.settings);
     }
+    compare.update(s);
+    renderer.resize(swapchain.extent());  // the difference view's GPU frame may have left the reference's size
 
     const auto index = swapchain.acquire(image_available.get());
     if (!index) {
@@ -285,7 +296,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
       continue;
     }
     vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
-    record_frame(cmd, s, ui, capture, timer, *index);
+    record_frame(cmd, s, compare, ui, capture, timer, *index);
     submit_frame(device, cmd, image_available.get(), swapchain.render_finished(*index), in_flight.get());
     frame_in_flight = true;
     if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
@@ -294,12 +305,16 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   device.wait_idle();
   if (frame_in_flight) {
     s.stats.gpu_passes = timer.read();
+    compare.frame_finished();
     finish_capture();
   }
   report.last_frame = s.stats;
   report.camera = s.camera.camera();
   report.mode = s.state.mode;
   report.quantity = s.state.settings.resolve.quantity;
+  report.compare = compare.status().last;
+  report.compare_reference_seconds = compare.status().reference_seconds;
+  report.compare_passes = compare.status().b_passes;
   report.validation_messages = instance.validation_log().count();
   return report;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/viewer/panels.hpp"
+#include "app/viewer/reference_job.hpp"
 #include "app/viewer/view_state.hpp"
 #include "app/viewer/viewer_script.hpp"
 #include "renderer/frame/frame_renderer.hpp"
@@ -44,6 +45,12 @@ struct ViewerReport {
   std::vector<std::string> camera_lines;   // printed by C / print-camera
   std::vector<std::string> messages;       // refused commands and settings, errors
   std::vector<std::pair<uint32_t, uint64_t>> resident_kib;  // (frame, resident memory) at each `rss`
+  // The difference view's last comparison (statistics, size and channels; no heat map), and
+  // how long its CPU reference took.
+  std::optional<FrameComparison> compare;
+  std::vector<FrameComparison> comparisons;  // every comparison the difference view showed, in order
+  double compare_reference_seconds = 0.0;
+  std::vector<vk::PassTiming> compare_passes;  // split view: B's passes in the last finished frame
 };
 
 // Opens the window on the state's active dataset and runs until closed. Throws

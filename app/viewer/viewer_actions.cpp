@@ -10,6 +10,7 @@
 #include "app/cli_args.hpp"
 #include "app/frame_image.hpp"
 #include "app/viewer/camera_line.hpp"
+#include "app/viewer/compare.hpp"
 #include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "app/volume_options.hpp"
@@ -195,6 +196,18 @@ void ViewerSession::run(const ScriptCommand& c) {
   else if (c.verb == "restore") glfwRestoreWindow(window.get());
   else if (c.verb == "close") glfwSetWindowShouldClose(window.get(), GLFW_TRUE);
   else if (c.verb == "rss") report.resident_kib.emplace_back(frame_index, resident_kib());
+  else if (c.verb == "compare") {
+    const auto mode = compare_mode_of_name(a[0]);
+    if (!mode) throw InputError(c.where, "compare takes off, split or difference");
+    message(set_compare(state, *mode));
+  } else if (c.verb == "compare-mode") message(set_compare_mode(state, a[0]));
+  else if (c.verb == "compare-quantity") message(set_compare_quantity(state, quantity_of_name(a[0])));
+  else if (c.verb == "wait-reference") {
+    if (a.size() > 1) throw InputError(c.where, "wait-reference takes at most a number of seconds");
+    const double seconds = a.empty() ? 300.0 : number(0);
+    reference_deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                                 std::chrono::duration<double>(seconds));
+  }
 }
 
 }  // namespace prismoid::app

@@ -21,7 +21,8 @@ const std::map<std::string, int>& verbs() {
       {"zoom", 1},       {"fly", 1},           {"fly-move", 4},     {"fly-look", 2},
       {"ui", 1},         {"screenshot", 1},    {"render", 3},       {"print-camera", 0},
       {"resize", 2},     {"iconify", 0},       {"restore", 0},      {"close", 0},
-      {"rss", 0},        {"drag", -1}};
+      {"rss", 0},        {"drag", -1},         {"compare", 1},      {"compare-mode", 1},
+      {"compare-quantity", 1}, {"wait-reference", -1}};
   return v;
 }
 

@@ -23,6 +23,10 @@
 //   print-camera            the camera as render options, on stdout
 //   resize W H | iconify | restore | close
 //   rss                     records the process's resident memory (for leak checks)
+//   compare off|split|difference   A | B, or the current mode against the CPU reference
+//   compare-mode NAME | compare-quantity NAME    split view's B
+//   wait-reference [SECONDS]  holds the script until the difference view shows the current
+//                           view's reference (default: at most 300 s; then a message)
 #include <cstdint>
 #include <string>
 #include <vector>
