@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "app/viewer/camera_line.hpp"
+#include "app/viewer/compare_panel.hpp"
 #include "app/viewer/panels.hpp"
 
 namespace prismoid::app {
@@ -59,6 +60,7 @@ UiRequests draw_side_panel(ViewState& state, PanelState& panel, const FrameStats
     if (state.settings.resolve.quantity == volume::Quantity::Color &&
         ImGui::CollapsingHeader("Transfer function", ImGuiTreeNodeFlags_DefaultOpen))
       draw_tf_section(state, panel);
+    if (ImGui::CollapsingHeader("Compare", ImGuiTreeNodeFlags_DefaultOpen)) draw_compare_section(state, panel);
     if (ImGui::CollapsingHeader("Frame plan", ImGuiTreeNodeFlags_DefaultOpen)) draw_frame_plan(state, stats);
     ImGui::PopItemWidth();
   }

@@ -29,9 +29,10 @@ struct Dataset {
 // call it and hand the result to the window.
 Dataset make_dataset(TetMesh mesh, std::optional<volume::AnalyticField> field = std::nullopt);
 
-// How the view compares modes. Only Off exists now: split (A | B) and the difference heat map
-// come later and will read the second mode from here.
-enum class CompareMode { Off };
+// How the view compares modes: not at all, A | B side by side on one camera (A the current
+// mode, B the compare mode below), or the current mode's error against the CPU reference as a
+// heat map (app/viewer/compare.hpp).
+enum class CompareMode { Off, Split, Difference };
 
 struct ViewState {
   std::vector<Dataset> datasets;
@@ -42,6 +43,10 @@ struct ViewState {
   CompareMode compare = CompareMode::Off;
   std::string mode = "interval";  // the CLI's --mode names
   frame::FrameSettings settings;
+  // Split view's B: its mode, and its settings (its own ordering, quantity and pre-integration
+  // size; the rest follows A each frame: compare_frame_settings). Empty mode: not chosen yet.
+  std::string compare_mode;
+  frame::FrameSettings compare_settings;
   std::string tf_preset = "cool-to-warm";
   bool show_ui = true;
   const Dataset& dataset() const { return datasets.at(active); }

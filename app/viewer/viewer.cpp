@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "app/viewer/dataset_list.hpp"
+#include "app/viewer/compare_panel.hpp"
+#include "app/viewer/compare_view.hpp"
 #include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "renderer/vk/error.hpp"
@@ -25,20 +27,6 @@ namespace {
 
 std::atomic<bool> g_terminate{false};
 extern "C" void on_terminate_signal(int) { g_terminate = true; }
-
-// The display image into the swapchain image, which stays in TRANSFER_DST for the UI pass.
-void blit_to_swapchain(VkCommandBuffer cmd, const vk::Image& display, VkImage target, VkExtent2D extent) {
-  vk::image_barrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                    VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                    VK_ACCESS_2_TRANSFER_WRITE_BIT);
-  VkImageBlit region{};
-  region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.srcOffsets[1] = {int32_t(display.extent().width), int32_t(display.extent().height), 1};
-  region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.dstOffsets[1] = {int32_t(extent.width), int32_t(extent.height), 1};
-  vkCmdBlitImage(cmd, display.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
-                 &region, VK_FILTER_NEAREST);
-}
 
 // Mouse drags and held keys: ParaView's bindings, fly mode's WASD/QE.
 struct MouseState {
@@ -71,18 +59,20 @@ void handle_mouse(ViewerSession& s, MouseState& mouse, bool ui_wants_mouse, doub
   }
 }
 
-// The frame's passes, the blit into swapchain image `index`, the UI over it, a screenshot.
-void record_frame(VkCommandBuffer cmd, ViewerSession& s, ImGuiLayer& ui, SwapchainCapture& capture, vk::GpuTimer& timer,
-                  uint32_t index) {
+// The frame's passes (A's, and B's in split view), the view into swapchain image `index`, the
+// UI over it, a screenshot.
+void record_frame(VkCommandBuffer cmd, ViewerSession& s, CompareView& compare, ImGuiLayer& ui, SwapchainCapture& capture,
+                  vk::GpuTimer& timer, uint32_t index) {
   vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
   timer.reset(cmd);
   s.renderer.record(cmd, s.camera.camera(), s.state.settings, timer);
+  compare.record(cmd, s);
   {
     vk::ScopedPass pass(timer, cmd, "present-blit");
-    blit_to_swapchain(cmd, s.renderer.display(), s.swapchain.image(index), s.swapchain.extent());
+    compare.present(cmd, s, s.renderer.display(), s.swapchain.image(index), s.swapchain.extent());
   }
   {
     vk::ScopedPass pass(timer, cmd, "ui");
@@ -91,6 +81,30 @@ void record_frame(VkCommandBuffer cmd, ViewerSession& s, ImGuiLayer& ui, Swapcha
   if (s.capture_path)
     capture.record(cmd, s.swapchain.image(index), s.swapchain.extent(), s.swapchain.format(), *std::exchange(s.capture_path, std::nullopt));
   vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+}
+
+// Runs the script's commands that are due, unless a wait-reference holds them.
+void run_script(ViewerSession& s, const CompareView& compare, const std::vector<ScriptCommand>& script, size_t& next) {
+  if (s.reference_deadline) {
+    if (compare.reference_settled()) {
+      s.reference_deadline.reset();
+    } else if (std::chrono::steady_clock::now() > *s.reference_deadline) {
+      s.message("wait-reference: timed out");
+      s.reference_deadline.reset();
+    } else {
+      return;
+    }
+  }
+  if (script_waiting(s)) return;  // wait-load holds the script's clock too
+  auto held = [&] { return s.reference_deadline.has_value() || s.loading.script_deadline.has_value(); };
+  for (; next < script.size() && script[next].frame <= s.script_frame && !held(); ++next) {
+    try {
+      s.run(script[next]);
+    } catch (const InputError& e) {
+      s.message(script[next].where + ": " + e.what());
+    }
+  }
+  if (!held()) ++s.script_frame;
 }
 
 // Waits for the acquired image before the blit writes it; signals `done` for presentation.
@@ -184,6 +198,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   const Bounds bounds = state.drawn().bounds;
   ViewerSession s{std::move(state), options.settings, window, device, swapchain, renderer,
                   options.camera ? CameraController(bounds, *options.camera) : CameraController(bounds), {}, {}, report};
+  CompareView compare(device);
   s.stats.device_name = caps.name;
   s.stats.cells = s.state.drawn().mesh->tets.size();
   s.loading.defaults = options.open_defaults;
@@ -229,15 +244,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
 
   while (!glfwWindowShouldClose(window.get()) && !g_terminate) {
     poll_loads(s);
-    for (; next_command < options.script.size() && options.script[next_command].frame + s.loading.script_shift <= s.frame_index &&
-           !script_waiting(s);
-         ++next_command) {
-      try {
-        s.run(options.script[next_command]);
-      } catch (const InputError& e) {
-        s.message(options.script[next_command].where + ": " + e.what());
-      }
-    }
+    run_script(s, compare, options.script, next_command);
     ++s.frame_index;
     if (options.max_frames && s.frame_index > options.max_frames) break;
     glfwPollEvents();
@@ -267,6 +274,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
         s.stats.fragments = counts.fragments;
         s.stats.primitives = counts.primitives;
       }
+      compare.frame_finished();
       finish_capture();
       frame_in_flight = false;
       if (options.print_timings && now - last_print > std::chrono::seconds(1)) {
@@ -279,6 +287,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     if (s.state.show_ui) {
       const UiRequests requests = draw_side_panel(s.state, s.panel, s.stats, s.camera, max_tetlet);
       draw_hud(s.stats, s.state);
+      draw_compare_overlay(compare.status(), s.state, s.stats);
       s.apply(requests);
     }
     ui.finish_frame();
@@ -293,6 +302,8 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
       s.state.settings = s.last_good;
       s.stats.report = renderer.prepare(s.camera.camera(), s.state.settings);
     }
+    compare.update(s);
+    renderer.resize(swapchain.extent());  // the difference view's GPU frame may have left the reference's size
 
     const auto index = swapchain.acquire(image_available.get());
     if (!index) {
@@ -300,7 +311,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
       continue;
     }
     vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
-    record_frame(cmd, s, ui, capture, timer, *index);
+    record_frame(cmd, s, compare, ui, capture, timer, *index);
     submit_frame(device, cmd, image_available.get(), swapchain.render_finished(*index), in_flight.get());
     frame_in_flight = true;
     if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
@@ -316,12 +327,16 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   device.wait_idle();
   if (frame_in_flight) {
     s.stats.gpu_passes = timer.read();
+    compare.frame_finished();
     finish_capture();
   }
   report.last_frame = s.stats;
   report.camera = s.camera.camera();
   report.mode = s.state.mode;
   report.quantity = s.state.settings.resolve.quantity;
+  report.compare = compare.status().last;
+  report.compare_reference_seconds = compare.status().reference_seconds;
+  report.compare_passes = compare.status().b_passes;
   report.validation_messages = instance.validation_log().count();
   report.datasets = s.state.datasets.size();
   report.datasets_visible = size_t(std::count_if(s.state.datasets.begin(), s.state.datasets.end(), [](const Dataset& d) { return d.visible; }));

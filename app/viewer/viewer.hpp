@@ -11,6 +11,7 @@
 
 #include "app/dataset_loader.hpp"
 #include "app/viewer/panels.hpp"
+#include "app/viewer/reference_job.hpp"
 #include "app/viewer/view_state.hpp"
 #include "app/viewer/viewer_script.hpp"
 #include "renderer/frame/frame_renderer.hpp"
@@ -65,6 +66,12 @@ struct ViewerReport {
   std::string last_load_error;
   uint32_t loads_cancelled = 0;            // by Cancel, cancel-load or closing the window
   double seconds_to_stop_load = 0.0;       // closed mid-load: from the close to the load's thread ending
+  // The difference view's last comparison (statistics, size and channels; no heat map), and
+  // how long its CPU reference took.
+  std::optional<FrameComparison> compare;
+  std::vector<FrameComparison> comparisons;  // every comparison the difference view showed, in order
+  double compare_reference_seconds = 0.0;
+  std::vector<vk::PassTiming> compare_passes;  // split view: B's passes in the last finished frame
 };
 
 // Opens the window on the state's visible datasets and runs until closed (a load still running

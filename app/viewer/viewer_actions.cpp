@@ -11,6 +11,7 @@
 #include "app/frame_image.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/dataset_list.hpp"
+#include "app/viewer/compare.hpp"
 #include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "app/volume_options.hpp"
@@ -203,6 +204,18 @@ void ViewerSession::run(const ScriptCommand& c) {
   else if (c.verb == "cancel-load") cancel_loads(*this);
   else if (c.verb == "show") message(show_dataset(state, whole(0), on_off(c, 1)));
   else if (c.verb == "active") message(set_active(state, whole(0)));
+  else if (c.verb == "compare") {
+    const auto mode = compare_mode_of_name(a[0]);
+    if (!mode) throw InputError(c.where, "compare takes off, split or difference");
+    message(set_compare(state, *mode));
+  } else if (c.verb == "compare-mode") message(set_compare_mode(state, a[0]));
+  else if (c.verb == "compare-quantity") message(set_compare_quantity(state, quantity_of_name(a[0])));
+  else if (c.verb == "wait-reference") {
+    if (a.size() > 1) throw InputError(c.where, "wait-reference takes at most a number of seconds");
+    const double seconds = a.empty() ? 300.0 : number(0);
+    reference_deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                                 std::chrono::duration<double>(seconds));
+  }
 }
 
 }  // namespace prismoid::app

@@ -128,7 +128,6 @@ void apply_data_requests(ViewerSession& s, const DataRequests& r) {
 void begin_script_wait(ViewerSession& s, double timeout_seconds) {
   s.loading.script_deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                                     std::chrono::duration<double>(timeout_seconds));
-  s.loading.wait_began = s.frame_index;
 }
 
 bool script_waiting(ViewerSession& s) {
@@ -138,7 +137,6 @@ bool script_waiting(ViewerSession& s) {
   if (loading && std::chrono::steady_clock::now() < *l.script_deadline) return true;
   if (loading) s.message("wait-load: the load did not end before the timeout");
   l.script_deadline.reset();
-  l.script_shift += s.frame_index - l.wait_began;
   return false;
 }
 

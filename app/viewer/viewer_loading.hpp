@@ -33,10 +33,8 @@ struct LoadingState {
   std::optional<frame::FrameRenderer>* renderer_slot = nullptr;
   std::shared_ptr<const TetMesh> drawn_mesh;
   // wait-load: the script pauses until the loads end or the deadline passes; the frames spent
-  // waiting shift the later commands, so `wait N` after it counts from the load's end.
+  // waiting do not count on the script's clock, so `wait N` after it counts from the load's end.
   std::optional<std::chrono::steady_clock::time_point> script_deadline;
-  uint32_t wait_began = 0;
-  uint32_t script_shift = 0;
 };
 
 // Queues `paths` (read with `array`, empty: none) and starts the first if nothing runs.

@@ -22,7 +22,9 @@ const std::map<std::string, int>& verbs() {
       {"ui", 1},         {"screenshot", 1},    {"render", 3},       {"print-camera", 0},
       {"resize", 2},     {"iconify", 0},       {"restore", 0},      {"close", 0},
       {"rss", 0},        {"drag", -1},         {"open", -1},        {"wait-load", -1},
-      {"cancel-load", 0}, {"show", 2},         {"active", 1},       {"drop", -1}};
+      {"cancel-load", 0}, {"show", 2},         {"active", 1},       {"drop", -1},
+      {"compare", 1},    {"compare-mode", 1},
+      {"compare-quantity", 1}, {"wait-reference", -1}};
   return v;
 }
 

@@ -30,6 +30,10 @@
 //   cancel-load             the panel's Cancel: stops the load and drops the queued ones
 //   show INDEX on|off       shows or hides dataset INDEX (from 0, in the order opened)
 //   active INDEX            makes dataset INDEX the one the transfer function's range follows
+//   compare off|split|difference   A | B, or the current mode against the CPU reference
+//   compare-mode NAME | compare-quantity NAME    split view's B
+//   wait-reference [SECONDS]  holds the script until the difference view shows the current
+//                           view's reference (default: at most 300 s; then a message)
 #include <cstdint>
 #include <string>
 #include <vector>

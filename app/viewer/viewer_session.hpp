@@ -35,6 +35,10 @@ struct ViewerSession {
   std::optional<std::string> capture_path;  // a screenshot the next recorded frame takes
   uint32_t screenshot_count = 0;
   LoadingState loading;  // datasets opening in the background (viewer_loading.cpp)
+  // A script's clock: frames counted while no wait-reference holds the script.
+  uint32_t script_frame = 0;
+  // A script's wait-reference: its commands pause until the difference view settles or then.
+  std::optional<std::chrono::steady_clock::time_point> reference_deadline;
 
   double aspect() const;
   void message(const std::string& text);  // shown in the panel, kept in the report, on stderr

@@ -17,11 +17,14 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <sstream>
+#include <chrono>
 
 #include "app/cli.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/viewer.hpp"
 #include "io/vtk_tet_io.hpp"
+#include "io/image_io.hpp"
+#include "renderer/reference/image_error.hpp"
 #include "scene/generators.hpp"
 
 namespace prismoid {
@@ -401,6 +404,152 @@ TEST(ViewerLoading, ViewVerbOpensSeveralFiles) {
   std::getline(recent, line2);
   EXPECT_EQ(line1, (dir / "b.vtu").string());
   EXPECT_EQ(line2, (dir / "a.vtu").string());
+}
+
+// Split view: A's left half and B's right half on one camera, each exactly what that mode
+// shows alone (the same display images, blitted 1:1, so equal up to nothing; 2 levels allow
+// for a different rounding path), with the divider between them. A is colour in GPU-sorted
+// order, B transmittance in exact order: they differ by far more than rounding.
+TEST(Viewer, SplitViewShowsModeAOnTheLeftAndModeBOnTheRight) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("split");
+  std::ostringstream script;
+  script << "frame 1\nui off\nmode interval-sorted\nquantity color\ntf-range data\ndensity-scale 8\n"
+         << "frame 3\nscreenshot " << (dir / "a.png").string() << "\n"
+         << "frame 4\nmode interval-exact-order\nquantity transmittance\n"
+         << "frame 6\nscreenshot " << (dir / "b.png").string() << "\n"
+         << "frame 7\nmode interval-sorted\nquantity color\ncompare split\ncompare-mode interval-exact-order\n"
+         << "compare-quantity transmittance\n"
+         << "frame 10\nscreenshot " << (dir / "split.png").string() << "\nframe 11\nclose\n";
+  app::ViewerOptions options = window_options(320, 240, script.str());
+  const app::ViewerReport report = app::run_viewer(make_default_volume(), options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  EXPECT_TRUE(report.messages.empty()) << report.messages.front();
+  const Png a = read_png((dir / "a.png").string()), b = read_png((dir / "b.png").string());
+  const Png split = read_png((dir / "split.png").string());
+  ASSERT_EQ(split.width, 320);
+  const int half = split.width / 2;  // the divider covers columns half - 1 and half
+  int worst_a = 0, worst_b = 0;
+  size_t a_unlike_b = 0;  // right-half pixels where A and B differ by more than 20 levels
+  for (int y = 0; y < split.height; ++y)
+    for (int x = 0; x < split.width; ++x) {
+      int a_b = 0;
+      for (int k = 0; k < 3; ++k) {
+        if (x < half - 1) worst_a = std::max(worst_a, std::abs(int(split.at(x, y)[k]) - int(a.at(x, y)[k])));
+        if (x > half) {
+          worst_b = std::max(worst_b, std::abs(int(split.at(x, y)[k]) - int(b.at(x, y)[k])));
+          a_b = std::max(a_b, std::abs(int(a.at(x, y)[k]) - int(b.at(x, y)[k])));
+        }
+      }
+      a_unlike_b += a_b > 20;
+    }
+  EXPECT_LE(worst_a, 2) << "the left half is not mode A";
+  EXPECT_LE(worst_b, 2) << "the right half is not mode B";
+  // The volume covers about a sixth of the right half; most of it must tell A from B.
+  EXPECT_GT(a_unlike_b, size_t(half * split.height) / 20) << "A and B look alike: the test proves nothing";
+  // The divider: orange (linear 1, 0.45, 0; about 255, 180, 0 in sRGB) in every row.
+  for (int y = 0; y < split.height; ++y)
+    for (int x : {half - 1, half}) {
+      const unsigned char* p = split.at(x, y);
+      EXPECT_TRUE(p[0] > 240 && p[1] > 150 && p[1] < 210 && p[2] < 20) << "no divider at " << x << "," << y;
+    }
+  // Both modes' passes are timed: B's appear in the report beside A's.
+  const auto& bp = report.compare_passes;
+  EXPECT_TRUE(std::any_of(bp.begin(), bp.end(), [](const vk::PassTiming& t) { return t.name == "interval-shading"; }));
+  EXPECT_TRUE(has_pass(report, "sort"));
+}
+
+// The camera as `render` options, split into words for run_cli.
+std::vector<std::string> camera_args(const std::string& line) {
+  std::istringstream words(line);
+  std::vector<std::string> args;
+  for (std::string w; words >> w;) args.push_back(w);
+  return args;
+}
+
+io::FloatImage render_with_cli(const std::vector<std::string>& camera, const std::string& mode, const std::string& quantity,
+                               const fs::path& out) {
+  std::vector<std::string> args = {"render", "--mode", mode, "--quantity", quantity, "--size", "200x150", "--output", out.string()};
+  args.insert(args.end(), camera.begin(), camera.end());
+  EXPECT_EQ(app::run_cli(args), 0);
+  return io::read_pfm(out.string());
+}
+
+// Difference view: the statistics it prints are image_error of the GPU frame against the CPU
+// reference, the same numbers a user gets from two `prismoid render`s of this camera and size;
+// colour in mesh order (no visibility order at all) is further from the reference than in exact
+// order; the heat map replaces the view (black where nothing differs, white at the largest
+// error).
+TEST(Viewer, DifferenceViewReportsTheErrorOfTheModeAgainstTheReference) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("difference");
+  std::ostringstream script;
+  script << "frame 1\nui off\nmode interval\nquantity optical-depth\ncompare difference\nwait-reference 120\n"
+         << "wait 2\nscreenshot " << (dir / "heat.png").string() << "\nprint-camera\n"
+         << "wait 1\nquantity color\ntf-range data\ndensity-scale 8\nwait-reference 120\n"
+         << "wait 1\nmode interval-exact-order\nwait-reference 120\nwait 1\nclose\n";
+  app::ViewerOptions options = window_options(200, 150, script.str());
+  options.max_frames = 1000000;  // the references take seconds; wait-reference's timeout is the limit
+  const auto start = std::chrono::steady_clock::now();
+  const app::ViewerReport report = app::run_viewer(make_default_volume(), options);
+  std::cout << "difference session: " << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+  EXPECT_EQ(report.validation_messages, 0u);
+  EXPECT_TRUE(report.messages.empty()) << report.messages.front();
+  ASSERT_EQ(report.comparisons.size(), 3u);
+  ASSERT_EQ(report.camera_lines.size(), 1u);
+
+  const app::FrameComparison& depth = report.comparisons[0];
+  EXPECT_EQ(depth.channels, "optical depth");
+  ASSERT_EQ(depth.width, 200u);
+  ASSERT_EQ(depth.height, 150u);
+  const auto camera = camera_args(report.camera_lines[0]);
+  const io::FloatImage ref = render_with_cli(camera, "reference", "optical-depth", dir / "ref.pfm");
+  const io::FloatImage gpu = render_with_cli(camera, "interval", "optical-depth", dir / "gpu.pfm");
+  const double peak = *std::max_element(ref.pixels.begin(), ref.pixels.end());
+  const reference::ImageError expected = reference::image_error(gpu.pixels, ref.pixels, peak);
+  // Same code, same inputs: equal up to float rounding of the images (one ulp of the peak).
+  EXPECT_NEAR(depth.error.rmse, expected.rmse, 1e-6 * peak);
+  EXPECT_NEAR(depth.error.max_abs, expected.max_abs, 1e-6 * peak);
+  EXPECT_NEAR(depth.peak, peak, 1e-6 * peak);
+  EXPECT_EQ(depth.error.non_finite, 0u);
+  EXPECT_GT(peak, 0.5);
+  EXPECT_LT(depth.error.rmse, 1e-3 * peak);  // the CLI tests' bound (tests/app/test_cli.cpp)
+  EXPECT_GT(depth.error.rmse, 0.0) << "a float renderer equal to a double reference everywhere: suspicious";
+
+  const app::FrameComparison& unordered = report.comparisons[1];
+  const app::FrameComparison& exact = report.comparisons[2];
+  EXPECT_EQ(exact.channels, "display RGB");
+  EXPECT_EQ(unordered.error.non_finite, 0u);
+  EXPECT_EQ(exact.error.non_finite, 0u);
+  EXPECT_TRUE(std::isfinite(exact.error.rmse) && std::isfinite(unordered.error.rmse));
+  EXPECT_GT(unordered.error.rmse, 3.0 * exact.error.rmse) << "mesh order should be visibly wrong for colour";
+  EXPECT_LT(exact.error.rmse, 2e-3);  // the CLI's 1e-3 for colour, and as much again for the background seen through it
+
+  // The heat map: zero error outside the volume is black; the worst pixel is white.
+  const Png heat = read_png((dir / "heat.png").string());
+  EXPECT_LE(int(heat.at(0, 0)[0]) + heat.at(0, 0)[1] + heat.at(0, 0)[2], 3);
+  bool white = false;
+  for (int y = 0; y < heat.height; ++y)
+    for (int x = 0; x < heat.width; ++x) white = white || (heat.at(x, y)[0] > 250 && heat.at(x, y)[1] > 250 && heat.at(x, y)[2] > 250);
+  EXPECT_TRUE(white) << "no pixel at the heat map's maximum";
+}
+
+// Closing the window while the reference is still being computed returns promptly and cleanly:
+// the worker is waited for (references cannot be interrupted), so at most one reference's time.
+TEST(Viewer, ClosingWhileTheReferenceComputesExitsCleanly) {
+  REQUIRE_DISPLAY();
+  app::ViewerOptions options =
+      window_options(320, 240, "frame 1\nquantity color\ntf-range data\ncompare difference\nwait-reference 0.5\nclose\n");
+  options.max_frames = 1000000;
+  const auto start = std::chrono::steady_clock::now();
+  const app::ViewerReport report = app::run_viewer(make_default_volume(), options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "closed after " << seconds << " s\n";
+  EXPECT_EQ(report.validation_messages, 0u);
+  ASSERT_EQ(report.messages.size(), 1u);
+  EXPECT_EQ(report.messages[0], "wait-reference: timed out");  // the reference was still running at close
+  EXPECT_TRUE(report.comparisons.empty());
+  EXPECT_LT(seconds, 20.0);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // rules of the view state.
 #include <gtest/gtest.h>
 
+#include "app/viewer/compare.hpp"
 #include "app/viewer/tf_edit.hpp"
 #include "app/viewer/view_state.hpp"
 #include "app/viewer/viewer_script.hpp"
@@ -100,6 +101,55 @@ TEST(ViewState, PresetsKeepTheRangeAndDensity) {
   EXPECT_DOUBLE_EQ(state.settings.resolve.transfer.range_hi, 7.0);
   EXPECT_DOUBLE_EQ(state.settings.resolve.transfer.density_scale, 3.0);
   EXPECT_FALSE(app::set_preset(state, "rainbow").empty());
+}
+
+// Split view's B goes through A's rules (refused modes leave it unchanged), keeps its own
+// ordering, quantity and pre-integration size, and follows A's transfer function.
+TEST(Compare, SplitViewsBFollowsAExceptInWhatBChose) {
+  app::ViewState state;
+  state.datasets.push_back(app::make_dataset(make_default_volume()));
+  ASSERT_TRUE(app::set_mode(state, "interval-sorted").empty());
+  ASSERT_TRUE(app::set_quantity(state, volume::Quantity::Color).empty());
+  EXPECT_TRUE(app::set_compare(state, app::CompareMode::Split).empty());
+  EXPECT_EQ(state.compare, app::CompareMode::Split);
+  EXPECT_EQ(state.compare_mode, "interval-exact-order");  // the default B differs from A
+  EXPECT_FALSE(app::set_compare_mode(state, "interval-march").empty());
+  EXPECT_EQ(state.compare_mode, "interval-exact-order");
+  EXPECT_TRUE(app::set_compare_quantity(state, volume::Quantity::Transmittance).empty());
+  EXPECT_FALSE(app::set_compare_quantity(state, volume::Quantity::Isosurface).empty());
+  state.compare_settings.resolve.preintegration_size = 16;
+  state.settings.resolve.transfer.density_scale = 7.0;
+  state.settings.resolve.tetlet_size = 4;
+  const frame::FrameSettings b = app::compare_frame_settings(state);
+  EXPECT_EQ(b.ordering, frame::Ordering::Exact);
+  EXPECT_EQ(b.resolve.quantity, volume::Quantity::Transmittance);
+  EXPECT_EQ(b.resolve.preintegration_size, 16u);
+  EXPECT_EQ(b.resolve.transfer.density_scale, 7.0);
+  EXPECT_EQ(b.resolve.tetlet_size, 4u);
+  EXPECT_EQ(state.settings.ordering, frame::Ordering::GpuSort) << "A is untouched by B's choices";
+  EXPECT_EQ(state.settings.resolve.quantity, volume::Quantity::Color);
+  EXPECT_EQ(app::compare_mode_of_name("difference"), app::CompareMode::Difference);
+  EXPECT_FALSE(app::compare_mode_of_name("both").has_value());
+}
+
+TEST(Compare, ReferenceSizeKeepsTheAspectAndTheKeySeesEveryChange) {
+  EXPECT_EQ(app::reference_size({320, 240}, 512).width, 320u);
+  const VkExtent2D r = app::reference_size({1280, 720}, 512);
+  EXPECT_EQ(r.width, 512u);
+  EXPECT_EQ(r.height, 288u);
+  EXPECT_EQ(app::reference_size({300, 2000}, 512).height, 512u);
+  const Camera c;
+  const frame::FrameSettings s;
+  const std::string key = app::reference_key(c, s, {64, 48}, 0);
+  EXPECT_EQ(key, app::reference_key(c, s, {64, 48}, 0));
+  Camera moved = c;
+  moved.eye.x += 1e-12;  // a camera at rest is one whose key does not change at all
+  EXPECT_NE(key, app::reference_key(moved, s, {64, 48}, 0));
+  frame::FrameSettings other = s;
+  other.resolve.transfer.opacity.back().opacity *= 0.5;
+  EXPECT_NE(key, app::reference_key(c, other, {64, 48}, 0));
+  EXPECT_NE(key, app::reference_key(c, s, {64, 49}, 0));
+  EXPECT_NE(key, app::reference_key(c, s, {64, 48}, 1));
 }
 
 }  // namespace
