@@ -97,6 +97,7 @@ int cmd_convert(const std::vector<std::string>& args) {
 
 const char* const kInfoHelp =
     "usage: prismoid info FILE\n"
+    "       prismoid info [FILE] --plan [--mode M] [--quantity Q] [render's volume options]\n"
     "\n"
     "Describes a mesh file (.vtu, .vtk, .vtm, .pvtu) without rendering: its cells by type, points,\n"
     "point and cell arrays with their ranges (vectors by magnitude), bounds, and what reading it\n"
@@ -105,11 +106,18 @@ const char* const kInfoHelp =
     "range, bounds and the tetrahedra it becomes. A surface (.vtp .stl .obj .ply .off): its triangles,\n"
     "bounds, and whether it is closed (where it is not), which TetGen needs. An OpenVDB file (.vdb):\n"
     "each grid's type, class, voxel size, active voxels, index and world boxes, value range, leaf\n"
-    "nodes, memory, and for float grids the tetrahedra it becomes.\n";
+    "nodes, memory, and for float grids the tetrahedra it becomes.\n"
+    "\n"
+    "--plan: the passes a first frame with those options runs, CPU and GPU, each with the reason it\n"
+    "is there, and the passes it leaves out with why (the line `sort` is the visibility sort); no\n"
+    "GPU is needed. A later frame from a still camera also skips the ordering (order reused).\n";
 
 int cmd_info(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, {}, {"help"});
+  ParsedArgs a = parse(args, 1, kVolumeOptions, {"help", "plan", "shared-vertices", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kInfoHelp; return kOk; }
+  if (a.flags.count("plan")) return info_plan(a);
+  if (!a.values.empty() || a.flags.size() > 0)
+    throw InputError("info", "--" + (a.values.empty() ? a.flags.begin()->first : a.values.begin()->first) + " applies with --plan only");
   if (a.files.size() != 1) throw InputError("info", "expects one FILE (see --help)");
   const std::string& file = a.files.front();
   auto print_bounds = [](const Bounds& b) {

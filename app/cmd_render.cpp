@@ -26,7 +26,8 @@ const char* const kRenderHelp =
     "usage: prismoid render [FILE] --output OUT.png|OUT.pfm [options]\n"
     "\n"
     "  --output PATH        image to write: .png (display colour, sRGB) or .pfm (the quantity, float32)\n"
-    "  --stats PATH         write a JSON file with the device, the passes that ran and their GPU times\n"
+    "  --stats PATH         write a JSON file with the device, the passes that ran and their GPU times,\n"
+    "                       and the frame plan: each planned pass with its reason, each skipped one with why\n"
     "  --mode MODE          interval               interval shading on the GPU, cells in mesh order\n"
     "                       interval-sorted        ... cells sorted by centroid distance on the GPU each frame\n"
     "                       interval-exact-order   ... cells in topological visibility order (exact on convex meshes)\n"
@@ -165,6 +166,7 @@ int cmd_render(const std::vector<std::string>& args) {
     if (frames > 1) renderer.render_offscreen(camera, settings, size);  // warm-up: caches, clocks, first-use work
     std::vector<std::vector<vk::PassTiming>> timings;
     for (uint32_t i = 0; i < frames; ++i) {
+      renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused
       result = renderer.render_offscreen(camera, settings, size);
       timings.push_back(result.passes);
     }
@@ -229,6 +231,15 @@ int cmd_render(const std::vector<std::string>& args) {
     for (size_t i = 0; i < result.report.cpu_passes.size(); ++i)
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.report.cpu_passes[i].name)
          << "\", \"cpu_ms\": " << json_number(result.report.cpu_passes[i].gpu_ms) << "}";
+    js << "\n  ],\n  \"plan\": [";
+    const frame::FramePlan& plan = result.report.plan;
+    for (size_t i = 0; i < plan.passes.size(); ++i)
+      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(plan.passes[i].name) << "\", \"kind\": \""
+         << (plan.passes[i].kind == frame::PassKind::Gpu ? "gpu" : "cpu") << "\", \"reason\": \"" << json_escape(plan.passes[i].reason) << "\"}";
+    js << "\n  ],\n  \"skipped\": [";
+    for (size_t i = 0; i < plan.skipped.size(); ++i)
+      js << (i ? ",\n" : "\n") << "    {\"pass\": \"" << json_escape(plan.skipped[i].name) << "\", \"reason\": \""
+         << json_escape(plan.skipped[i].reason) << "\"}";
     js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": "
        << validation_messages << "\n}\n";
     std::ofstream out(stats_path);

@@ -12,6 +12,10 @@ int cmd_convert(const std::vector<std::string>& args);
 int cmd_info(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);
 
+struct ParsedArgs;
+// `info --plan`: prints the frame plan the volume options give (app/cmd_plan.cpp).
+int info_plan(const ParsedArgs& a);
+
 extern const char* const kRenderHelp;
 extern const char* const kViewHelp;
 extern const char* const kConvertHelp;

@@ -10,25 +10,12 @@
 
 namespace prismoid::app {
 
-std::string pass_reason(const std::string& pass, const frame::FrameSettings& s) {
-  const bool color = volume::order_dependent(s.resolve.quantity);
-  if (pass == "sort") return "colour is order-dependent: cells sorted by centroid distance on the GPU";
-  if (pass == "upload-order") return "exact order: the CPU's topological order copied to the GPU";
-  if (pass == "resolve") return "writes the quantity and the display colour";
+std::string pass_reason(const std::string& pass, const frame::FramePlan& plan) {
+  for (const frame::PlannedPass& p : plan.passes)
+    if (p.name == pass) return p.reason;
+  // The window's own passes, recorded after the planned frame.
   if (pass == "present-blit") return "the display image into the window";
   if (pass == "ui") return "the panels";
-  if (pass == "preintegrate") return "pre-integration table rebuilt (function or size changed)";
-  if (pass == "transfer-function upload") return "transfer function changed";
-  if (pass == "exact-order") return "CPU: topological visibility order for this eye";
-  if (pass == "build-tetlets") return "CPU: tetlets built for this tetlet size (once)";
-  if (pass.rfind("interval-march", 0) == 0) return "marches the analytic field inside each interval";
-  if (pass.rfind("interval-shading", 0) == 0) {
-    std::string why = color ? "emission-absorption per interval" : "optical depth per interval, additive";
-    why += s.resolve.shared_vertices ? ", tetlets (shared vertices)" : "";
-    why += ", " + std::to_string(s.resolve.tetlet_size) + " cells per workgroup";
-    if (color && s.resolve.preintegration_size > 0) why += ", pre-integrated lookup";
-    return why;
-  }
   return "";
 }
 
@@ -51,22 +38,24 @@ bool combo(const char* label, const std::vector<T>& items, const T& current, T& 
 const char* string_name(const std::string& s) { return s.c_str(); }
 const char* quantity_label(const volume::Quantity& q) { return quantity_name(q); }
 
-void draw_frame_plan_rows(const ViewState& state, const FrameStats& stats) {
+void draw_frame_plan_rows(const FrameStats& stats) {
   ImGui::TextWrapped("ordering: %s", stats.report.ordering.c_str());
+  auto dim = [](const std::string& text) {
+    ImGui::Indent();
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("%s", text.c_str());
+    ImGui::PopStyleColor();
+    ImGui::Unindent();
+  };
   auto row = [&](const std::string& name, double ms, const char* where) {
     if (std::isfinite(ms)) ImGui::Text("%s%s  %.3f ms", name.c_str(), where, ms);
     else ImGui::Text("%s%s", name.c_str(), where);
-    const std::string why = pass_reason(name, state.settings);
-    if (!why.empty()) {
-      ImGui::Indent();
-      ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-      ImGui::TextWrapped("%s", why.c_str());
-      ImGui::PopStyleColor();
-      ImGui::Unindent();
-    }
+    const std::string why = pass_reason(name, stats.report.plan);
+    if (!why.empty()) dim(why);
   };
   for (const auto& p : stats.report.cpu_passes) row(p.name, p.gpu_ms, " (CPU)");
   for (const auto& p : stats.gpu_passes) row(p.name, p.gpu_ms, "");
+  for (const auto& p : stats.report.plan.skipped) dim(p.name + ": skipped, " + p.reason);
 }
 
 }  // namespace
@@ -131,6 +120,6 @@ void draw_mode_section(ViewState& state, PanelState& panel, uint32_t max_tetlet_
   }
 }
 
-void draw_frame_plan(const ViewState& state, const FrameStats& stats) { draw_frame_plan_rows(state, stats); }
+void draw_frame_plan(const ViewState&, const FrameStats& stats) { draw_frame_plan_rows(stats); }
 
 }  // namespace prismoid::app

@@ -67,7 +67,7 @@ void draw_tf_section(ViewState& state, PanelState& panel);
 // The HUD in the top-right corner.
 void draw_hud(const FrameStats& stats, const ViewState& state);
 
-// Why a pass of the frame runs, for the frame plan (the planner of issue 6 will say this itself).
-std::string pass_reason(const std::string& pass, const frame::FrameSettings& settings);
+// Why a pass of the frame runs: the frame plan's reason (the window's own passes: theirs).
+std::string pass_reason(const std::string& pass, const frame::FramePlan& plan);
 
 }  // namespace prismoid::app

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "renderer/vk/device.hpp"
 #include "scene/input_error.hpp"
@@ -13,38 +15,51 @@
 
 namespace prismoid::frame {
 
-const char* ordering_name(Ordering ordering) {
-  switch (ordering) {
-    case Ordering::MeshOrder: return "mesh-order";
-    case Ordering::GpuSort: return "gpu-sort";
-    case Ordering::Exact: return "exact";
-  }
-  return "?";
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
+
+}  // namespace
 
 // The visibility orderings a frame may use, each made on first use.
 struct FrameRenderer::Orderings {
   TetMesh geometry;                                  // points and cells, for the exact order
+  bool point_extinction = false, point_scalars = false;  // what the mesh's fields are (for the planner)
   std::optional<volume::TetAdjacency> adjacency;     // built once
-  vk::Buffer exact_order_host;                       // host-visible, written by prepare()
+  vk::Buffer exact_order_host;                       // host-visible, written by the exact-order pass
   vk::Buffer exact_order;                            // device-local copy the mesh shader reads
-  bool upload_exact_order = false;                   // record() copies host -> device first
+  std::string exact_description;                     // the last exact order's report, kept for frames reusing it
+  bool exact_exact = false;
   std::unique_ptr<volume::VisibilitySort> gpu_sort;  // records its pass in record()
   const vk::Buffer* order = nullptr;                 // what the next record() draws with (nullptr: mesh order)
   std::map<uint32_t, volume::GpuTetlets> tetlets;    // by cells per workgroup, built on first use
   const volume::GpuTetlets* draw_tetlets = nullptr;  // what the next record() draws (nullptr: cells)
-  bool sort_on_gpu = false;                          // record() sorts before drawing
+};
+
+// What the last recorded frame left in device memory, for the planner's reuse decisions.
+struct FrameRenderer::Recorded {
+  bool any = false;
+  glm::dvec3 eye{0.0};
+  std::optional<Ordering> order;  // the ordering that made the order buffer that frame drew with
 };
 
 FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& mesh)
     : device_(device), mesh_(volume::upload(device, mesh)), bounds_(bounds_of(mesh)), interval_(device),
-      orderings_(std::make_unique<Orderings>()), offscreen_timer_(device, 16) {
+      orderings_(std::make_unique<Orderings>()), recorded_(std::make_unique<Recorded>()), offscreen_timer_(device, 16) {
   orderings_->geometry.name = mesh.name;
   orderings_->geometry.points = mesh.points;
   orderings_->geometry.tets = mesh.tets;
+  orderings_->point_extinction = mesh.linear_extinction();
+  orderings_->point_scalars = !mesh.point_scalars.empty();
 }
 
 FrameRenderer::~FrameRenderer() = default;
+
+const volume::VisibilitySort* FrameRenderer::gpu_sort() const { return orderings_->gpu_sort.get(); }
+
+void FrameRenderer::forget_history() { *recorded_ = Recorded{}; }
 
 void FrameRenderer::resize(VkExtent2D extent) {
   if (extent.width == targets_.extent.width && extent.height == targets_.extent.height) return;
@@ -52,90 +67,128 @@ void FrameRenderer::resize(VkExtent2D extent) {
   targets_ = volume::create_targets(device_, extent);
 }
 
+SceneContents FrameRenderer::scene_contents(const Camera& camera, const FrameSettings& settings) const {
+  const Orderings& o = *orderings_;
+  SceneContents scene;
+  scene.volumes.push_back(volume_contents(mesh_.tet_count, o.point_extinction, o.point_scalars, settings.resolve));
+  const Recorded& last = *recorded_;
+  scene.camera_moved = !last.any || camera.eye != last.eye;
+  scene.scene_moved = !last.any;  // the mesh and its fields are fixed for the renderer's life
+  scene.transfer_changed =
+      settings.resolve.quantity == volume::Quantity::Color && !interval_.transfer_current(mesh_, settings.resolve);
+  scene.order_kept = last.order;
+  scene.tetlets_built = o.tetlets.count(settings.resolve.tetlet_size) > 0;
+  return scene;
+}
+
 FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& settings) {
+  plan_.reset();
   FrameReport report;
   for (const vk::Buffer* b : {&mesh_.positions, &mesh_.tets, &mesh_.cell_sigma, &mesh_.point_sigma, &mesh_.cell_scalar, &mesh_.point_scalar})
     report.mesh_bytes += b->size();
-  const double table_ms = interval_.prepare(mesh_, settings.resolve);
-  if (table_ms > 0.0)
-    report.cpu_passes.push_back({settings.resolve.preintegration_size > 0 ? "preintegrate" : "transfer-function upload", table_ms});
+  interval_.prepare(mesh_, settings.resolve);  // checks the settings before anything is planned
+  report.plan = plan_frame(scene_contents(camera, settings), settings);
   Orderings& o = *orderings_;
   o.order = nullptr;
-  o.sort_on_gpu = false;
-  o.upload_exact_order = false;
   o.draw_tetlets = nullptr;
-  if (settings.resolve.shared_vertices) {
-    if (volume::order_dependent(settings.resolve.quantity) && settings.ordering != Ordering::MeshOrder)
-      throw InputError("--shared-vertices", "tetlets fix the order cells are drawn in: use it with optical depth or "
-                                            "transmittance, or with --mode interval");
-    auto found = o.tetlets.find(settings.resolve.tetlet_size);
-    if (found == o.tetlets.end()) {
-      const auto start = std::chrono::steady_clock::now();
-      found = o.tetlets.emplace(settings.resolve.tetlet_size, volume::upload_tetlets(device_, o.geometry, settings.resolve.tetlet_size)).first;
-      report.cpu_passes.push_back(
-          {"build-tetlets", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+  for (const PlannedPass& pass : report.plan.passes) {
+    if (pass.kind != PassKind::Cpu) continue;
+    const auto start = std::chrono::steady_clock::now();
+    switch (pass.id) {
+      case PassId::TransferUpload:
+      case PassId::Preintegrate:
+        interval_.upload_transfer(mesh_, settings.resolve);
+        break;
+      case PassId::BuildTetlets:
+        o.tetlets.emplace(settings.resolve.tetlet_size, volume::upload_tetlets(device_, o.geometry, settings.resolve.tetlet_size));
+        break;
+      case PassId::ExactOrder: {
+        if (!o.adjacency) o.adjacency = volume::build_adjacency(o.geometry);
+        const volume::VisibilityOrder order = volume::exact_order(o.geometry, *o.adjacency, camera.eye);
+        const VkDeviceSize bytes = std::max<VkDeviceSize>(order.front_to_back.size() * sizeof(uint32_t), 4);
+        if (o.exact_order_host.size() < bytes) {
+          // Read by every mesh workgroup: keep it in device memory, not across the bus.
+          o.exact_order_host = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, vk::MemoryUse::HostVisible);
+          o.exact_order = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     vk::MemoryUse::DeviceLocal);
+        }
+        o.exact_order_host.write(std::as_bytes(std::span(order.front_to_back)));
+        o.exact_exact = order.exact;
+        o.exact_description = "exact (topological over face adjacency)";
+        if (!order.acyclic)
+          o.exact_description += "; " + std::to_string(order.cells_in_cycles) + " cells in visibility cycles placed by distance";
+        if (!o.adjacency->convex_boundary) o.exact_description += "; non-convex boundary: approximate across gaps";
+        break;
+      }
+      default:
+        throw std::logic_error("FrameRenderer: the plan has a CPU pass it cannot run: " + pass.name);
     }
-    o.draw_tetlets = &found->second;
-    report.tetlet_points_per_cell = found->second.points_per_cell;
+    report.cpu_passes.push_back({pass.name, ms_since(start)});
   }
+  if (settings.resolve.shared_vertices) {
+    o.draw_tetlets = &o.tetlets.at(settings.resolve.tetlet_size);
+    report.tetlet_points_per_cell = o.draw_tetlets->points_per_cell;
+  }
+  const bool ordered = report.plan.find(PassId::Sort) || report.plan.find(PassId::UploadOrder) || report.plan.reuses_order;
+  const std::string reused = report.plan.reuses_order ? "; reused: camera still" : "";
   if (!volume::order_dependent(settings.resolve.quantity)) {
     // Additive quantities: any order gives the same sum, so nothing sorts.
     report.ordering = "none (order-independent)";
     report.order_exact = true;
-    return report;
+  } else if (!ordered) {
+    report.ordering = "mesh-order (unsorted)";
+  } else if (settings.ordering == Ordering::GpuSort) {
+    if (!o.gpu_sort) o.gpu_sort = std::make_unique<volume::VisibilitySort>(device_);
+    o.order = &o.gpu_sort->order();
+    report.ordering = "gpu-sort (centroid distance)" + reused;
+  } else {
+    o.order = &o.exact_order;
+    report.order_exact = o.exact_exact;
+    report.ordering = o.exact_description + reused;
   }
-  switch (settings.ordering) {
-    case Ordering::MeshOrder:
-      report.ordering = "mesh-order (unsorted)";
-      return report;
-    case Ordering::GpuSort:
-      if (!o.gpu_sort) o.gpu_sort = std::make_unique<volume::VisibilitySort>(device_);
-      o.sort_on_gpu = mesh_.tet_count > 0;
-      o.order = mesh_.tet_count > 0 ? &o.gpu_sort->order() : nullptr;
-      report.ordering = "gpu-sort (centroid distance)";
-      return report;
-    case Ordering::Exact: {
-      const auto start = std::chrono::steady_clock::now();
-      if (!o.adjacency) o.adjacency = volume::build_adjacency(o.geometry);
-      const volume::VisibilityOrder order = volume::exact_order(o.geometry, *o.adjacency, camera.eye);
-      const VkDeviceSize bytes = std::max<VkDeviceSize>(order.front_to_back.size() * sizeof(uint32_t), 4);
-      if (o.exact_order_host.size() < bytes) {
-        // Read by every mesh workgroup: keep it in device memory, not across the bus.
-        o.exact_order_host = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, vk::MemoryUse::HostVisible);
-        o.exact_order = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                   vk::MemoryUse::DeviceLocal);
-      }
-      o.exact_order_host.write(std::as_bytes(std::span(order.front_to_back)));
-      o.upload_exact_order = mesh_.tet_count > 0;
-      o.order = mesh_.tet_count > 0 ? &o.exact_order : nullptr;
-      report.order_exact = order.exact;
-      report.ordering = "exact (topological over face adjacency)";
-      if (!order.acyclic)
-        report.ordering += "; " + std::to_string(order.cells_in_cycles) + " cells in visibility cycles placed by distance";
-      if (!o.adjacency->convex_boundary) report.ordering += "; non-convex boundary: approximate across gaps";
-      report.cpu_passes.push_back(
-          {"exact-order", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
-      return report;
-    }
-  }
+  plan_ = report.plan;
+  plan_eye_ = camera.eye;
   return report;
 }
 
 void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const FrameSettings& settings, vk::GpuTimer& timer) {
+  if (!plan_) throw std::logic_error("FrameRenderer: record() needs prepare() first");
+  if (camera.eye != plan_eye_) throw std::logic_error("FrameRenderer: record() for another eye than prepare() planned for");
   Orderings& o = *orderings_;
-  if (o.sort_on_gpu)
-    o.gpu_sort->record(cmd, mesh_.positions, mesh_.tets, mesh_.tet_count, glm::vec3(camera.eye - mesh_.origin), timer);
-  if (o.upload_exact_order) {
-    vk::ScopedPass pass(timer, cmd, "upload-order");
-    // The previous frame's mesh shader read the buffer; this frame's reads wait for the copy.
-    vk::buffer_barrier(cmd, {o.exact_order.get()}, VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                       VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    const VkBufferCopy region{0, 0, std::min(o.exact_order_host.size(), o.exact_order.size())};
-    vkCmdCopyBuffer(cmd, o.exact_order_host.get(), o.exact_order.get(), 1, &region);
-    vk::buffer_barrier(cmd, {o.exact_order.get()}, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  const size_t first_timed = timer.recorded().size();
+  for (const PlannedPass& pass : plan_->passes) {
+    if (pass.kind != PassKind::Gpu) continue;
+    switch (pass.id) {
+      case PassId::Sort:
+        o.gpu_sort->record(cmd, mesh_.positions, mesh_.tets, mesh_.tet_count, glm::vec3(camera.eye - mesh_.origin), timer);
+        break;
+      case PassId::UploadOrder: {
+        vk::ScopedPass scoped(timer, cmd, pass.name);
+        // The previous frame's mesh shader read the buffer; this frame's reads wait for the copy.
+        vk::buffer_barrier(cmd, {o.exact_order.get()}, VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                           VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        const VkBufferCopy region{0, 0, std::min(o.exact_order_host.size(), o.exact_order.size())};
+        vkCmdCopyBuffer(cmd, o.exact_order_host.get(), o.exact_order.get(), 1, &region);
+        vk::buffer_barrier(cmd, {o.exact_order.get()}, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        break;
+      }
+      case PassId::Intervals:
+        interval_.record_intervals(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order, o.draw_tetlets);
+        break;
+      case PassId::Resolve:
+        interval_.record_resolve(cmd, targets_, settings.resolve, timer);
+        break;
+      default:
+        throw std::logic_error("FrameRenderer: the plan has a GPU pass it cannot record: " + pass.name);
+    }
   }
-  interval_.record(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order, o.draw_tetlets);
+  // The plan is the single source of truth: what was timed is exactly what was planned.
+  const std::vector<std::string> timed(timer.recorded().begin() + std::ptrdiff_t(first_timed), timer.recorded().end());
+  if (timed != plan_->gpu_pass_names()) throw std::logic_error("FrameRenderer: recorded passes differ from the plan");
+  recorded_->any = true;
+  recorded_->eye = camera.eye;
+  recorded_->order = o.order ? std::optional<Ordering>(settings.ordering) : std::nullopt;
 }
 
 OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const FrameSettings& settings, VkExtent2D extent) {

@@ -1,35 +1,28 @@
 #pragma once
-// One frame of a scene, recorded the same way for the window and for offscreen images.
-// (The frame planner that decides which passes run grows here; today a volume frame is an
-// optional visibility ordering, interval shading, and the resolve pass.)
+// One frame of a scene, recorded the same way for the window and for offscreen images: the
+// frame planner (frame_plan.hpp) decides the passes, prepare() runs its CPU passes and
+// record() records exactly its GPU passes.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "renderer/frame/frame_plan.hpp"
 #include "renderer/vk/timer.hpp"
 #include "renderer/volume/interval_shading.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
 
+namespace prismoid::volume {
+class VisibilitySort;
+}  // namespace prismoid::volume
+
 namespace prismoid::frame {
-
-// The order cells are drawn in. It matters only for order-dependent quantities (colour);
-// order-independent ones always draw in mesh order and never sort.
-enum class Ordering {
-  MeshOrder,  // as stored: exact only for order-independent quantities
-  GpuSort,    // per-frame radix sort on the GPU by centroid distance (approximate)
-  Exact,      // topological order over face adjacency (MPVONC): exact for convex acyclic meshes
-};
-const char* ordering_name(Ordering ordering);
-
-struct FrameSettings {
-  volume::ResolveSettings resolve;
-  Ordering ordering = Ordering::GpuSort;
-};
 
 // What ran, besides the GPU passes: the ordering actually used and CPU work done.
 struct FrameReport {
+  FramePlan plan;                        // the passes this frame runs, why, and those it leaves out
   std::string ordering = "none";        // "none (order-independent)", "gpu-sort", "exact", ...
   bool order_exact = false;              // whether the order was exact for every ray
   std::vector<vk::PassTiming> cpu_passes;  // CPU stages (milliseconds of wall time)
@@ -60,19 +53,30 @@ class FrameRenderer {
   void resize(VkExtent2D extent);
   VkExtent2D extent() const { return targets_.extent; }
 
-  // CPU work before a frame is recorded (outside any command buffer, with no frame of this
-  // renderer in flight): pre-integration table, exact visibility order.
+  // What this renderer's scene contains for a frame with these settings from this camera,
+  // with what changed since the last frame it recorded.
+  SceneContents scene_contents(const Camera& camera, const FrameSettings& settings) const;
+  // Plans the frame and runs the plan's CPU passes (pre-integration table, tetlets, exact
+  // visibility order), outside any command buffer, with no frame of this renderer in flight.
   FrameReport prepare(const Camera& camera, const FrameSettings& settings);
-  // Records the frame's passes; the display and quantity images end in TRANSFER_SRC layout.
+  // Records exactly the GPU passes prepare() planned, for the same camera and settings; the
+  // display and quantity images end in TRANSFER_SRC layout.
   void record(VkCommandBuffer cmd, const Camera& camera, const FrameSettings& settings, vk::GpuTimer& timer);
   const vk::Image& display() const { return targets_.display; }
   const vk::Image& quantity() const { return targets_.quantity; }
+
+  // The next frame plans as a first frame: nothing of the last one is reused (benchmarks time
+  // what a moving camera's frame costs). Tables and tetlets, which depend on no camera, stay.
+  void forget_history();
 
   // Prepares, renders, waits, reads the images back and returns them with the timings.
   OffscreenFrame render_offscreen(const Camera& camera, const FrameSettings& settings, VkExtent2D extent);
 
   const Bounds& bounds() const { return bounds_; }
   const volume::IntervalShadingPass& interval_pass() const { return interval_; }
+  // The GPU visibility sort; nullptr until a frame planned a sort (for tests: its pipelines
+  // exist, and can be bound, only once one did).
+  const volume::VisibilitySort* gpu_sort() const;
 
  private:
   struct Orderings;
@@ -81,6 +85,10 @@ class FrameRenderer {
   Bounds bounds_;
   volume::IntervalShadingPass interval_;
   std::unique_ptr<Orderings> orderings_;
+  struct Recorded;  // what the last recorded frame left behind
+  std::unique_ptr<Recorded> recorded_;
+  std::optional<FramePlan> plan_;  // prepare()'s plan, for the next record()
+  glm::dvec3 plan_eye_{0.0};
   volume::VolumeTargets targets_;
   vk::GpuTimer offscreen_timer_;
 };

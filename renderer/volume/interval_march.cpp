@@ -29,14 +29,6 @@ void validate_march(const GpuTetMesh& mesh, const ResolveSettings& settings) {
     throw InputError("interval-march", "the mesh must carry a scalar array (the field: datasets do)");
 }
 
-const char* march_pass_name(const ResolveSettings& settings) {
-  switch (settings.quantity) {
-    case Quantity::Color: return "interval-march (color)";
-    case Quantity::Isosurface: return "interval-march (isosurface)";
-    default: return "interval-march";
-  }
-}
-
 void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& settings, const Camera& camera,
                          const glm::dvec3& mesh_origin) {
   const MarchSettings& m = settings.march;

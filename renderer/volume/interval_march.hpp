@@ -13,8 +13,6 @@ namespace prismoid::volume {
 // an isosurface without marching, a mesh without the scalar arrays the mesh shader reads.
 void validate_march(const GpuTetMesh& mesh, const ResolveSettings& settings);
 
-const char* march_pass_name(const ResolveSettings& settings);
-
 // The uniforms march.frag and isosurface.frag read beyond the interval pass's own.
 void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& settings, const Camera& camera,
                          const glm::dvec3& mesh_origin);

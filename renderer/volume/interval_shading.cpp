@@ -5,7 +5,9 @@
 #include <chrono>
 #include <cstring>
 #include <glm/geometric.hpp>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "renderer/vk/device.hpp"
@@ -257,7 +259,7 @@ void IntervalShadingPass::bind_order(const vk::Buffer* order) {
   bound_order_ = buffer;
 }
 
-double IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings& settings) {
+void IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings& settings) {
   validate_march(mesh, settings);
   if (std::find(kTetletSizes.begin(), kTetletSizes.end(), settings.tetlet_size) == kTetletSizes.end())
     throw InputError("--tetlet-size", "must be 1, 4, 8 or 16 cells per mesh workgroup");
@@ -268,22 +270,39 @@ double IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSetting
     throw InputError("--shared-vertices", "groups several cells per workgroup: use --tetlet-size 4, 8 or 16");
   pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
   if (settings.march.enabled && settings.march.field.kind == FieldKind::Grid) upload_grid(settings.march.field.grid);
-  if (settings.quantity != Quantity::Color) return 0.0;
+  if (settings.quantity != Quantity::Color) return;
   if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
   validate(settings.transfer);
   if (settings.preintegration_size == 1 || settings.preintegration_size > 256)
     throw InputError("--preintegration-size", "must be 0 (exact integration) or between 2 and 256 texels per axis");
+}
+
+namespace {
+
+bool same_breakpoints(const std::vector<TfSample>& a, const std::vector<TfSample>& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const TfSample& x, const TfSample& y) {
+           return x.x == y.x && x.rgb == y.rgb && x.sigma == y.sigma;
+         });
+}
+
+double table_length(const GpuTetMesh& mesh) { return mesh.longest_edge > 0.0 ? mesh.longest_edge : 1.0; }
+
+}  // namespace
+
+bool IntervalShadingPass::transfer_current(const GpuTetMesh& mesh, const ResolveSettings& settings) const {
+  if (tf_buffer_.get() == VK_NULL_HANDLE || !same_breakpoints(breakpoints(settings.transfer), table_tf_)) return false;
+  return settings.preintegration_size == 0 ||
+         (table_buffer_.get() != VK_NULL_HANDLE && table_.size == settings.preintegration_size && table_.max_length == table_length(mesh));
+}
+
+double IntervalShadingPass::upload_transfer(const GpuTetMesh& mesh, const ResolveSettings& settings) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<TfSample> tf = breakpoints(settings.transfer);
-  const double max_length = mesh.longest_edge > 0.0 ? mesh.longest_edge : 1.0;
-  const bool same_tf = tf.size() == table_tf_.size() &&
-                       std::equal(tf.begin(), tf.end(), table_tf_.begin(), [](const TfSample& a, const TfSample& b) {
-                         return a.x == b.x && a.rgb == b.rgb && a.sigma == b.sigma;
-                       });
+  const double max_length = table_length(mesh);
+  const bool same_tf = same_breakpoints(tf, table_tf_);
   const bool table_wanted = settings.preintegration_size > 0;
   const bool same_table = !table_wanted || (table_buffer_.get() != VK_NULL_HANDLE && same_tf &&
                                             table_.size == settings.preintegration_size && table_.max_length == max_length);
-  if (same_tf && same_table && tf_buffer_.get() != VK_NULL_HANDLE) return 0.0;
   device_.wait_idle();  // the old buffers may still be read by a frame in flight
   if (!same_tf || tf_buffer_.get() == VK_NULL_HANDLE) {
     std::vector<glm::vec4> packed;
@@ -341,6 +360,13 @@ void IntervalShadingPass::bind_targets(const VolumeTargets& targets) {
 void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
                                  const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order,
                                  const GpuTetlets* tetlets) {
+  record_intervals(cmd, mesh, targets, camera, settings, timer, order, tetlets);
+  record_resolve(cmd, targets, settings, timer);
+}
+
+void IntervalShadingPass::record_intervals(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets,
+                                           const Camera& camera, const ResolveSettings& settings, vk::GpuTimer& timer,
+                                           const vk::Buffer* order, const GpuTetlets* tetlets) {
   validate(camera);
   const bool emission = settings.quantity == Quantity::Color;
   const bool march = settings.march.enabled, isosurface = settings.quantity == Quantity::Isosurface;
@@ -380,7 +406,7 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
   const bool to_emission = emission || isosurface;
   const vk::Image& target = to_emission ? targets.emission : targets.optical_depth;
   {
-    vk::ScopedPass pass(timer, cmd, march ? march_pass_name(settings) : emission ? "interval-shading (emission)" : "interval-shading");
+    vk::ScopedPass pass(timer, cmd, interval_pass_name(settings));
     vk::image_barrier(cmd, target.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
@@ -421,6 +447,19 @@ void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, Vo
     counted_ = counted_ || count;
     vkCmdEndRendering(cmd);
   }
+  intervals_recorded_ = true;
+}
+
+void IntervalShadingPass::record_resolve(VkCommandBuffer cmd, VolumeTargets& targets, const ResolveSettings& settings,
+                                         vk::GpuTimer& timer) {
+  if (!std::exchange(intervals_recorded_, false))
+    throw std::logic_error("IntervalShadingPass: the resolve reads what record_intervals() drew just before it");
+  const bool emission = settings.quantity == Quantity::Color;
+  const bool isosurface = settings.quantity == Quantity::Isosurface;
+  const bool to_emission = emission || isosurface;
+  const vk::Image& target = to_emission ? targets.emission : targets.optical_depth;
+  const VkExtent2D e = targets.extent;
+  bind_targets(targets);
   {
     vk::ScopedPass pass(timer, cmd, "resolve");
     // The resolve's descriptor set names both accumulation targets; the one this frame did not

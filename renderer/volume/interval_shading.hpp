@@ -12,9 +12,8 @@
 
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
-#include "renderer/volume/analytic_field.hpp"
+#include "renderer/volume/resolve_settings.hpp"
 #include "renderer/volume/segment_integral.hpp"
-#include "renderer/volume/transfer_function.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -24,12 +23,6 @@ class GpuTimer;
 }  // namespace prismoid::vk
 
 namespace prismoid::volume {
-
-// What a frame shows: optical depth and transmittance integrate sigma (order independent);
-// colour is emission-absorption through a transfer function (order dependent); an isosurface
-// (marching only) is the nearest point where the field reaches the isovalue (depth tested).
-enum class Quantity { OpticalDepth, Transmittance, Color, Isosurface };
-inline bool order_dependent(Quantity q) { return q == Quantity::Color; }
 
 // A TetMesh on the GPU. Positions are stored as float relative to `origin` (the mesh's
 // bounds centre, kept in double), so far-from-origin data loses no precision.
@@ -61,36 +54,8 @@ struct VolumeTargets {
 };
 VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent);
 
-// Marching inside intervals (Tricard 2024, section 3.2): each fragment samples an analytic
-// field or a sampled grid (world coordinates) along its interval in equal steps of at most `step` (world
-// length) instead of integrating the mesh's own linear field.
-struct MarchSettings {
-  bool enabled = false;
-  AnalyticField field;
-  double step = 0.0;           // > 0 when enabled
-  double density_scale = 1.0;  // optical depth: sigma = density_scale * max(field, 0)
-  double isovalue = 0.5;       // Quantity::Isosurface
-};
-
-struct ResolveSettings {
-  Quantity quantity = Quantity::Transmittance;
-  glm::vec3 background{1.0f, 1.0f, 1.0f};
-  glm::vec3 medium{0.05f, 0.08f, 0.2f};
-  // Colour only: the transfer function, and how segments are integrated: 0 exactly in the
-  // fragment shader, N > 1 by lookup in an N^3 pre-integrated table (faster, approximate).
-  TransferFunction transfer = preset("cool-to-warm");
-  uint32_t preintegration_size = 0;
-  MarchSettings march;
-  // Cells per mesh workgroup, one per invocation: 1 is the paper's one cell per workgroup.
-  uint32_t tetlet_size = 16;
-  // Tetlets: group cells so a workgroup loads their shared points once (needs tetlet_size > 1
-  // and GpuTetlets of that size; cells are then drawn tetlet by tetlet, in no depth order).
-  bool shared_vertices = false;
-};
-
-// The workgroup sizes there are shader variants of, and the largest the device's mesh-output
-// limits allow (a near-clipped cell emits up to 15 vertices and 12 triangles).
-inline constexpr std::array<uint32_t, 4> kTetletSizes = {1, 4, 8, 16};
+// The largest cells-per-workgroup size (kTetletSizes) the device's mesh-output limits allow
+// (a near-clipped cell emits up to 15 vertices and 12 triangles).
 uint32_t max_tetlet_size(const vk::Device& device);
 
 // Tetlets (renderer/volume/tetlets.hpp) on the GPU, for one cells-per-workgroup size.
@@ -108,18 +73,32 @@ class IntervalShadingPass {
  public:
   explicit IntervalShadingPass(const vk::Device& device);
 
-  // CPU work before recording a frame, outside any command buffer: uploads the transfer
-  // function and (re)builds the pre-integration table when they, the table size or the mesh
-  // changed. Returns the milliseconds spent, 0 when everything was reused.
-  double prepare(const GpuTetMesh& mesh, const ResolveSettings& settings);
+  // CPU work before recording a frame, outside any command buffer: checks the settings
+  // (InputError names the option at fault), makes the pipeline, uploads a marched grid.
+  void prepare(const GpuTetMesh& mesh, const ResolveSettings& settings);
+  // Colour: whether the transfer function on the GPU (and with preintegration_size > 0 the
+  // table) is the one these settings ask for, for this mesh.
+  bool transfer_current(const GpuTetMesh& mesh, const ResolveSettings& settings) const;
+  // Uploads the transfer function's breakpoints and builds the pre-integrated table where they
+  // differ from the current ones (waits for the device first). Returns the milliseconds spent.
+  double upload_transfer(const GpuTetMesh& mesh, const ResolveSettings& settings);
 
-  // Records both passes. Cells are drawn in the order of `order` (uint32 cell indices) when
-  // given, else in mesh order. Leaves `targets.quantity`, `targets.display` and
-  // `targets.emission` in TRANSFER_SRC_OPTIMAL layout. `mesh`, `targets` and `order` must
-  // outlive the submission. Colour needs prepare() first.
+  // Records both passes: record_intervals() then record_resolve(). Cells are drawn in the
+  // order of `order` (uint32 cell indices) when given, else in mesh order. Leaves
+  // `targets.quantity`, `targets.display` and `targets.emission` in TRANSFER_SRC_OPTIMAL
+  // layout. `mesh`, `targets` and `order` must outlive the submission. Colour needs
+  // upload_transfer() first.
   void record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
               const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order = nullptr,
               const GpuTetlets* tetlets = nullptr);
+  // The interval pass alone (named interval_pass_name(settings)), drawing into the
+  // accumulation target; the resolve pass must follow in the same command buffer.
+  void record_intervals(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
+                        const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order = nullptr,
+                        const GpuTetlets* tetlets = nullptr);
+  // The resolve pass ("resolve"): the quantity and the display colour from what the interval
+  // pass just drew.
+  void record_resolve(VkCommandBuffer cmd, VolumeTargets& targets, const ResolveSettings& settings, vk::GpuTimer& timer);
 
   const PreintegrationTable& table() const { return table_; }
 
@@ -170,6 +149,7 @@ class IntervalShadingPass {
   const GpuTetMesh* bound_mesh_ = nullptr;
   const VolumeTargets* bound_targets_ = nullptr;
   VkImage bound_optical_depth_ = VK_NULL_HANDLE;
+  bool intervals_recorded_ = false;  // record_resolve() follows record_intervals()
 };
 
 }  // namespace prismoid::volume

@@ -384,6 +384,40 @@ TEST(Cli, SortedColorRunsTheSortPassAndSaysSo) {
   EXPECT_EQ(slurp(stats).find("\"name\": \"sort\""), std::string::npos);
 }
 
+// The frame plan without a GPU: an order-independent quantity plans no sort (the skipped list
+// says why), colour in sorted mode plans one; render's stats carry the same plan.
+TEST(Cli, InfoPlanShowsTheSortOnlyWhereTheQuantityNeedsOne) {
+  // The planned passes are the lines between "plan" and "skipped:"; a planned sort is "  sort (GPU): ...".
+  auto planned = [](const std::string& out) { return out.substr(0, out.find("skipped:")); };
+  const CliRun depth = run("info field:blobs:2 --plan --quantity optical-depth");
+  ASSERT_EQ(depth.code, 0) << depth.err;
+  EXPECT_EQ(planned(depth.out).find("\n  sort"), std::string::npos) << depth.out;
+  EXPECT_NE(planned(depth.out).find("\n  interval-shading (GPU): "), std::string::npos) << depth.out;
+  EXPECT_NE(depth.out.find("  sort: optical depth is order-independent"), std::string::npos) << depth.out;
+  const CliRun color = run("info field:blobs:2 --plan --quantity color --mode interval-sorted");
+  ASSERT_EQ(color.code, 0) << color.err;
+  EXPECT_NE(planned(color.out).find("\n  sort (GPU): colour is order-dependent"), std::string::npos) << color.out;
+  const CliRun exact = run("info field:blobs:2 --plan --quantity color --mode interval-exact-order --preintegration-size 8");
+  ASSERT_EQ(exact.code, 0) << exact.err;
+  for (const char* pass : {"\n  preintegrate (CPU): ", "\n  exact-order (CPU): ", "\n  upload-order (GPU): "})
+    EXPECT_NE(planned(exact.out).find(pass), std::string::npos) << pass << exact.out;
+  EXPECT_EQ(planned(exact.out).find("\n  sort"), std::string::npos) << exact.out;
+  EXPECT_EQ(run("info field:blobs:2 --quantity color").code, 2);  // volume options need --plan
+
+  const fs::path stats = work_dir() / "plan.json";
+  const CliRun r = run("render field:blobs:2 --quantity color --size 16x12 --frames 2 --output " + (work_dir() / "plan.png").string() +
+                       " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string js = slurp(stats);
+  // The last timed frame's plan: the warm-up frame uploaded the transfer function already.
+  EXPECT_NE(js.find("\"plan\": [\n    {\"name\": \"sort\", \"kind\": \"gpu\", \"reason\": \"colour is order-dependent"),
+            std::string::npos) << js;
+  EXPECT_NE(js.find("{\"pass\": \"transfer-function upload\", \"reason\": \"transfer function unchanged\"}"), std::string::npos) << js;
+  EXPECT_NE(js.find("{\"pass\": \"exact-order\", \"reason\": "), std::string::npos) << js;
+  // Timed frames order again (a still camera's reuse would hide what ordering costs).
+  EXPECT_NE(js.find("\"passes\": [\n    {\"name\": \"sort\""), std::string::npos) << js;
+}
+
 TEST(Cli, ParaViewColormapFileDrivesTheTransferFunction) {
   const fs::path json = work_dir() / "map.json";
   std::ofstream(json) << R"([{"Name": "two reds", "RGBPoints": [-1, 0.2, 0, 0, 1, 1, 0, 0], "Points": [-1, 0, 0.5, 0, 1, 1, 0.5, 0]}])";

@@ -1,0 +1,219 @@
+#include "renderer/frame/frame_plan.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+#include "scene/input_error.hpp"
+
+namespace prismoid::frame {
+
+const char* ordering_name(Ordering ordering) {
+  switch (ordering) {
+    case Ordering::MeshOrder: return "mesh-order";
+    case Ordering::GpuSort: return "gpu-sort";
+    case Ordering::Exact: return "exact";
+  }
+  return "?";
+}
+
+VolumeContents volume_contents(uint64_t cells, bool point_extinction, bool point_scalars, const volume::ResolveSettings& settings) {
+  VolumeContents v;
+  v.cells = cells;
+  v.optics = settings.quantity == volume::Quantity::Color        ? VolumeOptics::EmissionAbsorption
+             : settings.quantity == volume::Quantity::Isosurface ? VolumeOptics::Isosurface
+                                                                 : VolumeOptics::AbsorptionOnly;
+  // The interval pass integrates colour over the scalar field, optical depth over sigma.
+  const bool per_point = settings.quantity == volume::Quantity::Color ? point_scalars : point_extinction;
+  v.field = settings.march.enabled ? FieldModel::Marched : per_point ? FieldModel::Linear : FieldModel::PerCell;
+  return v;
+}
+
+VolumeContents volume_contents(const TetMesh& mesh, const volume::ResolveSettings& settings) {
+  return volume_contents(mesh.tets.size(), mesh.linear_extinction(), !mesh.point_scalars.empty(), settings);
+}
+
+bool FramePlan::has(std::string_view name) const {
+  return std::any_of(passes.begin(), passes.end(), [&](const PlannedPass& p) { return p.name == name; });
+}
+
+const PlannedPass* FramePlan::find(PassId id) const {
+  const auto found = std::find_if(passes.begin(), passes.end(), [&](const PlannedPass& p) { return p.id == id; });
+  return found == passes.end() ? nullptr : &*found;
+}
+
+std::vector<std::string> FramePlan::gpu_pass_names() const {
+  std::vector<std::string> names;
+  for (const PlannedPass& p : passes)
+    if (p.kind == PassKind::Gpu) names.push_back(p.name);
+  return names;
+}
+
+namespace {
+
+// The plan under construction: CPU passes and GPU passes kept apart so each decision can be
+// written where it is made and the CPU ones still run first.
+struct PlanBuilder {
+  std::vector<PlannedPass> cpu, gpu;
+  std::vector<SkippedPass> skipped;
+  void run(PassId id, std::string name, PassKind kind, std::string reason) {
+    (kind == PassKind::Cpu ? cpu : gpu).push_back({id, std::move(name), kind, std::move(reason)});
+  }
+  void skip(std::string name, std::string reason) { skipped.push_back({std::move(name), std::move(reason)}); }
+};
+
+void plan_transfer(const SceneContents& scene, const VolumeContents& volume, const FrameSettings& settings, PlanBuilder& plan) {
+  const uint32_t n = settings.resolve.preintegration_size;
+  if (volume.optics != VolumeOptics::EmissionAbsorption) {
+    plan.skip("preintegrate", volume.optics == VolumeOptics::Isosurface ? "an isosurface needs no transfer function"
+                                                                        : "absorption only: no transfer function to integrate");
+    return;
+  }
+  const std::string table = std::to_string(n) + "^3";
+  if (n > 0) {
+    if (scene.transfer_changed)
+      plan.run(PassId::Preintegrate, "preintegrate", PassKind::Cpu,
+               "transfer function or table size changed (or none yet): the " + table + " table of exact segment integrals is built");
+    else
+      plan.skip("preintegrate", "table unchanged (" + table + ")");
+    return;
+  }
+  plan.skip("preintegrate", "pre-integration off: segments are integrated exactly in the shader");
+  if (scene.transfer_changed)
+    plan.run(PassId::TransferUpload, "transfer-function upload", PassKind::Cpu,
+             "transfer function changed (or none yet): its breakpoints go to the shader's exact segment integrals");
+  else
+    plan.skip("transfer-function upload", "transfer function unchanged");
+}
+
+void plan_tetlets(const SceneContents& scene, const FrameSettings& settings, PlanBuilder& plan) {
+  const uint32_t size = settings.resolve.tetlet_size;
+  if (!settings.resolve.shared_vertices) {
+    plan.skip("build-tetlets", "shared vertices off: each cell loads its own 4 points");
+    return;
+  }
+  if (scene.tetlets_built)
+    plan.skip("build-tetlets", "tetlets of " + std::to_string(size) + " cells already built");
+  else
+    plan.run(PassId::BuildTetlets, "build-tetlets", PassKind::Cpu,
+             "shared vertices: cells grouped into tetlets of " + std::to_string(size) + " (once per size)");
+}
+
+void skip_ordering(PlanBuilder& plan, const std::string& why) {
+  for (const char* name : {"exact-order", "sort", "upload-order"}) plan.skip(name, why);
+}
+
+// Returns whether the last frame's order is drawn with again.
+bool plan_ordering(const SceneContents& scene, const VolumeContents& volume, const FrameSettings& settings, PlanBuilder& plan) {
+  if (volume.optics == VolumeOptics::AbsorptionOnly) {
+    skip_ordering(plan, "optical depth is order-independent (sums of sigma * length commute)");
+    return false;
+  }
+  if (volume.optics == VolumeOptics::Isosurface) {
+    skip_ordering(plan, "an isosurface is order-independent (the depth test keeps the nearest hit)");
+    return false;
+  }
+  if (volume.cells == 0) {
+    skip_ordering(plan, "no cells to order");
+    return false;
+  }
+  if (settings.ordering == Ordering::MeshOrder) {
+    skip_ordering(plan, "mesh order asked for (--mode interval): colour composited unsorted, approximate");
+    return false;
+  }
+  const bool reuse = !scene.camera_moved && !scene.scene_moved && scene.order_kept == settings.ordering;
+  const std::string moved = !scene.order_kept                       ? "no earlier order to reuse"
+                            : scene.scene_moved                       ? "the scene changed"
+                            : scene.camera_moved                      ? "the camera moved"
+                                                                      : "the last order came from another ordering";
+  if (settings.ordering == Ordering::GpuSort) {
+    plan.skip("exact-order", "GPU sort asked for, not the exact order");
+    plan.skip("upload-order", "the GPU sort writes the order in device memory");
+    if (reuse)
+      plan.skip("sort", "order reused: camera still (the last frame's sorted order is still in its buffer)");
+    else
+      plan.run(PassId::Sort, "sort", PassKind::Gpu,
+               "colour is order-dependent: cells sorted front to back by centroid distance on the GPU (" + moved + ")");
+    return reuse;
+  }
+  plan.skip("sort", "exact order asked for, not the GPU sort");
+  if (reuse) {
+    plan.skip("exact-order", "order reused: camera still (the last frame's order is still in device memory)");
+    plan.skip("upload-order", "order reused: camera still");
+    return true;
+  }
+  plan.run(PassId::ExactOrder, "exact-order", PassKind::Cpu,
+           "colour is order-dependent: topological visibility order over face adjacency for this eye (" + moved + ")");
+  plan.run(PassId::UploadOrder, "upload-order", PassKind::Gpu, "the CPU's exact order copied to device memory for the mesh shader");
+  return false;
+}
+
+std::string interval_reason(const VolumeContents& volume, const FrameSettings& settings) {
+  const volume::ResolveSettings& r = settings.resolve;
+  std::string why;
+  switch (volume.optics) {
+    case VolumeOptics::AbsorptionOnly: why = "optical depth per interval, blended additively"; break;
+    case VolumeOptics::EmissionAbsorption: why = "emission-absorption per interval, composited front to back"; break;
+    case VolumeOptics::Isosurface: why = "the nearest isovalue crossing per interval, depth tested"; break;
+  }
+  switch (volume.field) {
+    case FieldModel::PerCell: why += "; per-cell field: exact"; break;
+    case FieldModel::Linear: why += "; linear point field: exact"; break;
+    case FieldModel::Marched: why += "; non-linear field marched in steps of at most " + std::to_string(r.march.step); break;
+  }
+  if (volume.optics == VolumeOptics::EmissionAbsorption && volume.field != FieldModel::Marched && r.preintegration_size > 0)
+    why += "; segments looked up in the pre-integrated table";
+  if (r.shared_vertices) why += "; tetlets (shared vertices)";
+  why += "; " + std::to_string(r.tetlet_size) + " cells per workgroup";
+  return why;
+}
+
+void plan_surfaces(const SceneContents& scene, PlanBuilder& plan) {
+  plan.skip("surface-shading", scene.surfaces == 0 ? "no surfaces in the scene" : "surfaces are not renderable yet");
+  std::string gi;
+  if (!scene.indirect_wanted) gi = "no indirect light asked for";
+  else if (scene.surfaces == 0) gi = "no surfaces: nothing indirect to gather";
+  else if (scene.lights == 0 && scene.emissive_surfaces == 0) gi = "no lights or emissive surfaces: nothing to gather";
+  else gi = "global illumination is not implemented yet";
+  plan.skip("gi", gi);
+}
+
+}  // namespace
+
+FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings) {
+  if (scene.volumes.size() > 1) throw std::invalid_argument("plan_frame: one volume per frame (FrameRenderer draws one mesh)");
+  const volume::ResolveSettings& r = settings.resolve;
+  if (r.shared_vertices && volume::order_dependent(r.quantity) && settings.ordering != Ordering::MeshOrder)
+    throw InputError("--shared-vertices", "tetlets fix the order cells are drawn in: use it with optical depth or "
+                                          "transmittance, or with --mode interval");
+  PlanBuilder plan;
+  FramePlan result;
+  if (scene.volumes.empty()) {
+    for (const char* name : {"preintegrate", "build-tetlets", "exact-order", "sort", "upload-order", "interval-shading", "resolve"})
+      plan.skip(name, "no volume in the scene");
+  } else {
+    const VolumeContents& volume = scene.volumes.front();
+    plan_transfer(scene, volume, settings, plan);
+    plan_tetlets(scene, settings, plan);
+    result.reuses_order = plan_ordering(scene, volume, settings, plan);
+    plan.run(PassId::Intervals, volume::interval_pass_name(r), PassKind::Gpu, interval_reason(volume, settings));
+    plan.run(PassId::Resolve, "resolve", PassKind::Gpu,
+             volume.optics == VolumeOptics::EmissionAbsorption ? "the display colour (colour over the background) and the transmittance"
+                                                               : "the quantity and its display colour from what the interval pass drew");
+  }
+  plan_surfaces(scene, plan);
+  result.passes = std::move(plan.cpu);
+  result.passes.insert(result.passes.end(), plan.gpu.begin(), plan.gpu.end());
+  result.skipped = std::move(plan.skipped);
+  return result;
+}
+
+std::string format_plan(const FramePlan& plan) {
+  std::ostringstream out;
+  for (const PlannedPass& p : plan.passes)
+    out << "  " << p.name << " (" << (p.kind == PassKind::Gpu ? "GPU" : "CPU") << "): " << p.reason << "\n";
+  for (const SkippedPass& s : plan.skipped) out << "  " << s.name << ": skipped, " << s.reason << "\n";
+  return out.str();
+}
+
+}  // namespace prismoid::frame

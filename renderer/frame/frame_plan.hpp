@@ -1,0 +1,112 @@
+#pragma once
+// The frame planner: the passes a frame runs, derived from what the scene contains and from
+// what the last frame left behind, each with the reason it is there, and the passes it leaves
+// out, each with why. FrameRenderer records exactly the planned passes (nothing else creates
+// passes); `prismoid info --plan`, `render --stats` and the window's frame plan show them.
+// No Vulkan here: plan_frame is a pure function.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "renderer/volume/resolve_settings.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::frame {
+
+// The order cells are drawn in. It matters only for order-dependent quantities (colour);
+// order-independent ones always draw in mesh order and never sort.
+enum class Ordering {
+  MeshOrder,  // as stored: exact only for order-independent quantities
+  GpuSort,    // per-frame radix sort on the GPU by centroid distance (approximate)
+  Exact,      // topological order over face adjacency (MPVONC): exact for convex acyclic meshes
+};
+const char* ordering_name(Ordering ordering);
+
+struct FrameSettings {
+  volume::ResolveSettings resolve;
+  Ordering ordering = Ordering::GpuSort;
+};
+
+// How a volume interacts with light in this frame.
+enum class VolumeOptics {
+  AbsorptionOnly,      // optical depth, transmittance: sums of sigma * length commute
+  EmissionAbsorption,  // colour through a transfer function: compositing is order dependent
+  Isosurface,          // the nearest level-set hit, kept by the depth test
+};
+// How the field inside a cell is known.
+enum class FieldModel {
+  PerCell,  // constant per cell: integrated exactly
+  Linear,   // a point field, linear in each cell: integrated exactly
+  Marched,  // non-linear (analytic or sampled grid): marched in steps inside each interval
+};
+
+struct VolumeContents {
+  VolumeOptics optics = VolumeOptics::AbsorptionOnly;
+  FieldModel field = FieldModel::PerCell;
+  uint64_t cells = 0;
+};
+
+// What a scene says it contains, and what changed since the last frame its renderer recorded.
+// The history defaults describe a first frame: everything changed, nothing to reuse.
+struct SceneContents {
+  std::vector<VolumeContents> volumes;  // one today: FrameRenderer draws one mesh
+  uint32_t surfaces = 0;                // none is renderable yet (the surface issues)
+  uint32_t lights = 0;
+  uint32_t emissive_surfaces = 0;
+  bool indirect_wanted = false;
+  bool camera_moved = true;      // the eye moved (a visibility order depends on nothing else of the camera)
+  bool scene_moved = true;       // geometry or fields changed
+  bool transfer_changed = true;  // the transfer function or the pre-integration table size changed
+  // What the last frame left in device memory that this one may reuse:
+  std::optional<Ordering> order_kept;  // the ordering that made the order buffer the last frame drew with
+  bool tetlets_built = false;          // tetlets of the settings' size exist
+};
+
+// A volume's contents in a frame with these settings (quantity, marching).
+VolumeContents volume_contents(uint64_t cells, bool point_extinction, bool point_scalars, const volume::ResolveSettings& settings);
+VolumeContents volume_contents(const TetMesh& mesh, const volume::ResolveSettings& settings);
+
+// What each pass is, for the renderer that records it (names are for people and stats).
+enum class PassId {
+  TransferUpload,   // "transfer-function upload" (CPU): breakpoints for exact segment integrals
+  Preintegrate,     // "preintegrate" (CPU): the N^3 table (and the breakpoints)
+  BuildTetlets,     // "build-tetlets" (CPU)
+  ExactOrder,       // "exact-order" (CPU)
+  Sort,             // "sort" (GPU): keys and radix sort
+  UploadOrder,      // "upload-order" (GPU): the CPU's order into device memory
+  Intervals,        // volume::interval_pass_name(settings) (GPU)
+  Resolve,          // "resolve" (GPU)
+  SurfaceShading,   // "surface-shading": never planned yet
+  GlobalIllumination,  // "gi": never planned yet
+};
+enum class PassKind { Gpu, Cpu };
+
+struct PlannedPass {
+  PassId id;
+  std::string name;  // = the timestamp pair's name (GPU) or the CPU stage's name in FrameReport
+  PassKind kind;
+  std::string reason;
+};
+struct SkippedPass {
+  std::string name;
+  std::string reason;
+};
+
+struct FramePlan {
+  std::vector<PlannedPass> passes;  // in the order they run: CPU passes (prepare), then GPU passes (record)
+  std::vector<SkippedPass> skipped;
+  bool reuses_order = false;        // the order buffer of the last frame is drawn with again
+  bool has(std::string_view name) const;
+  const PlannedPass* find(PassId id) const;
+  std::vector<std::string> gpu_pass_names() const;
+};
+
+// Throws InputError for settings no plan satisfies (tetlets with an ordered colour mode).
+FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings);
+
+// One line per pass: "  NAME (GPU|CPU): REASON", then "  NAME: skipped, REASON".
+std::string format_plan(const FramePlan& plan);
+
+}  // namespace prismoid::frame
