@@ -20,6 +20,7 @@
 
 #include "io/kuhn_split.hpp"
 #include "io/path_util.hpp"
+#include "io/voxel_tets.hpp"
 #include "io/surface_io.hpp"
 #include "scene/input_error.hpp"
 
@@ -315,14 +316,7 @@ TetMesh read_vdb_voxels(const std::string& path, const VdbReadOptions& options) 
     if (const double lowest = *std::min_element(density.begin(), density.end()); lowest < 0.0)
       throw InputError(path, label + " holds negative values (down to " + std::to_string(lowest) +
                                  "), which cannot be densities; mark it a level set, or map it with --quantity color --tf");
-    mesh.point_extinction.resize(density.size());
-    for (size_t i = 0; i < density.size(); ++i) mesh.point_extinction[i] = density[i] * options.density_scale;
-    mesh.cell_extinction.reserve(mesh.tets.size());
-    for (const auto& tet : mesh.tets) {  // the cell's mean, for statistics; rendering interpolates the points
-      double sigma = 0.0;
-      for (uint32_t v : tet) sigma += 0.25 * mesh.point_extinction[v];
-      mesh.cell_extinction.push_back(sigma);
-    }
+    detail::set_point_extinction(mesh, density, options.density_scale);
   } else {
     mesh.cell_extinction.assign(mesh.tets.size(), options.density_scale);
   }

@@ -90,18 +90,23 @@ TetMesh voxel_grid_to_tets(const VoxelGrid& grid, const std::string& name, const
 
   mesh.point_scalars = grid.values;
   if (options.role == ArrayRole::Extinction) {
-    mesh.point_extinction.resize(grid.values.size());
-    for (size_t i = 0; i < grid.values.size(); ++i) mesh.point_extinction[i] = grid.values[i] * options.density_scale;
-    mesh.cell_extinction.reserve(mesh.tets.size());
-    for (const auto& tet : mesh.tets) {  // the cell's mean, for statistics; rendering interpolates the points
-      double sigma = 0.0;
-      for (uint32_t v : tet) sigma += 0.25 * mesh.point_extinction[v];
-      mesh.cell_extinction.push_back(sigma);
-    }
+    set_point_extinction(mesh, grid.values, options.density_scale);
   } else {
     mesh.cell_extinction.assign(mesh.tets.size(), options.density_scale);
   }
   return mesh;
+}
+
+void set_point_extinction(TetMesh& mesh, const std::vector<double>& values, double density_scale) {
+  mesh.point_extinction.resize(values.size());
+  for (size_t i = 0; i < values.size(); ++i) mesh.point_extinction[i] = values[i] * density_scale;
+  mesh.cell_extinction.clear();
+  mesh.cell_extinction.reserve(mesh.tets.size());
+  for (const auto& tet : mesh.tets) {
+    double sigma = 0.0;
+    for (uint32_t v : tet) sigma += 0.25 * mesh.point_extinction[v];
+    mesh.cell_extinction.push_back(sigma);
+  }
 }
 
 }  // namespace detail

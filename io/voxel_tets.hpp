@@ -36,4 +36,9 @@ void check_image_size(const std::string& path, const uint64_t dims[3], const Ima
 // dims[0] * dims[1] * dims[2] values.
 TetMesh voxel_grid_to_tets(const VoxelGrid& grid, const std::string& name, const ImageReadOptions& options);
 
+// The mesh's extinction from its point values (density times density_scale, linear in each
+// cell), with each cell's mean as its cell extinction (for statistics; rendering interpolates
+// the points). The one place voxel data becomes extinction (images and OpenVDB grids).
+void set_point_extinction(TetMesh& mesh, const std::vector<double>& values, double density_scale);
+
 }  // namespace prismoid::io::detail

@@ -16,37 +16,14 @@
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/region_mesh.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/march_fixture.hpp"
 
 namespace prismoid {
 namespace {
 
-constexpr double kUlp = 1.0 / 16777216.0;  // 2^-24, float's unit roundoff
-
-Camera looking_from(const glm::dvec3& eye, const glm::dvec3& target = glm::dvec3(0.0), double fovy = 40.0) {
-  Camera c;
-  c.eye = eye;
-  c.target = target;
-  c.up = glm::dvec3(0, 1, 0);
-  c.fovy_degrees = fovy;
-  c.near_distance = 0.05;
-  return c;
-}
-
-class GridMarchTest : public test::GpuTest {
- public:
-  frame::OffscreenFrame render(const TetMesh& mesh, const volume::AnalyticField& field, volume::Quantity q, double step,
-                               const Camera& camera, uint32_t w, uint32_t h, double isovalue = 0.5) {
-    frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings settings;
-    settings.resolve.quantity = q;
-    settings.resolve.march.enabled = true;
-    settings.resolve.march.field = field;
-    settings.resolve.march.step = step;
-    settings.resolve.march.isovalue = isovalue;
-    settings.ordering = frame::Ordering::MeshOrder;
-    return renderer.render_offscreen(camera, settings, {w, h});
-  }
-};
+using test::kUlp;
+using test::looking_from;
+using GridMarchTest = test::MarchTest;
 
 void expect_finite(const std::vector<float>& image, const char* what) {
   size_t bad = 0;

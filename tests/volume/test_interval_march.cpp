@@ -12,38 +12,15 @@
 #include "renderer/reference/analytic_march.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/march_fixture.hpp"
 #include "volume/step_convergence.hpp"
 
 namespace prismoid {
 namespace {
 
-constexpr double kUlp = 1.0 / 16777216.0;  // 2^-24, float's unit roundoff
-
-Camera looking_from(const glm::dvec3& eye, double fovy = 40.0) {
-  Camera c;
-  c.eye = eye;
-  c.target = glm::dvec3(0.0);
-  c.up = glm::dvec3(0, 1, 0);
-  c.fovy_degrees = fovy;
-  c.near_distance = 0.05;
-  return c;
-}
-
-class IntervalMarchTest : public test::GpuTest {
- public:
-  frame::OffscreenFrame render(const TetMesh& mesh, const volume::AnalyticField& field, volume::Quantity q, double step,
-                               const Camera& camera, uint32_t w, uint32_t h, double isovalue = 0.5) {
-    frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings settings;
-    settings.resolve.quantity = q;
-    settings.resolve.march.enabled = true;
-    settings.resolve.march.field = field;
-    settings.resolve.march.step = step;
-    settings.resolve.march.isovalue = isovalue;
-    settings.ordering = frame::Ordering::MeshOrder;
-    return renderer.render_offscreen(camera, settings, {w, h});
-  }
-};
+using test::kUlp;
+using test::looking_from;
+using IntervalMarchTest = test::MarchTest;
 
 // (a) A linear field: the midpoint rule is exact, so the march must give what interval
 // shading gives with the same field as exact per-point extinction, through the same proxies
@@ -57,7 +34,7 @@ TEST_F(IntervalMarchTest, LinearFieldMarchEqualsExactIntervalShading) {
   const volume::AnalyticField field = volume::field_from_name("linear");
   const TetMesh mesh = volume::make_field_mesh(field, 4);
   for (const glm::dvec3 eye : {glm::dvec3(0.4, 0.3, 4.5), glm::dvec3(-3.0, 2.0, -2.5), glm::dvec3(0.2, 0.1, 0.3)}) {
-    Camera camera = looking_from(eye, eye.z < 1.0 ? 80.0 : 40.0);
+    Camera camera = looking_from(eye, glm::dvec3(0.0), eye.z < 1.0 ? 80.0 : 40.0);
     if (eye.z < 1.0) camera.target = glm::dvec3(0.5, -0.3, -1.0);
     const double step = 0.05;
     const auto march = render(mesh, field, volume::Quantity::OpticalDepth, step, camera, 40, 40);

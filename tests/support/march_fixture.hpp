@@ -1,0 +1,43 @@
+#pragma once
+// What the GPU march tests share: a camera looking at a point, and a fixture rendering one
+// offscreen frame of interval-march through a field at a given step (cells in mesh order: the
+// order-independent quantities these tests compare need no sort).
+#include <cstdint>
+
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/volume/analytic_field.hpp"
+#include "scene/camera.hpp"
+#include "scene/tet_mesh.hpp"
+#include "support/gpu_fixture.hpp"
+
+namespace prismoid::test {
+
+constexpr double kUlp = 1.0 / 16777216.0;  // 2^-24, float's unit roundoff
+
+inline Camera looking_from(const glm::dvec3& eye, const glm::dvec3& target = glm::dvec3(0.0), double fovy = 40.0) {
+  Camera c;
+  c.eye = eye;
+  c.target = target;
+  c.up = glm::dvec3(0, 1, 0);
+  c.fovy_degrees = fovy;
+  c.near_distance = 0.05;
+  return c;
+}
+
+class MarchTest : public GpuTest {
+ public:
+  frame::OffscreenFrame render(const TetMesh& mesh, const volume::AnalyticField& field, volume::Quantity q, double step,
+                               const Camera& camera, uint32_t w, uint32_t h, double isovalue = 0.5) {
+    frame::FrameRenderer renderer(device(), mesh);
+    frame::FrameSettings settings;
+    settings.resolve.quantity = q;
+    settings.resolve.march.enabled = true;
+    settings.resolve.march.field = field;
+    settings.resolve.march.step = step;
+    settings.resolve.march.isovalue = isovalue;
+    settings.ordering = frame::Ordering::MeshOrder;
+    return renderer.render_offscreen(camera, settings, {w, h});
+  }
+};
+
+}  // namespace prismoid::test
