@@ -98,7 +98,10 @@ TetMesh load_vdb(const LoadRequest& r, const io::Progress& progress) {  // an Op
   vdb.subsample = r.subsample.value_or(1);
   vdb.max_cells = 50'000'000;  // the image volumes' guard
   vdb.progress = progress;
-  return io::read_vdb_voxels(r.path, vdb);
+  const auto start = std::chrono::steady_clock::now();
+  TetMesh mesh = io::read_vdb_voxels(r.path, vdb);
+  report_load_time(r.path, mesh, start);
+  return mesh;
 }
 
 TetMesh load_image(const LoadRequest& r, const io::Progress& progress) {  // each voxel cell becomes 6 tetrahedra
