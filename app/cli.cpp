@@ -24,6 +24,7 @@ const char* kUsage =
     "  devices            list Vulkan devices and the features each mode needs\n"
     "  convert [IN] OUT   write a tetrahedral mesh (or the default dataset) as .vtu\n"
     "  info FILE          cells by type, points, arrays and their ranges, bounds, GPU memory, conversion\n"
+    "  bench [FILE...]    GPU time and error against the CPU reference of each mode and setting\n"
     "  help [VERB]        this text, or a verb's options\n"
     "\n"
     "With no FILE the embedded default dataset is shown. `prismoid VERB --help` for options.\n"
@@ -44,6 +45,7 @@ int dispatch(const std::vector<std::string>& args) {
     else if (args.size() > 1 && args[1] == "devices") std::cout << kDevicesHelp;
     else if (args.size() > 1 && args[1] == "convert") std::cout << kConvertHelp;
     else if (args.size() > 1 && args[1] == "info") std::cout << kInfoHelp;
+    else if (args.size() > 1 && args[1] == "bench") std::cout << kBenchHelp;
     else std::cout << kUsage;
     return kOk;
   }
@@ -52,12 +54,13 @@ int dispatch(const std::vector<std::string>& args) {
   if (verb == "view") return cmd_view(args);
   if (verb == "convert") return cmd_convert(args);
   if (verb == "info") return cmd_info(args);
+  if (verb == "bench") return cmd_bench(args);
   if (verb.rfind("--", 0) == 0) {  // options without a verb: the default verb
     std::vector<std::string> with_verb{display_available() ? "view" : "render"};
     with_verb.insert(with_verb.end(), args.begin(), args.end());
     return with_verb.front() == "view" ? cmd_view(with_verb) : cmd_render(with_verb);
   }
-  throw InputError(verb, "unknown verb (verbs: view, render, convert, info, devices, help)");
+  throw InputError(verb, "unknown verb (verbs: view, render, convert, info, devices, bench, help)");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@ int cmd_view(const std::vector<std::string>& args);
 int cmd_convert(const std::vector<std::string>& args);
 int cmd_info(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);
+int cmd_bench(const std::vector<std::string>& args);
 
 struct ParsedArgs;
 // `info --plan`: prints the frame plan the volume options give (app/cmd_plan.cpp).
@@ -21,5 +22,6 @@ extern const char* const kViewHelp;
 extern const char* const kConvertHelp;
 extern const char* const kInfoHelp;
 extern const char* const kDevicesHelp;
+extern const char* const kBenchHelp;
 
 }  // namespace prismoid::app
