@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <sys/wait.h>
 #include <thread>
@@ -96,7 +97,7 @@ TEST(Cli, DevicesListsAMeshShaderDevice) {
 }
 
 TEST(Cli, EveryVerbHasHelp) {
-  for (const char* verb : {"render", "view", "devices", "convert", "info"}) {
+  for (const char* verb : {"render", "view", "devices", "convert", "info", "bench"}) {
     const CliRun r = run(std::string(verb) + " --help");
     EXPECT_EQ(r.code, 0) << verb;
     EXPECT_NE(r.out.find("usage: prismoid " + std::string(verb)), std::string::npos) << r.out;
@@ -386,6 +387,57 @@ TEST(Cli, SortedColorRunsTheSortPassAndSaysSo) {
 
 // The frame plan without a GPU: an order-independent quantity plans no sort (the skipped list
 // says why), colour in sorted mode plans one; render's stats carry the same plan.
+// Splits one CSV line; quoted fields may hold commas.
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (char ch : line) {
+    if (ch == '"') quoted = !quoted;
+    else if (ch == ',' && !quoted) fields.emplace_back();
+    else fields.back() += ch;
+  }
+  return fields;
+}
+
+TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
+  const fs::path dir = work_dir() / "bench";
+  const CliRun r = run("bench --quick --validate --out " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream csv(dir / "bench.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const std::vector<std::string> header = csv_fields(line);
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return size_t(it - header.begin());
+  };
+  const size_t dataset = column("dataset"), quantity = column("quantity"), mode = column("mode"),
+               settings = column("settings"), rmse = column("rmse"), max_abs = column("max_abs"), peak = column("peak"),
+               non_finite = column("non_finite");
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) rows.push_back(csv_fields(line));
+  // The default dataset in 7 quick configurations; ball:2 has no scalar array, so only its 3
+  // order-independent ones (optical depth twice, transmittance).
+  ASSERT_EQ(rows.size(), 10u) << slurp(dir / "bench.csv");
+  std::map<std::string, double> default_rmse;  // by quantity/mode/settings
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), header.size());
+    EXPECT_TRUE(std::isfinite(std::stod(row[rmse])) && std::isfinite(std::stod(row[max_abs]))) << row[dataset];
+    EXPECT_EQ(row[non_finite], "0");
+    if (row[quantity] == "optical-depth") {  // the CLI tests' aggregate bound for optical depth (see above)
+      EXPECT_LT(std::stod(row[rmse]), 1e-3 * std::stod(row[peak])) << row[dataset] << " " << row[settings];
+    }
+    if (row[dataset].rfind("default", 0) == 0) default_rmse[row[quantity] + "/" + row[mode] + "/" + row[settings]] = std::stod(row[rmse]);
+  }
+  ASSERT_EQ(default_rmse.size(), 7u);
+  // Exact visibility order removes the compositing-order error mesh order makes.
+  EXPECT_LT(default_rmse.at("color/interval-exact-order/default"), default_rmse.at("color/interval/default"));
+  const std::string report = slurp(dir / "report.md");
+  EXPECT_NE(report.find("| * |"), std::string::npos) << report;
+  EXPECT_NE(report.find("bench --quick"), std::string::npos) << report;
+}
+
 TEST(Cli, InfoPlanShowsTheSortOnlyWhereTheQuantityNeedsOne) {
   // The planned passes are the lines between "plan" and "skipped:"; a planned sort is "  sort (GPU): ...".
   auto planned = [](const std::string& out) { return out.substr(0, out.find("skipped:")); };
