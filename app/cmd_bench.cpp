@@ -90,6 +90,7 @@ struct Measurement {
   double gpu_median = 0, gpu_min = 0, gpu_max = 0;
   std::string passes;  // name=median ms, in order
   reference::ImageError error;
+  double ssim = 0;  // mean structural similarity to the reference (same channels and peak as error)
   double reference_ms = 0;
   double peak = 1.0;  // the PSNR's peak
   bool pareto = false;
@@ -124,6 +125,11 @@ double peak_of(const frame::OffscreenFrame& ref, volume::Quantity q) {
   return peak;
 }
 
+double ssim_of(const frame::OffscreenFrame& gpu, const frame::OffscreenFrame& ref, volume::Quantity q) {
+  if (q == volume::Quantity::Color) return reference::ssim(gpu.display, ref.display, ref.width, ref.height, 1.0, 4, 3);
+  return reference::ssim(gpu.quantity, ref.quantity, ref.width, ref.height, peak_of(ref, q), 1, 1);
+}
+
 reference::ImageError error_of(const frame::OffscreenFrame& gpu, const frame::OffscreenFrame& ref, volume::Quantity q) {
   if (q == volume::Quantity::Color) return reference::image_error(gpu.display, ref.display, 1.0, 4, 3);
   return reference::image_error(gpu.quantity, ref.quantity, peak_of(ref, q), 1, 1);
@@ -145,13 +151,13 @@ void mark_pareto(std::vector<Measurement>& rows) {
 void write_csv(const std::filesystem::path& path, const std::vector<Measurement>& rows) {
   std::ofstream out(path);
   out << "dataset,cells,quantity,mode,settings,ordering,width,height,frames,gpu_ms_median,gpu_ms_min,gpu_ms_max,"
-         "passes,rmse,max_abs,psnr_db,peak,non_finite,reference_ms,pareto\n";
+         "passes,rmse,max_abs,psnr_db,ssim,peak,non_finite,reference_ms,pareto\n";
   for (const auto& r : rows)
     out << '"' << r.dataset << "\"," << r.cells << ',' << r.quantity << ',' << r.mode << ',' << r.settings << ",\""
         << r.ordering << "\"," << r.width << ',' << r.height << ',' << r.frames << ',' << json_number(r.gpu_median) << ','
         << json_number(r.gpu_min) << ',' << json_number(r.gpu_max) << ",\"" << r.passes << "\"," << json_number(r.error.rmse)
         << ',' << json_number(r.error.max_abs) << ',' << (std::isinf(r.error.psnr_db) ? "inf" : json_number(r.error.psnr_db))
-        << ',' << json_number(r.peak) << ',' << r.error.non_finite << ',' << json_number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << '\n';
+        << ',' << json_number(r.ssim) << ',' << json_number(r.peak) << ',' << r.error.non_finite << ',' << json_number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << '\n';
   if (!out) throw InputError(path.string(), "cannot write the CSV");
 }
 
@@ -167,7 +173,8 @@ void write_report(const std::filesystem::path& path, const std::vector<Measureme
   std::ofstream out(path);
   out << "# prismoid bench\n\n- device: " << device << "\n- driver: " << driver << "\n- command: `" << command << "`\n"
       << "- error: against the CPU double-precision reference; optical depth and transmittance compare the quantity\n"
-      << "  (PSNR peak: the reference's largest optical depth, or 1), color the display RGB (peak 1)\n"
+      << "  (PSNR peak: the reference's largest optical depth, or 1), color the display RGB (peak 1); SSIM: mean\n"
+      << "  structural similarity (Wang et al. 2004, 11x11 Gaussian window) on the same channels and peak\n"
       << "- `*`: Pareto-optimal within its quantity (no other row is both at least as fast and at least as accurate)\n";
   std::vector<std::string> datasets;
   for (const auto& r : rows)
@@ -179,13 +186,13 @@ void write_report(const std::filesystem::path& path, const std::vector<Measureme
     std::stable_sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->gpu_median < b->gpu_median; });
     const Measurement& f = *sorted.front();
     out << "\n## " << d << " (" << f.cells << " cells, " << f.width << "x" << f.height << ", " << f.frames << " frames)\n\n"
-        << "| | quantity | mode | settings | GPU ms (median) | min-max | RMSE | max abs | PSNR dB | reference ms |\n"
-        << "|---|---|---|---|---|---|---|---|---|---|\n";
+        << "| | quantity | mode | settings | GPU ms (median) | min-max | RMSE | max abs | PSNR dB | SSIM | reference ms |\n"
+        << "|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto* r : sorted)
       out << "| " << (r->pareto ? "*" : "") << " | " << r->quantity << " | " << r->mode << " | " << r->settings << " | "
           << fixed(r->gpu_median, 4) << " | " << fixed(r->gpu_min, 4) << "-" << fixed(r->gpu_max, 4) << " | "
           << fixed(r->error.rmse, 3) << " | " << fixed(r->error.max_abs, 3) << " | " << fixed(r->error.psnr_db, 4) << " | "
-          << fixed(r->reference_ms, 4) << (r->error.non_finite ? " | non-finite: " + std::to_string(r->error.non_finite) : "")
+          << fixed(r->ssim, 6) << " | " << fixed(r->reference_ms, 4) << (r->error.non_finite ? " | non-finite: " + std::to_string(r->error.non_finite) : "")
           << " |\n";
   }
   if (!out) throw InputError(path.string(), "cannot write the report");
@@ -279,6 +286,7 @@ int cmd_bench(const std::vector<std::string>& args) {
       m.gpu_max = *std::max_element(totals.begin(), totals.end());
       m.passes = pass_medians(timings);
       m.error = error_of(result, ref->second.first, choice.quantity);
+      m.ssim = ssim_of(result, ref->second.first, choice.quantity);
       m.reference_ms = ref->second.second;
       m.peak = peak_of(ref->second.first, choice.quantity);
       std::cout << m.dataset << " " << m.quantity << " " << m.mode << " " << m.settings << ": " << json_number(m.gpu_median)

@@ -56,6 +56,70 @@ ImageError image_error(std::span<const float> test, std::span<const float> refer
   return e;
 }
 
+namespace {
+
+// Filters `v` (width x height) with the normalized 1-D kernel along x then y, keeping only the
+// pixels whose whole window lies inside: (width - k + 1) x (height - k + 1) values.
+std::vector<double> filter_valid(const std::vector<double>& v, uint32_t width, uint32_t height, const std::vector<double>& kernel) {
+  const uint32_t k = uint32_t(kernel.size()), w = width - k + 1, h = height - k + 1;
+  std::vector<double> rows(size_t(w) * height), out(size_t(w) * h);
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      double sum = 0.0;
+      for (uint32_t i = 0; i < k; ++i) sum += kernel[i] * v[size_t(y) * width + x + i];
+      rows[size_t(y) * w + x] = sum;
+    }
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      double sum = 0.0;
+      for (uint32_t i = 0; i < k; ++i) sum += kernel[i] * rows[size_t(y + i) * w + x];
+      out[size_t(y) * w + x] = sum;
+    }
+  return out;
+}
+
+}  // namespace
+
+double ssim(std::span<const float> test, std::span<const float> reference, uint32_t width, uint32_t height, double peak,
+            size_t channels, size_t compared) {
+  check_layout(test.size(), reference.size(), channels, compared);
+  if (size_t(width) * height * channels != test.size()) throw std::invalid_argument("ssim: width x height x channels is not the image's size");
+  if (width == 0 || height == 0 || !(peak > 0.0)) throw std::invalid_argument("ssim: an empty image or a non-positive peak");
+  uint32_t k = std::min<uint32_t>(11, std::min(width, height));
+  if (k % 2 == 0) --k;
+  std::vector<double> kernel(k);
+  double total = 0.0;
+  for (uint32_t i = 0; i < k; ++i) {
+    const double d = double(i) - double(k / 2);
+    total += kernel[i] = std::exp(-d * d / (2.0 * 1.5 * 1.5));
+  }
+  for (double& g : kernel) g /= total;
+  const double c1 = (0.01 * peak) * (0.01 * peak), c2 = (0.03 * peak) * (0.03 * peak);
+  const size_t pixels = size_t(width) * height;
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t c = 0; c < compared; ++c) {
+    std::vector<double> x(pixels), y(pixels), xx(pixels), yy(pixels), xy(pixels);
+    for (size_t p = 0; p < pixels; ++p) {
+      x[p] = test[p * channels + c];
+      y[p] = reference[p * channels + c];
+      if (!std::isfinite(x[p]) || !std::isfinite(y[p])) return std::numeric_limits<double>::quiet_NaN();
+      xx[p] = x[p] * x[p], yy[p] = y[p] * y[p], xy[p] = x[p] * y[p];
+    }
+    const auto mx = filter_valid(x, width, height, kernel), my = filter_valid(y, width, height, kernel);
+    const auto mxx = filter_valid(xx, width, height, kernel), myy = filter_valid(yy, width, height, kernel);
+    const auto mxy = filter_valid(xy, width, height, kernel);
+    for (size_t i = 0; i < mx.size(); ++i) {
+      // Variances can come out a rounding below zero for flat windows: clamp.
+      const double vx = std::max(0.0, mxx[i] - mx[i] * mx[i]), vy = std::max(0.0, myy[i] - my[i] * my[i]);
+      const double cov = mxy[i] - mx[i] * my[i];
+      sum += (2.0 * mx[i] * my[i] + c1) * (2.0 * cov + c2) / ((mx[i] * mx[i] + my[i] * my[i] + c1) * (vx + vy + c2));
+      ++count;
+    }
+  }
+  return sum / double(count);
+}
+
 std::vector<float> error_heat_map(std::span<const float> test, std::span<const float> reference, size_t channels,
                                   size_t compared, double scale) {
   check_layout(test.size(), reference.size(), channels, compared);

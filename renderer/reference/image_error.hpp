@@ -4,6 +4,7 @@
 // values are counted separately and never averaged in, so a NaN shows up as a count rather
 // than as a NaN statistic.
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -25,6 +26,16 @@ struct ImageError {
 // RGBA with channels 4, compared 3).
 ImageError image_error(std::span<const float> test, std::span<const float> reference, double peak, size_t channels = 1,
                        size_t compared = 1);
+
+// Mean structural similarity (Wang, Bovik, Sheikh & Simoncelli 2004, "Image quality assessment:
+// from error visibility to structural similarity"): luminance, contrast and structure compared
+// in an 11x11 Gaussian window (sigma 1.5; smaller images use the largest odd window that fits)
+// around every pixel whose window lies inside the image, with C1 = (0.01 peak)^2 and
+// C2 = (0.03 peak)^2; the mean over those pixels and the compared channels. 1 for identical
+// images, lower as structure differs. NaN when a compared value is not finite (image_error
+// counts those).
+double ssim(std::span<const float> test, std::span<const float> reference, uint32_t width, uint32_t height, double peak,
+            size_t channels = 1, size_t compared = 1);
 
 // A heat map of per-pixel error for display: for each pixel, the largest absolute difference
 // over its compared channels, mapped through a perceptually ordered black-red-yellow-white ramp

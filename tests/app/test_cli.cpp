@@ -417,25 +417,31 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   };
   const size_t dataset = column("dataset"), quantity = column("quantity"), mode = column("mode"),
                settings = column("settings"), rmse = column("rmse"), max_abs = column("max_abs"), peak = column("peak"),
-               non_finite = column("non_finite");
+               non_finite = column("non_finite"), ssim = column("ssim");
   std::vector<std::vector<std::string>> rows;
   while (std::getline(csv, line)) rows.push_back(csv_fields(line));
   // The default dataset in 7 quick configurations; ball:2 has no scalar array, so only its 3
   // order-independent ones (optical depth twice, transmittance).
   ASSERT_EQ(rows.size(), 10u) << slurp(dir / "bench.csv");
-  std::map<std::string, double> default_rmse;  // by quantity/mode/settings
+  std::map<std::string, double> default_rmse, default_ssim;  // by quantity/mode/settings
   for (const auto& row : rows) {
     ASSERT_EQ(row.size(), header.size());
     EXPECT_TRUE(std::isfinite(std::stod(row[rmse])) && std::isfinite(std::stod(row[max_abs]))) << row[dataset];
+    const double s = std::stod(row[ssim]);  // similarity: at most 1 (identical), near it for these close images
+    EXPECT_TRUE(s > 0.9 && s <= 1.0 + 1e-12) << row[dataset] << " " << row[mode] << " ssim " << s;
     EXPECT_EQ(row[non_finite], "0");
     if (row[quantity] == "optical-depth") {  // the CLI tests' aggregate bound for optical depth (see above)
       EXPECT_LT(std::stod(row[rmse]), 1e-3 * std::stod(row[peak])) << row[dataset] << " " << row[settings];
     }
-    if (row[dataset].rfind("default", 0) == 0) default_rmse[row[quantity] + "/" + row[mode] + "/" + row[settings]] = std::stod(row[rmse]);
+    if (row[dataset].rfind("default", 0) == 0) {
+      default_rmse[row[quantity] + "/" + row[mode] + "/" + row[settings]] = std::stod(row[rmse]);
+      default_ssim[row[quantity] + "/" + row[mode] + "/" + row[settings]] = s;
+    }
   }
   ASSERT_EQ(default_rmse.size(), 7u);
   // Exact visibility order removes the compositing-order error mesh order makes.
   EXPECT_LT(default_rmse.at("color/interval-exact-order/default"), default_rmse.at("color/interval/default"));
+  EXPECT_GT(default_ssim.at("color/interval-exact-order/default"), default_ssim.at("color/interval/default"));
   const std::string report = slurp(dir / "report.md");
   EXPECT_NE(report.find("| * |"), std::string::npos) << report;
   EXPECT_NE(report.find("bench --quick"), std::string::npos) << report;

@@ -72,5 +72,51 @@ TEST(ErrorHeatMap, BrightnessGrowsWithErrorAndNonFiniteIsMagenta) {
   EXPECT_EQ(error_heat_map(test, ref, 1, 1, 0.0), map);
 }
 
+// Two constant images a and b: every window has zero variance and covariance, so the contrast and
+// structure term is C2 / C2 = 1 and SSIM is the luminance term (2ab + C1) / (a^2 + b^2 + C1).
+TEST(Ssim, ConstantImagesGiveTheLuminanceTermInClosedForm) {
+  const uint32_t w = 20, h = 16;
+  const std::vector<float> a(w * h, 0.25f), b(w * h, 0.75f);
+  const double c1 = 0.01 * 0.01;
+  EXPECT_NEAR(ssim(a, b, w, h, 1.0), (2.0 * 0.25 * 0.75 + c1) / (0.25 * 0.25 + 0.75 * 0.75 + c1), 1e-12);
+  EXPECT_NEAR(ssim(a, a, w, h, 1.0), 1.0, 1e-12);
+}
+
+// Identical textured images give 1; noise lowers it, more noise lowers it more, and the measure
+// is symmetric in its arguments.
+TEST(Ssim, NoiseLowersItMonotonicallyAndSymmetrically) {
+  const uint32_t w = 32, h = 24;
+  std::vector<float> img(w * h), little(w * h), more(w * h);
+  uint32_t state = 12345u;
+  auto noise = [&] {
+    state = state * 1664525u + 1013904223u;
+    return double(state >> 8) / double(1u << 24) - 0.5;
+  };
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      img[i] = float(0.5 + 0.3 * std::sin(0.4 * x) * std::cos(0.3 * y));
+      const double n = noise();
+      little[i] = float(double(img[i]) + 0.02 * n);
+      more[i] = float(double(img[i]) + 0.2 * n);
+    }
+  EXPECT_NEAR(ssim(img, img, w, h, 1.0), 1.0, 1e-12);
+  const double s_little = ssim(little, img, w, h, 1.0), s_more = ssim(more, img, w, h, 1.0);
+  EXPECT_LT(s_little, 1.0);
+  EXPECT_LT(s_more, s_little);
+  EXPECT_NEAR(ssim(img, more, w, h, 1.0), s_more, 1e-12);
+}
+
+TEST(Ssim, ComparesOnlyTheChosenChannelsAndRejectsNonFinite) {
+  const uint32_t w = 12, h = 12;
+  std::vector<float> a(w * h * 4, 0.5f), b = a;
+  for (size_t p = 0; p < size_t(w) * h; ++p) b[4 * p + 3] = 0.0f;  // alpha differs everywhere
+  EXPECT_NEAR(ssim(a, b, w, h, 1.0, 4, 3), 1.0, 1e-12);
+  EXPECT_LT(ssim(a, b, w, h, 1.0, 4, 4), 1.0);
+  b[0] = std::numeric_limits<float>::infinity();
+  EXPECT_TRUE(std::isnan(ssim(a, b, w, h, 1.0, 4, 3)));
+  EXPECT_THROW(ssim(a, b, w + 1, h, 1.0, 4, 3), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace prismoid::reference
