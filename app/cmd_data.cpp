@@ -127,7 +127,7 @@ int cmd_info(const std::vector<std::string>& args) {
   if (io::is_image_volume_path(file)) {
     io::ImageReadOptions options;
     options.role = io::ArrayRole::Scalars;
-    options.max_cells = 50'000'000;
+    options.max_cells = io::kInteractiveMaxCells;
     const TetMesh mesh = io::read_image_volume(file, options);
     const auto [lo, hi] = std::minmax_element(mesh.point_scalars.begin(), mesh.point_scalars.end());
     std::cout << file << " (image volume)\n  voxels: " << mesh.points.size() << ", values in [" << *lo << ", " << *hi << "]\n";

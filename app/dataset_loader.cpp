@@ -96,7 +96,7 @@ TetMesh load_vdb(const LoadRequest& r, const io::Progress& progress) {  // an Op
   vdb.role = r.role;
   vdb.density_scale = r.density_scale;
   vdb.subsample = r.subsample.value_or(1);
-  vdb.max_cells = 50'000'000;  // the image volumes' guard
+  vdb.max_cells = io::kInteractiveMaxCells;
   vdb.progress = progress;
   const auto start = std::chrono::steady_clock::now();
   TetMesh mesh = io::read_vdb_voxels(r.path, vdb);
@@ -111,7 +111,7 @@ TetMesh load_image(const LoadRequest& r, const io::Progress& progress) {  // eac
   image.role = r.role;
   image.density_scale = r.density_scale;
   image.subsample = r.subsample.value_or(1);
-  image.max_cells = 50'000'000;  // about 1.2 GB on the GPU: larger needs --subsample
+  image.max_cells = io::kInteractiveMaxCells;
   image.progress = progress;
   const auto start = std::chrono::steady_clock::now();
   TetMesh mesh = io::read_image_volume(r.path, image);

@@ -13,6 +13,10 @@
 
 namespace prismoid::io {
 
+// The interactive guard on voxel data (images and OpenVDB grids) the CLI and the window apply:
+// 50 million tetrahedra, about 1.2 GB of GPU buffers; larger needs --subsample.
+constexpr uint64_t kInteractiveMaxCells = 50'000'000;
+
 struct ImageReadOptions {
   // The point array to use (vectors by magnitude); empty: the file's active scalars, or its only
   // array. INRIMAGE files hold one unnamed array, so it must stay empty for them.

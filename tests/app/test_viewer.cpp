@@ -26,6 +26,7 @@
 #include "io/image_io.hpp"
 #include "renderer/reference/image_error.hpp"
 #include "scene/generators.hpp"
+#include "support/cube_surface.hpp"
 
 namespace prismoid {
 namespace {
@@ -310,16 +311,12 @@ TEST(Viewer, ViewVerbRunsAScriptAndExitsCleanly) {
   EXPECT_TRUE(fs::exists(dir / "shot.png"));
 }
 
-// The unit cube as OFF, outward-wound: TetGen fills it, slowly at a small volume bound.
+// The cube (tests/support/cube_surface.hpp) in `dir`, with a fresh TetGen cache there so the
+// fill really runs.
 fs::path write_cube_off(const fs::path& dir) {
   const fs::path path = dir / "cube.off";
-  std::ofstream out(path);
-  out << "OFF\n8 12 0\n";
-  for (int i = 0; i < 8; ++i)
-    out << (i == 1 || i == 2 || i == 5 || i == 6) << " " << (i == 2 || i == 3 || i == 6 || i == 7) << " " << (i >= 4) << "\n";
-  for (const char* f : {"0 2 1", "0 3 2", "4 5 6", "4 6 7", "0 1 5", "0 5 4", "1 2 6", "1 6 5", "2 3 7", "2 7 6", "3 0 4", "3 4 7"})
-    out << "3 " << f << "\n";
-  setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);  // a fresh TetGen cache: the fill really runs
+  test::write_cube_off(path);
+  setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
   return path;
 }
 

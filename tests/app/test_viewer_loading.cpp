@@ -14,6 +14,7 @@
 #include "app/viewer/recent_files.hpp"
 #include "app/viewer/scene_merge.hpp"
 #include "scene/generators.hpp"
+#include "support/cube_surface.hpp"
 
 namespace prismoid {
 namespace {
@@ -25,16 +26,6 @@ fs::path scratch(const std::string& name) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
-}
-
-// The unit cube as OFF, outward-wound: TetGen fills it; a small volume bound makes that slow.
-void write_cube_off(const fs::path& path) {
-  std::ofstream out(path);
-  out << "OFF\n8 12 0\n";
-  for (int i = 0; i < 8; ++i)
-    out << (i == 1 || i == 2 || i == 5 || i == 6) << " " << (i == 2 || i == 3 || i == 6 || i == 7) << " " << (i >= 4) << "\n";
-  for (const char* f : {"0 2 1", "0 3 2", "4 5 6", "4 6 7", "0 1 5", "0 5 4", "1 2 6", "1 6 5", "2 3 7", "2 7 6", "3 0 4", "3 4 7"})
-    out << "3 " << f << "\n";
 }
 
 app::LoadOutcome wait_for(app::DatasetLoad& job, double seconds = 120.0) {
@@ -74,7 +65,7 @@ TEST(DatasetLoad, BadFilesGiveTheDataLayersMessageNamingTheFile) {
 TEST(DatasetLoad, CancelStopsTetGenPromptly) {
   const fs::path dir = scratch("cancel");
   setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);  // no cached result to make it quick
-  write_cube_off(dir / "cube.off");
+  test::write_cube_off(dir / "cube.off");
   app::LoadRequest request;
   request.path = (dir / "cube.off").string();
   request.tetgen.max_volume = 5e-7;

@@ -38,6 +38,14 @@ class MarchTest : public GpuTest {
     settings.ordering = frame::Ordering::MeshOrder;
     return renderer.render_offscreen(camera, settings, {w, h});
   }
+  // The same mesh's optical depth by exact interval shading of its point extinction (what a
+  // march of a linear field must reproduce).
+  frame::OffscreenFrame render_exact_optical_depth(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h) {
+    frame::FrameRenderer renderer(device(), mesh);
+    frame::FrameSettings settings;
+    settings.resolve.quantity = volume::Quantity::OpticalDepth;
+    return renderer.render_offscreen(camera, settings, {w, h});
+  }
 };
 
 }  // namespace prismoid::test

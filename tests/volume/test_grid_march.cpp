@@ -76,10 +76,7 @@ TEST_F(GridMarchTest, LinearGridMarchEqualsExactIntervalShading) {
                                looking_from({0.2, 0.1, 0.3}, {0.5, -0.3, -1.0}, 80.0)}) {
     const double step = 0.05;
     const auto march = render(mesh, field, volume::Quantity::OpticalDepth, step, camera, 40, 40);
-    frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings exact_settings;
-    exact_settings.resolve.quantity = volume::Quantity::OpticalDepth;
-    const auto exact = renderer.render_offscreen(camera, exact_settings, {40, 40});
+    const auto exact = render_exact_optical_depth(mesh, camera, 40, 40);
     expect_finite(march.quantity, "march");
     const double longest = std::sqrt(3.0) * 0.5;  // a block's diagonal: 8 samples of 1/16
     const double n = std::ceil(longest / step);

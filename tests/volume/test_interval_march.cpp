@@ -38,10 +38,7 @@ TEST_F(IntervalMarchTest, LinearFieldMarchEqualsExactIntervalShading) {
     if (eye.z < 1.0) camera.target = glm::dvec3(0.5, -0.3, -1.0);
     const double step = 0.05;
     const auto march = render(mesh, field, volume::Quantity::OpticalDepth, step, camera, 40, 40);
-    frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings exact_settings;
-    exact_settings.resolve.quantity = volume::Quantity::OpticalDepth;
-    const auto exact = renderer.render_offscreen(camera, exact_settings, {40, 40});
+    const auto exact = render_exact_optical_depth(mesh, camera, 40, 40);
     const double longest = std::sqrt(3.0) * 2.0 / 4.0;  // a Kuhn cube's diagonal (n = 4 over [-1, 1])
     const double n = std::ceil(longest / step);
     const double g = glm::length(glm::dvec3(field.params[0]));
