@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -548,6 +549,41 @@ TEST(Cli, ClosedSurfaceIsTetrahedralizedAndRendered) {
 }
 
 // --tetgen-cells aims TetGen at a cell count; bad counts are exit code 2 naming the option.
+// Two unit cubes overlapping in a 0.5^3 corner, in one OFF: closed but self-intersecting, so
+// TetGen refuses it (exit 2, no file); --remesh H replaces it by its level set's zero crossing,
+// which TetGen fills. That surface lies within half a voxel of the true one away from the
+// edges, so the volume differs from the union's (2 - 0.125) by at most area x H / 2, the area
+// being at most the two cubes' 12.
+TEST(Cli, RemeshMakesASelfIntersectingSurfaceTetrahedralizable) {
+  const fs::path dir = work_dir() / "remesh";
+  fs::create_directories(dir);
+  const fs::path off = dir / "two_cubes.off", refused = dir / "refused.vtu", remeshed = dir / "remeshed.vtu";
+  {
+    std::ofstream out(off);
+    out << "OFF\n16 24 0\n";
+    for (double o : {0.0, 0.5})
+      for (int i = 0; i < 8; ++i)
+        out << o + (i == 1 || i == 2 || i == 5 || i == 6) << " " << o + (i == 2 || i == 3 || i == 6 || i == 7) << " " << o + (i >= 4)
+            << "\n";
+    for (int base : {0, 8})
+      for (const std::array<int, 3> f : {std::array<int, 3>{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                         {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}})
+        out << "3 " << base + f[0] << " " << base + f[1] << " " << base + f[2] << "\n";
+  }
+  const CliRun bad = run("convert " + off.string() + " " + refused.string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("intersects itself"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(refused));
+  const CliRun good = run("convert " + off.string() + " " + remeshed.string() + " --remesh 0.05");
+  ASSERT_EQ(good.code, 0) << good.err;
+  const TetMesh mesh = io::read_tet_mesh(remeshed.string());
+  double volume = 0.0;
+  for (const auto& t : mesh.tets)
+    volume += std::abs(signed_volume(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]));
+  EXPECT_NEAR(volume, 2.0 - 0.125, 12.0 * 0.05 / 2.0);
+  EXPECT_EQ(run("convert " + off.string() + " " + remeshed.string() + " --remesh -1").code, 2);
+}
+
 TEST(Cli, TetgenCellsLandsNearTheTargetAndRejectsBadCounts) {
   ::setenv("XDG_CACHE_HOME", (work_dir() / "cache-cells").c_str(), 1);
   const fs::path off = work_dir() / "cube-cells.off";
