@@ -29,6 +29,48 @@ std::string number(double v) { return std::isinf(v) && v > 0 ? "inf" : app::json
 
 std::string mib(uint64_t bytes) { return fixed(double(bytes) / (1024.0 * 1024.0), 3); }
 
+// What the measurements say, in words: per dataset, quantity and size with more than one row,
+// the Pareto front from fastest to most accurate, and what each step along it costs and buys.
+void write_findings(std::ostream& out, const std::vector<BenchRow>& rows) {
+  std::vector<std::vector<const BenchRow*>> groups;
+  for (const auto& r : rows) {
+    auto g = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return comparable(*g.front(), r); });
+    if (g == groups.end()) groups.push_back({&r});
+    else g->push_back(&r);
+  }
+  bool any = false;
+  for (auto& g : groups) {
+    if (g.size() < 2) continue;
+    std::vector<const BenchRow*> front;
+    for (const auto* r : g)
+      if (r->pareto) front.push_back(r);
+    if (front.empty()) continue;
+    std::sort(front.begin(), front.end(), [](auto* a, auto* b) { return a->ms_median < b->ms_median; });
+    if (!any) out << "\n## What the measurements say\n\n";
+    any = true;
+    const auto name = [](const BenchRow* r) {
+      return r->mode + (r->settings == "default" ? std::string() : " (" + r->settings + ")");
+    };
+    out << "- **" << g.front()->dataset << ", " << g.front()->quantity << ", " << g.front()->width << "x" << g.front()->height
+        << "** (" << g.size() << " rows): ";
+    if (front.size() == 1) {
+      out << name(front[0]) << " is both the fastest and the most accurate (" << fixed(front[0]->ms_median, 3) << " ms, RMSE "
+          << fixed(front[0]->error.rmse, 3) << ").\n";
+      continue;
+    }
+    out << "the Pareto front runs from " << name(front.front()) << " (" << fixed(front.front()->ms_median, 3) << " ms, RMSE "
+        << fixed(front.front()->error.rmse, 3) << ")";
+    for (size_t i = 1; i < front.size(); ++i) {
+      const double time = front[i]->ms_median / front[i - 1]->ms_median;
+      const double error = front[i - 1]->error.rmse / front[i]->error.rmse;
+      out << (i + 1 == front.size() ? " and " : ", ") << name(front[i]) << " (" << fixed(front[i]->ms_median, 3) << " ms, RMSE "
+          << fixed(front[i]->error.rmse, 3) << ": " << fixed(time, 3) << "x the time for " << fixed(error, 3) << "x less error)";
+    }
+    const size_t dominated = g.size() - front.size();
+    out << "; " << dominated << (dominated == 1 ? " row is" : " rows are") << " dominated.\n";
+  }
+}
+
 }  // namespace
 
 void mark_pareto(std::vector<BenchRow>& rows) {
@@ -75,6 +117,7 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
     out << "\n## Plots\n\n";
     for (const auto& [title, file] : c.plots) out << "- [" << title << "](" << file << ")\n";
   }
+  write_findings(out, rows);
   std::vector<std::string> datasets;
   for (const auto& r : rows)
     if (std::find(datasets.begin(), datasets.end(), r.dataset) == datasets.end()) datasets.push_back(r.dataset);
