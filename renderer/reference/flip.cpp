@@ -111,7 +111,10 @@ Rgb hunt_lab(const Rgb& rgb) {
 // Colour pipeline, colour metric: HyAB (Abasi et al., cited by the paper), city-block in
 // lightness plus Euclidean in the chroma plane, which the paper prefers to Euclidean L*a*b* for
 // the large colour differences of rendered images.
-double hyab(const Rgb& p, const Rgb& q) { return std::abs(p[0] - q[0]) + std::hypot(p[1] - q[1], p[2] - q[2]); }
+double hyab(const Rgb& p, const Rgb& q) {
+  const double da = p[1] - q[1], db = p[2] - q[2];  // bounded (|a'|, |b'| < 200): no need for hypot
+  return std::abs(p[0] - q[0]) + std::sqrt(da * da + db * db);
+}
 
 // Colour metric: the HyAB distance is raised to qc = 0.7; cmax is the largest such value in the
 // RGB cube, between pure green and pure blue (Hunt-adjusted): HyAB 203.3, cmax 41.28.
@@ -333,8 +336,8 @@ Prepared prepare(const std::vector<Rgb>& rgb, const Image& im, const CsfFilter (
   out.edge.resize(n);
   out.point.resize(n);
   for (size_t p = 0; p < n; ++p) {
-    out.edge[p] = std::hypot(ex[p], ey[p]);
-    out.point[p] = std::hypot(px[p], py[p]);
+    out.edge[p] = std::sqrt(ex[p] * ex[p] + ey[p] * ey[p]);  // each in [-1, 1]
+    out.point[p] = std::sqrt(px[p] * px[p] + py[p] * py[p]);
   }
   return out;
 }
