@@ -216,6 +216,24 @@ TEST_F(BenchPlot, LogAxesPlaceDecadesEvenly) {
   EXPECT_NEAR((*mid)[0], 0.5 * (found[0].x + found[1].x), 1.5);
 }
 
+TEST_F(BenchPlot, LabelsAreDrawnBesideTheirPointsOnly) {
+  PlotSpec spec;
+  spec.title = "labels";
+  spec.series = {series("m", kMagenta, {{1, 1, "labelled point"}, {1, 9, ""}, {9, 1, ""}})};
+  const PlotLayout layout = write_plot_png(spec, dir / "labels.png");
+  const Image img = read_png(dir / "labels.png");
+  // Grey text ink in the box to the right of and just above a point.
+  auto ink_beside = [&](double x, double y) {
+    const auto p = layout.pixel_of(x, y);
+    size_t ink = 0;
+    for (int py = int((*p)[1]) - 18; py < int((*p)[1]) - 2; ++py)
+      for (int px = int((*p)[0]) + 7; px < int((*p)[0]) + 90; ++px) ink += near_colour(img.at(px, py), {64, 64, 64}, 60);
+    return ink;
+  };
+  EXPECT_GT(ink_beside(1, 1), 30u);
+  EXPECT_EQ(ink_beside(1, 9), 0u);
+}
+
 TEST_F(BenchPlot, DropsNonPositiveOnLogAxesAndNonFiniteWithANote) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
