@@ -94,7 +94,7 @@ const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-r
 
 // Parses the volume options, loads the data and builds the frame settings; InputError names
 // the option or file at fault.
-VolumeChoice volume_choice(const ParsedArgs& a) {
+VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
   VolumeChoice v;
   volume::Quantity& quantity = v.quantity;
   if (a.has("quantity")) quantity = quantity_of_name(a.values.at("quantity"));
@@ -120,7 +120,7 @@ VolumeChoice volume_choice(const ParsedArgs& a) {
   if (!color)
     for (const char* option : {"tf", "tf-range", "preintegration-size", "background"})
       if (a.has(option)) throw InputError(std::string("--") + option, "applies to --quantity color only");
-  v.mesh = load_scene(a, color);
+  v.mesh = load(a, color);
   const TetMesh& mesh = v.mesh;
   validate(mesh);
   if (field) {

@@ -1,6 +1,7 @@
 #pragma once
 // The options `render` and `view` share: which dataset, what to show and how. Turns them into
 // a loaded mesh and frame settings; InputError names the option or file at fault.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,7 +39,11 @@ struct VolumeChoice {
   frame::FrameSettings settings;
 };
 
+// What loads the dataset a command line names (load_scene by default; the bench passes one that
+// keeps each dataset it loaded, so its configurations do not read the same file again).
+using SceneLoader = std::function<TetMesh(const ParsedArgs& a, bool scalar_field)>;
+
 // Parses the volume options, loads the data and builds the frame settings.
-VolumeChoice volume_choice(const ParsedArgs& a);
+VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load = load_scene);
 
 }  // namespace prismoid::app

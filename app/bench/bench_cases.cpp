@@ -1,0 +1,72 @@
+#include "app/bench/bench_cases.hpp"
+
+#include <algorithm>
+
+namespace prismoid::bench {
+
+namespace {
+
+using Options = std::vector<std::pair<std::string, std::string>>;
+
+void add(std::vector<BenchCase>& out, const std::string& dataset, const char* sweep, const char* quantity, const char* mode,
+         Options options, ImageSize size) {
+  out.push_back({dataset, sweep, quantity, mode, std::move(options), size});
+}
+
+}  // namespace
+
+std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, const BenchPreset& p) {
+  std::vector<BenchCase> cases;
+  const ImageSize s = p.size;
+  for (const std::string& d : datasets) {
+    // The modes side by side: order-independent quantities need no order; colour in mesh
+    // order, GPU-sorted and exact per-pixel order.
+    add(cases, d, "modes", "optical-depth", "interval", {}, s);
+    add(cases, d, "modes", "transmittance", "interval", {}, s);
+    add(cases, d, "modes", "color", "interval", {}, s);
+    add(cases, d, "modes", "color", "interval-sorted", {}, s);
+    add(cases, d, "modes", "color", "interval-exact-order", {}, s);
+    // Tetlet size (cells per mesh-shader workgroup; 16 is the default measured above).
+    for (const char* t : p.quick ? std::vector<const char*>{"1"} : std::vector<const char*>{"1", "4", "8"})
+      add(cases, d, "tetlet-size", "optical-depth", "interval", {{"tetlet-size", t}}, s);
+    // Pre-integration table size (0, the default above, integrates each segment exactly).
+    for (const char* n : p.quick ? std::vector<const char*>{"16"} : std::vector<const char*>{"16", "64", "256"})
+      add(cases, d, "preintegration", "color", "interval-sorted", {{"preintegration-size", n}}, s);
+  }
+  // Image size, on the first dataset: half and twice the preset's size beside the size itself.
+  if (!p.quick && !datasets.empty())
+    for (const uint32_t f : {1u, 4u}) {
+      const ImageSize sized{std::max(1u, s.width * f / 2), std::max(1u, s.height * f / 2)};
+      add(cases, datasets.front(), "image-size", "optical-depth", "interval", {}, sized);
+      add(cases, datasets.front(), "image-size", "color", "interval-sorted", {}, sized);
+    }
+  // March step, on an analytic field: the marched field against the same field's reference,
+  // beside the piecewise-linear tetrahedra of the same field.
+  {
+    const std::string field = std::string(kSweepField) + (p.quick ? ":4" : ":16");
+    add(cases, field, "march-step", "optical-depth", "interval", {}, s);
+    add(cases, field, "march-step", "color", "interval-sorted", {}, s);
+    for (const char* divisions : p.quick ? std::vector<const char*>{"25", "100"} : std::vector<const char*>{"25", "50", "100", "200", "400"}) {
+      // --march-step is in world units; the field box is the unit cube scaled by the field
+      // (resolved when the case runs: "diagonal/N").
+      add(cases, field, "march-step", "optical-depth", "interval-march", {{"march-step", std::string("diagonal/") + divisions}}, s);
+      add(cases, field, "march-step", "color", "interval-march", {{"march-step", std::string("diagonal/") + divisions}}, s);
+    }
+  }
+  // Cell count: the same field split into N^3 cubes, from about a thousand cells upwards.
+  for (const uint32_t n : p.quick ? std::vector<uint32_t>{6, 12} : std::vector<uint32_t>{6, 12, 24, 48, 96, 128}) {
+    if (field_cells(n) > p.max_cells) break;
+    const std::string field = std::string(kSweepField) + ":" + std::to_string(n);
+    add(cases, field, "cells", "optical-depth", "interval", {}, s);
+    add(cases, field, "cells", "color", "interval-sorted", {}, s);
+  }
+  return cases;
+}
+
+std::string settings_label(const BenchCase& c) {
+  std::string s;
+  for (const auto& [k, v] : c.options) s += (s.empty() ? "" : " ") + k + "=" + v;
+  return s.empty() ? "default" : s;
+}
+
+}  // namespace prismoid::bench

@@ -1,0 +1,149 @@
+#include "app/bench/bench_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "app/cli_args.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::bench {
+
+namespace {
+
+bool comparable(const BenchRow& a, const BenchRow& b) {
+  return a.dataset == b.dataset && a.quantity == b.quantity && a.width == b.width && a.height == b.height;
+}
+
+std::string fixed(double v, int digits) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return "inf";
+  std::ostringstream s;
+  s << std::setprecision(digits) << v;
+  return s.str();
+}
+
+std::string number(double v) { return std::isinf(v) && v > 0 ? "inf" : app::json_number(v); }
+
+std::string mib(uint64_t bytes) { return fixed(double(bytes) / (1024.0 * 1024.0), 3); }
+
+// What the measurements say, in words: per dataset, quantity and size with more than one row,
+// the Pareto front from fastest to most accurate, and what each step along it costs and buys.
+void write_findings(std::ostream& out, const std::vector<BenchRow>& rows) {
+  std::vector<std::vector<const BenchRow*>> groups;
+  for (const auto& r : rows) {
+    auto g = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return comparable(*g.front(), r); });
+    if (g == groups.end()) groups.push_back({&r});
+    else g->push_back(&r);
+  }
+  bool any = false;
+  for (auto& g : groups) {
+    if (g.size() < 2) continue;
+    std::vector<const BenchRow*> front;
+    for (const auto* r : g)
+      if (r->pareto) front.push_back(r);
+    if (front.empty()) continue;
+    std::sort(front.begin(), front.end(), [](auto* a, auto* b) { return a->ms_median < b->ms_median; });
+    if (!any) out << "\n## What the measurements say\n\n";
+    any = true;
+    const auto name = [](const BenchRow* r) {
+      return r->mode + (r->settings == "default" ? std::string() : " (" + r->settings + ")");
+    };
+    out << "- **" << g.front()->dataset << ", " << g.front()->quantity << ", " << g.front()->width << "x" << g.front()->height
+        << "** (" << g.size() << " rows): ";
+    if (front.size() == 1) {
+      out << name(front[0]) << " is both the fastest and the most accurate (" << fixed(front[0]->ms_median, 3) << " ms, RMSE "
+          << fixed(front[0]->error.rmse, 3) << ").\n";
+      continue;
+    }
+    out << "the Pareto front runs from " << name(front.front()) << " (" << fixed(front.front()->ms_median, 3) << " ms, RMSE "
+        << fixed(front.front()->error.rmse, 3) << ")";
+    for (size_t i = 1; i < front.size(); ++i) {
+      const double time = front[i]->ms_median / front[i - 1]->ms_median;
+      const double error = front[i - 1]->error.rmse / front[i]->error.rmse;
+      out << (i + 1 == front.size() ? " and " : ", ") << name(front[i]) << " (" << fixed(front[i]->ms_median, 3) << " ms, RMSE "
+          << fixed(front[i]->error.rmse, 3) << ": " << fixed(time, 3) << "x the time for " << fixed(error, 3) << "x less error)";
+    }
+    const size_t dominated = g.size() - front.size();
+    out << "; " << dominated << (dominated == 1 ? " row is" : " rows are") << " dominated.\n";
+  }
+}
+
+}  // namespace
+
+void mark_pareto(std::vector<BenchRow>& rows) {
+  for (auto& r : rows) {
+    const bool finite = std::isfinite(r.error.rmse) && std::isfinite(r.ms_median) && r.error.non_finite == 0;
+    r.pareto = finite && std::none_of(rows.begin(), rows.end(), [&](const BenchRow& o) {
+      if (&o == &r || !comparable(o, r) || !std::isfinite(o.error.rmse) || o.error.non_finite) return false;
+      const bool no_worse = o.ms_median <= r.ms_median && o.error.rmse <= r.error.rmse;
+      const bool better = o.ms_median < r.ms_median || o.error.rmse < r.error.rmse;
+      return no_worse && better;
+    });
+  }
+}
+
+void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& rows) {
+  std::ofstream out(path);
+  out << "dataset,cells,sweep,quantity,mode,settings,ordering,timer,width,height,frames,ms_median,ms_min,ms_max,cpu_ms,"
+         "passes,mesh_bytes,rmse,max_abs,psnr_db,ssim,peak,non_finite,reference_ms,pareto\n";
+  for (const auto& r : rows)
+    out << '"' << r.dataset << "\"," << r.cells << ',' << r.sweep << ',' << r.quantity << ',' << r.mode << ",\"" << r.settings
+        << "\",\"" << r.ordering << "\"," << r.timer << ',' << r.width << ',' << r.height << ',' << r.frames << ','
+        << number(r.ms_median) << ',' << number(r.ms_min) << ',' << number(r.ms_max) << ',' << number(r.cpu_ms) << ",\""
+        << r.passes << "\"," << r.mesh_bytes << ',' << number(r.error.rmse) << ',' << number(r.error.max_abs) << ','
+        << number(r.error.psnr_db) << ',' << number(r.ssim) << ',' << number(r.peak) << ',' << r.error.non_finite << ','
+        << number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << '\n';
+  out.close();
+  if (!out) throw InputError(path.string(), "cannot write the CSV");
+}
+
+void write_report(const std::filesystem::path& path, const std::vector<BenchRow>& rows, const ReportContext& c) {
+  std::ofstream out(path);
+  out << "# prismoid bench\n\n- device: " << c.device << "\n- driver: " << c.driver << "\n";
+  if (!c.host.empty()) out << "- host: " << c.host << "\n";
+  out << "- command: `" << c.command << "`\n"
+      << "- error: against the CPU double-precision reference; optical depth and transmittance compare the quantity\n"
+      << "  (PSNR peak: the reference's largest optical depth, or 1), color the display RGB (peak 1); SSIM: mean\n"
+      << "  structural similarity (Wang et al. 2004, 11x11 Gaussian window) on the same channels and peak\n"
+      << "- time: `gpu` rows are GPU timestamps around the frame's passes (median over the timed frames, min-max\n"
+      << "  beside it); `wall` rows (VTK's mappers) are the CPU wall clock of a whole frame ending in glFinish\n"
+      << "- `*`: Pareto-optimal among the rows of its dataset, quantity and image size (no other row is both at\n"
+      << "  least as fast and at least as accurate)\n";
+  for (const auto& n : c.notes) out << "- " << n << "\n";
+  if (!c.plots.empty()) {
+    out << "\n## Plots\n\n";
+    for (const auto& [title, file] : c.plots) out << "- [" << title << "](" << file << ")\n";
+  }
+  write_findings(out, rows);
+  std::vector<std::string> datasets;
+  for (const auto& r : rows)
+    if (std::find(datasets.begin(), datasets.end(), r.dataset) == datasets.end()) datasets.push_back(r.dataset);
+  for (const auto& d : datasets) {
+    std::vector<const BenchRow*> sorted;
+    for (const auto& r : rows)
+      if (r.dataset == d) sorted.push_back(&r);
+    std::stable_sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) {
+      if (a->quantity != b->quantity) return a->quantity < b->quantity;
+      if (a->width * a->height != b->width * b->height) return a->width * a->height < b->width * b->height;
+      return a->ms_median < b->ms_median;
+    });
+    out << "\n## " << d << " (" << sorted.front()->cells << " cells, mesh " << mib(sorted.front()->mesh_bytes)
+        << " MiB on the GPU)\n\n"
+        << "| | quantity | size | mode | settings | sweep | ms (median) | min-max | timer | CPU ms | RMSE | max abs | PSNR dB | SSIM | reference ms |\n"
+        << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto* r : sorted)
+      out << "| " << (r->pareto ? "*" : "") << " | " << r->quantity << " | " << r->width << "x" << r->height << " | " << r->mode
+          << " | " << r->settings << " | " << r->sweep << " | " << fixed(r->ms_median, 4) << " | " << fixed(r->ms_min, 4) << "-"
+          << fixed(r->ms_max, 4) << " | " << r->timer << " | " << fixed(r->cpu_ms, 3) << " | " << fixed(r->error.rmse, 3) << " | "
+          << fixed(r->error.max_abs, 3) << " | " << fixed(r->error.psnr_db, 4) << " | " << fixed(r->ssim, 6) << " | "
+          << fixed(r->reference_ms, 4)
+          << (r->error.non_finite ? " (non-finite: " + std::to_string(r->error.non_finite) + ")" : "") << " |\n";
+  }
+  out.close();
+  if (!out) throw InputError(path.string(), "cannot write the report");
+}
+
+}  // namespace prismoid::bench

@@ -1,0 +1,47 @@
+#pragma once
+// The bench's measurements as rows, and the files made of them: bench.csv (every row) and
+// report.md (the machine, the command, a table per dataset, the plots). Plain data, no Vulkan.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "renderer/reference/image_error.hpp"
+
+namespace prismoid::bench {
+
+struct BenchRow {
+  std::string dataset;  // the mesh's name
+  uint64_t cells = 0;
+  std::string sweep, quantity, mode, settings;
+  std::string ordering;  // the ordering the renderer reports having used
+  std::string timer = "gpu";  // "gpu": timestamp queries around the passes; "wall": CPU wall clock
+                              // of a whole frame ending in a GPU finish (the VTK peers)
+  uint32_t width = 0, height = 0, frames = 0;
+  double ms_median = 0, ms_min = 0, ms_max = 0;  // per frame, over the timed frames
+  double cpu_ms = 0;        // CPU stages the frame needed (median), e.g. the exact order
+  std::string passes;       // name=median ms, in order
+  uint64_t mesh_bytes = 0;  // the mesh's GPU buffers
+  reference::ImageError error;
+  double ssim = 0;          // mean structural similarity to the reference
+  double peak = 1.0;        // the PSNR's peak
+  double reference_ms = 0;  // the CPU reference's time for this image
+  bool pareto = false;
+};
+
+// Marks the rows no other row of the same dataset, quantity and image size beats: at least as
+// fast and at least as accurate (RMSE), and better in one. Errors of different quantities or
+// sizes are not comparable, so they are never weighed against each other. Non-finite errors are
+// never optimal.
+void mark_pareto(std::vector<BenchRow>& rows);
+
+void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& rows);
+
+struct ReportContext {
+  std::string device, driver, command, host;
+  std::vector<std::string> notes;                           // lines said once, at the top
+  std::vector<std::pair<std::string, std::string>> plots;   // title, file name beside report.md
+};
+void write_report(const std::filesystem::path& path, const std::vector<BenchRow>& rows, const ReportContext& context);
+
+}  // namespace prismoid::bench
