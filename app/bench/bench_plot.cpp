@@ -371,8 +371,14 @@ std::vector<std::string> in_order(const std::vector<BenchPoint>& points, Key key
   return out;
 }
 
+// "WxH", or "" when the point has no image size.
+std::string size_name(const BenchPoint& p) {
+  return p.width && p.height ? std::to_string(p.width) + "x" + std::to_string(p.height) : "";
+}
+
 std::string config_name(const BenchPoint& p) {
-  return p.quantity + " " + p.mode + (p.label.empty() ? "" : " (" + p.label + ")");
+  const std::string size = size_name(p);
+  return p.quantity + " " + p.mode + (p.label.empty() ? "" : " (" + p.label + ")") + (size.empty() ? "" : " " + size);
 }
 
 }  // namespace
@@ -392,25 +398,32 @@ std::vector<std::pair<std::string, PlotSpec>> bench_plots(const std::vector<Benc
     for (const BenchPoint& p : points)
       if (p.dataset == dataset) of_dataset.push_back(p);
     for (const std::string& quantity : in_order(of_dataset, [](const BenchPoint& p) { return p.quantity; })) {
-      std::vector<BenchPoint> rows;
+      std::vector<BenchPoint> of_quantity;
       for (const BenchPoint& p : of_dataset)
-        if (p.quantity == quantity) rows.push_back(p);
-      PlotSpec spec;
-      spec.title = dataset + ": " + quantity + ", error against GPU time";
-      spec.x_label = "GPU time per frame (ms)";
-      spec.y_label = "RMSE against the CPU reference";
-      spec.log_x = spec.log_y = true;
-      for (const std::string& mode : in_order(rows, [](const BenchPoint& p) { return p.mode; })) {
-        PlotSeries s;
-        s.name = mode;
-        for (const BenchPoint& p : rows)
-          if (p.mode == mode) s.points.push_back({p.gpu_ms, p.error, p.label});
-        spec.series.push_back(std::move(s));
+        if (p.quantity == quantity) of_quantity.push_back(p);
+      for (const std::string& size : in_order(of_quantity, size_name)) {
+        std::vector<BenchPoint> rows;
+        for (const BenchPoint& p : of_quantity)
+          if (size_name(p) == size) rows.push_back(p);
+        PlotSpec spec;
+        spec.title = dataset + ": " + quantity + (size.empty() ? "" : " at " + size) + ", error against GPU time";
+        spec.x_label = "GPU time per frame (ms)";
+        spec.y_label = "RMSE against the CPU reference";
+        spec.log_x = spec.log_y = true;
+        for (const std::string& mode : in_order(rows, [](const BenchPoint& p) { return p.mode; })) {
+          PlotSeries s;
+          s.name = mode;
+          for (const BenchPoint& p : rows)
+            if (p.mode == mode) s.points.push_back({p.gpu_ms, p.error, p.label});
+          spec.series.push_back(std::move(s));
+        }
+        std::vector<TimeError> te;
+        for (const BenchPoint& p : rows) te.push_back({p.gpu_ms, p.error});
+        for (const TimeError& f : pareto_front(te)) spec.pareto_front.push_back({f.time, f.error, ""});
+        plots.emplace_back(unique_name("error_vs_time_" + file_safe(dataset) + "_" + file_safe(quantity) +
+                                       (size.empty() ? "" : "_" + size)),
+                           std::move(spec));
       }
-      std::vector<TimeError> te;
-      for (const BenchPoint& p : rows) te.push_back({p.gpu_ms, p.error});
-      for (const TimeError& f : pareto_front(te)) spec.pareto_front.push_back({f.time, f.error, ""});
-      plots.emplace_back(unique_name("error_vs_time_" + file_safe(dataset) + "_" + file_safe(quantity)), std::move(spec));
     }
   }
 

@@ -82,15 +82,18 @@ struct BenchPoint {
   size_t cells = 0;
   double gpu_ms = 0;  // GPU time per frame
   double error = 0;   // against the CPU reference (the bench's RMSE)
+  uint32_t width = 0, height = 0;  // the image's size (0: not given); errors of different sizes
+                                   // are not compared
 };
 
 // The plots of a bench run, each with its file name (no folder):
-// - per dataset and quantity, error against GPU time, log-log, a series per mode with the points
-//   labelled by their settings, and the Pareto front (within that dataset and quantity) marked:
-//   error_vs_time_<dataset>_<quantity>.png;
+// - per dataset, quantity and image size, error against GPU time, log-log, a series per mode with
+//   the points labelled by their settings, and the Pareto front (within that dataset, quantity
+//   and size) marked: error_vs_time_<dataset>_<quantity>[_<W>x<H>].png;
 // - one plot of GPU time against the dataset's cell count, log-log, a line per configuration
-//   (quantity, mode, settings) through the datasets in cell order: time_vs_cells.png.
-// Datasets and quantities keep the order they first appear in; names are made file-safe and unique.
+//   (quantity, mode, settings, size) through the datasets in cell order: time_vs_cells.png.
+// Datasets, quantities and sizes keep the order they first appear in; names are made file-safe
+// and unique.
 std::vector<std::pair<std::string, PlotSpec>> bench_plots(const std::vector<BenchPoint>& points);
 
 }  // namespace prismoid::bench

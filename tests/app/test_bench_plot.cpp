@@ -436,6 +436,24 @@ TEST(BenchPlots, FileNamesStayUniqueWhenDatasetsLookAlike) {
   EXPECT_EQ(plots[1].first, "error_vs_time_a-b_color-2.png");
 }
 
+TEST(BenchPlots, ImageSizesArePlottedApart) {
+  // The same configuration at two sizes: its errors are not comparable, so two plots, each with
+  // its own front, and two lines on the scaling plot.
+  const std::vector<BenchPoint> rows = {{"d", "color", "interval", "", 10, 1.0, 0.1, 400, 300},
+                                        {"d", "color", "interval-sorted", "", 10, 2.0, 0.05, 400, 300},
+                                        {"d", "color", "interval", "", 10, 3.0, 0.2, 800, 600}};
+  const auto plots = bench_plots(rows);
+  ASSERT_EQ(plots.size(), 3u);
+  EXPECT_EQ(plots[0].first, "error_vs_time_d_color_400x300.png");
+  EXPECT_EQ(plots[1].first, "error_vs_time_d_color_800x600.png");
+  EXPECT_NE(plots[1].second.title.find("at 800x600"), std::string::npos) << plots[1].second.title;
+  EXPECT_EQ(plots[0].second.pareto_front.size(), 2u);
+  ASSERT_EQ(plots[1].second.pareto_front.size(), 1u);
+  EXPECT_EQ(plots[1].second.pareto_front[0].y, 0.2);  // would be dominated by (1, 0.1) if mixed
+  ASSERT_EQ(plots[2].second.series.size(), 3u);
+  EXPECT_EQ(plots[2].second.series[2].name, "color interval 800x600");
+}
+
 TEST_F(BenchPlot, BenchPlotsRenderWithLabelsAndFront) {
   const std::vector<BenchPoint> rows = {
       {"ball:2", "color", "interval", "", 1000, 2.0, 0.05},
