@@ -347,6 +347,9 @@ PeerFrame render_peer(Peer peer, const TetMesh& mesh, const Camera& camera, cons
     errors.throw_if_any(name);
   };
 
+  window->Start();  // the X window and GL context, checked before anything draws with them
+  errors.throw_if_any(name);
+
   PeerFrame out;
   out.width = width;
   out.height = height;
