@@ -14,6 +14,13 @@
 // furnace (albedo A, emission Le) the expectation is Le (1 - A^(D+1)) / (1 - A) with
 // D = max_bounces, below the true Le / (1 - A) by Le A^(D+1) / (1 - A).
 //
+// Per-pixel error bars: `variance` is the sample variance of one sample, so a pixel's mean has
+// standard error sqrt(variance / N). It is trustworthy when a pixel's rare outcomes occur many
+// times among its N samples. Russian roulette (survival q = the throughput's largest channel)
+// makes such outcomes: survivors carry weight 1/q, and a pixel that drew none has a low mean
+// AND a low variance. Comparisons pixel by pixel at small N should set roulette_after >=
+// max_bounces (no roulette: exactly the same expectation, more time) or use N q >> 1.
+//
 // Determinism: every (pixel, sample) draws from its own counter-based random stream keyed by
 // (seed, pixel, sample), so the image does not depend on the thread count.
 //
