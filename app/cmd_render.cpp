@@ -37,6 +37,11 @@ const char* const kRenderHelp =
     "                       interval-march-exact-order  ... cells in topological visibility order\n"
     "                       reference              CPU, double precision, exact per-pixel order (with a\n"
     "                                              field: dataset, of the analytic field itself)\n"
+    "                       path-reference         CPU path tracer of a surface scene: FILE is cornell-box,\n"
+    "                                              furnace:A[:LE] or a surface file (default headlight and\n"
+    "                                              sky when it has no lights); linear RGB; --spp N (default\n"
+    "                                              64), --max-bounces N, --seed N, --variance OUT.pfm (per-\n"
+    "                                              pixel sample variance); --size default 256x256\n"
     "                       (default: interval; interval-sorted for --quantity color)\n"
     "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
     "                       color: emission-absorption of a scalar field through a transfer function\n"
@@ -129,6 +134,7 @@ std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::v
 }  // namespace
 
 int cmd_render(const std::vector<std::string>& args) {
+  if (wants_path_reference(args)) return cmd_render_path_reference(args);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});

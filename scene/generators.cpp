@@ -48,7 +48,7 @@ TetMesh make_box_mesh(const glm::dvec3& lo, const glm::dvec3& hi, uint32_t n,
   return mesh;
 }
 
-TetMesh make_ball_mesh(const glm::dvec3& center, double radius, uint32_t subdivisions, double sigma) {
+SurfaceMesh make_icosphere(const glm::dvec3& center, double radius, uint32_t subdivisions) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   std::vector<glm::dvec3> points = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
                                     {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
@@ -75,9 +75,19 @@ TetMesh make_ball_mesh(const glm::dvec3& center, double radius, uint32_t subdivi
     }
     faces = std::move(finer);
   }
+  SurfaceMesh sphere;
+  sphere.name = "icosphere (" + std::to_string(faces.size()) + " triangles)";
+  for (const auto& p : points) sphere.points.push_back(center + radius * p);
+  sphere.triangles = std::move(faces);
+  return sphere;
+}
+
+TetMesh make_ball_mesh(const glm::dvec3& center, double radius, uint32_t subdivisions, double sigma) {
+  const SurfaceMesh sphere = make_icosphere(center, radius, subdivisions);
+  const auto& faces = sphere.triangles;
   TetMesh mesh;
   mesh.name = "ball (" + std::to_string(faces.size()) + " tetrahedra)";
-  for (const auto& p : points) mesh.points.push_back(center + radius * p);
+  mesh.points = sphere.points;
   const auto centre_index = static_cast<uint32_t>(mesh.points.size());
   mesh.points.push_back(center);
   for (const auto& f : faces) {

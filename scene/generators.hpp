@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "scene/surface_mesh.hpp"
 #include "scene/tet_mesh.hpp"
 
 namespace prismoid {
@@ -12,6 +13,11 @@ namespace prismoid {
 // point scalars = sigma at the points.
 TetMesh make_box_mesh(const glm::dvec3& lo, const glm::dvec3& hi, uint32_t n,
                       const std::function<double(const glm::dvec3&)>& sigma);
+
+// The sphere of radius r about `center` as an icosphere: an icosahedron whose faces are split
+// `subdivisions` times into 4, new vertices pushed onto the sphere (20 * 4^subdivisions
+// triangles, closed; winding not guaranteed consistent in orientation).
+SurfaceMesh make_icosphere(const glm::dvec3& center, double radius, uint32_t subdivisions);
 
 // A ball of radius r about `center`: the convex polyhedron of an icosphere (an icosahedron
 // whose faces are split `subdivisions` times into 4, vertices pushed onto the sphere), filled

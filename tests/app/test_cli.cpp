@@ -822,3 +822,58 @@ TEST(Cli, ViewExitsCleanlyOnSigterm) {
 
 }  // namespace
 }  // namespace prismoid
+
+namespace prismoid {
+namespace {
+
+TEST(Cli, PathReferenceRendersTheFurnaceAtItsClosedForm) {
+  // furnace:0.5 has radiance Le / (1 - A) = 2 everywhere; the image average of 16x16 pixels x
+  // 64 samples is within 4 standard errors (from the --variance image) of it, plus the depth
+  // cap's bias Le A^31 / (1 - A) ~ 1e-9.
+  const fs::path pfm = work_dir() / "furnace.pfm", var = work_dir() / "furnace-var.pfm", stats = work_dir() / "furnace.json";
+  const CliRun r = run("render furnace:0.5 --mode path-reference --size 16x16 --spp 64 --max-bounces 30 --output " + pfm.string() +
+                       " --variance " + var.string() + " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("0 non-finite samples"), std::string::npos) << r.out;
+  const io::FloatImage img = io::read_pfm(pfm.string()), v = io::read_pfm(var.string());
+  ASSERT_EQ(img.channels, 3u);
+  ASSERT_EQ(img.width, 16u);
+  ASSERT_EQ(v.pixels.size(), img.pixels.size());
+  double sum = 0.0, var_sum = 0.0;
+  for (size_t i = 0; i < img.pixels.size(); i += 3) {
+    sum += double(img.pixels[i]);
+    var_sum += double(v.pixels[i]) / 64.0;
+  }
+  const double n = double(img.pixels.size() / 3);
+  EXPECT_NEAR(sum / n, 2.0, 4.0 * std::sqrt(var_sum) / n + 1e-6);
+  EXPECT_GT(var_sum, 0.0);
+  const std::string js = slurp(stats);
+  EXPECT_NE(js.find("\"samples_per_pixel\": 64"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"non_finite\": 0"), std::string::npos) << js;
+}
+
+TEST(Cli, PathReferenceLightsASurfaceFileThatHasNoLights) {
+  const fs::path off = work_dir() / "lit-cube.off", pfm = work_dir() / "lit-cube.pfm";
+  {
+    std::ofstream out(off);
+    out << "OFF\n8 12 0\n";
+    for (int i = 0; i < 8; ++i) out << (i & 1) << " " << ((i >> 1) & 1) << " " << ((i >> 2) & 1) << "\n";
+    for (const char* f : {"0 1 3", "0 3 2", "4 6 7", "4 7 5", "0 4 5", "0 5 1", "2 3 7", "2 7 6", "0 2 6", "0 6 4", "1 5 7", "1 7 3"})
+      out << "3 " << f << "\n";
+  }
+  const CliRun r = run("render " + off.string() + " --mode path-reference --size 12x12 --spp 8 --eye 2,1.5,3 --output " + pfm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("default headlight and sky"), std::string::npos) << r.out;
+  const io::FloatImage img = io::read_pfm(pfm.string());
+  for (float value : img.pixels) EXPECT_GT(value, 0.0f);  // never black: the cube and the sky behind it
+
+  const CliRun bad = run("render furnace:1.5 --mode path-reference --output " + pfm.string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("furnace:1.5: the furnace's albedo must lie in [0, 1)"), std::string::npos) << bad.err;
+  const CliRun volume = run("render field:blobs --mode path-reference --output " + pfm.string());
+  EXPECT_EQ(volume.code, 2);
+  EXPECT_NE(volume.err.find("renders surfaces"), std::string::npos) << volume.err;
+}
+
+}  // namespace
+}  // namespace prismoid
