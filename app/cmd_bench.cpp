@@ -15,13 +15,17 @@
 #include <unistd.h>
 
 #include "app/bench/bench_cases.hpp"
+#include "app/bench/bench_plot.hpp"
 #include "app/bench/bench_table.hpp"
+#include "app/bench/vtk_peers.hpp"
+#include "app/bench/x_display.hpp"
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
 #include "app/reference_frame.hpp"
 #include "app/volume_options.hpp"
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/reference/flip.hpp"
 #include "renderer/reference/image_error.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
@@ -48,6 +52,13 @@ const char* const kBenchHelp =
     "                       march-step, cells (default: all)\n"
     "  --max-cells N        the cell-count sweep's largest mesh (default 2000000; the sweep splits\n"
     "                       field:marschner-lobb into N^3 cubes, 6 cells each, N = 6, 12, 24, 48, 96, 128)\n"
+    "  --no-peers           leave out VTK's mappers (vtkProjectedTetrahedraMapper,\n"
+    "                       vtkUnstructuredGridVolumeRayCastMapper, vtkUnstructuredGridVolumeZSweepMapper), which\n"
+    "                       otherwise render each FILE once, timed by wall clock, on the same camera and transfer\n"
+    "                       function (colour where the data has scalars, else transmittance)\n"
+    "  --no-plots           leave out the PNG plots (error against time per dataset, quantity and size,\n"
+    "                       Pareto front marked; time against cell count), drawn with VTK's charts\n"
+    "                       VTK draws through X: without DISPLAY the bench starts a private Xvfb\n"
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "  --density-scale S --tf PRESET|FILE --tf-range LO,HI --array NAME --component C --background R,G,B\n"
@@ -132,10 +143,52 @@ std::vector<std::string> split_list(const std::string& s) {
   return out;
 }
 
+// A peer's transmittance recovered from its display, which mixes the medium colour and the
+// background by T: display = medium (1 - T) + background T, inverted on the channel where the
+// two differ most (the 8-bit framebuffer's steps grow by 1 / |background - medium| there).
+std::vector<float> transmittance_of_display(const std::vector<float>& display, const volume::ResolveSettings& resolve) {
+  int c = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(resolve.background[k] - resolve.medium[k]) > std::abs(resolve.background[c] - resolve.medium[c])) c = k;
+  const double m = resolve.medium[c], b = resolve.background[c];
+  std::vector<float> t(display.size() / 4);
+  for (size_t i = 0; i < t.size(); ++i) t[i] = float((double(display[4 * i + size_t(c)]) - m) / (b - m));
+  return t;
+}
+
 std::string host_name() {
   char name[256] = {};
   if (gethostname(name, sizeof(name) - 1) != 0) return {};
   return name;
+}
+
+// The plots beside report.md: error against time per dataset, quantity and size (every row), and
+// time against cell count (the modes and cell-count sweeps, at the preset's size).
+void write_plots(const std::filesystem::path& dir, const std::vector<bench::BenchRow>& rows, bench::ReportContext& context) {
+  std::vector<bench::BenchPoint> all, scaling;
+  for (const auto& r : rows) {
+    bench::BenchPoint p{r.dataset, r.quantity, r.mode, r.settings == "default" ? "" : r.settings, r.cells, r.ms_median, r.error.rmse,
+                        r.width, r.height};
+    all.push_back(p);
+    if ((r.sweep == "modes" || r.sweep == "cells") && r.settings == "default") scaling.push_back(p);
+  }
+  std::vector<std::pair<std::string, bench::PlotSpec>> plots;
+  for (auto& plot : bench::bench_plots(all)) {
+    size_t points = 0;  // a group of one row (a mesh of the cell sweep) has nothing to trade off
+    for (const auto& series : plot.second.series) points += series.points.size();
+    if (plot.first != "time_vs_cells.png" && points > 1) plots.push_back(std::move(plot));
+  }
+  for (auto& plot : bench::bench_plots(scaling))
+    if (plot.first == "time_vs_cells.png") plots.push_back(std::move(plot));
+  for (const auto& [file, spec] : plots) {
+    try {
+      bench::write_plot_png(spec, dir / file);
+      context.plots.emplace_back(spec.title, file);
+    } catch (const std::exception& e) {
+      std::cerr << "prismoid: bench: plot " << file << ": " << e.what() << "\n";
+      context.notes.push_back("plot " + file + " failed: " + e.what());
+    }
+  }
 }
 
 }  // namespace
@@ -144,7 +197,7 @@ int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
   std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
-  const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help"});
+  const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
   if (!a.has("out")) throw InputError("bench", "--out DIR is required");
   bench::BenchPreset preset;
@@ -172,6 +225,19 @@ int cmd_bench(const std::vector<std::string>& args) {
   const auto devices = vk::query_devices(instance.get());
   const auto& caps = vk::select_device(devices, parse_device(a));
   vk::Device device(instance, caps, {});
+
+  // VTK draws the peers and the plots through X; one display for the whole run.
+  const bool want_peers = !a.flags.count("no-peers"), want_plots = !a.flags.count("no-plots");
+  std::optional<bench::XDisplay> x;
+  std::string x_problem;
+  if (want_peers || want_plots) try {
+      x.emplace();
+    } catch (const std::exception& e) {
+      x_problem = e.what();
+      std::cerr << "prismoid: bench: no X display for VTK's mappers and charts: " << x_problem << "\n";
+    }
+  bench::ReportContext context;
+  if (!x_problem.empty()) context.notes.push_back("VTK's mappers and the plots were left out: no X display (" + x_problem + ")");
 
   MeshCache meshes;
   // By dataset, quantity and size: the reference image and its CPU time.
@@ -258,18 +324,64 @@ int cmd_bench(const std::vector<std::string>& args) {
     m.ssim = ssim_of(result, ref->second.first, choice.quantity);
     m.reference_ms = ref->second.second;
     m.peak = peak_of(ref->second.first, choice.quantity);
+    if (choice.quantity == volume::Quantity::Color)
+      m.flip = reference::flip(result.display, ref->second.first.display, extent.width, extent.height, 4).mean;
     std::cout << m.dataset << " " << m.sweep << " " << m.quantity << " " << m.mode << " " << m.settings << " " << m.width << "x"
               << m.height << ": " << json_number(m.ms_median) << " ms GPU, RMSE " << json_number(m.error.rmse) << std::endl;
+
+    // VTK's mappers on the same mesh, camera and transfer function: once per dataset the user
+    // named, beside the exact-order colour, or beside transmittance where the data has no colour.
+    const bool scalars = !choice.mesh.point_scalars.empty() || !choice.mesh.cell_scalars.empty();
+    const bool peer_case = c.sweep == "modes" && user_file &&
+                           ((c.quantity == "color" && c.mode == "interval-exact-order") || (c.quantity == "transmittance" && !scalars));
+    if (peer_case && want_peers && x)
+      for (const bench::Peer peer : bench::kPeers) {
+        bench::BenchRow p = m;
+        p.mode = std::string(bench::peer_name(peer));
+        p.settings = "default";
+        p.ordering = "VTK's own";
+        p.timer = "wall";
+        p.cpu_ms = 0;
+        p.passes.clear();
+        p.mesh_bytes = 0;
+        p.flip = std::numeric_limits<double>::quiet_NaN();
+        try {
+          const bench::PeerFrame f = bench::render_peer(peer, choice.mesh, camera, resolve, extent.width, extent.height, frames);
+          p.ms_median = median(f.frame_ms);
+          p.ms_min = *std::min_element(f.frame_ms.begin(), f.frame_ms.end());
+          p.ms_max = *std::max_element(f.frame_ms.begin(), f.frame_ms.end());
+          const frame::OffscreenFrame& r = ref->second.first;
+          if (choice.quantity == volume::Quantity::Color) {
+            p.error = reference::image_error(f.display, r.display, 1.0, 4, 3);
+            p.ssim = reference::ssim(f.display, r.display, r.width, r.height, 1.0, 4, 3);
+            p.flip = reference::flip(f.display, r.display, r.width, r.height, 4).mean;
+          } else {
+            const std::vector<float> t = transmittance_of_display(f.display, resolve);
+            p.error = reference::image_error(t, r.quantity, 1.0, 1, 1);
+            p.ssim = reference::ssim(t, r.quantity, r.width, r.height, 1.0, 1, 1);
+          }
+          if (context.notes.end() == std::find_if(context.notes.begin(), context.notes.end(), [](const std::string& n) { return n.rfind("VTK", 0) == 0; }))
+            context.notes.push_back("VTK's mappers drew with OpenGL on " + f.gl_renderer +
+                                    "; their transmittance is read back from the 8-bit display (medium colour over the background)");
+        } catch (const std::exception& e) {
+          std::cerr << "prismoid: bench: " << p.mode << " on " << p.dataset << ": " << e.what() << "\n";
+          context.notes.push_back(p.mode + " on " + p.dataset + " failed: " + e.what());
+          continue;
+        }
+        std::cout << p.dataset << " " << p.quantity << " " << p.mode << ": " << json_number(p.ms_median) << " ms wall, RMSE "
+                  << json_number(p.error.rmse) << std::endl;
+        rows.push_back(std::move(p));
+      }
     rows.push_back(std::move(m));
   }
   bench::mark_pareto(rows);
 
-  bench::ReportContext context;
   context.device = caps.name;
   context.driver = caps.driver_info;
   context.host = host_name();
   context.command = "prismoid";
   for (const auto& s : args) context.command += " " + s;
+  if (want_plots && x) write_plots(out_dir, rows, context);
   bench::write_csv(out_dir / "bench.csv", rows);
   bench::write_report(out_dir / "report.md", rows, context);
   std::cout << "wrote " << (out_dir / "bench.csv").string() << " and " << (out_dir / "report.md").string() << "\n";

@@ -406,8 +406,8 @@ std::vector<std::pair<std::string, PlotSpec>> bench_plots(const std::vector<Benc
         for (const BenchPoint& p : of_quantity)
           if (size_name(p) == size) rows.push_back(p);
         PlotSpec spec;
-        spec.title = dataset + ": " + quantity + (size.empty() ? "" : " at " + size) + ", error against GPU time";
-        spec.x_label = "GPU time per frame (ms)";
+        spec.title = dataset + ": " + quantity + (size.empty() ? "" : " at " + size) + ", error against time";
+        spec.x_label = "time per frame (ms): GPU timestamps; VTK mappers: wall clock";
         spec.y_label = "RMSE against the CPU reference";
         spec.log_x = spec.log_y = true;
         for (const std::string& mode : in_order(rows, [](const BenchPoint& p) { return p.mode; })) {
@@ -429,9 +429,9 @@ std::vector<std::pair<std::string, PlotSpec>> bench_plots(const std::vector<Benc
 
   if (!points.empty()) {
     PlotSpec spec;
-    spec.title = "GPU time against cell count";
+    spec.title = "time per frame against cell count";
     spec.x_label = "cells";
-    spec.y_label = "GPU time per frame (ms)";
+    spec.y_label = "time per frame (ms): GPU timestamps; VTK mappers: wall clock";
     spec.log_x = spec.log_y = true;
     for (const std::string& config : in_order(points, config_name)) {
       PlotSeries s;

@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "app/bench/pareto.hpp"
 #include "app/cli_args.hpp"
 #include "scene/input_error.hpp"
 
@@ -34,9 +35,9 @@ std::string mib(uint64_t bytes) { return fixed(double(bytes) / (1024.0 * 1024.0)
 void write_findings(std::ostream& out, const std::vector<BenchRow>& rows) {
   std::vector<std::vector<const BenchRow*>> groups;
   for (const auto& r : rows) {
-    auto g = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return comparable(*g.front(), r); });
-    if (g == groups.end()) groups.push_back({&r});
-    else g->push_back(&r);
+    auto group = std::find_if(groups.begin(), groups.end(), [&](const auto& members) { return comparable(*members.front(), r); });
+    if (group == groups.end()) groups.push_back({&r});
+    else group->push_back(&r);
   }
   bool any = false;
   for (auto& g : groups) {
@@ -74,27 +75,35 @@ void write_findings(std::ostream& out, const std::vector<BenchRow>& rows) {
 }  // namespace
 
 void mark_pareto(std::vector<BenchRow>& rows) {
-  for (auto& r : rows) {
-    const bool finite = std::isfinite(r.error.rmse) && std::isfinite(r.ms_median) && r.error.non_finite == 0;
-    r.pareto = finite && std::none_of(rows.begin(), rows.end(), [&](const BenchRow& o) {
-      if (&o == &r || !comparable(o, r) || !std::isfinite(o.error.rmse) || o.error.non_finite) return false;
-      const bool no_worse = o.ms_median <= r.ms_median && o.error.rmse <= r.error.rmse;
-      const bool better = o.ms_median < r.ms_median || o.error.rmse < r.error.rmse;
-      return no_worse && better;
-    });
+  std::vector<bool> done(rows.size(), false);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (done[i]) continue;
+    std::vector<size_t> group;  // the rows comparable with row i
+    std::vector<TimeError> points;
+    for (size_t j = i; j < rows.size(); ++j)
+      if (!done[j] && comparable(rows[i], rows[j])) {
+        done[j] = true;
+        group.push_back(j);
+        // A row with a non-finite pixel has an error of no meaning: never optimal, never dominating.
+        const double error = rows[j].error.non_finite ? std::numeric_limits<double>::quiet_NaN() : rows[j].error.rmse;
+        points.push_back({rows[j].ms_median, error});
+      }
+    const std::vector<bool> optimal = pareto_optimal(points);
+    for (size_t k = 0; k < group.size(); ++k) rows[group[k]].pareto = optimal[k];
   }
 }
 
 void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& rows) {
   std::ofstream out(path);
   out << "dataset,cells,sweep,quantity,mode,settings,ordering,timer,width,height,frames,ms_median,ms_min,ms_max,cpu_ms,"
-         "passes,mesh_bytes,rmse,max_abs,psnr_db,ssim,peak,non_finite,reference_ms,pareto\n";
+         "passes,mesh_bytes,rmse,max_abs,psnr_db,ssim,flip_mean,peak,non_finite,reference_ms,pareto\n";
   for (const auto& r : rows)
     out << '"' << r.dataset << "\"," << r.cells << ',' << r.sweep << ',' << r.quantity << ',' << r.mode << ",\"" << r.settings
         << "\",\"" << r.ordering << "\"," << r.timer << ',' << r.width << ',' << r.height << ',' << r.frames << ','
         << number(r.ms_median) << ',' << number(r.ms_min) << ',' << number(r.ms_max) << ',' << number(r.cpu_ms) << ",\""
         << r.passes << "\"," << r.mesh_bytes << ',' << number(r.error.rmse) << ',' << number(r.error.max_abs) << ','
-        << number(r.error.psnr_db) << ',' << number(r.ssim) << ',' << number(r.peak) << ',' << r.error.non_finite << ','
+        << number(r.error.psnr_db) << ',' << number(r.ssim) << ',' << (std::isnan(r.flip) ? "" : number(r.flip)) << ','
+        << number(r.peak) << ',' << r.error.non_finite << ','
         << number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << '\n';
   out.close();
   if (!out) throw InputError(path.string(), "cannot write the CSV");
@@ -107,7 +116,8 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
   out << "- command: `" << c.command << "`\n"
       << "- error: against the CPU double-precision reference; optical depth and transmittance compare the quantity\n"
       << "  (PSNR peak: the reference's largest optical depth, or 1), color the display RGB (peak 1); SSIM: mean\n"
-      << "  structural similarity (Wang et al. 2004, 11x11 Gaussian window) on the same channels and peak\n"
+      << "  structural similarity (Wang et al. 2004, 11x11 Gaussian window) on the same channels and peak; FLIP\n"
+      << "  (colour only): mean LDR-FLIP (Andersson et al. 2020) at 67 pixels per degree, 0 = identical, 1 = most different\n"
       << "- time: `gpu` rows are GPU timestamps around the frame's passes (median over the timed frames, min-max\n"
       << "  beside it); `wall` rows (VTK's mappers) are the CPU wall clock of a whole frame ending in glFinish\n"
       << "- `*`: Pareto-optimal among the rows of its dataset, quantity and image size (no other row is both at\n"
@@ -132,14 +142,14 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
     });
     out << "\n## " << d << " (" << sorted.front()->cells << " cells, mesh " << mib(sorted.front()->mesh_bytes)
         << " MiB on the GPU)\n\n"
-        << "| | quantity | size | mode | settings | sweep | ms (median) | min-max | timer | CPU ms | RMSE | max abs | PSNR dB | SSIM | reference ms |\n"
-        << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        << "| | quantity | size | mode | settings | sweep | ms (median) | min-max | timer | CPU ms | RMSE | max abs | PSNR dB | SSIM | FLIP | reference ms |\n"
+        << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto* r : sorted)
       out << "| " << (r->pareto ? "*" : "") << " | " << r->quantity << " | " << r->width << "x" << r->height << " | " << r->mode
           << " | " << r->settings << " | " << r->sweep << " | " << fixed(r->ms_median, 4) << " | " << fixed(r->ms_min, 4) << "-"
           << fixed(r->ms_max, 4) << " | " << r->timer << " | " << fixed(r->cpu_ms, 3) << " | " << fixed(r->error.rmse, 3) << " | "
           << fixed(r->error.max_abs, 3) << " | " << fixed(r->error.psnr_db, 4) << " | " << fixed(r->ssim, 6) << " | "
-          << fixed(r->reference_ms, 4)
+          << (std::isnan(r->flip) ? std::string("-") : fixed(r->flip, 4)) << " | " << fixed(r->reference_ms, 4)
           << (r->error.non_finite ? " (non-finite: " + std::to_string(r->error.non_finite) + ")" : "") << " |\n";
   }
   out.close();

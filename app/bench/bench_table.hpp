@@ -3,6 +3,7 @@
 // report.md (the machine, the command, a table per dataset, the plots). Plain data, no Vulkan.
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@ struct BenchRow {
   uint64_t mesh_bytes = 0;  // the mesh's GPU buffers
   reference::ImageError error;
   double ssim = 0;          // mean structural similarity to the reference
+  double flip = std::numeric_limits<double>::quiet_NaN();  // colour only: mean LDR-FLIP (NaN: none)
   double peak = 1.0;        // the PSNR's peak
   double reference_ms = 0;  // the CPU reference's time for this image
   bool pareto = false;

@@ -419,14 +419,18 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   };
   const size_t dataset = column("dataset"), quantity = column("quantity"), mode = column("mode"),
                settings = column("settings"), rmse = column("rmse"), max_abs = column("max_abs"), peak = column("peak"),
-               non_finite = column("non_finite"), ssim = column("ssim"), sweep = column("sweep"), cells = column("cells");
+               non_finite = column("non_finite"), ssim = column("ssim"), sweep = column("sweep"), cells = column("cells"),
+               timer = column("timer"), flip = column("flip_mean");
   std::vector<std::vector<std::string>> rows;
   while (std::getline(csv, line)) rows.push_back(csv_fields(line));
   // The default dataset in 7 quick configurations; ball:2 has no scalar array, so only its 3
   // order-independent ones (optical depth twice, transmittance); the march-step sweep's field
   // with its tetrahedra and two steps, optical depth and colour each (6); the cell-count sweep's
-  // two meshes, optical depth and colour each (4).
-  ASSERT_EQ(rows.size(), 20u) << slurp(dir / "bench.csv");
+  // two meshes, optical depth and colour each (4); VTK's three mappers beside the default
+  // dataset's colour and the ball's transmittance (6).
+  ASSERT_EQ(rows.size(), 26u) << slurp(dir / "bench.csv");
+  std::map<std::string, double> flip_of;  // the default dataset's colour, by mode/settings
+  std::multiset<std::string> peers;        // quantity/mode of the wall-clock rows
   std::map<std::string, double> default_rmse, default_ssim;  // by quantity/mode/settings
   std::map<std::string, double> march_rmse;                  // by quantity/settings
   std::set<std::string> sweeps, cell_counts;
@@ -438,7 +442,9 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
     EXPECT_TRUE(s > 0.5 && s <= 1.0 + 1e-12) << row[dataset] << " " << row[mode] << " ssim " << s;
     EXPECT_EQ(row[non_finite], "0");
     const bool field = row[dataset].rfind("field:", 0) == 0;
-    if (!field) EXPECT_GT(s, 0.9) << row[dataset] << " " << row[mode];  // close images (the field's tetrahedra are not)
+    if (!field) {  // close images (the field's tetrahedra are not)
+      EXPECT_GT(s, 0.9) << row[dataset] << " " << row[mode];
+    }
     if (row[quantity] == "optical-depth" && !field) {  // the CLI tests' aggregate bound for optical depth (see above)
       EXPECT_LT(std::stod(row[rmse]), 1e-3 * std::stod(row[peak])) << row[dataset] << " " << row[settings];
     }
@@ -448,20 +454,43 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
     }
     if (row[sweep] == "march-step" && row[mode] == "interval-march") march_rmse[row[quantity] + "/" + row[settings]] = std::stod(row[rmse]);
     if (row[sweep] == "cells") cell_counts.insert(row[cells]);
+    if (row[quantity] == "color") {  // FLIP: 0 identical .. 1; the close images here are near 0
+      const double f = std::stod(row[flip]);
+      EXPECT_TRUE(f >= 0.0 && f < 0.05) << row[dataset] << " " << row[mode] << " flip " << f;
+      if (row[dataset].rfind("default", 0) == 0) flip_of[row[mode] + "/" + row[settings]] = f;
+    } else {
+      EXPECT_EQ(row[flip], "") << row[quantity];
+    }
+    if (row[timer] == "wall") peers.insert(row[quantity] + "/" + row[mode]);
+    else EXPECT_EQ(row[timer], "gpu");
   }
+  EXPECT_EQ(peers, (std::multiset<std::string>{"color/vtk-projected-tetrahedra", "color/vtk-ray-cast", "color/vtk-zsweep",
+                                                "transmittance/vtk-projected-tetrahedra", "transmittance/vtk-ray-cast",
+                                                "transmittance/vtk-zsweep"}));
+  // The perceptual metric agrees with RMSE that exact order beats mesh order.
+  EXPECT_LT(flip_of.at("interval-exact-order/default"), flip_of.at("interval/default"));
   EXPECT_EQ(sweeps, (std::set<std::string>{"modes", "tetlet-size", "preintegration", "march-step", "cells"}));
   EXPECT_EQ(cell_counts, (std::set<std::string>{"1296", "10368"}));  // 6 * N^3 for N = 6, 12
   // The march's midpoint rule converges: a 4x finer step is more accurate for either quantity.
   ASSERT_EQ(march_rmse.size(), 4u);
   for (const char* q : {"optical-depth", "color"})
     EXPECT_LT(march_rmse.at(std::string(q) + "/march-step=diagonal/100"), march_rmse.at(std::string(q) + "/march-step=diagonal/25")) << q;
-  ASSERT_EQ(default_rmse.size(), 7u);
+  ASSERT_EQ(default_rmse.size(), 10u);  // 7 of our configurations and VTK's 3
   // Exact visibility order removes the compositing-order error mesh order makes.
   EXPECT_LT(default_rmse.at("color/interval-exact-order/default"), default_rmse.at("color/interval/default"));
   EXPECT_GT(default_ssim.at("color/interval-exact-order/default"), default_ssim.at("color/interval/default"));
   const std::string report = slurp(dir / "report.md");
   EXPECT_NE(report.find("| * |"), std::string::npos) << report;
   EXPECT_NE(report.find("bench --quick"), std::string::npos) << report;
+  // Every plot the report links exists as a PNG: the error-time plots and the scaling plot.
+  size_t plots = 0;
+  for (size_t at = report.find("](", 0); at != std::string::npos; at = report.find("](", at + 2)) {
+    const std::string file = report.substr(at + 2, report.find(')', at) - at - 2);
+    EXPECT_TRUE(fs::is_regular_file(dir / file) && fs::file_size(dir / file) > 1000) << file;
+    ++plots;
+  }
+  EXPECT_GE(plots, 6u) << report;
+  EXPECT_TRUE(fs::is_regular_file(dir / "time_vs_cells.png"));
 }
 
 TEST(Cli, InfoPlanShowsTheSortOnlyWhereTheQuantityNeedsOne) {
