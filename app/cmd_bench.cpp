@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -59,6 +60,8 @@ const char* const kBenchHelp =
     "  --no-plots           leave out the PNG plots (error against time per dataset, quantity and size,\n"
     "                       Pareto front marked; time against cell count), drawn with VTK's charts\n"
     "                       VTK draws through X: without DISPLAY the bench starts a private Xvfb\n"
+    "  --replot DIR         draw the plots of an earlier run's DIR/bench.csv (e.g. one made on a machine\n"
+    "                       without X, with --no-plots) into DIR and link them from DIR/report.md\n"
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "  --density-scale S --tf PRESET|FILE --tf-range LO,HI --array NAME --component C --background R,G,B\n"
@@ -191,14 +194,55 @@ void write_plots(const std::filesystem::path& dir, const std::vector<bench::Benc
   }
 }
 
+// --replot DIR: the plots of an earlier run, linked from its report.
+int replot(const std::filesystem::path& dir) {
+  const std::vector<bench::BenchRow> rows = bench::read_csv(dir / "bench.csv");
+  if (rows.empty()) throw InputError((dir / "bench.csv").string(), "has no measurements to plot");
+  const bench::XDisplay x;
+  bench::ReportContext context;
+  write_plots(dir, rows, context);
+  const std::filesystem::path report_path = dir / "report.md";
+  std::string report;
+  {
+    std::ifstream in(report_path);
+    if (!in) throw InputError(report_path.string(), "cannot open the report to link the plots from");
+    std::stringstream text;
+    text << in.rdbuf();
+    report = text.str();
+  }
+  std::string section = "\n## Plots\n\n";
+  for (const auto& [title, file] : context.plots) section += "- [" + title + "](" + file + ")\n";
+  for (const auto& note : context.notes) section += "- " + note + "\n";
+  if (const size_t old = report.find("\n## Plots\n"); old != std::string::npos) {  // replace an earlier list
+    const size_t end = report.find("\n## ", old + 1);
+    report.erase(old, end == std::string::npos ? std::string::npos : end - old);
+  }
+  const size_t first = report.find("\n## ");
+  report.insert(first == std::string::npos ? report.size() : first, section);
+  const std::filesystem::path tmp = report_path.string() + ".partial";
+  {
+    std::ofstream out(tmp);
+    out << report;
+    out.close();
+    if (!out) throw InputError(tmp.string(), "cannot write the report");
+  }
+  std::filesystem::rename(tmp, report_path);
+  std::cout << "wrote " << context.plots.size() << " plots into " << dir.string() << " and linked them from " << report_path.string() << "\n";
+  return kOk;
+}
+
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
-  std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells"};
+  std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
+  if (a.has("replot")) {
+    if (!a.files.empty() || a.values.size() > 1) throw InputError("--replot", "takes only the folder of an earlier run");
+    return replot(a.values.at("replot"));
+  }
   if (!a.has("out")) throw InputError("bench", "--out DIR is required");
   bench::BenchPreset preset;
   preset.quick = a.flags.count("quick") > 0;

@@ -109,6 +109,91 @@ void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& r
   if (!out) throw InputError(path.string(), "cannot write the CSV");
 }
 
+namespace {
+
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (char ch : line) {
+    if (ch == '"') quoted = !quoted;
+    else if (ch == ',' && !quoted) fields.emplace_back();
+    else fields.back() += ch;
+  }
+  return fields;
+}
+
+double csv_number(const std::string& s) {
+  if (s.empty() || s == "null") return std::numeric_limits<double>::quiet_NaN();
+  if (s == "inf") return std::numeric_limits<double>::infinity();
+  size_t used = 0;
+  const double v = std::stod(s, &used);
+  if (used != s.size()) throw std::invalid_argument(s);
+  return v;
+}
+
+}  // namespace
+
+std::vector<BenchRow> read_csv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string(), "cannot open the bench CSV");
+  std::string line;
+  if (!std::getline(in, line)) throw InputError(path.string(), "is empty: no header line");
+  const std::vector<std::string> header = csv_fields(line);
+  const auto column = [&](const char* name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end()) throw InputError(path.string(), std::string("has no column '") + name + "' (not a prismoid bench CSV?)");
+    return size_t(it - header.begin());
+  };
+  const size_t dataset = column("dataset"), cells = column("cells"), sweep = column("sweep"), quantity = column("quantity"),
+               mode = column("mode"), settings = column("settings"), ordering = column("ordering"), timer = column("timer"),
+               width = column("width"), height = column("height"), frames = column("frames"), ms_median = column("ms_median"),
+               ms_min = column("ms_min"), ms_max = column("ms_max"), cpu_ms = column("cpu_ms"), passes = column("passes"),
+               mesh_bytes = column("mesh_bytes"), rmse = column("rmse"), max_abs = column("max_abs"), psnr = column("psnr_db"),
+               ssim = column("ssim"), flip = column("flip_mean"), peak = column("peak"), non_finite = column("non_finite"),
+               reference_ms = column("reference_ms"), pareto = column("pareto");
+  std::vector<BenchRow> rows;
+  for (size_t number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    const std::vector<std::string> f = csv_fields(line);
+    if (f.size() != header.size())
+      throw InputError(path.string(), "line " + std::to_string(number) + " has " + std::to_string(f.size()) + " fields, the header " +
+                                          std::to_string(header.size()));
+    try {
+      BenchRow r;
+      r.dataset = f[dataset];
+      r.cells = std::stoull(f[cells]);
+      r.sweep = f[sweep];
+      r.quantity = f[quantity];
+      r.mode = f[mode];
+      r.settings = f[settings];
+      r.ordering = f[ordering];
+      r.timer = f[timer];
+      r.width = uint32_t(std::stoul(f[width]));
+      r.height = uint32_t(std::stoul(f[height]));
+      r.frames = uint32_t(std::stoul(f[frames]));
+      r.ms_median = csv_number(f[ms_median]);
+      r.ms_min = csv_number(f[ms_min]);
+      r.ms_max = csv_number(f[ms_max]);
+      r.cpu_ms = csv_number(f[cpu_ms]);
+      r.passes = f[passes];
+      r.mesh_bytes = std::stoull(f[mesh_bytes]);
+      r.error.rmse = csv_number(f[rmse]);
+      r.error.max_abs = csv_number(f[max_abs]);
+      r.error.psnr_db = csv_number(f[psnr]);
+      r.ssim = csv_number(f[ssim]);
+      r.flip = csv_number(f[flip]);
+      r.peak = csv_number(f[peak]);
+      r.error.non_finite = std::stoull(f[non_finite]);
+      r.reference_ms = csv_number(f[reference_ms]);
+      r.pareto = f[pareto] == "1";
+      rows.push_back(std::move(r));
+    } catch (const std::logic_error&) {  // stoull/stod: invalid_argument, out_of_range
+      throw InputError(path.string(), "line " + std::to_string(number) + " has a field that is not a number where one belongs");
+    }
+  }
+  return rows;
+}
+
 void write_report(const std::filesystem::path& path, const std::vector<BenchRow>& rows, const ReportContext& c) {
   std::ofstream out(path);
   out << "# prismoid bench\n\n- device: " << c.device << "\n- driver: " << c.driver << "\n";
