@@ -12,6 +12,7 @@
 
 #include "app/bench/bench_cases.hpp"
 #include "app/bench/bench_table.hpp"
+#include "scene/input_error.hpp"
 
 namespace prismoid::bench {
 namespace {
@@ -111,6 +112,49 @@ TEST(BenchTable, TheCsvHasOneLinePerRowAndTheReportOneTablePerDataset) {
   EXPECT_NE(text.str().find("\n## e ("), std::string::npos);
   EXPECT_NE(text.str().find("[t](p.png)"), std::string::npos);
   EXPECT_THROW(write_csv(dir / "missing" / "bench.csv", rows), std::exception);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(BenchTable, TheCsvReadsBackAsWritten) {
+  const auto dir = std::filesystem::temp_directory_path() / ("prismoid-test-bench-csv-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::vector<BenchRow> rows = {row("d, with a comma", "color", 1.25, 0.5), row("e", "optical-depth", 2.0, 0.0)};
+  rows[0].settings = "tetlet-size=1 preintegration-size=16";
+  rows[0].passes = "interval=1.0;resolve=0.25";
+  rows[0].flip = 0.125;
+  rows[0].timer = "wall";
+  rows[1].error.psnr_db = std::numeric_limits<double>::infinity();
+  rows[1].cells = 12'582'912;
+  rows[1].mesh_bytes = 1ull << 33;
+  mark_pareto(rows);
+  write_csv(dir / "bench.csv", rows);
+  const std::vector<BenchRow> back = read_csv(dir / "bench.csv");
+  ASSERT_EQ(back.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back[i].dataset, rows[i].dataset);
+    EXPECT_EQ(back[i].settings, rows[i].settings);
+    EXPECT_EQ(back[i].passes, rows[i].passes);
+    EXPECT_EQ(back[i].timer, rows[i].timer);
+    EXPECT_EQ(back[i].cells, rows[i].cells);
+    EXPECT_EQ(back[i].mesh_bytes, rows[i].mesh_bytes);
+    EXPECT_EQ(back[i].ms_median, rows[i].ms_median);
+    EXPECT_EQ(back[i].error.rmse, rows[i].error.rmse);
+    EXPECT_EQ(back[i].error.psnr_db, rows[i].error.psnr_db);
+    EXPECT_EQ(back[i].pareto, rows[i].pareto);
+  }
+  EXPECT_EQ(back[0].flip, 0.125);
+  EXPECT_TRUE(std::isnan(back[1].flip));  // no colour: no FLIP, written empty
+  // A file that is not the bench's CSV, and a row that lost a field, are errors naming the file.
+  std::ofstream(dir / "other.csv") << "a,b\n1,2\n";
+  std::ofstream(dir / "short.csv") << std::ifstream(dir / "bench.csv").rdbuf() << "\"x\",1,2\n";
+  for (const char* bad : {"other.csv", "short.csv", "missing.csv"}) {
+    try {
+      read_csv(dir / bad);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -491,6 +491,15 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   }
   EXPECT_GE(plots, 6u) << report;
   EXPECT_TRUE(fs::is_regular_file(dir / "time_vs_cells.png"));
+  // --replot draws the same plots again from the CSV alone (a run on a machine without X).
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().extension() == ".png") fs::remove(entry.path());
+  const CliRun replot = run("bench --replot " + dir.string());
+  ASSERT_EQ(replot.code, 0) << replot.err;
+  const std::string relinked = slurp(dir / "report.md");
+  EXPECT_EQ(std::count(relinked.begin(), relinked.end(), '\n') , std::count(report.begin(), report.end(), '\n')) << relinked;
+  EXPECT_TRUE(fs::is_regular_file(dir / "time_vs_cells.png"));
+  EXPECT_EQ(run("bench --replot " + (dir / "nothing").string()).code, 2);
 }
 
 TEST(Cli, InfoPlanShowsTheSortOnlyWhereTheQuantityNeedsOne) {
