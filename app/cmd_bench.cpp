@@ -424,7 +424,8 @@ int cmd_bench(const std::vector<std::string>& args) {
   context.driver = caps.driver_info;
   context.host = host_name();
   context.command = "prismoid";
-  for (const auto& s : args) context.command += " " + s;
+  for (const auto& s : args)  // as a shell would need it: empty or spaced arguments quoted
+    context.command += " " + (s.empty() || s.find_first_of(" \t'") != std::string::npos ? "\"" + s + "\"" : s);
   if (want_plots && x) write_plots(out_dir, rows, context);
   bench::write_csv(out_dir / "bench.csv", rows);
   bench::write_report(out_dir / "report.md", rows, context);

@@ -109,8 +109,6 @@ void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& r
   if (!out) throw InputError(path.string(), "cannot write the CSV");
 }
 
-namespace {
-
 std::vector<std::string> csv_fields(const std::string& line) {
   std::vector<std::string> fields(1);
   bool quoted = false;
@@ -121,6 +119,8 @@ std::vector<std::string> csv_fields(const std::string& line) {
   }
   return fields;
 }
+
+namespace {
 
 double csv_number(const std::string& s) {
   if (s.empty() || s == "null") return std::numeric_limits<double>::quiet_NaN();

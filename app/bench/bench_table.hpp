@@ -38,6 +38,9 @@ struct BenchRow {
 void mark_pareto(std::vector<BenchRow>& rows);
 
 void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& rows);
+// One CSV line's fields; quoted fields may hold commas.
+std::vector<std::string> csv_fields(const std::string& line);
+
 // The rows write_csv wrote (error fields beyond RMSE, max, PSNR and the non-finite count are not
 // kept); InputError naming the file and line for anything else.
 std::vector<BenchRow> read_csv(const std::filesystem::path& path);

@@ -16,6 +16,7 @@
 #include <thread>
 #include <unistd.h>
 
+#include "app/bench/bench_table.hpp"
 #include "app/grid_dataset.hpp"
 #include "io/image_io.hpp"
 #include "io/surface_io.hpp"
@@ -389,17 +390,7 @@ TEST(Cli, SortedColorRunsTheSortPassAndSaysSo) {
 
 // The frame plan without a GPU: an order-independent quantity plans no sort (the skipped list
 // says why), colour in sorted mode plans one; render's stats carry the same plan.
-// Splits one CSV line; quoted fields may hold commas.
-std::vector<std::string> csv_fields(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (char ch : line) {
-    if (ch == '"') quoted = !quoted;
-    else if (ch == ',' && !quoted) fields.emplace_back();
-    else fields.back() += ch;
-  }
-  return fields;
-}
+using bench::csv_fields;  // the bench CSV's own reader of one line
 
 TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   const fs::path dir = work_dir() / "bench";
