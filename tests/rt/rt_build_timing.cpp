@@ -49,10 +49,10 @@ void report(const vk::Device& device, const SurfaceScene& scene, int repetitions
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const rt::AccelBuildStats& s = accel.stats();
     std::printf("%-14s %9llu tris  upload %8.2f ms  BLAS %9.2f ms  compact %8.2f ms  TLAS %7.2f ms  total %9.2f ms  "
-                "BLAS %7.2f MiB (built %7.2f)  TLAS %.3f MiB  scratch %7.2f MiB\n",
+                "BLAS %7.2f MiB (built %7.2f)  TLAS %.1f KiB  scratch %.1f KiB\n",
                 scene.name.c_str(), static_cast<unsigned long long>(s.triangles), 1e3 * s.upload_seconds, 1e3 * s.blas_seconds,
                 1e3 * s.compact_seconds, 1e3 * s.tlas_seconds, 1e3 * total, double(s.blas_bytes) / (1 << 20),
-                double(s.blas_bytes_built) / (1 << 20), double(s.tlas_bytes) / (1 << 20), double(s.scratch_bytes) / (1 << 20));
+                double(s.blas_bytes_built) / (1 << 20), double(s.tlas_bytes) / 1024, double(s.scratch_bytes) / 1024);
     if (r == repetitions - 1) {
       const rt::RayCaster caster(device, accel);
       const auto t0 = std::chrono::steady_clock::now();
