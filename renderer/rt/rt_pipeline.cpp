@@ -54,6 +54,8 @@ RayTracingPipeline::RayTracingPipeline(const vk::Device& device, const RayTracin
                                          caps.shader_group_base_alignment},
                                         static_cast<uint32_t>(desc.raygen.size()), static_cast<uint32_t>(desc.miss.size()),
                                         static_cast<uint32_t>(desc.hit_groups.size()));
+  if (std::max({layout_.raygen.stride, layout_.miss.stride, layout_.hit.stride}) > caps.max_shader_group_stride)
+    throw vk::NoSuitableDevice(caps.name + ": a shader binding table record exceeds maxShaderGroupStride");
 
   // Stages, then groups: raygen..., miss..., hit groups..., the order of the table's regions.
   std::vector<vk::UniqueShaderModule> modules;
