@@ -89,10 +89,15 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
   VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  // Chain only the structures of extensions the device has.
+  VkPhysicalDeviceProperties basic;
+  vkGetPhysicalDeviceProperties(device, &basic);
+  const bool api_1_2 = VK_API_VERSION_MAJOR(basic.apiVersion) > 1 || VK_API_VERSION_MINOR(basic.apiVersion) >= 2;
+  // Chain only the structures of extensions (and core versions) the device has.
   void** next = &features.pNext;
   auto chain = [&next](auto& s) { *next = &s; next = &s.pNext; };
+  if (api_1_2) chain(v12);
   if (ext_mesh) chain(mesh);
   if (ext_rt) chain(rt);
   if (ext_as) chain(as);
@@ -101,9 +106,15 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
 
   VkPhysicalDeviceMeshShaderPropertiesEXT mesh_props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_PROPERTIES_EXT};
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt_props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+  VkPhysicalDeviceAccelerationStructurePropertiesKHR as_props{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR};
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-  props.pNext = &driver;
-  if (ext_mesh) driver.pNext = &mesh_props;
+  next = &props.pNext;
+  chain(driver);
+  if (ext_mesh) chain(mesh_props);
+  if (ext_rt) chain(rt_props);
+  if (ext_as) chain(as_props);
   vkGetPhysicalDeviceProperties2(device, &props);
 
   caps.name = props.properties.deviceName;
@@ -118,6 +129,16 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   caps.ray_tracing_pipeline = ext_rt && rt.rayTracingPipeline;
   caps.acceleration_structure = ext_as && as.accelerationStructure;
   caps.ray_query = ext_rq && rq.rayQuery;
+  caps.buffer_device_address = api_1_2 && v12.bufferDeviceAddress;
+  if (ext_rt) {
+    caps.shader_group_handle_size = rt_props.shaderGroupHandleSize;
+    caps.shader_group_handle_alignment = rt_props.shaderGroupHandleAlignment;
+    caps.shader_group_base_alignment = rt_props.shaderGroupBaseAlignment;
+    caps.max_shader_group_stride = rt_props.maxShaderGroupStride;
+    caps.max_ray_recursion_depth = rt_props.maxRayRecursionDepth;
+    caps.max_ray_dispatch_invocations = rt_props.maxRayDispatchInvocationCount;
+  }
+  if (ext_as) caps.min_acceleration_structure_scratch_alignment = as_props.minAccelerationStructureScratchOffsetAlignment;
   caps.timestamp_period_ns = props.properties.limits.timestampPeriod;
   caps.pipeline_statistics = features.features.pipelineStatisticsQuery == VK_TRUE;
   caps.subpixel_precision_bits = props.properties.limits.subPixelPrecisionBits;

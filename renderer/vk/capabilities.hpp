@@ -21,6 +21,19 @@ struct DeviceCapabilities {
   bool ray_tracing_pipeline = false;
   bool acceleration_structure = false;
   bool ray_query = false;
+  bool buffer_device_address = false;  // Vulkan 1.2 bufferDeviceAddress (acceleration structures need it)
+  // Ray-tracing pipeline properties (zero without VK_KHR_ray_tracing_pipeline): a shader binding
+  // table is laid out from these, never from constants (lavapipe: 32/16/32, NVIDIA: 32/32/64).
+  uint32_t shader_group_handle_size = 0;
+  uint32_t shader_group_handle_alignment = 0;
+  uint32_t shader_group_base_alignment = 0;
+  uint32_t max_shader_group_stride = 0;
+  uint32_t max_ray_recursion_depth = 0;
+  uint32_t max_ray_dispatch_invocations = 0;
+  uint32_t min_acceleration_structure_scratch_alignment = 0;  // VK_KHR_acceleration_structure
+  // Ray-tracing pipelines, acceleration structures and buffer device addresses together: what
+  // Device enables, and what renderer/rt needs. Ray queries are neither needed nor enabled.
+  bool ray_tracing() const { return ray_tracing_pipeline && acceleration_structure && buffer_device_address; }
   bool timestamps = false;  // graphics+compute queue with valid timestamp bits
   double timestamp_period_ns = 0.0;
   bool pipeline_statistics = false;  // counts of fragment-shader invocations and primitives

@@ -1,6 +1,7 @@
 #include "renderer/vk/device.hpp"
 
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "renderer/vk/error.hpp"
@@ -25,16 +26,33 @@ Device::Device(const Instance& instance, const DeviceCapabilities& caps, const D
     extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   }
 
+  // Ray tracing (renderer/rt) when the device has all of it; ray queries are never enabled
+  // (the GPU machines lack them), so every ray is traced through a ray-tracing pipeline.
+  ray_tracing_ = caps.ray_tracing();
+  if (ray_tracing_) {
+    extensions.push_back(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
+    extensions.push_back(VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME);
+    extensions.push_back(VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME);
+  }
+
   VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
   mesh.meshShader = caps.mesh_shader;
   mesh.taskShader = caps.task_shader;
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  as.accelerationStructure = VK_TRUE;
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+  rt.rayTracingPipeline = VK_TRUE;
+  rt.pNext = &as;
   VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   v13.dynamicRendering = VK_TRUE;
   v13.synchronization2 = VK_TRUE;
   v13.maintenance4 = VK_TRUE;
-  if (caps.mesh_shader) v13.pNext = &mesh;
+  void** next = &v13.pNext;
+  if (caps.mesh_shader) { *next = &mesh; next = &mesh.pNext; }
+  if (ray_tracing_) *next = &rt;
   VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   v12.hostQueryReset = VK_TRUE;
+  v12.bufferDeviceAddress = caps.buffer_device_address ? VK_TRUE : VK_FALSE;
   v12.pNext = &v13;
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.pNext = &v12;
@@ -57,6 +75,21 @@ Device::Device(const Instance& instance, const DeviceCapabilities& caps, const D
 
   if (caps.mesh_shader)
     cmd_draw_mesh_tasks = reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(device_, "vkCmdDrawMeshTasksEXT"));
+  if (ray_tracing_) {
+    auto load = [this](auto& pfn, const char* name) {
+      pfn = reinterpret_cast<std::remove_reference_t<decltype(pfn)>>(vkGetDeviceProcAddr(device_, name));
+      if (!pfn) throw VulkanError(std::string("vkGetDeviceProcAddr(") + name + ")", VK_ERROR_EXTENSION_NOT_PRESENT);
+    };
+    load(create_acceleration_structure, "vkCreateAccelerationStructureKHR");
+    load(get_acceleration_structure_build_sizes, "vkGetAccelerationStructureBuildSizesKHR");
+    load(get_acceleration_structure_device_address, "vkGetAccelerationStructureDeviceAddressKHR");
+    load(cmd_build_acceleration_structures, "vkCmdBuildAccelerationStructuresKHR");
+    load(cmd_write_acceleration_structures_properties, "vkCmdWriteAccelerationStructuresPropertiesKHR");
+    load(cmd_copy_acceleration_structure, "vkCmdCopyAccelerationStructureKHR");
+    load(create_ray_tracing_pipelines, "vkCreateRayTracingPipelinesKHR");
+    load(get_ray_tracing_shader_group_handles, "vkGetRayTracingShaderGroupHandlesKHR");
+    load(cmd_trace_rays, "vkCmdTraceRaysKHR");
+  }
 
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;

@@ -38,8 +38,21 @@ class Device {
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
   void wait_idle() const;
 
-  // Extension entry points.
+  // True when ray-tracing pipelines, acceleration structures and buffer device addresses are
+  // enabled (caps.ray_tracing()); the ray-tracing entry points below are then loaded.
+  bool ray_tracing_enabled() const { return ray_tracing_; }
+
+  // Extension entry points (null when the extension is not enabled).
   PFN_vkCmdDrawMeshTasksEXT cmd_draw_mesh_tasks = nullptr;
+  PFN_vkCreateAccelerationStructureKHR create_acceleration_structure = nullptr;
+  PFN_vkGetAccelerationStructureBuildSizesKHR get_acceleration_structure_build_sizes = nullptr;
+  PFN_vkGetAccelerationStructureDeviceAddressKHR get_acceleration_structure_device_address = nullptr;
+  PFN_vkCmdBuildAccelerationStructuresKHR cmd_build_acceleration_structures = nullptr;
+  PFN_vkCmdWriteAccelerationStructuresPropertiesKHR cmd_write_acceleration_structures_properties = nullptr;
+  PFN_vkCmdCopyAccelerationStructureKHR cmd_copy_acceleration_structure = nullptr;
+  PFN_vkCreateRayTracingPipelinesKHR create_ray_tracing_pipelines = nullptr;
+  PFN_vkGetRayTracingShaderGroupHandlesKHR get_ray_tracing_shader_group_handles = nullptr;
+  PFN_vkCmdTraceRaysKHR cmd_trace_rays = nullptr;
 
  private:
   VkInstance instance_ = VK_NULL_HANDLE;
@@ -47,6 +60,7 @@ class Device {
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
   DeviceCapabilities caps_;
+  bool ray_tracing_ = false;
   VkPhysicalDeviceMemoryProperties memory_{};
   UniqueCommandPool command_pool_;
 };

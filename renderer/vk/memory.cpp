@@ -28,6 +28,10 @@ Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex = device.memory_type(req.memoryTypeBits, flags);
+  VkMemoryAllocateFlagsInfo alloc_flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  alloc_flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  addressable_ = (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0;
+  if (addressable_) alloc.pNext = &alloc_flags;
   VkDeviceMemory memory;
   check(vkAllocateMemory(device_, &alloc, nullptr, &memory), "vkAllocateMemory (buffer)");
   memory_ = UniqueMemory(device_, memory);
@@ -47,6 +51,13 @@ void Buffer::write(std::span<const std::byte> bytes, VkDeviceSize offset) {
   if (!mapped_) throw std::logic_error("Buffer::write on a buffer that is not host-visible");
   if (offset + bytes.size() > size_) throw std::out_of_range("Buffer::write past the end of the buffer");
   std::memcpy(mapped_ + offset, bytes.data(), bytes.size());
+}
+
+VkDeviceAddress Buffer::device_address() const {
+  if (!addressable_) throw std::logic_error("Buffer::device_address on a buffer made without SHADER_DEVICE_ADDRESS usage");
+  VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  info.buffer = buffer_.get();
+  return vkGetBufferDeviceAddress(device_, &info);
 }
 
 Buffer upload_buffer(const Device& device, std::span<const std::byte> bytes, VkBufferUsageFlags usage) {

@@ -26,6 +26,9 @@ class Buffer {
   // Host-visible buffers only: the mapped bytes.
   std::byte* mapped() const { return mapped_; }
   void write(std::span<const std::byte> bytes, VkDeviceSize offset = 0);
+  // Buffers made with VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT only (their memory is then
+  // allocated with VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT): the buffer's GPU address.
+  VkDeviceAddress device_address() const;
 
  private:
   UniqueMemory memory_;  // declared first so the buffer is destroyed before its memory
@@ -33,6 +36,7 @@ class Buffer {
   VkDeviceSize size_ = 0;
   std::byte* mapped_ = nullptr;
   VkDevice device_ = VK_NULL_HANDLE;
+  bool addressable_ = false;
 };
 
 // Creates a device-local buffer holding `bytes` (uploaded through a staging buffer).
