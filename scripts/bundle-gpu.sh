@@ -15,6 +15,9 @@ cp build/app/prismoid "$out/"
 # The GPU test suite too, so the numerical tests can run against the CPU reference there
 # (bundle/run-tests.sh); its libraries are a subset of prismoid's.
 [ -x build/tests/test_gpu ] && cp build/tests/test_gpu "$out/"
+# The ray-tracing tests (acceleration structures, the ray-tracing pipeline against the CPU BVH):
+# bundle/run-tests.sh rt
+[ -x build/tests/test_rt ] && cp build/tests/test_rt "$out/"
 # glibc and the dynamic linker come from the target machine (newer glibc runs older binaries).
 ldd build/app/prismoid | awk '/=> \// {print $3}' |
   grep -vE '/(libc|libm|libdl|libpthread|librt|ld-linux-x86-64)\.so' |
@@ -27,7 +30,7 @@ if [ -f "$layer_json" ]; then
 fi
 # Debug symbols stay here: the device call carries at most 64 MiB.
 strip --strip-unneeded "$out/prismoid" "$out"/lib/*.so* "$out"/layers/*.so 2>/dev/null || true
-[ -f "$out/test_gpu" ] && strip --strip-unneeded "$out/test_gpu"
+for t in test_gpu test_rt; do [ -f "$out/$t" ] && strip --strip-unneeded "$out/$t"; done
 cat >"$out/prismoid.sh" <<'LAUNCH'
 #!/usr/bin/env bash
 # Runs the bundled prismoid with its own libraries and the machine's Vulkan driver.
@@ -44,7 +47,8 @@ exec "$here/${PRISMOID_BUNDLE_EXE:-prismoid}" "$@"
 LAUNCH
 chmod +x "$out/prismoid.sh"
 # The GPU tests with the same environment (validation layer on, as here).
-printf '#!/usr/bin/env bash\nPRISMOID_BUNDLE_EXE=test_gpu exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
+# bundle/run-tests.sh [rt] [gtest options]: test_gpu, or test_rt with "rt".
+printf '#!/usr/bin/env bash\nexe=test_gpu\nif [ "${1:-}" = rt ]; then exe=test_rt; shift; fi\nPRISMOID_BUNDLE_EXE=$exe exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
 chmod +x "$out/run-tests.sh"
 # About 80 MB with the VTK, TetGen and image libraries: over the 64 MiB a device call carries, so
 # it also travels packed (about 17 MB): carry $out.tar.xz and unpack it there first.
