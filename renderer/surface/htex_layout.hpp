@@ -24,8 +24,8 @@
 // Texels. Quad side n = 2^k texels; texel (i, j) sits at (x, y) = ((i + 0.5) / n, (j + 0.5) / n).
 // The two texels next to the quad's vertex corners, (n - 1, 0) at start(p) and (0, n - 1) at
 // end(p), sit on the edge half a texel from the vertex. Htex is continuous across an edge only
-// if every quad around a vertex holds the same value in that corner texel (in
-// Barbier & Dupuy's implementation a preprocessing pass averages them); here those texels are
+// if every quad around a vertex holds the same value in that corner texel (Barbier & Dupuy's
+// viewer averages them in a preprocessing pass, for displacement maps); here those texels are
 // shaded at the vertex itself, so any shading of positions agrees there by construction.
 // That needs the two vertex corners of a quad to be distinct texels: n >= 2 at every level.
 //
