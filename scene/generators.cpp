@@ -82,6 +82,45 @@ SurfaceMesh make_icosphere(const glm::dvec3& center, double radius, uint32_t sub
   return sphere;
 }
 
+SurfaceMesh make_cube_surface(const glm::dvec3& center, double half, uint32_t n) {
+  n = std::max(n, 1u);
+  SurfaceMesh cube;
+  cube.name = "cube (" + std::to_string(12 * n * n) + " triangles)";
+  std::map<std::array<uint32_t, 3>, uint32_t> index;  // grid point (0..n per axis) -> point
+  auto point = [&](std::array<uint32_t, 3> g) {
+    const auto found = index.find(g);
+    if (found != index.end()) return found->second;
+    const glm::dvec3 t = glm::dvec3(g[0], g[1], g[2]) / static_cast<double>(n);
+    cube.points.push_back(center + half * (2.0 * t - 1.0));
+    return index[g] = static_cast<uint32_t>(cube.points.size() - 1);
+  };
+  for (uint32_t axis = 0; axis < 3; ++axis)
+    for (uint32_t side = 0; side < 2; ++side) {
+      const uint32_t a = (axis + 1) % 3, b = (axis + 2) % 3;  // (a, b, axis) is right-handed
+      for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t j = 0; j < n; ++j) {
+          std::array<uint32_t, 4> q;
+          const uint32_t corners[4][2] = {{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}};
+          for (int c = 0; c < 4; ++c) {
+            std::array<uint32_t, 3> g{};
+            g[axis] = side * n;
+            g[a] = corners[c][0];
+            g[b] = corners[c][1];
+            q[c] = point(g);
+          }
+          // Counter-clockwise about +axis on the far side, clockwise on the near side.
+          if (side == 1) {
+            cube.triangles.push_back({q[0], q[1], q[2]});
+            cube.triangles.push_back({q[0], q[2], q[3]});
+          } else {
+            cube.triangles.push_back({q[0], q[2], q[1]});
+            cube.triangles.push_back({q[0], q[3], q[2]});
+          }
+        }
+    }
+  return cube;
+}
+
 TetMesh make_ball_mesh(const glm::dvec3& center, double radius, uint32_t subdivisions, double sigma) {
   const SurfaceMesh sphere = make_icosphere(center, radius, subdivisions);
   const auto& faces = sphere.triangles;

@@ -19,6 +19,11 @@ TetMesh make_box_mesh(const glm::dvec3& lo, const glm::dvec3& hi, uint32_t n,
 // triangles, closed; winding not guaranteed consistent in orientation).
 SurfaceMesh make_icosphere(const glm::dvec3& center, double radius, uint32_t subdivisions);
 
+// The surface of the axis-aligned cube [center - half, center + half]^3, each face split into an
+// n x n grid of squares and each square into two triangles (12 n^2 triangles), points shared
+// along the cube's edges (closed, a 2-manifold), every triangle wound to face outwards.
+SurfaceMesh make_cube_surface(const glm::dvec3& center, double half, uint32_t n);
+
 // A ball of radius r about `center`: the convex polyhedron of an icosphere (an icosahedron
 // whose faces are split `subdivisions` times into 4, vertices pushed onto the sphere), filled
 // with one tetrahedron per boundary triangle joined to the centre. Extinction sigma per cell.
