@@ -120,6 +120,8 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   caps.ray_query = ext_rq && rq.rayQuery;
   caps.timestamp_period_ns = props.properties.limits.timestampPeriod;
   caps.pipeline_statistics = features.features.pipelineStatisticsQuery == VK_TRUE;
+  caps.geometry_shader = features.features.geometryShader == VK_TRUE;
+  caps.fragment_stores = features.features.fragmentStoresAndAtomics == VK_TRUE;
   caps.subpixel_precision_bits = props.properties.limits.subPixelPrecisionBits;
   caps.max_storage_buffer_range = props.properties.limits.maxStorageBufferRange;
   if (ext_mesh) {
