@@ -48,8 +48,7 @@ class ForwardPass {
               const ForwardSettings& settings, vk::GpuTimer& timer);
 
   // Fragment-shader invocations of the last recorded shading draw of surfaces (pipeline
-  // statistics, waits for the GPU); nullopt-like 0 with counts_fragments() false where the
-  // device cannot count.
+  // statistics; waits for the GPU). 0 where the device cannot count (counts_fragments() false).
   uint64_t read_fragment_invocations() const;
   bool counts_fragments() const { return statistics_.get() != VK_NULL_HANDLE; }
 

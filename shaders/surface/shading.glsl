@@ -69,6 +69,12 @@ ShadingMaterial shading_material(SurfaceMaterialGpu m, vec3 color) {
 //    ("Combining analytic direct illumination and stochastic shadows"): the unshadowed
 //    analytic integral times (shadowed / unshadowed) stochastic estimates from shared samples.
 //    The emitter's own triangle (info.x) must be skipped by its shadow rays.
+// Coordinates: sp.position and the light buffers are relative to GpuSurfaceScene::origin, so an
+// acceleration structure built for these functions should hold the same scene-local float
+// positions. Where fragment shaders cannot trace (no ray queries, as on the H100), a raygen pass
+// between the depth pre-pass and the shading pass can write visibility per pixel and light
+// into a buffer that these functions read back (the pre-pass would then also write the
+// triangle index, so the raygen pass rebuilds the same point).
 #ifndef PRISMOID_SURFACE_SHADOWS
 float point_light_visibility(SurfacePoint sp, uint light, vec3 to_light) { return 1.0; }
 float directional_light_visibility(SurfacePoint sp, uint light, vec3 to_light) { return 1.0; }
