@@ -42,6 +42,12 @@ const char* const kRenderHelp =
     "                                              sky when it has no lights); linear RGB; --spp N (default\n"
     "                                              64), --max-bounces N, --seed N, --variance OUT.pfm (per-\n"
     "                                              pixel sample variance); --size default 256x256\n"
+    "                       forward                GPU forward shading of a surface scene (the same FILEs\n"
+    "                                              and default lighting): direct light from point,\n"
+    "                                              directional and emissive-triangle lights and the sky,\n"
+    "                                              no shadows yet; linear RGB; --supersample K averages\n"
+    "                                              K x K sub-pixel positions; --frames N; --size default\n"
+    "                                              256x256\n"
     "                       (default: interval; interval-sorted for --quantity color)\n"
     "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
     "                       color: emission-absorption of a scalar field through a transfer function\n"
@@ -135,6 +141,7 @@ std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::v
 
 int cmd_render(const std::vector<std::string>& args) {
   if (wants_path_reference(args)) return cmd_render_path_reference(args);
+  if (wants_forward(args)) return cmd_render_forward(args);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});

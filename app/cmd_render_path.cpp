@@ -7,35 +7,14 @@
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/surface_args.hpp"
 #include "io/image_io.hpp"
-#include "io/surface_io.hpp"
 #include "renderer/reference/path_tracer.hpp"
 #include "scene/input_error.hpp"
-#include "scene/surface_generators.hpp"
 
 namespace prismoid::app {
 
 namespace {
-
-SurfaceScene surface_scene_of(const ParsedArgs& a) {
-  if (a.files.size() != 1)
-    throw InputError("render", "--mode path-reference renders one surface scene: cornell-box, furnace:A[:LE] or a surface file");
-  const std::string& file = a.files.front();
-  if (is_named_surface_scene(file)) return make_named_surface_scene(file);
-  if (io::is_surface_path(file)) return make_surface_scene(io::read_surface(file));
-  throw InputError(file, "--mode path-reference renders surfaces: cornell-box, furnace:A[:LE], .vtp .stl .obj .ply .off");
-}
-
-// The scene's own camera, with each camera option given replacing its part.
-Camera camera_of(const ParsedArgs& a, Camera c) {
-  if (a.has("eye")) c.eye = parse_vec3("eye", a.values.at("eye"));
-  if (a.has("target")) c.target = parse_vec3("target", a.values.at("target"));
-  if (a.has("up")) c.up = parse_vec3("up", a.values.at("up"));
-  if (a.has("fovy")) c.fovy_degrees = parse_double("fovy", a.values.at("fovy"));
-  if (a.has("near")) c.near_distance = parse_double("near", a.values.at("near"));
-  validate(c);
-  return c;
-}
 
 io::FloatImage rgb_image(const reference::PathTracedImage& r, const std::vector<glm::dvec3>& values) {
   io::FloatImage image;
@@ -59,8 +38,8 @@ int cmd_render_path_reference(const std::vector<std::string>& args) {
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
   if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
-  const SurfaceScene scene = surface_scene_of(a);
-  const Camera camera = camera_of(a, scene.camera);
+  const SurfaceScene scene = surface_scene_from(a, "path-reference");
+  const Camera camera = surface_camera(a, scene.camera);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
 
   reference::PathTracerSettings settings;

@@ -463,6 +463,8 @@ std::vector<SurfaceHit> first_hits(const SurfaceScene& scene, std::span<const Su
       out.normal = t.normal;
       out.mesh = t.mesh;
       out.triangle = t.local;
+      out.b1 = h.b1;
+      out.b2 = h.b2;
     }
     hits.push_back(out);
   }

@@ -95,6 +95,7 @@ struct SurfaceHit {
   glm::dvec3 position{0.0};
   glm::dvec3 normal{0.0};  // unit winding normal of the triangle
   uint32_t mesh = 0, triangle = 0;
+  double b1 = 0.0, b2 = 0.0;  // barycentric weights of the triangle's corners 1 and 2
 };
 std::vector<SurfaceHit> first_hits(const SurfaceScene& scene, std::span<const SurfaceRay> rays);
 

@@ -141,6 +141,8 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   if (ext_as) caps.min_acceleration_structure_scratch_alignment = as_props.minAccelerationStructureScratchOffsetAlignment;
   caps.timestamp_period_ns = props.properties.limits.timestampPeriod;
   caps.pipeline_statistics = features.features.pipelineStatisticsQuery == VK_TRUE;
+  caps.geometry_shader = features.features.geometryShader == VK_TRUE;
+  caps.fragment_stores = features.features.fragmentStoresAndAtomics == VK_TRUE;
   caps.subpixel_precision_bits = props.properties.limits.subPixelPrecisionBits;
   caps.max_storage_buffer_range = props.properties.limits.maxStorageBufferRange;
   if (ext_mesh) {

@@ -37,6 +37,8 @@ struct DeviceCapabilities {
   bool timestamps = false;  // graphics+compute queue with valid timestamp bits
   double timestamp_period_ns = 0.0;
   bool pipeline_statistics = false;  // counts of fragment-shader invocations and primitives
+  bool geometry_shader = false;  // the feature fragment shaders need to read gl_PrimitiveID (surface shading)
+  bool fragment_stores = false;  // fragmentStoresAndAtomics: fragment shaders may write storage images (counters)
   bool swapchain = false;
   uint32_t max_mesh_output_vertices = 0;
   uint32_t max_mesh_output_primitives = 0;

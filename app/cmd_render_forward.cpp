@@ -1,0 +1,123 @@
+// `prismoid render SCENE --mode forward`: a surface scene through the forward GPU backend
+// (renderer/surface/forward_pass.hpp), linear RGB to PFM (or display sRGB to PNG).
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "app/cli.hpp"
+#include "app/cli_args.hpp"
+#include "app/commands.hpp"
+#include "app/surface_args.hpp"
+#include "io/image_io.hpp"
+#include "renderer/surface/forward_pass.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/instance.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+namespace {
+
+io::FloatImage rgb_image(const surface::ForwardImage& f) {
+  io::FloatImage image;
+  image.width = f.width;
+  image.height = f.height;
+  image.channels = 3;
+  image.pixels = f.rgb();
+  return image;
+}
+
+// The median of each pass's time over the frames.
+std::vector<vk::PassTiming> median_passes(const std::vector<std::vector<vk::PassTiming>>& frames) {
+  std::vector<vk::PassTiming> out = frames.front();
+  for (size_t p = 0; p < out.size(); ++p) {
+    std::vector<double> ms;
+    for (const auto& f : frames) ms.push_back(f[p].gpu_ms);
+    std::sort(ms.begin(), ms.end());
+    const size_t n = ms.size();
+    out[p].gpu_ms = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+  }
+  return out;
+}
+
+}  // namespace
+
+bool wants_forward(const std::vector<std::string>& args) {
+  for (size_t i = 1; i + 1 < args.size(); ++i)
+    if (args[i] == "--mode" && args[i + 1] == "forward") return true;
+  return false;
+}
+
+int cmd_render_forward(const std::vector<std::string>& args) {
+  const ParsedArgs a =
+      parse(args, 1, with_camera({"output", "size", "mode", "quantity", "supersample", "frames", "stats", "device"}), {"validate"});
+  if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
+  const std::string output = a.values.at("output");
+  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+  if (a.has("quantity") && a.values.at("quantity") != "color")
+    throw InputError("--quantity", "--mode forward renders linear colour: use --quantity color");
+  const uint32_t k = a.has("supersample") ? parse_uint("supersample", a.values.at("supersample")) : 1;
+  if (k == 0 || k > 16) throw InputError("--supersample", "must be between 1 and 16 samples per pixel side");
+  const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : 1;
+  if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
+  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
+  const SurfaceScene scene = surface_scene_from(a, "forward");
+  const Camera camera = surface_camera(a, scene.camera);
+  const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
+
+  vk::Instance instance(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
+  const auto devices = vk::query_devices(instance.get());
+  const auto& caps = vk::select_device(devices, parse_device(a));
+  vk::Device device(instance, caps, {});
+  surface::ForwardPass pass(device);
+  const surface::GpuSurfaceScene gpu = surface::upload(device, lit);
+  auto render = [&] {
+    return k == 1 ? surface::render_forward(device, pass, gpu, camera, size) : surface::render_forward_supersampled(device, pass, gpu, camera, size, k);
+  };
+  if (frames > 1) render();  // warm-up: caches, first-use work
+  surface::ForwardImage image;
+  std::vector<std::vector<vk::PassTiming>> timings;
+  for (uint32_t i = 0; i < frames; ++i) {
+    image = render();
+    timings.push_back(image.passes);
+  }
+  image.passes = median_passes(timings);
+  io::write_image(output, rgb_image(image));
+
+  size_t covered = 0;
+  for (size_t i = 3; i < image.rgba.size(); i += 4) covered += image.rgba[i] == 1.0f;
+  double total = 0.0;
+  std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count
+            << " triangles, " << gpu.emitter_count << " emissive" << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "")
+            << ") on " << caps.name << "\n";
+  for (const auto& p : image.passes) {
+    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << " GPU\n";
+    total += p.gpu_ms;
+  }
+  std::cout << "  total: " << json_number(total) << " ms GPU" << (frames > 1 ? " (median of " + std::to_string(frames) + " frames)" : "") << "\n";
+  if (k == 1) std::cout << "  covered: " << covered << " pixels" << (image.statistics ? ", " + std::to_string(image.fragment_invocations) + " shading invocations" : "") << "\n";
+  if (lit.directional_lights.size() != scene.directional_lights.size()) std::cout << "  no lights in the scene: default headlight and sky\n";
+  std::cout << "  direct light without shadows (shadows need the ray-tracing pass)\n";
+
+  if (a.has("stats")) {
+    std::ostringstream js;
+    js << "{\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"driver\": \"" << json_escape(caps.driver_info)
+       << "\",\n  \"dataset\": \"" << json_escape(scene.name) << "\",\n  \"mode\": \"forward\",\n  \"quantity\": \"color\",\n  \"width\": "
+       << size.width << ",\n  \"height\": " << size.height << ",\n  \"supersample\": " << k << ",\n  \"triangles\": " << gpu.triangle_count
+       << ",\n  \"emitters\": " << gpu.emitter_count << ",\n  \"gpu_scene_bytes\": " << gpu.bytes << ",\n  \"covered_pixels\": " << covered
+       << ",\n  \"default_lighting\": " << (lit.directional_lights.size() != scene.directional_lights.size() ? "true" : "false");
+    if (image.statistics) js << ",\n  \"fragments\": " << image.fragment_invocations;
+    js << ",\n  \"frames\": " << frames << ",\n  \"passes\": [";
+    for (size_t i = 0; i < image.passes.size(); ++i)
+      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(image.passes[i].name) << "\", \"gpu_ms\": " << json_number(image.passes[i].gpu_ms) << "}";
+    js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": " << instance.validation_log().count() << "\n}\n";
+    std::ofstream out(a.values.at("stats"));
+    if (!out || !(out << js.str())) throw InputError(a.values.at("stats"), "cannot write the stats file");
+  }
+  return validation_exit(instance);
+}
+
+}  // namespace prismoid::app

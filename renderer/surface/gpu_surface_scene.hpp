@@ -1,0 +1,43 @@
+#pragma once
+// A SurfaceScene on the GPU, in the layouts of shaders/shared/surface.h: every mesh in one
+// vertex and index buffer (drawn with one call, so gl_PrimitiveID is the global triangle
+// index), per-triangle data, materials and lights. Positions are float relative to `origin`
+// (the scene's bounds centre, kept in double), so a scene far from the world origin keeps its
+// precision. Every surface backend shades from these buffers.
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "renderer/vk/memory.hpp"
+#include "scene/surface_scene.hpp"
+
+namespace prismoid::vk {
+class Device;
+}
+
+namespace prismoid::surface {
+
+struct GpuSurfaceScene {
+  vk::Buffer positions;           // vec3 per vertex (vertex binding 0)
+  vk::Buffer attributes;          // normal vec3, colour vec3 per vertex (vertex binding 1)
+  vk::Buffer indices;             // uint32, 3 per triangle, already offset to the shared vertex buffer
+  vk::Buffer materials;           // SurfaceMaterialGpu[]
+  vk::Buffer triangles;           // SurfaceTriangleGpu[], by global triangle index
+  vk::Buffer point_lights;        // PointLightGpu[] (one unused entry when there are none)
+  vk::Buffer directional_lights;  // DirectionalLightGpu[]
+  vk::Buffer emitters;            // EmitterGpu[]: the non-degenerate triangles of emissive materials
+  glm::dvec3 origin{0.0};
+  uint32_t vertex_count = 0;
+  uint32_t triangle_count = 0;
+  uint32_t point_light_count = 0;
+  uint32_t directional_light_count = 0;
+  uint32_t emitter_count = 0;
+  Sky sky;
+  uint64_t bytes = 0;             // GPU memory the buffers hold
+};
+
+// Throws InputError for an invalid scene (validate), or one whose triangle count does not fit
+// the device's storage-buffer range.
+GpuSurfaceScene upload(const vk::Device& device, const SurfaceScene& scene);
+
+}  // namespace prismoid::surface

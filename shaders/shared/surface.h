@@ -1,0 +1,100 @@
+// Layouts shared by the surface shaders (shaders/surface/) and renderer/surface: materials,
+// lights and the per-frame block every surface backend shades with. All positions are float
+// and relative to the scene's origin (GpuSurfaceScene::origin, kept in double), so a scene far
+// from the world origin keeps its precision.
+#ifndef PRISMOID_SHARED_SURFACE_H
+#define PRISMOID_SHARED_SURFACE_H
+#include "common.h"
+
+PRISMOID_SHARED_BEGIN
+
+// Descriptor bindings of set 0, shared by every surface backend's shading.
+#define PRISMOID_SURFACE_BINDING_FRAME 0              // uniform SurfaceFrame
+#define PRISMOID_SURFACE_BINDING_MATERIALS 1          // readonly SurfaceMaterialGpu[]
+#define PRISMOID_SURFACE_BINDING_TRIANGLES 2          // readonly SurfaceTriangleGpu[], by gl_PrimitiveID
+#define PRISMOID_SURFACE_BINDING_POINT_LIGHTS 3       // readonly PointLightGpu[]
+#define PRISMOID_SURFACE_BINDING_DIRECTIONAL_LIGHTS 4 // readonly DirectionalLightGpu[]
+#define PRISMOID_SURFACE_BINDING_EMITTERS 5           // readonly EmitterGpu[]: emissive triangles
+#define PRISMOID_SURFACE_BINDING_SHADE_COUNT 6        // r32ui storage image: shading invocations per pixel
+                                                      // (forward_counted.frag only)
+
+// Vertex input of the raster backends: binding 0 holds positions (vec3, stride 12), binding 1
+// the shading attributes (normal vec3, colour vec3; stride 24).
+#define PRISMOID_SURFACE_VERTEX_POSITION 0
+#define PRISMOID_SURFACE_VERTEX_NORMAL 1   // zero for a mesh without normals (flat shading)
+#define PRISMOID_SURFACE_VERTEX_COLOR 2    // the mesh's per-vertex colour, else (1, 1, 1)
+
+// Area lights (emissive triangles): the diffuse lobe is integrated in closed form (Lambert's
+// formula for the polygon clipped to the horizons); the GGX lobe by a fixed rule: the clipped
+// polygon's triangles are each cut into N^2 congruent sub-triangles and each sub-triangle
+// contributes its exact solid angle times the integrand towards its centroid. The CPU
+// reference (renderer/reference/direct_light.hpp) evaluates the same rule in double and, for
+// comparison, the exact integral.
+#define PRISMOID_AREA_SPECULAR_SUBDIVISION 4u
+// A triangle clipped by two planes has at most 5 corners.
+#define PRISMOID_CLIPPED_POLYGON_MAX 5
+
+// GGX alpha below this is raised to it (as kMinGgxAlpha in scene/surface_scene.hpp).
+#define PRISMOID_MIN_GGX_ALPHA 1e-3
+
+struct SurfaceMaterialGpu {
+  vec4 albedo;    // rgb: diffuse albedo; w: GGX alpha = max(roughness^2, PRISMOID_MIN_GGX_ALPHA)
+  vec4 specular;  // rgb: F0 at normal incidence; w: 1 when F0 is not zero (the GGX lobe is evaluated)
+  vec4 emission;  // rgb: radiance leaving the front side; w: unused
+};
+
+struct SurfaceTriangleGpu {
+  vec4 normal;  // xyz: unit winding normal (v1 - v0) x (v2 - v0); zero for a degenerate triangle
+  vec4 color;   // rgb: the mesh's per-triangle colour, else (1, 1, 1)
+  uvec4 info;   // x: material index, y: mesh index, z: triangle index within its mesh, w: unused
+};
+
+struct PointLightGpu {
+  vec4 position;   // xyz relative to the scene origin
+  vec4 intensity;  // rgb radiant intensity (irradiance I cos / r^2)
+};
+
+struct DirectionalLightGpu {
+  vec4 to_light;    // xyz: unit vector towards the light (against its direction of travel)
+  vec4 irradiance;  // rgb irradiance on a surface facing the light
+};
+
+// One emissive triangle (non-degenerate, emission not zero).
+struct EmitterGpu {
+  vec4 v0, v1, v2;  // corners relative to the scene origin
+  vec4 emission;    // rgb radiance from the front side; w: area
+  vec4 normal;      // xyz: unit winding normal (the front side)
+  uvec4 info;       // x: its global triangle index (a point on it does not light itself)
+};
+
+struct SurfaceFrame {
+  mat4 view;            // scene-local coordinates -> camera space (camera looks along -z)
+  mat4 projection;      // camera space -> clip space, with the sub-pixel offset folded in
+  vec4 viewport;        // width, height, 1/width, 1/height
+  vec4 eye;             // xyz: camera position relative to the scene origin
+  uvec4 counts;         // x: point lights, y: directional lights, z: emitters, w: 1 when the sky is not black
+  vec4 sky_top;         // rgb: Sky::top
+  vec4 sky_bottom;      // rgb: Sky::bottom
+  vec4 sky_up;          // xyz: unit Sky::up
+  vec4 camera_right;    // xyz: unit right vector; w: tan(fovy / 2) * aspect
+  vec4 camera_up;       // xyz: unit up vector (in the image); w: tan(fovy / 2)
+  vec4 camera_forward;  // xyz: unit viewing direction
+  vec4 subpixel;        // xy: where in the pixel the image is sampled, in pixels from its centre
+};
+
+PRISMOID_SHARED_END
+
+#ifdef __cplusplus
+static_assert(sizeof(prismoid::gpu::SurfaceMaterialGpu) == 48);
+static_assert(sizeof(prismoid::gpu::SurfaceTriangleGpu) == 48);
+static_assert(sizeof(prismoid::gpu::PointLightGpu) == 32);
+static_assert(sizeof(prismoid::gpu::DirectionalLightGpu) == 32);
+static_assert(sizeof(prismoid::gpu::EmitterGpu) == 96);
+static_assert(offsetof(prismoid::gpu::EmitterGpu, info) == 80);
+static_assert(offsetof(prismoid::gpu::SurfaceFrame, viewport) == 128);
+static_assert(offsetof(prismoid::gpu::SurfaceFrame, counts) == 160);
+static_assert(offsetof(prismoid::gpu::SurfaceFrame, subpixel) == 272);
+static_assert(sizeof(prismoid::gpu::SurfaceFrame) == 288);
+#endif
+
+#endif

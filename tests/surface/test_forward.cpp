@@ -1,0 +1,181 @@
+// The forward surface backend on the GPU (lavapipe, validation on) against the CPU direct-light
+// reference: every compared pixel within the tolerance forward_comparison.hpp derives, no NaN
+// or infinity anywhere, one shading invocation per covered pixel.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "renderer/reference/direct_light.hpp"
+#include "renderer/surface/forward_pass.hpp"
+#include "scene/surface_generators.hpp"
+#include "support/gpu_fixture.hpp"
+#include "surface/forward_comparison.hpp"
+#include "surface/surface_test_scenes.hpp"
+
+namespace prismoid::test {
+namespace {
+
+class ForwardTest : public GpuTest {
+ protected:
+  ForwardComparison compare(const SurfaceScene& scene, uint32_t w = 64, uint32_t h = 64, glm::dvec2 subpixel = glm::dvec2(0.0)) {
+    surface::ForwardPass pass(device());
+    return compare_forward(device(), pass, scene, scene.camera, w, h, subpixel);
+  }
+  // The comparison passed and was not vacuous: the silhouette band is a small part of the image.
+  void expect_agreement(const ForwardComparison& r, const std::string& what, double max_excluded_fraction = 0.05) {
+    EXPECT_TRUE(r.finite) << what;
+    EXPECT_EQ(r.failures, 0u) << what << ": " << r.failures << " pixels outside the tolerance, first: " << r.first_failure;
+    EXPECT_GT(r.covered, r.pixels / 10) << what;
+    EXPECT_LE(double(r.excluded), max_excluded_fraction * double(r.pixels)) << what;
+    std::printf("[ %s ] compared %zu of %zu pixels (%zu covered, %zu in the silhouette band): max error %.3g, max error/tolerance "
+                "%.3g, rounding tolerance <= %.3g of the peak radiance\n",
+                what.c_str(), r.compared, r.pixels, r.covered, r.excluded, r.max_error, r.max_ratio,
+                r.max_rounding_tolerance / r.peak_radiance);
+  }
+};
+
+TEST_F(ForwardTest, DiffuseSphereUnderEachLightMatchesReference) {
+  for (Lights lights : {Lights::Point, Lights::Directional, Lights::Area}) {
+    SphereSceneOptions o;
+    o.lights = lights;
+    expect_agreement(compare(sphere_scene(o)), "diffuse, light " + std::to_string(int(lights)));
+  }
+}
+
+TEST_F(ForwardTest, GgxSphereUnderEachLightMatchesReference) {
+  for (bool smooth : {true, false})
+    for (Lights lights : {Lights::Point, Lights::Directional, Lights::Area}) {
+      SphereSceneOptions o;
+      o.ggx = true;
+      o.smooth = smooth;
+      o.lights = lights;
+      expect_agreement(compare(sphere_scene(o)), std::string("GGX ") + (smooth ? "smooth" : "flat") + ", light " + std::to_string(int(lights)));
+    }
+}
+
+// Colours per vertex (interpolated) and per triangle, under all lights and the sky; the sky
+// is also what the pixels around the sphere must show.
+TEST_F(ForwardTest, ColoursAndSkyMatchReference) {
+  for (ColorBinding binding : {ColorBinding::PerVertex, ColorBinding::PerTriangle}) {
+    SphereSceneOptions o;
+    o.sky = true;
+    o.ggx = binding == ColorBinding::PerTriangle;
+    o.smooth = binding == ColorBinding::PerVertex;
+    SurfaceScene scene = sphere_scene(o);
+    SceneMesh& sphere = scene.meshes[0];
+    sphere.color_binding = binding;
+    const size_t n = binding == ColorBinding::PerVertex ? sphere.positions.size() : sphere.triangles.size();
+    for (size_t i = 0; i < n; ++i)
+      sphere.colors.push_back(glm::dvec3(double(i * 37 % 101) / 100.0, double(i * 53 % 97) / 96.0, double(i * 11 % 13) / 12.0));
+    expect_agreement(compare(scene), binding == ColorBinding::PerVertex ? "per-vertex colours" : "per-triangle colours");
+  }
+}
+
+// Seen from its centre, the furnace's direct light is Le (1 + A) at every pixel, exactly: all
+// 1279 other triangles are area lights filling each point's hemisphere.
+TEST_F(ForwardTest, FurnaceFromInsideIsEmissionTimesOnePlusAlbedo) {
+  const SurfaceScene furnace = make_furnace(0.5, 2.0, 3);
+  const ForwardComparison r = compare(furnace, 32, 32);
+  expect_agreement(r, "furnace");
+  for (size_t i = 0; i < r.pixels; ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.gpu.rgba[i * 4 + c], 3.0, 3.0 * 1e-4) << "pixel " << i;
+}
+
+// Shadows are not part of forward yet: the Cornell box against the unshadowed reference.
+TEST_F(ForwardTest, CornellBoxMatchesUnshadowedReference) {
+  expect_agreement(compare(make_cornell_box(), 64, 64), "Cornell box", 0.1);
+}
+
+TEST_F(ForwardTest, SubpixelOffsetSamplesTheOffsetPoint) {
+  SphereSceneOptions o;
+  o.ggx = true;
+  o.sky = true;
+  expect_agreement(compare(sphere_scene(o), 48, 40, {0.25, -0.375}), "sub-pixel offset (0.25, -0.375)");
+}
+
+// Positions are uploaded relative to the scene's centre: a copy 1e6 away renders as well.
+TEST_F(ForwardTest, FarFromOriginCopyMatchesReference) {
+  SphereSceneOptions o;
+  o.ggx = true;
+  const ForwardComparison near = compare(sphere_scene(o));
+  const ForwardComparison far = compare(translated(sphere_scene(o), glm::dvec3(1e6, -1e6, 1e6)));
+  expect_agreement(far, "1e6 from the origin");
+  EXPECT_EQ(near.covered, far.covered);
+}
+
+// Zero-area triangles (repeated corner, collinear, one emissive) and a mesh whose normals are
+// all zero: the image stays finite everywhere and matches the reference. Then a point light
+// exactly at a vertex of the sphere (distance zero there, and in the plane of every triangle
+// around that vertex, where float and double legitimately disagree about the horizon): finite.
+TEST_F(ForwardTest, DegenerateTrianglesAndNormalsGiveFiniteImage) {
+  SphereSceneOptions o;
+  o.ggx = true;
+  SurfaceScene scene = sphere_scene(o);
+  scene.materials.push_back({"glow", glm::dvec3(0.5), glm::dvec3(0.04), 0.3, glm::dvec3(3.0)});
+  SceneMesh junk;
+  junk.name = "degenerate";
+  junk.material = 2;
+  junk.positions = {{0.2, 0.1, 1.5}, {0.4, 0.3, 1.5}, {0.6, 0.5, 1.5}, {0.2, 0.1, 1.5}};
+  junk.triangles = {{0, 1, 2}, {0, 3, 1}, {1, 1, 1}};
+  scene.meshes.push_back(junk);
+  SceneMesh zero_normals = sphere_mesh({1.3, -0.8, 0.5}, 0.3, 1, true, 0);
+  for (auto& n : zero_normals.normals) n = glm::dvec3(0.0);
+  scene.meshes.push_back(zero_normals);
+  const ForwardComparison r = compare(scene);
+  expect_agreement(r, "degenerate input");
+
+  scene.point_lights.push_back({scene.meshes[0].positions[5], glm::dvec3(0.5)});
+  surface::ForwardPass pass(device());
+  const surface::GpuSurfaceScene gpu = surface::upload(device(), scene);
+  const surface::ForwardImage image = surface::render_forward(device(), pass, gpu, scene.camera, {64, 64});
+  for (float v : image.rgba) ASSERT_TRUE(std::isfinite(v));
+}
+
+// The depth pre-pass is there so that shading runs once per covered pixel: counted per pixel
+// (an atomic counter image) and in total (pipeline statistics, where the device has them), on
+// a scene with three spheres behind each other, where drawing without the pre-pass would shade
+// most pixels more than once.
+TEST_F(ForwardTest, DepthPrePassShadesEachCoveredPixelOnce) {
+  if (!device().capabilities().fragment_stores) GTEST_SKIP() << "no fragmentStoresAndAtomics";
+  SurfaceScene scene = sphere_scene();
+  scene.meshes.push_back(sphere_mesh({0.3, 0.2, -1.5}, 1.2, 3, true, 0));
+  scene.meshes.push_back(sphere_mesh({-0.2, -0.1, -3.5}, 1.6, 3, false, 0));
+  const surface::GpuSurfaceScene gpu = surface::upload(device(), scene);
+  surface::ForwardPass pass(device());
+  surface::ForwardSettings settings;
+  settings.count_shading = true;
+  const surface::ForwardImage image = surface::render_forward(device(), pass, gpu, scene.camera, {96, 80}, settings);
+  size_t covered = 0, wrong = 0;
+  for (size_t i = 0; i < image.shade_counts.size(); ++i) {
+    const bool surface = image.rgba[i * 4 + 3] == 1.0f;
+    covered += surface;
+    if (image.shade_counts[i] != (surface ? 1u : 0u)) ++wrong;
+  }
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_GT(covered, image.shade_counts.size() / 4);
+  if (image.statistics) {
+    EXPECT_EQ(image.fragment_invocations, covered);
+  }
+  std::printf("[ pre-pass ] %zu covered pixels, %zu with a shading count other than 1/0; pipeline statistics: %s %llu\n", covered,
+              wrong, image.statistics ? "counted" : "not available", static_cast<unsigned long long>(image.fragment_invocations));
+}
+
+// A surface file has no lights; the renderers apply with_default_lighting, after which every
+// covered pixel of the default material is at least 0.8 times the sky's least cosine mean.
+TEST_F(ForwardTest, DefaultLightingMakesABareSurfaceVisible) {
+  SurfaceMesh mesh = make_icosphere(glm::dvec3(-2.0, 5.0, 1.0), 0.5, 2);
+  mesh.name = "bare.off";
+  const SurfaceScene bare = make_surface_scene(mesh);
+  const SurfaceScene lit = with_default_lighting(bare, bare.camera);
+  const ForwardComparison r = compare(lit, 48, 48);
+  expect_agreement(r, "default lighting");
+  const double floor = 0.8 * (0.5 * (kDefaultSkyTop + kDefaultSkyBottom) - (kDefaultSkyTop - kDefaultSkyBottom) / 3.0);
+  for (size_t i = 0; i < r.pixels; ++i)
+    if (r.gpu.rgba[i * 4 + 3] == 1.0f) {
+      for (int c = 0; c < 3; ++c) EXPECT_GE(r.gpu.rgba[i * 4 + c], floor * (1.0 - 1e-5)) << "pixel " << i;
+    }
+}
+
+}  // namespace
+}  // namespace prismoid::test
