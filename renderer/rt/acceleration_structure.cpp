@@ -32,20 +32,6 @@ bool degenerate(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
   return !finite(a) || !finite(b) || !finite(c) || !finite(n) || glm::length(n) == 0.0;
 }
 
-// One global memory dependency (synchronization2).
-void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
-  VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-  barrier.srcStageMask = src_stage;
-  barrier.srcAccessMask = src_access;
-  barrier.dstStageMask = dst_stage;
-  barrier.dstAccessMask = dst_access;
-  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.memoryBarrierCount = 1;
-  dep.pMemoryBarriers = &barrier;
-  vkCmdPipelineBarrier2(cmd, &dep);
-}
-
 // A device-local buffer with a device address and room for `bytes` at an address aligned to
 // `alignment` (allocations need not be aligned as strictly as scratch memory must be).
 struct AlignedBuffer {
@@ -148,7 +134,7 @@ SceneAccel::SceneAccel(const vk::Device& device, const SurfaceScene& scene, cons
       }
       device.submit_and_wait([&](VkCommandBuffer cmd) {
         for (const auto& [region, dst] : copies) vkCmdCopyBuffer(cmd, staging.get(), dst, 1, &region);
-        memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+        vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                        VK_ACCESS_2_MEMORY_READ_BIT);
       });
@@ -222,7 +208,7 @@ SceneAccel::SceneAccel(const vk::Device& device, const SurfaceScene& scene, cons
     }
     device.submit_and_wait([&](VkCommandBuffer cmd) {
       device.cmd_build_acceleration_structures(cmd, static_cast<uint32_t>(infos.size()), infos.data(), range_pointers.data());
-      memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
                      VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                      VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
       if (sizes_pool) {
@@ -255,7 +241,7 @@ SceneAccel::SceneAccel(const vk::Device& device, const SurfaceScene& scene, cons
         device.cmd_copy_acceleration_structure(cmd, &copy);
       }
       // Copies run in the build stage (the copy stage needs VK_KHR_ray_tracing_maintenance1).
-      memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
                      VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
     });
     for (size_t i = 0; i < built.size(); ++i) meshes_[built[i]].blas = std::move(copies[i]);
@@ -306,7 +292,7 @@ SceneAccel::SceneAccel(const vk::Device& device, const SurfaceScene& scene, cons
   const VkAccelerationStructureBuildRangeInfoKHR* trange_pointer = &trange;
   device.submit_and_wait([&](VkCommandBuffer cmd) {
     device.cmd_build_acceleration_structures(cmd, 1, &tinfo, &trange_pointer);
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
   });
   stats_.tlas_seconds = seconds_since(start);

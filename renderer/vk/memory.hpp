@@ -65,6 +65,10 @@ class Image {
 // The aspect an image of this format has: depth for the depth-only formats, else colour.
 VkImageAspectFlags aspect_of(VkFormat format);
 
+// One global memory dependency (synchronization2): every resource, these stages and accesses.
+void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+
 // One pipeline barrier on whole buffers (synchronization2).
 void buffer_barrier(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers, VkPipelineStageFlags2 src_stage,
                     VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);

@@ -38,15 +38,8 @@ class RadixSortTest : public test::GpuTest {
     const VkDeviceSize bytes = VkDeviceSize(count) * sizeof(uint32_t);
     vk::Buffer staging(device(), bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
     device().submit_and_wait([&](VkCommandBuffer cmd) {
-      VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-      barrier.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-      barrier.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
-      barrier.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-      barrier.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-      dep.memoryBarrierCount = 1;
-      dep.pMemoryBarriers = &barrier;
-      vkCmdPipelineBarrier2(cmd, &dep);
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                         VK_ACCESS_2_TRANSFER_READ_BIT);
       VkBufferCopy region{0, 0, bytes};
       vkCmdCopyBuffer(cmd, buffer.get(), staging.get(), 1, &region);
     });
