@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "app/bench/bench_table.hpp"
+#include "support/cli_run.hpp"
 #include "app/grid_dataset.hpp"
 #include "io/image_io.hpp"
 #include "io/surface_io.hpp"
@@ -32,48 +33,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Removes the scratch folder when the suite ends.
-class ScratchCleanup : public ::testing::Environment {
- public:
-  void TearDown() override;
-};
-
-struct CliRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-fs::path work_dir() {
-  fs::path d = fs::temp_directory_path() / ("prismoid_cli_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
-
-void ScratchCleanup::TearDown() {
-  std::error_code ignored;
-  fs::remove_all(work_dir(), ignored);
-}
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-CliRun run(const std::string& args) {
-  const fs::path dir = work_dir();
-  const std::string cmd = std::string(PRISMOID_EXE) + " " + args + " >" + (dir / "out.txt").string() + " 2>" +
-                          (dir / "err.txt").string();
-  CliRun r;
-  const int status = std::system(cmd.c_str());
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(dir / "out.txt");
-  r.err = slurp(dir / "err.txt");
-  return r;
-}
+using test::CliRun;
+using test::slurp;
+fs::path work_dir() { return test::cli_work_dir(); }
+CliRun run(const std::string& args) { return test::run_cli(args); }
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new test::CliScratchCleanup);
 
 // An aggregate check of a whole image written by the CLI against the CPU reference: RMSE
 // below 1e-3 of the peak. The per-pixel tolerances (sub-pixel snapping, float32) are derived

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "io/image_io.hpp"
+#include "support/cli_run.hpp"
 #include "renderer/reference/direct_light.hpp"
 #include "scene/surface_generators.hpp"
 
@@ -18,43 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path work_dir() {
-  fs::path d = fs::temp_directory_path() / ("prismoid_cli_forward_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
-
-class ScratchCleanup : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(work_dir(), ignored);
-  }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run(const std::string& args) {
-  const fs::path dir = work_dir();
-  const std::string cmd = std::string(PRISMOID_EXE) + " " + args + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-  CliRun r;
-  const int status = std::system(cmd.c_str());
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(dir / "out.txt");
-  r.err = slurp(dir / "err.txt");
-  return r;
-}
+using test::CliRun;
+using test::slurp;
+fs::path work_dir() { return test::cli_work_dir(); }
+CliRun run(const std::string& args) { return test::run_cli(args); }
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new test::CliScratchCleanup);
 
 // Seen from inside, the furnace's direct light is Le (1 + A) = 1.5 at every pixel. 3e-4 is the
 // float rounding bound tests/surface derives for this scene: 1279 area-light terms summed.
