@@ -40,24 +40,18 @@ UniquePipelineLayout create_pipeline_layout(const Device& device, std::span<cons
   return UniquePipelineLayout(device.get(), layout);
 }
 
-UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc& desc) {
-  if (!device.capabilities().mesh_shader)
-    throw NoSuitableDevice(device.capabilities().name + " has no mesh shaders, which volume rendering needs");
+UniquePipeline create_graphics_pipeline(const Device& device, const GraphicsPipelineParts& parts) {
   std::vector<UniqueShaderModule> modules;
   std::vector<VkPipelineShaderStageCreateInfo> stages;
-  auto add_stage = [&](std::string_view name, VkShaderStageFlagBits stage) {
-    if (name.empty()) return;
+  for (const auto& [name, stage] : parts.stages) {
+    if (name.empty()) continue;
     modules.push_back(create_shader_module(device, shaders::spirv(name)));
     VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     s.stage = stage;
     s.module = modules.back().get();
     s.pName = "main";
     stages.push_back(s);
-  };
-  add_stage(desc.task_shader, VK_SHADER_STAGE_TASK_BIT_EXT);
-  add_stage(desc.mesh_shader, VK_SHADER_STAGE_MESH_BIT_EXT);
-  add_stage(desc.fragment_shader, VK_SHADER_STAGE_FRAGMENT_BIT);
-
+  }
   VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
   viewport.viewportCount = 1;
   viewport.scissorCount = 1;
@@ -68,15 +62,53 @@ UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc
   raster.lineWidth = 1.0f;
   VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  if (desc.depth_format != VK_FORMAT_UNDEFINED) {
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = VK_TRUE;
-    depth.depthCompareOp = desc.depth_compare;
-  }
+  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend.attachmentCount = static_cast<uint32_t>(parts.attachments.size());
+  blend.pAttachments = parts.attachments.data();
 
-  std::vector<VkPipelineColorBlendAttachmentState> attachments(desc.color_formats.size());
-  for (auto& a : attachments) {
+  VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamic_states;
+
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = static_cast<uint32_t>(parts.color_formats.size());
+  rendering.pColorAttachmentFormats = parts.color_formats.data();
+  rendering.depthAttachmentFormat = parts.depth_format;
+
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  info.pNext = &rendering;
+  info.stageCount = static_cast<uint32_t>(stages.size());
+  info.pStages = stages.data();
+  info.pVertexInputState = parts.vertex_input;
+  info.pInputAssemblyState = parts.input_assembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &parts.depth;
+  info.pColorBlendState = &blend;
+  info.pDynamicState = &dynamic;
+  info.layout = parts.layout;
+  VkPipeline pipeline;
+  check(vkCreateGraphicsPipelines(device.get(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
+        ("vkCreateGraphicsPipelines (" + parts.name + ")").c_str());
+  return UniquePipeline(device.get(), pipeline);
+}
+
+UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc& desc) {
+  if (!device.capabilities().mesh_shader)
+    throw NoSuitableDevice(device.capabilities().name + " has no mesh shaders, which volume rendering needs");
+  GraphicsPipelineParts parts;
+  parts.stages = {{desc.task_shader, VK_SHADER_STAGE_TASK_BIT_EXT},
+                  {desc.mesh_shader, VK_SHADER_STAGE_MESH_BIT_EXT},
+                  {desc.fragment_shader, VK_SHADER_STAGE_FRAGMENT_BIT}};
+  if (desc.depth_format != VK_FORMAT_UNDEFINED) {
+    parts.depth.depthTestEnable = VK_TRUE;
+    parts.depth.depthWriteEnable = VK_TRUE;
+    parts.depth.depthCompareOp = desc.depth_compare;
+  }
+  parts.attachments.resize(desc.color_formats.size());
+  for (auto& a : parts.attachments) {
     a.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
     if (desc.blend == BlendMode::Additive) {
       a.blendEnable = VK_TRUE;
@@ -97,35 +129,11 @@ UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc
       a.alphaBlendOp = VK_BLEND_OP_ADD;
     }
   }
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = static_cast<uint32_t>(attachments.size());
-  blend.pAttachments = attachments.data();
-
-  VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamic_states;
-
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = static_cast<uint32_t>(desc.color_formats.size());
-  rendering.pColorAttachmentFormats = desc.color_formats.data();
-  rendering.depthAttachmentFormat = desc.depth_format;
-
-  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  info.pNext = &rendering;
-  info.stageCount = static_cast<uint32_t>(stages.size());
-  info.pStages = stages.data();
-  info.pViewportState = &viewport;
-  info.pRasterizationState = &raster;
-  info.pMultisampleState = &multisample;
-  info.pDepthStencilState = &depth;
-  info.pColorBlendState = &blend;
-  info.pDynamicState = &dynamic;
-  info.layout = desc.layout;
-  VkPipeline pipeline;
-  check(vkCreateGraphicsPipelines(device.get(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
-        ("vkCreateGraphicsPipelines (" + std::string(desc.mesh_shader) + ")").c_str());
-  return UniquePipeline(device.get(), pipeline);
+  parts.color_formats = desc.color_formats;
+  parts.depth_format = desc.depth_format;
+  parts.layout = desc.layout;
+  parts.name = std::string(desc.mesh_shader);
+  return create_graphics_pipeline(device, parts);
 }
 
 UniquePipeline create_compute_pipeline(const Device& device, std::string_view shader, VkPipelineLayout layout) {

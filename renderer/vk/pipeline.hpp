@@ -2,6 +2,8 @@
 // Shader modules, layouts and pipelines. Pipelines use dynamic rendering (no render passes).
 #include <cstdint>
 #include <span>
+#include <string>
+#include <utility>
 #include <string_view>
 #include <vector>
 #include <vulkan/vulkan.h>
@@ -40,6 +42,23 @@ struct MeshPipelineDesc {
 UniquePipeline create_mesh_pipeline(const Device& device, const MeshPipelineDesc& desc);
 
 UniquePipeline create_compute_pipeline(const Device& device, std::string_view shader, VkPipelineLayout layout);
+
+// What the mesh and vertex pipelines have in common, for their builders (create_mesh_pipeline,
+// create_vertex_pipeline): filled, unculled triangles, one sample, dynamic viewport and
+// scissor, dynamic rendering into these formats. Each builder says its stages, its vertex
+// input (none for mesh shaders), its depth test and its blending.
+struct GraphicsPipelineParts {
+  std::vector<std::pair<std::string_view, VkShaderStageFlagBits>> stages;  // shader names; empty ones left out
+  const VkPipelineVertexInputStateCreateInfo* vertex_input = nullptr;
+  const VkPipelineInputAssemblyStateCreateInfo* input_assembly = nullptr;
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  std::vector<VkPipelineColorBlendAttachmentState> attachments;  // one per colour format
+  std::vector<VkFormat> color_formats;
+  VkFormat depth_format = VK_FORMAT_UNDEFINED;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  std::string name;  // for the error message
+};
+UniquePipeline create_graphics_pipeline(const Device& device, const GraphicsPipelineParts& parts);
 
 // A descriptor pool sized for `sets` sets of the given bindings, and one set from it.
 struct DescriptorSet {
