@@ -298,4 +298,17 @@ SceneAccel::SceneAccel(const vk::Device& device, const SurfaceScene& scene, cons
   stats_.tlas_seconds = seconds_since(start);
 }
 
+void write_tlas_descriptor(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkAccelerationStructureKHR tlas) {
+  VkWriteDescriptorSetAccelerationStructureKHR as{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+  as.accelerationStructureCount = 1;
+  as.pAccelerationStructures = &tlas;
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.pNext = &as;
+  write.dstSet = set;
+  write.dstBinding = binding;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+  vkUpdateDescriptorSets(device.get(), 1, &write, 0, nullptr);
+}
+
 }  // namespace prismoid::rt

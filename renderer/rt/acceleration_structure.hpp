@@ -79,6 +79,9 @@ struct AccelBuildStats {
   VkDeviceSize scratch_bytes = 0;       // the larger of the BLAS and TLAS scratch buffers
 };
 
+// Writes `tlas` to an acceleration-structure binding of a descriptor set.
+void write_tlas_descriptor(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkAccelerationStructureKHR tlas);
+
 class SceneAccel {
  public:
   // Throws InputError for an invalid scene (validate), vk::NoSuitableDevice when the device has

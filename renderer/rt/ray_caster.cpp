@@ -52,19 +52,6 @@ RayTracingPipelineDesc caster_desc(VkPipelineLayout layout) {
   return d;
 }
 
-void write_tlas_descriptor(const vk::Device& device, VkDescriptorSet set, VkAccelerationStructureKHR tlas) {
-  VkWriteDescriptorSetAccelerationStructureKHR as{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
-  as.accelerationStructureCount = 1;
-  as.pAccelerationStructures = &tlas;
-  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  write.pNext = &as;
-  write.dstSet = set;
-  write.dstBinding = PRISMOID_RT_BINDING_TLAS;
-  write.descriptorCount = 1;
-  write.descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
-  vkUpdateDescriptorSets(device.get(), 1, &write, 0, nullptr);
-}
-
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
@@ -92,7 +79,7 @@ static void run(const vk::Device& device, const SceneAccel& accel, VkDescriptorS
                 const RayTracingPipeline& pipeline, const Launch& launch) {
   const vk::Buffer stub(device, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::DeviceLocal);
   const vk::DescriptorSet set = vk::allocate_descriptor_set(device, set_layout, kBindings);
-  write_tlas_descriptor(device, set.set, accel.tlas());
+  write_tlas_descriptor(device, set.set, PRISMOID_RT_BINDING_TLAS, accel.tlas());
   auto bind = [&](uint32_t binding, VkBuffer b) {
     vk::write_buffer_descriptor(device, set.set, binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, b ? b : stub.get());
   };

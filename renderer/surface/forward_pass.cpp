@@ -1,5 +1,7 @@
 #include "renderer/surface/forward_pass.hpp"
 
+#include "renderer/surface/scene_descriptors.hpp"
+
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -21,15 +23,14 @@ constexpr VkFormat kColorFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr VkFormat kCountFormat = VK_FORMAT_R32_UINT;
 
-const std::array<vk::DescriptorBinding, 7> kBindings = {{
-    {PRISMOID_SURFACE_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
-    {PRISMOID_SURFACE_BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    {PRISMOID_SURFACE_BINDING_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    {PRISMOID_SURFACE_BINDING_POINT_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    {PRISMOID_SURFACE_BINDING_DIRECTIONAL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    {PRISMOID_SURFACE_BINDING_EMITTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    {PRISMOID_SURFACE_BINDING_SHADE_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
-}};
+// The scene's bindings (no vertex buffers: the rasterizer interpolates the attributes) and the
+// shading counter.
+std::vector<vk::DescriptorBinding> forward_bindings() {
+  std::vector<vk::DescriptorBinding> b =
+      scene_bindings({.stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, .vertex_buffers = false, .tlas = false});
+  b.push_back({PRISMOID_SURFACE_BINDING_SHADE_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT});
+  return b;
+}
 
 std::vector<VkVertexInputBindingDescription> vertex_bindings(bool attributes) {
   std::vector<VkVertexInputBindingDescription> b{{0, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX}};
@@ -91,10 +92,11 @@ ForwardPass::ForwardPass(const vk::Device& device) : device_(device) {
     throw vk::NoSuitableDevice(caps.name + " cannot read gl_PrimitiveID in fragment shaders (no geometryShader feature)");
   if (!(device.format_properties(kColorFormat).optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
     throw vk::NoSuitableDevice(caps.name + " cannot render to R32G32B32A32_SFLOAT images");
-  set_layout_ = vk::create_descriptor_set_layout(device, kBindings);
+  const std::vector<vk::DescriptorBinding> bindings = forward_bindings();
+  set_layout_ = vk::create_descriptor_set_layout(device, bindings);
   VkDescriptorSetLayout sets[] = {set_layout_.get()};
   layout_ = vk::create_pipeline_layout(device, sets, {});
-  set_ = vk::allocate_descriptor_set(device, set_layout_.get(), kBindings);
+  set_ = vk::allocate_descriptor_set(device, set_layout_.get(), bindings);
   frame_uniforms_ = vk::Buffer(device, sizeof(gpu::SurfaceFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_SURFACE_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frame_uniforms_.get());
 
@@ -151,13 +153,7 @@ VkPipeline ForwardPass::shading_pipeline(bool counted) {
 
 void ForwardPass::bind(const GpuSurfaceScene& scene, const ForwardTargets& targets) {
   if (bound_scene_ != &scene) {
-    const VkDescriptorType storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    vk::write_buffer_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_MATERIALS, storage, scene.materials.get());
-    vk::write_buffer_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_TRIANGLES, storage, scene.triangles.get());
-    vk::write_buffer_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_POINT_LIGHTS, storage, scene.point_lights.get());
-    vk::write_buffer_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_DIRECTIONAL_LIGHTS, storage,
-                                scene.directional_lights.get());
-    vk::write_buffer_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_EMITTERS, storage, scene.emitters.get());
+    write_scene_descriptors(device_, set_.set, scene, false);
     bound_scene_ = &scene;
   }
   if (bound_count_view_ != targets.shade_count.view()) {

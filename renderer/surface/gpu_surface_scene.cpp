@@ -52,10 +52,13 @@ GpuSurfaceScene upload(const vk::Device& device, const SurfaceScene& scene) {
   std::vector<uint32_t> indices;
   std::vector<gpu::SurfaceTriangleGpu> triangles;
   std::vector<gpu::EmitterGpu> emitters;
+  std::vector<gpu::SurfaceMeshGpu> meshes;
   for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
     const SceneMesh& mesh = scene.meshes[m];
     const auto base = static_cast<uint32_t>(positions.size());
     const glm::dvec3& emission = scene.materials[mesh.material].emission;
+    meshes.push_back({glm::uvec4(static_cast<uint32_t>(triangles.size()), static_cast<uint32_t>(mesh.triangles.size()), base,
+                                 mesh.material)});
     for (size_t v = 0; v < mesh.positions.size(); ++v) {
       positions.emplace_back(mesh.positions[v] - o);
       glm::dvec3 n(0.0);
@@ -110,12 +113,16 @@ GpuSurfaceScene upload(const vk::Device& device, const SurfaceScene& scene) {
   for (const DirectionalLight& l : scene.directional_lights)
     directionals.push_back({glm::vec4(glm::vec3(-glm::normalize(l.direction)), 0.0f), glm::vec4(glm::vec3(l.irradiance), 0.0f)});
 
-  const VkBufferUsageFlags vertex = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
+  const VkBufferUsageFlags vertex = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  if (positions.empty()) positions.resize(1);  // storage buffers cannot be empty (vertex_count stays 0)
+  if (indices.empty()) indices.resize(3);
   gpu.positions = vk::upload_buffer(device, bytes_of(positions), vertex);
+  attributes.resize(std::max<size_t>(attributes.size(), 2));
   gpu.attributes = vk::upload_buffer(device, bytes_of(attributes), vertex);
-  gpu.indices = vk::upload_buffer(device, bytes_of(indices), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  gpu.indices = vk::upload_buffer(device, bytes_of(indices), VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   gpu.bytes = (positions.size() + attributes.size()) * sizeof(glm::vec3) + indices.size() * sizeof(uint32_t);
-  gpu.vertex_count = static_cast<uint32_t>(positions.size());
+  gpu.vertex_count = 0;
+  for (const SceneMesh& mesh : scene.meshes) gpu.vertex_count += static_cast<uint32_t>(mesh.positions.size());
   gpu.triangle_count = static_cast<uint32_t>(triangles.size());
   gpu.point_light_count = static_cast<uint32_t>(points.size());
   gpu.directional_light_count = static_cast<uint32_t>(directionals.size());
@@ -125,6 +132,7 @@ GpuSurfaceScene upload(const vk::Device& device, const SurfaceScene& scene) {
   gpu.point_lights = storage(device, std::move(points), gpu.bytes);
   gpu.directional_lights = storage(device, std::move(directionals), gpu.bytes);
   gpu.emitters = storage(device, std::move(emitters), gpu.bytes);
+  gpu.meshes = storage(device, std::move(meshes), gpu.bytes);
   return gpu;
 }
 

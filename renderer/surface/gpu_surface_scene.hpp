@@ -21,6 +21,8 @@ struct GpuSurfaceScene {
   vk::Buffer positions;           // vec3 per vertex (vertex binding 0)
   vk::Buffer attributes;          // normal vec3, colour vec3 per vertex (vertex binding 1)
   vk::Buffer indices;             // uint32, 3 per triangle, already offset to the shared vertex buffer
+  // positions, attributes and indices are also storage buffers (surface_point.glsl reads them).
+  vk::Buffer meshes;              // SurfaceMeshGpu[]: first global triangle, count, first vertex, material
   vk::Buffer materials;           // SurfaceMaterialGpu[]
   vk::Buffer triangles;           // SurfaceTriangleGpu[], by global triangle index
   vk::Buffer point_lights;        // PointLightGpu[] (one unused entry when there are none)

@@ -17,6 +17,16 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_SURFACE_BINDING_EMITTERS 5           // readonly EmitterGpu[]: emissive triangles
 #define PRISMOID_SURFACE_BINDING_SHADE_COUNT 6        // r32ui storage image: shading invocations per pixel
                                                       // (forward_counted.frag only)
+// Bindings of passes that rebuild surface points from (triangle, barycentrics) rather than from
+// rasterized vertex attributes (shaders/surface/surface_point.glsl; define
+// PRISMOID_SURFACE_VERTEX_BUFFERS before including scene_bindings.glsl), and of ray-traced passes.
+#define PRISMOID_SURFACE_BINDING_TLAS 7               // accelerationStructureEXT: the scene (renderer/rt SceneAccel)
+#define PRISMOID_SURFACE_BINDING_POSITIONS 8          // readonly float[]: 3 per vertex (the vertex buffer)
+#define PRISMOID_SURFACE_BINDING_ATTRIBUTES 9         // readonly float[]: normal xyz, colour rgb per vertex
+#define PRISMOID_SURFACE_BINDING_INDICES 10           // readonly uint[]: 3 per global triangle
+#define PRISMOID_SURFACE_BINDING_MESHES 11            // readonly SurfaceMeshGpu[]: per mesh
+// The first binding number a backend may use for its own resources in set 0.
+#define PRISMOID_SURFACE_BINDING_BACKEND 16
 
 // Vertex input of the raster backends: binding 0 holds positions (vec3, stride 12), binding 1
 // the shading attributes (normal vec3, colour vec3; stride 24).
@@ -47,6 +57,13 @@ struct SurfaceTriangleGpu {
   vec4 normal;  // xyz: unit winding normal (v1 - v0) x (v2 - v0); zero for a degenerate triangle
   vec4 color;   // rgb: the mesh's per-triangle colour, else (1, 1, 1)
   uvec4 info;   // x: material index, y: mesh index, z: triangle index within its mesh, w: unused
+};
+
+// A mesh of the scene: where its triangles start among all meshes' (global triangle index =
+// first + the index within the mesh, e.g. gl_PrimitiveID of a hit in the mesh's BLAS, whose
+// instance custom index is the mesh index).
+struct SurfaceMeshGpu {
+  uvec4 info;  // x: first global triangle, y: triangle count, z: first vertex, w: material index
 };
 
 struct PointLightGpu {
@@ -87,6 +104,7 @@ PRISMOID_SHARED_END
 #ifdef __cplusplus
 static_assert(sizeof(prismoid::gpu::SurfaceMaterialGpu) == 48);
 static_assert(sizeof(prismoid::gpu::SurfaceTriangleGpu) == 48);
+static_assert(sizeof(prismoid::gpu::SurfaceMeshGpu) == 16);
 static_assert(sizeof(prismoid::gpu::PointLightGpu) == 32);
 static_assert(sizeof(prismoid::gpu::DirectionalLightGpu) == 32);
 static_assert(sizeof(prismoid::gpu::EmitterGpu) == 96);

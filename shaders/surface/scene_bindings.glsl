@@ -13,4 +13,11 @@ layout(std430, set = 0, binding = PRISMOID_SURFACE_BINDING_DIRECTIONAL_LIGHTS) r
 };
 layout(std430, set = 0, binding = PRISMOID_SURFACE_BINDING_EMITTERS) readonly buffer EmitterBuffer { EmitterGpu emitters[]; };
 
+#ifdef PRISMOID_SURFACE_VERTEX_BUFFERS
+layout(std430, set = 0, binding = PRISMOID_SURFACE_BINDING_POSITIONS) readonly buffer PositionBuffer { float vertex_positions[]; };
+layout(std430, set = 0, binding = PRISMOID_SURFACE_BINDING_ATTRIBUTES) readonly buffer AttributeBuffer { float vertex_attributes[]; };
+layout(std430, set = 0, binding = PRISMOID_SURFACE_BINDING_INDICES) readonly buffer IndexBuffer { uint triangle_indices[]; };
+layout(std430, set = 0, binding = PRISMOID_SURFACE_BINDING_MESHES) readonly buffer MeshBuffer { SurfaceMeshGpu scene_meshes[]; };
+#endif
+
 #endif

@@ -59,8 +59,8 @@ ShadingMaterial shading_material(SurfaceMaterialGpu m, vec3 color) {
 // Visibility in [0, 1] of each light from a surface point. Without ray tracing every light is
 // fully visible: the image is direct light without shadows, exactly what
 // renderer/reference/direct_light.hpp computes and what the tests hold the GPU to. A backend
-// with shadows (renderer/rt, shaders/rt) defines PRISMOID_SURFACE_SHADOWS and these three
-// functions before including this file:
+// with shadows (renderer/rt, shaders/rt) defines PRISMOID_SURFACE_SHADOWS before including this
+// file, which then only declares these three functions, and defines them after it:
 //  - point_light_visibility / directional_light_visibility: one shadow ray from
 //    sp.position offset along sp.geometric (towards the viewer's side) to the light position /
 //    along `to_light` to infinity, skipping sp.triangle;
@@ -69,13 +69,15 @@ ShadingMaterial shading_material(SurfaceMaterialGpu m, vec3 color) {
 //    ("Combining analytic direct illumination and stochastic shadows"): the unshadowed
 //    analytic integral times (shadowed / unshadowed) stochastic estimates from shared samples.
 //    The emitter's own triangle (info.x) must be skipped by its shadow rays.
-// Coordinates: sp.position and the light buffers are relative to GpuSurfaceScene::origin, so an
-// acceleration structure built for these functions should hold the same scene-local float
-// positions. Where fragment shaders cannot trace (no ray queries, as on the H100), a raygen pass
-// between the depth pre-pass and the shading pass can write visibility per pixel and light
-// into a buffer that these functions read back (the pre-pass would then also write the
-// triangle index, so the raygen pass rebuilds the same point).
-#ifndef PRISMOID_SURFACE_SHADOWS
+// Coordinates: sp.position and the light buffers are relative to GpuSurfaceScene::origin, as
+// are the acceleration structure's positions (renderer/rt SceneAccel uses the same origin).
+// Fragment shaders do not trace (no ray queries on the GPU machine): shadowed passes are
+// ray-generation shaders that rebuild the surface point (surface_point.glsl).
+#ifdef PRISMOID_SURFACE_SHADOWS
+float point_light_visibility(SurfacePoint sp, uint light, vec3 to_light);
+float directional_light_visibility(SurfacePoint sp, uint light, vec3 to_light);
+float emitter_visibility(SurfacePoint sp, uint emitter);
+#else
 float point_light_visibility(SurfacePoint sp, uint light, vec3 to_light) { return 1.0; }
 float directional_light_visibility(SurfacePoint sp, uint light, vec3 to_light) { return 1.0; }
 float emitter_visibility(SurfacePoint sp, uint emitter) { return 1.0; }
