@@ -25,6 +25,16 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_SURFACE_BINDING_ATTRIBUTES 9         // readonly float[]: normal xyz, colour rgb per vertex
 #define PRISMOID_SURFACE_BINDING_INDICES 10           // readonly uint[]: 3 per global triangle
 #define PRISMOID_SURFACE_BINDING_MESHES 11            // readonly SurfaceMeshGpu[]: per mesh
+
+// Ray-tracing pipelines of the surface passes (shaders/surface/rt/): every such pipeline lists
+// the miss shaders and the hit group in this order, so shadow_rays.glsl and bounce rays can
+// name them by index.
+#define PRISMOID_SURFACE_MISS_SHADOW 0    // surface/rt/shadow.rmiss: sets the visibility payload to 1
+#define PRISMOID_SURFACE_MISS_HIT 1       // surface/rt/hit.rmiss: leaves SurfaceHitPayload as a miss
+#define PRISMOID_SURFACE_HIT_GROUP 0      // surface/rt/hit.rchit: fills SurfaceHitPayload
+#define PRISMOID_SURFACE_PAYLOAD_HIT 0    // rayPayloadEXT SurfaceHitPayload
+#define PRISMOID_SURFACE_PAYLOAD_SHADOW 1 // rayPayloadEXT uint: 1 when the segment is free
+
 // The first binding number a backend may use for its own resources in set 0.
 #define PRISMOID_SURFACE_BINDING_BACKEND 16
 
@@ -66,6 +76,12 @@ struct SurfaceMeshGpu {
   uvec4 info;  // x: first global triangle, y: triangle count, z: first vertex, w: material index
 };
 
+// What a closest-hit shader reports: the hit's global triangle and barycentrics.
+struct SurfaceHitPayload {
+  vec4 hit;  // x: t along the traced direction (-1 on a miss), y, z: barycentric weights of corners 1 and 2
+  uvec4 id;  // x: global triangle index, y: 1 for a hit, z, w: 0
+};
+
 struct PointLightGpu {
   vec4 position;   // xyz relative to the scene origin
   vec4 intensity;  // rgb radiant intensity (irradiance I cos / r^2)
@@ -105,6 +121,7 @@ PRISMOID_SHARED_END
 static_assert(sizeof(prismoid::gpu::SurfaceMaterialGpu) == 48);
 static_assert(sizeof(prismoid::gpu::SurfaceTriangleGpu) == 48);
 static_assert(sizeof(prismoid::gpu::SurfaceMeshGpu) == 16);
+static_assert(sizeof(prismoid::gpu::SurfaceHitPayload) == 32);
 static_assert(sizeof(prismoid::gpu::PointLightGpu) == 32);
 static_assert(sizeof(prismoid::gpu::DirectionalLightGpu) == 32);
 static_assert(sizeof(prismoid::gpu::EmitterGpu) == 96);
