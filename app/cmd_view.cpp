@@ -9,7 +9,10 @@
 #include "app/commands.hpp"
 #include "app/dataset_loader.hpp"
 #include "app/terminal_progress.hpp"
+#include "app/surface_args.hpp"
 #include "app/viewer/recent_files.hpp"
+#include "app/viewer/surface_viewer.hpp"
+#include "scene/surface_generators.hpp"
 #include "app/viewer/viewer.hpp"
 #include "app/volume_options.hpp"
 #include "scene/input_error.hpp"
@@ -49,6 +52,9 @@ Bounds union_bounds(const std::vector<Dataset>& datasets) {
 const char* const kViewHelp =
     "usage: prismoid view [FILE...] [options]\n"
     "\n"
+    "Surface scenes (cornell-box, furnace:A, or a surface FILE with --mode forward) open the\n"
+    "surface window: its panel lists the surface modes (M cycles them) with each pass's GPU time.\n"
+    "\n"
     "Several FILEs open together in one scene (drawn as their union; each can be hidden in the\n"
     "panel's Data section). More can be opened from the window: the path box, the recent files,\n"
     "or by dropping files onto it; they load in the background with a progress bar and Cancel.\n"
@@ -68,11 +74,64 @@ const char* const kViewHelp =
     "Keys: R fit, X/Y/Z (shift: negative) axis views, F fly (WASD/QE move, drag looks), C copy the\n"
     "camera as render options, P screenshot, H hide the panels, Esc close.\n";
 
+namespace {
+
+// A surface scene opens the surface window: a built-in one (cornell-box, furnace:A), or any
+// FILE with a surface mode (--mode forward; a surface file without it is tetrahedralized for
+// the volume modes, as render does).
+bool wants_surface_window(const ParsedArgs& a) {
+  if (a.has("mode")) return a.values.at("mode") == "forward";
+  return !a.files.empty() && is_named_surface_scene(a.files.front());
+}
+
+ViewerOptions window_options(const ParsedArgs& a) {
+  ViewerOptions options;
+  if (a.has("size")) {
+    const VkExtent2D s = parse_size(a.values.at("size"));
+    options.width = s.width;
+    options.height = s.height;
+  }
+  options.validation = a.flags.count("validate") > 0;
+  options.device_index = parse_device(a);
+  options.show_ui = a.flags.count("no-ui") == 0;
+  if (a.has("script")) options.script = read_script(a.values.at("script"));
+  if (a.has("frames")) options.max_frames = parse_uint("frames", a.values.at("frames"));
+  return options;
+}
+
+int report_window(const ViewerReport& report, const ViewerOptions& options, double seconds) {
+  std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << " in " << seconds << " s ("
+            << report.frames_presented / seconds << " frames per second, window set-up included)\n";
+  if (options.validation && report.validation_messages > 0) {
+    std::cerr << "prismoid: the validation layer reported " << report.validation_messages << " message(s)\n";
+    return kValidationMessages;
+  }
+  return kOk;
+}
+
+int view_surface(const ParsedArgs& a) {
+  if (a.files.size() != 1) throw InputError("view", "the surface window shows one scene: give one FILE");
+  const SurfaceScene scene = surface_scene_from(a, a.has("mode") ? a.values.at("mode") : "forward");
+  ViewerOptions options = window_options(a);
+  options.mode = a.has("mode") ? a.values.at("mode") : "";
+  const Camera camera = surface_camera(a, scene.camera);
+  bool any_camera = false;
+  for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);
+  if (any_camera) options.camera = camera;
+  if (!display_available()) throw InputError("view", "no display (DISPLAY is not set); use `prismoid render --output X.png`");
+  const auto start = std::chrono::steady_clock::now();
+  const ViewerReport report = run_surface_viewer(with_default_lighting(scene, camera), options);
+  return report_window(report, options, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+}  // namespace
+
 int cmd_view(const std::vector<std::string>& args) {
   std::vector<std::string> value_options = with_camera({"size", "frames", "device", "script"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes", "no-ui"});
   if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
+  if (wants_surface_window(a)) return view_surface(a);
   ParsedArgs first = a;  // the first dataset decides the settings (the transfer function's range among them)
   if (first.files.size() > 1) first.files.resize(1);
   VolumeChoice choice = volume_choice(first);
@@ -83,19 +142,9 @@ int cmd_view(const std::vector<std::string>& args) {
   ViewState state;
   state.datasets.push_back(make_dataset(std::move(choice.mesh), field_of(first)));
   for (size_t i = 1; i < a.files.size(); ++i) state.datasets.push_back(load_for_view(load_request_from(a, a.files[i], color), color));
-  ViewerOptions options;
-  if (a.has("size")) {
-    const VkExtent2D s = parse_size(a.values.at("size"));
-    options.width = s.width;
-    options.height = s.height;
-  }
-  options.validation = a.flags.count("validate") > 0;
-  options.device_index = parse_device(a);
+  ViewerOptions options = window_options(a);
   options.settings = choice.settings;
   options.mode = choice.mode;
-  options.show_ui = a.flags.count("no-ui") == 0;
-  if (a.has("script")) options.script = read_script(a.values.at("script"));
-  if (a.has("frames")) options.max_frames = parse_uint("frames", a.values.at("frames"));
   bool any_camera = false;
   for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);
   if (any_camera) options.camera = camera_from(a, union_bounds(state.datasets));
@@ -106,14 +155,7 @@ int cmd_view(const std::vector<std::string>& args) {
   for (const std::string& file : a.files) remember_opened(options.recent_file, file);
   const auto start = std::chrono::steady_clock::now();
   const ViewerReport report = run_viewer(std::move(state), options);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << " in " << seconds << " s ("
-            << report.frames_presented / seconds << " frames per second, window set-up included)\n";
-  if (options.validation && report.validation_messages > 0) {
-    std::cerr << "prismoid: the validation layer reported " << report.validation_messages << " message(s)\n";
-    return kValidationMessages;
-  }
-  return kOk;
+  return report_window(report, options, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 }  // namespace prismoid::app

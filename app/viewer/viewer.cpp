@@ -14,7 +14,7 @@
 #include "app/viewer/dataset_list.hpp"
 #include "app/viewer/compare_panel.hpp"
 #include "app/viewer/compare_view.hpp"
-#include "app/viewer/mouse_bindings.hpp"
+#include "app/viewer/window_input.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
@@ -27,37 +27,6 @@ namespace {
 
 std::atomic<bool> g_terminate{false};
 extern "C" void on_terminate_signal(int) { g_terminate = true; }
-
-// Mouse drags and held keys: ParaView's bindings, fly mode's WASD/QE.
-struct MouseState {
-  glm::dvec2 last{0.0};
-  bool dragging = false;  // a drag that began outside the panels
-};
-
-void handle_mouse(ViewerSession& s, MouseState& mouse, bool ui_wants_mouse, double seconds) {
-  GLFWwindow* w = s.window.get();
-  glm::dvec2 now;
-  glfwGetCursorPos(w, &now.x, &now.y);
-  const glm::dvec2 delta = now - mouse.last;
-  mouse.last = now;
-  MouseButtons buttons;
-  buttons.left = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-  buttons.middle = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
-  buttons.right = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
-  buttons.shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
-  const glm::dvec2 viewport(s.swapchain.extent().width, s.swapchain.extent().height);
-  const auto gesture = drag_gesture(buttons, s.camera.flying());
-  if (!gesture) mouse.dragging = false;
-  else if (!mouse.dragging && !ui_wants_mouse) mouse.dragging = true;  // drags that start on a panel stay the panel's
-  if (mouse.dragging && gesture && (delta.x != 0.0 || delta.y != 0.0)) apply_drag(s.camera, *gesture, delta, viewport);
-  const double scroll = s.window.take_scroll();
-  if (!ui_wants_mouse && scroll != 0.0) s.camera.zoom(scroll);
-  if (s.camera.flying() && !ImGui::GetIO().WantCaptureKeyboard) {
-    auto held = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS ? 1.0 : 0.0; };
-    const glm::dvec3 direction(held(GLFW_KEY_D) - held(GLFW_KEY_A), held(GLFW_KEY_E) - held(GLFW_KEY_Q), held(GLFW_KEY_W) - held(GLFW_KEY_S));
-    if (direction != glm::dvec3(0.0)) s.camera.fly_move(direction, seconds);
-  }
-}
 
 // The frame's passes (A's, and B's in split view), the view into swapchain image `index`, the
 // UI over it, a screenshot.
@@ -105,20 +74,6 @@ void run_script(ViewerSession& s, const CompareView& compare, const std::vector<
     }
   }
   if (!held()) ++s.script_frame;
-}
-
-// Waits for the acquired image before the blit writes it; signals `done` for presentation.
-void submit_frame(const vk::Device& device, VkCommandBuffer cmd, VkSemaphore acquired, VkSemaphore done, VkFence fence) {
-  VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.waitSemaphoreCount = 1;
-  submit.pWaitSemaphores = &acquired;
-  submit.pWaitDstStageMask = &wait_stage;
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &cmd;
-  submit.signalSemaphoreCount = 1;
-  submit.pSignalSemaphores = &done;
-  vk::check(vkQueueSubmit(device.queue(), 1, &submit, fence), "vkQueueSubmit");
 }
 
 void print_timings(GLFWwindow* window, const FrameStats& stats) {
@@ -252,7 +207,8 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     const double seconds = std::min(std::chrono::duration<double>(now - last_frame).count(), 0.1);
     s.stats.cpu_frame_ms = std::chrono::duration<double, std::milli>(now - last_frame).count();
     last_frame = now;
-    handle_mouse(s, mouse, s.state.show_ui && ui.wants_mouse(), seconds);
+    handle_mouse(s.window, s.camera, mouse, s.swapchain.extent(), s.state.show_ui && ui.wants_mouse(),
+                 ImGui::GetIO().WantCaptureKeyboard, seconds);
     for (const KeyPress& key : window.take_keys())
       if (!(s.state.show_ui && ui.wants_keyboard())) s.on_key(key);
     for (const auto& dropped : window.take_drops()) open_datasets(s, dropped, s.panel.data.array);

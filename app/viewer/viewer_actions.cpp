@@ -30,11 +30,15 @@ uint64_t resident_kib() {
   return resident * uint64_t(sysconf(_SC_PAGESIZE)) / 1024;
 }
 
-bool on_off(const ScriptCommand& c, size_t index = 0) {
+}  // namespace
+
+bool script_on_off(const ScriptCommand& c, size_t index) {
   if (c.args.at(index) == "on") return true;
   if (c.args.at(index) == "off") return false;
   throw InputError(c.where, c.verb + " takes on or off");
 }
+
+namespace {
 
 AxisView axis_from_name(const std::string& where, const std::string& name) {
   for (AxisView v : {AxisView::PlusX, AxisView::MinusX, AxisView::PlusY, AxisView::MinusY, AxisView::PlusZ, AxisView::MinusZ})
@@ -87,14 +91,49 @@ void ViewerSession::render_at(uint32_t width, uint32_t height, const std::string
   panel.message = "wrote " + path;
 }
 
-void ViewerSession::on_key(const KeyPress& key) {
+bool camera_key(CameraController& camera, const KeyPress& key, double aspect) {
   const bool shift = (key.mods & GLFW_MOD_SHIFT) != 0;
   switch (key.key) {
-    case GLFW_KEY_R: camera.reset(aspect()); break;
-    case GLFW_KEY_F: camera.set_flying(!camera.flying()); break;
-    case GLFW_KEY_X: camera.axis_view(shift ? AxisView::MinusX : AxisView::PlusX, aspect()); break;
-    case GLFW_KEY_Y: camera.axis_view(shift ? AxisView::MinusY : AxisView::PlusY, aspect()); break;
-    case GLFW_KEY_Z: camera.axis_view(shift ? AxisView::MinusZ : AxisView::PlusZ, aspect()); break;
+    case GLFW_KEY_R: camera.reset(aspect); return true;
+    case GLFW_KEY_F: camera.set_flying(!camera.flying()); return true;
+    case GLFW_KEY_X: camera.axis_view(shift ? AxisView::MinusX : AxisView::PlusX, aspect); return true;
+    case GLFW_KEY_Y: camera.axis_view(shift ? AxisView::MinusY : AxisView::PlusY, aspect); return true;
+    case GLFW_KEY_Z: camera.axis_view(shift ? AxisView::MinusZ : AxisView::PlusZ, aspect); return true;
+    default: return false;
+  }
+}
+
+bool run_camera_command(CameraController& camera, const ScriptCommand& c, VkExtent2D extent, const Bounds& bounds) {
+  const auto& a = c.args;
+  const auto number = [&](size_t i) { return parse_double(c.verb, a.at(i)); };
+  const glm::dvec2 viewport(extent.width, extent.height);
+  const double aspect = extent.height ? double(extent.width) / double(extent.height) : 1.0;
+  if (c.verb == "camera") camera.set_camera(camera_from_line(c.rest, bounds));
+  else if (c.verb == "view") camera.axis_view(axis_from_name(c.where, a[0]), aspect);
+  else if (c.verb == "reset") camera.reset(aspect);
+  else if (c.verb == "rotate") camera.rotate({number(0), number(1)}, viewport);
+  else if (c.verb == "pan") camera.pan({number(0), number(1)}, viewport);
+  else if (c.verb == "zoom") camera.zoom(number(0));
+  else if (c.verb == "drag") {  // what the mouse bindings make of a drag with these buttons
+    MouseButtons b;
+    for (size_t i = 2; i < a.size(); ++i) {
+      if (a[i] == "left") b.left = true;
+      else if (a[i] == "middle") b.middle = true;
+      else if (a[i] == "right") b.right = true;
+      else if (a[i] == "shift") b.shift = true;
+      else throw InputError(c.where, "drag DX DY takes buttons left, middle, right and shift");
+    }
+    if (const auto gesture = drag_gesture(b, camera.flying())) apply_drag(camera, *gesture, {number(0), number(1)}, viewport);
+  } else if (c.verb == "fly") camera.set_flying(script_on_off(c));
+  else if (c.verb == "fly-move") camera.fly_move({number(0), number(1), number(2)}, number(3));
+  else if (c.verb == "fly-look") camera.fly_look({number(0), number(1)}, viewport);
+  else return false;
+  return true;
+}
+
+void ViewerSession::on_key(const KeyPress& key) {
+  if (camera_key(camera, key, aspect())) return;
+  switch (key.key) {
     case GLFW_KEY_H: state.show_ui = !state.show_ui; break;
     case GLFW_KEY_C: copy_camera(); break;
     case GLFW_KEY_P: capture_path = "prismoid-screenshot-" + std::to_string(++screenshot_count) + ".png"; break;
@@ -162,34 +201,16 @@ void ViewerSession::run(const ScriptCommand& c) {
     report.files_written.push_back(a[0]);
   } else if (c.verb == "tetlet-size") r.tetlet_size = whole(0);
   else if (c.verb == "shared-vertices") {
-    const bool on = on_off(c);
+    const bool on = script_on_off(c);
     const std::string problem = shared_vertices_problem(state);
     if (on && !problem.empty()) message("shared-vertices: " + problem);
     else r.shared_vertices = on;
   } else if (c.verb == "preintegration-size") r.preintegration_size = whole(0);
   else if (c.verb == "march-step") r.march.step = number(0);
   else if (c.verb == "density-scale") (r.quantity == volume::Quantity::Color ? r.transfer.density_scale : r.march.density_scale) = number(0);
-  else if (c.verb == "camera") camera.set_camera(camera_from_line(c.rest, state.drawn().bounds));
-  else if (c.verb == "view") camera.axis_view(axis_from_name(c.where, a[0]), aspect());
-  else if (c.verb == "reset") camera.reset(aspect());
-  else if (c.verb == "rotate") camera.rotate({number(0), number(1)}, viewport);
-  else if (c.verb == "pan") camera.pan({number(0), number(1)}, viewport);
-  else if (c.verb == "zoom") camera.zoom(number(0));
-  else if (c.verb == "drag") {  // what the mouse bindings make of a drag with these buttons
-    MouseButtons b;
-    for (size_t i = 2; i < a.size(); ++i) {
-      if (a[i] == "left") b.left = true;
-      else if (a[i] == "middle") b.middle = true;
-      else if (a[i] == "right") b.right = true;
-      else if (a[i] == "shift") b.shift = true;
-      else throw InputError(c.where, "drag DX DY takes buttons left, middle, right and shift");
-    }
-    if (const auto gesture = drag_gesture(b, camera.flying())) apply_drag(camera, *gesture, {number(0), number(1)}, viewport);
+  else if (run_camera_command(camera, c, swapchain.extent(), state.drawn().bounds)) {
   }
-  else if (c.verb == "fly") camera.set_flying(on_off(c));
-  else if (c.verb == "fly-move") camera.fly_move({number(0), number(1), number(2)}, number(3));
-  else if (c.verb == "fly-look") camera.fly_look({number(0), number(1)}, viewport);
-  else if (c.verb == "ui") state.show_ui = on_off(c);
+  else if (c.verb == "ui") state.show_ui = script_on_off(c);
   else if (c.verb == "screenshot") capture_path = a[0];
   else if (c.verb == "render") render_at(whole(0), whole(1), a[2]);
   else if (c.verb == "print-camera") copy_camera();
@@ -202,7 +223,7 @@ void ViewerSession::run(const ScriptCommand& c) {
   else if (c.verb == "drop") window.queue_drop(a);
   else if (c.verb == "wait-load") begin_script_wait(*this, a.empty() ? 120.0 : number(0));
   else if (c.verb == "cancel-load") cancel_loads(*this);
-  else if (c.verb == "show") message(show_dataset(state, whole(0), on_off(c, 1)));
+  else if (c.verb == "show") message(show_dataset(state, whole(0), script_on_off(c, 1)));
   else if (c.verb == "active") message(set_active(state, whole(0)));
   else if (c.verb == "compare") {
     const auto mode = compare_mode_of_name(a[0]);

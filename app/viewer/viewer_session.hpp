@@ -51,5 +51,14 @@ struct ViewerSession {
 
 // The key a script names: a letter, digit or Escape, optionally after "shift+".
 KeyPress key_from_name(const std::string& name);
+// A script argument that is on or off (InputError naming the line otherwise).
+bool script_on_off(const ScriptCommand& c, size_t index = 0);
+
+// What every window does with the camera, shared by the volume and surface windows: the keys
+// R (fit), F (fly), X/Y/Z (shift: negative) and the script's camera verbs (camera, view,
+// reset, rotate, pan, zoom, drag, fly, fly-move, fly-look). false when the key or verb is not
+// a camera one.
+bool camera_key(CameraController& camera, const KeyPress& key, double aspect);
+bool run_camera_command(CameraController& camera, const ScriptCommand& c, VkExtent2D extent, const Bounds& bounds);
 
 }  // namespace prismoid::app

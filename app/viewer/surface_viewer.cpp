@@ -1,0 +1,319 @@
+#include "app/viewer/surface_viewer.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include "app/viewer/camera_line.hpp"
+#include "app/viewer/imgui_layer.hpp"
+#include "app/viewer/screenshot.hpp"
+#include "app/viewer/viewer_session.hpp"
+#include "app/viewer/window.hpp"
+#include "app/viewer/window_input.hpp"
+#include "io/image_io.hpp"
+#include "renderer/surface/surface_renderer.hpp"
+#include "renderer/vk/error.hpp"
+#include "renderer/vk/instance.hpp"
+#include "renderer/vk/memory.hpp"
+#include "renderer/vk/swapchain.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::app {
+
+namespace {
+
+// Everything one surface window holds; the loop is run_surface_viewer's.
+struct SurfaceSession {
+  Window& window;
+  const vk::Device& device;
+  vk::Swapchain& swapchain;
+  surface::SurfaceRenderer& renderer;
+  CameraController camera;
+  Bounds bounds;
+  ViewerReport& report;
+  std::string mode;
+  bool show_ui = true;
+  std::string panel_message;
+  std::optional<std::string> capture_path;
+  uint32_t screenshot_count = 0;
+  std::vector<vk::PassTiming> passes;
+  double cpu_frame_ms = 0.0;
+
+  double aspect() const {
+    const VkExtent2D e = swapchain.extent();
+    return e.height ? double(e.width) / double(e.height) : 1.0;
+  }
+  void message(const std::string& text) {
+    if (text.empty()) return;
+    panel_message = text;
+    report.messages.push_back(text);
+    std::cerr << "prismoid: " << text << "\n";
+  }
+  void set_mode(const std::string& name) {
+    const std::string problem = renderer.mode_problem(name);
+    if (problem.empty()) mode = name;
+    message(problem);
+  }
+  void next_mode() {
+    const auto& modes = renderer.modes();
+    const auto it = std::find(modes.begin(), modes.end(), mode);
+    mode = (it == modes.end() || it + 1 == modes.end()) ? modes.front() : *(it + 1);
+  }
+  void copy_camera() {
+    const std::string line = camera_line(camera.camera());
+    glfwSetClipboardString(window.get(), line.c_str());
+    std::cout << line << std::endl;
+    report.camera_lines.push_back(line);
+  }
+  // This view at width x height through the same renderer (no panels), as PFM or PNG.
+  void render_at(uint32_t width, uint32_t height, const std::string& path) {
+    device.wait_idle();
+    const VkExtent2D window_extent = renderer.extent();
+    renderer.resize({width, height});
+    vk::GpuTimer timer(device, 8);
+    device.submit_and_wait([&](VkCommandBuffer cmd) {
+      timer.reset(cmd);
+      renderer.record(cmd, camera.camera(), mode, timer);
+    });
+    std::vector<float> rgba(size_t(width) * height * 4);
+    vk::read_image(device, renderer.display(), sizeof(float) * 4, std::as_writable_bytes(std::span(rgba)));
+    renderer.resize(window_extent);
+    io::FloatImage image;
+    image.width = width;
+    image.height = height;
+    image.channels = 3;
+    for (size_t i = 0; i < rgba.size(); i += 4) image.pixels.insert(image.pixels.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+    io::write_image(path, image);
+    report.files_written.push_back(path);
+  }
+  void on_key(const KeyPress& key) {
+    if (camera_key(camera, key, aspect())) return;
+    switch (key.key) {
+      case GLFW_KEY_M: next_mode(); break;
+      case GLFW_KEY_H: show_ui = !show_ui; break;
+      case GLFW_KEY_C: copy_camera(); break;
+      case GLFW_KEY_P: capture_path = "prismoid-screenshot-" + std::to_string(++screenshot_count) + ".png"; break;
+      case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window.get(), GLFW_TRUE); break;
+      default: break;
+    }
+  }
+  void run(const ScriptCommand& c) {
+    const auto& a = c.args;
+    const auto whole = [&](size_t i) { return parse_uint(c.verb, a.at(i)); };
+    if (c.verb == "key") on_key(key_from_name(a[0]));
+    else if (c.verb == "mode") set_mode(a[0]);
+    else if (run_camera_command(camera, c, swapchain.extent(), bounds)) {
+    } else if (c.verb == "ui") show_ui = script_on_off(c);
+    else if (c.verb == "screenshot") capture_path = a[0];
+    else if (c.verb == "render") render_at(whole(0), whole(1), a[2]);
+    else if (c.verb == "print-camera") copy_camera();
+    else if (c.verb == "resize") glfwSetWindowSize(window.get(), int(whole(0)), int(whole(1)));
+    else if (c.verb == "close") glfwSetWindowShouldClose(window.get(), GLFW_TRUE);
+    else message(c.where + ": " + c.verb + " is not available in the surface window");
+  }
+};
+
+// The panel: the mode, each pass's GPU time, the scene.
+void draw_surface_panel(SurfaceSession& s) {
+  ImGui::SetNextWindowPos(ImVec2(10.0f, 10.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowBgAlpha(0.8f);
+  if (!ImGui::Begin("Surface", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::End();
+    return;
+  }
+  ImGui::Text("%s", s.report.device_name.c_str());
+  ImGui::Text("%s: %u triangles, %u emissive", s.renderer.scene().name.c_str(), s.renderer.gpu_scene().triangle_count,
+              s.renderer.gpu_scene().emitter_count);
+  ImGui::Separator();
+  ImGui::TextUnformatted("Mode (M cycles)");
+  for (const std::string& m : s.renderer.modes())
+    if (ImGui::RadioButton(m.c_str(), s.mode == m)) s.set_mode(m);
+  ImGui::Separator();
+  double total = 0.0;
+  for (const auto& p : s.passes) {
+    ImGui::Text("%s %.3f ms", p.name.c_str(), p.gpu_ms);
+    total += p.gpu_ms;
+  }
+  ImGui::Text("GPU total %.3f ms, frame (CPU) %.2f ms", total, s.cpu_frame_ms);
+  if (ImGui::Button("Fit (R)")) s.camera.reset(s.aspect());
+  ImGui::SameLine();
+  if (ImGui::Button("Copy camera (C)")) s.copy_camera();
+  if (!s.panel_message.empty()) ImGui::TextWrapped("%s", s.panel_message.c_str());
+  ImGui::End();
+}
+
+void blit_to_swapchain(VkCommandBuffer cmd, const vk::Image& source, VkImage target, VkExtent2D extent) {
+  vk::image_barrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                    VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  VkImageBlit region{};
+  region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.dstSubresource = region.srcSubresource;
+  region.srcOffsets[1] = {int32_t(source.extent().width), int32_t(source.extent().height), 1};
+  region.dstOffsets[1] = {int32_t(extent.width), int32_t(extent.height), 1};
+  vkCmdBlitImage(cmd, source.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
+                 VK_FILTER_NEAREST);
+}
+
+}  // namespace
+
+ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& options) {
+  GlfwSession glfw;
+  if (!glfwVulkanSupported()) throw vk::NoSuitableDevice("GLFW found no Vulkan loader able to present");
+  uint32_t ext_count = 0;
+  const char** exts = glfwGetRequiredInstanceExtensions(&ext_count);
+  vk::InstanceOptions instance_options;
+  instance_options.validation = options.validation;
+  for (uint32_t i = 0; i < ext_count; ++i) instance_options.extensions.emplace_back(exts[i]);
+  vk::Instance instance(instance_options);
+  const auto devices = vk::query_devices(instance.get());
+  const auto& caps = vk::select_device(devices, options.device_index);
+  vk::Device device(instance, caps, {.presentation = true});
+
+  Window window(options.width, options.height, "Prismoid");
+  Surface surface(instance.get(), window.get());
+  vk::Swapchain swapchain(device, surface.get(), window.framebuffer_extent());
+  surface::SurfaceRenderer renderer(device, scene);
+  ImGuiLayer ui(device, window.get(), swapchain);
+  SwapchainCapture capture(device);
+
+  ViewerReport report;
+  report.device_name = caps.name;
+  const Bounds bounds = bounds_of(scene);
+  SurfaceSession s{window, device, swapchain, renderer,
+                   options.camera ? CameraController(bounds, *options.camera) : CameraController(bounds, scene.camera),
+                   bounds, report, renderer.modes().front()};
+  s.show_ui = options.show_ui;
+  if (!options.mode.empty()) {
+    if (const std::string problem = renderer.mode_problem(options.mode); !problem.empty()) throw InputError("--mode " + options.mode, problem);
+    s.mode = options.mode;
+  }
+
+  vk::GpuTimer timer(device, 16);
+  vk::UniqueSemaphore image_available = vk::create_semaphore(device);
+  vk::UniqueFence in_flight = vk::create_fence(device, true);
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = device.command_pool();
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  vk::check(vkAllocateCommandBuffers(device.get(), &alloc, &cmd), "vkAllocateCommandBuffers");
+  struct FreeCommandBuffer {
+    const vk::Device& d;
+    VkCommandBuffer c;
+    ~FreeCommandBuffer() { d.wait_idle(); vkFreeCommandBuffers(d.get(), d.command_pool(), 1, &c); }
+  } free_cmd{device, cmd};
+
+  auto recreate = [&] {
+    swapchain.recreate(window.framebuffer_extent());
+    ui.swapchain_changed();
+    ++report.swapchain_recreations;
+  };
+  auto finish_capture = [&] {
+    try {
+      if (const auto written = capture.finish()) report.files_written.push_back(*written);
+    } catch (const InputError& e) {
+      s.message(e.what());
+    }
+  };
+
+  bool frame_in_flight = false;
+  MouseState mouse;
+  glfwGetCursorPos(window.get(), &mouse.last.x, &mouse.last.y);
+  auto last_frame = std::chrono::steady_clock::now();
+  auto last_print = last_frame;
+  size_t next_command = 0;
+  uint32_t frame_index = 0;
+  while (!glfwWindowShouldClose(window.get())) {
+    for (; next_command < options.script.size() && options.script[next_command].frame <= frame_index; ++next_command) {
+      try {
+        s.run(options.script[next_command]);
+      } catch (const InputError& e) {
+        s.message(options.script[next_command].where + ": " + e.what());
+      }
+    }
+    ++frame_index;
+    if (options.max_frames && frame_index > options.max_frames) break;
+    glfwPollEvents();
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::min(std::chrono::duration<double>(now - last_frame).count(), 0.1);
+    s.cpu_frame_ms = std::chrono::duration<double, std::milli>(now - last_frame).count();
+    last_frame = now;
+    handle_mouse(window, s.camera, mouse, swapchain.extent(), s.show_ui && ui.wants_mouse(), s.show_ui && ui.wants_keyboard(), seconds);
+    for (const KeyPress& key : window.take_keys())
+      if (!(s.show_ui && ui.wants_keyboard())) s.on_key(key);
+
+    const VkExtent2D fb = window.framebuffer_extent();
+    if (fb.width == 0 || fb.height == 0 || glfwGetWindowAttrib(window.get(), GLFW_ICONIFIED)) {
+      ++report.frames_skipped_minimized;
+      glfwWaitEventsTimeout(0.05);
+      continue;
+    }
+    if (fb.width != swapchain.extent().width || fb.height != swapchain.extent().height) recreate();
+
+    vk::check(vkWaitForFences(device.get(), 1, in_flight.ptr(), VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    if (frame_in_flight) {
+      s.passes = timer.read();
+      finish_capture();
+      frame_in_flight = false;
+      if (options.print_timings && now - last_print > std::chrono::seconds(1)) {
+        std::ostringstream title;
+        title << "Prismoid - " << caps.name << " - " << s.mode;
+        for (const auto& t : s.passes) title << " " << t.name << " " << t.gpu_ms << " ms";
+        glfwSetWindowTitle(window.get(), title.str().c_str());
+        std::printf("%s\n", title.str().c_str());
+        std::fflush(stdout);
+        last_print = now;
+      }
+    }
+    ui.begin_frame();
+    if (s.show_ui) draw_surface_panel(s);
+    ui.finish_frame();
+    renderer.resize(swapchain.extent());
+
+    const auto index = swapchain.acquire(image_available.get());
+    if (!index) {
+      recreate();
+      continue;
+    }
+    vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
+    vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+    timer.reset(cmd);
+    renderer.record(cmd, s.camera.camera(), s.mode, timer);
+    {
+      vk::ScopedPass pass(timer, cmd, "present-blit");
+      blit_to_swapchain(cmd, renderer.display(), swapchain.image(*index), swapchain.extent());
+    }
+    {
+      vk::ScopedPass pass(timer, cmd, "ui");
+      ui.record(cmd, *index, s.show_ui);
+    }
+    if (s.capture_path)
+      capture.record(cmd, swapchain.image(*index), swapchain.extent(), swapchain.format(), *std::exchange(s.capture_path, std::nullopt));
+    vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    submit_frame(device, cmd, image_available.get(), swapchain.render_finished(*index), in_flight.get());
+    frame_in_flight = true;
+    if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
+    ++report.frames_presented;
+  }
+  device.wait_idle();
+  if (frame_in_flight) {
+    s.passes = timer.read();
+    finish_capture();
+  }
+  report.last_frame.device_name = caps.name;
+  report.last_frame.gpu_passes = s.passes;
+  report.camera = s.camera.camera();
+  report.mode = s.mode;
+  report.validation_messages = instance.validation_log().count();
+  return report;
+}
+
+}  // namespace prismoid::app

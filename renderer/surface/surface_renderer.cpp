@@ -1,0 +1,51 @@
+#include "renderer/surface/surface_renderer.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::surface {
+
+std::vector<std::string> surface_modes(const vk::Device& device) {
+  std::vector<std::string> modes;
+  if (device.capabilities().geometry_shader) modes.push_back("forward");
+  return modes;
+}
+
+SurfaceRenderer::SurfaceRenderer(const vk::Device& device, const SurfaceScene& scene)
+    : device_(device), source_(scene), scene_(upload(device, scene)), modes_(surface_modes(device)) {
+  if (modes_.empty()) throw vk::NoSuitableDevice(device.capabilities().name + " can draw no surface mode (no geometryShader feature)");
+}
+
+SurfaceRenderer::~SurfaceRenderer() = default;
+
+std::string SurfaceRenderer::mode_problem(const std::string& mode) const {
+  if (std::find(modes_.begin(), modes_.end(), mode) != modes_.end()) return {};
+  std::string known;
+  for (const std::string& m : modes_) known += (known.empty() ? "" : ", ") + m;
+  return "unknown surface mode " + mode + " (this device draws: " + known + ")";
+}
+
+void SurfaceRenderer::resize(VkExtent2D extent) {
+  if (extent.width == 0 || extent.height == 0) throw InputError("surface image", "the image size must be positive");
+  if (extent.width == extent_.width && extent.height == extent_.height) return;
+  extent_ = extent;
+  forward_targets_.reset();
+}
+
+void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer) {
+  if (const std::string problem = mode_problem(mode); !problem.empty()) throw InputError("--mode " + mode, problem);
+  if (!forward_) forward_ = std::make_unique<ForwardPass>(device_);
+  if (!forward_targets_) forward_targets_ = std::make_unique<ForwardTargets>(create_forward_targets(device_, extent_));
+  forward_->record(cmd, scene_, *forward_targets_, camera, {}, timer);
+}
+
+const vk::Image& SurfaceRenderer::display() const {
+  if (!forward_targets_) throw std::logic_error("SurfaceRenderer::display before the first record");
+  return forward_targets_->color;
+}
+
+}  // namespace prismoid::surface

@@ -1,0 +1,53 @@
+#pragma once
+// One surface scene on the GPU and the backends that draw it, behind one call per frame: what
+// the window, the bench and the CLI use to switch between surface modes. Each backend is made
+// on first use (a mode never chosen costs nothing) and shades with the same code and buffers.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/surface/forward_pass.hpp"
+#include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/vk/timer.hpp"
+#include "scene/camera.hpp"
+#include "scene/surface_scene.hpp"
+
+namespace prismoid::surface {
+
+// The surface modes this device can draw, in the order the window lists them.
+std::vector<std::string> surface_modes(const vk::Device& device);
+
+class SurfaceRenderer {
+ public:
+  // `scene` must already have its lights (with_default_lighting); it is uploaded now. Throws
+  // InputError for an invalid scene, vk::NoSuitableDevice when no surface mode can run.
+  SurfaceRenderer(const vk::Device& device, const SurfaceScene& scene);
+  ~SurfaceRenderer();
+
+  const std::vector<std::string>& modes() const { return modes_; }
+  // Empty when `mode` can be drawn, else why not.
+  std::string mode_problem(const std::string& mode) const;
+
+  // The image size of the next frames (targets are remade when it changes).
+  void resize(VkExtent2D extent);
+  VkExtent2D extent() const { return extent_; }
+
+  // Records one frame of `mode` (InputError when mode_problem says no). Leaves display() in
+  // TRANSFER_SRC_OPTIMAL: linear RGBA32F radiance, alpha = coverage.
+  void record(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer);
+  const vk::Image& display() const;
+
+  const GpuSurfaceScene& gpu_scene() const { return scene_; }
+  const SurfaceScene& scene() const { return source_; }
+
+ private:
+  const vk::Device& device_;
+  SurfaceScene source_;
+  GpuSurfaceScene scene_;
+  std::vector<std::string> modes_;
+  VkExtent2D extent_{1, 1};
+  std::unique_ptr<ForwardPass> forward_;
+  std::unique_ptr<ForwardTargets> forward_targets_;
+};
+
+}  // namespace prismoid::surface

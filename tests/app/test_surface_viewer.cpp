@@ -1,0 +1,114 @@
+// The surface window under Xvfb, driven by a script: it draws the forward backend's image (the
+// one tests/surface holds to the CPU direct-light reference), its `render` verb writes that
+// image, the screenshot shows it as the swapchain encodes it, modes it cannot draw are
+// refused with a message, the camera verbs move the camera, and the validation layer stays
+// silent.
+#include <gtest/gtest.h>
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include <glm/geometric.hpp>
+
+#include "app/viewer/camera_line.hpp"
+#include "app/viewer/surface_viewer.hpp"
+#include "io/image_io.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/instance.hpp"
+#include "scene/surface_generators.hpp"
+#include "surface/forward_comparison.hpp"
+
+namespace prismoid {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<unsigned char> read_rgb(const fs::path& path, int& width, int& height) {
+  int channels = 0;
+  unsigned char* data = stbi_load(path.string().c_str(), &width, &height, &channels, 3);
+  if (!data) throw std::runtime_error("cannot read " + path.string());
+  std::vector<unsigned char> rgb(data, data + size_t(width) * size_t(height) * 3);
+  stbi_image_free(data);
+  return rgb;
+}
+
+TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
+  ASSERT_TRUE(app::display_available()) << "this test needs a display: run it through scripts/test.sh, which starts Xvfb";
+  const fs::path dir = fs::temp_directory_path() / "prismoid-surface-viewer";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const SurfaceScene scene = with_default_lighting(make_cornell_box(), make_cornell_box().camera);
+  app::ViewerOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.validation = true;
+  options.print_timings = false;
+  options.max_frames = 500;
+  options.script = app::parse_script("frame 2\nui off\nframe 3\nscreenshot " + (dir / "plain.png").string() + "\nrender 160 120 " +
+                                         (dir / "render.pfm").string() + "\nrender 160 120 " + (dir / "render.png").string() +
+                                         "\nmode no-such-mode\nkey M\nframe 5\nui on\nscreenshot " + (dir / "ui.png").string() +
+                                         "\nframe 6\nrotate 40 0\nzoom 1\nprint-camera\ntetlet-size 4\nframe 8\nclose\n",
+                                     "test script");
+  const app::ViewerReport report = app::run_surface_viewer(scene, options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  EXPECT_EQ(report.mode, "forward");  // M cycles through the one mode this device draws
+  ASSERT_EQ(report.files_written.size(), 4u);
+
+  // Refused: an unknown mode, and a volume verb; each named in a message.
+  ASSERT_EQ(report.messages.size(), 2u);
+  EXPECT_NE(report.messages[0].find("unknown surface mode no-such-mode"), std::string::npos) << report.messages[0];
+  EXPECT_NE(report.messages[1].find("not available in the surface window"), std::string::npos) << report.messages[1];
+
+  // The window's render is the forward image, which holds to the CPU reference.
+  vk::Instance instance(vk::InstanceOptions{.validation = true});
+  const auto devices = vk::query_devices(instance.get());
+  vk::Device device(instance, vk::select_device(devices, std::nullopt), {});
+  surface::ForwardPass pass(device);
+  const test::ForwardComparison cmp = test::compare_forward(device, pass, scene, scene.camera, 160, 120);
+  EXPECT_EQ(cmp.failures, 0u) << cmp.first_failure;
+  EXPECT_GT(cmp.compared, 160u * 120u / 2);
+  const io::FloatImage render = io::read_pfm((dir / "render.pfm").string());
+  ASSERT_EQ(render.width, 160u);
+  ASSERT_EQ(render.channels, 3u);
+  double worst = 0.0;
+  for (size_t p = 0; p < size_t(160) * 120; ++p)
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(render.pixels[3 * p + c]) - double(cmp.gpu.rgba[4 * p + c])));
+  EXPECT_LE(worst, 1e-6);  // the same device and code: the same floats up to rasterization order
+
+  // The screenshot is that image encoded to 8-bit sRGB by the swapchain's blit, the PNG by the
+  // writer: each rounds once, so they are at most 2 levels apart.
+  int w = 0, h = 0, w2 = 0, h2 = 0;
+  const auto plain = read_rgb(dir / "plain.png", w, h);
+  const auto rendered = read_rgb(dir / "render.png", w2, h2);
+  ASSERT_EQ(w, w2);
+  ASSERT_EQ(h, h2);
+  int levels = 0;
+  for (size_t i = 0; i < plain.size(); ++i) levels = std::max(levels, std::abs(int(plain[i]) - int(rendered[i])));
+  EXPECT_LE(levels, 2);
+  // With the panel on, its corner of the window changes.
+  const auto with_ui = read_rgb(dir / "ui.png", w, h);
+  size_t changed = 0;
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 60; ++x) changed += std::memcmp(&with_ui[(size_t(y) * w + x) * 3], &plain[(size_t(y) * w + x) * 3], 3) != 0;
+  EXPECT_GT(changed, 40u * 60u / 2);
+
+  // The camera verbs moved the camera: rotated about the target, one zoom step in.
+  const Camera& start = scene.camera;
+  EXPECT_GT(glm::distance(report.camera.eye, start.eye), 1e-3);
+  EXPECT_NEAR(glm::distance(report.camera.target, start.target), 0.0, 1e-9);
+  EXPECT_LT(glm::distance(report.camera.eye, report.camera.target), glm::distance(start.eye, start.target));
+  ASSERT_EQ(report.camera_lines.size(), 1u);
+  const Camera parsed = app::camera_from_line(report.camera_lines[0], bounds_of(scene));
+  EXPECT_NEAR(glm::distance(parsed.eye, report.camera.eye), 0.0, 1e-9);
+  // Every pass the frame ran has a time.
+  std::vector<std::string> names;
+  for (const auto& p : report.last_frame.gpu_passes) names.push_back(p.name);
+  for (const char* pass_name : {"depth pre-pass", "forward shading", "present-blit", "ui"})
+    EXPECT_NE(std::find(names.begin(), names.end(), pass_name), names.end()) << pass_name;
+}
+
+}  // namespace
+}  // namespace prismoid
