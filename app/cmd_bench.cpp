@@ -18,6 +18,7 @@
 #include "app/bench/bench_cases.hpp"
 #include "app/bench/bench_plot.hpp"
 #include "app/bench/bench_table.hpp"
+#include "app/bench/surface_bench.hpp"
 #include "app/bench/vtk_peers.hpp"
 #include "app/bench/x_display.hpp"
 #include "app/cli.hpp"
@@ -50,7 +51,10 @@ const char* const kBenchHelp =
     "  --frames N           timed frames after one warm-up frame (default 10); times are the median,\n"
     "                       with min and max\n"
     "  --sweeps LIST        comma-separated subset of: modes, tetlet-size, preintegration, image-size,\n"
-    "                       march-step, cells (default: all)\n"
+    "                       march-step, cells, surfaces (default: all)\n"
+    "  --surfaces LIST      the surfaces sweep's scenes: cornell-box, furnace:A or surface files\n"
+    "                       (default cornell-box); every surface mode the device draws, against the\n"
+    "                       CPU reference of what the mode computes, 4x4 supersampled\n"
     "  --max-cells N        the cell-count sweep's largest mesh (default 2000000; the sweep splits\n"
     "                       field:marschner-lobb into N^3 cubes, 6 cells each, N = 6, 12, 24, 48, 96, 128)\n"
     "  --no-peers           leave out VTK's mappers (vtkProjectedTetrahedraMapper,\n"
@@ -235,7 +239,7 @@ int replot(const std::filesystem::path& dir) {
 
 int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
-  std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot"};
+  std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -251,11 +255,11 @@ int cmd_bench(const std::vector<std::string>& args) {
   preset.max_cells = a.has("max-cells") ? parse_uint("max-cells", a.values.at("max-cells")) : 2'000'000;
   const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : preset.quick ? 3 : 10;
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
-  const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells"};
+  const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells", "surfaces"};
   const std::vector<std::string> sweeps = a.has("sweeps") ? split_list(a.values.at("sweeps")) : all_sweeps;
   for (const auto& s : sweeps)
     if (std::find(all_sweeps.begin(), all_sweeps.end(), s) == all_sweeps.end())
-      throw InputError("--sweeps", "unknown sweep '" + s + "' (modes, tetlet-size, preintegration, image-size, march-step, cells)");
+      throw InputError("--sweeps", "unknown sweep '" + s + "' (modes, tetlet-size, preintegration, image-size, march-step, cells, surfaces)");
   const std::filesystem::path out_dir = a.values.at("out");
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
@@ -417,6 +421,15 @@ int cmd_bench(const std::vector<std::string>& args) {
         rows.push_back(std::move(p));
       }
     rows.push_back(std::move(m));
+  }
+  if (std::find(sweeps.begin(), sweeps.end(), "surfaces") != sweeps.end()) {
+    bench::SurfaceBenchOptions so;
+    if (a.has("surfaces")) so.scenes = split_list(a.values.at("surfaces"));
+    so.size = preset.size;
+    so.frames = frames;
+    for (auto& row : bench::bench_surfaces(device, so)) rows.push_back(std::move(row));
+    context.notes.push_back("surface rows are measured against " + bench::surface_reference_kind("") + ", " +
+                            std::to_string(so.supersample) + "x" + std::to_string(so.supersample) + " supersampled");
   }
   bench::mark_pareto(rows);
 

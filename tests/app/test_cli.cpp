@@ -382,8 +382,9 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   // order-independent ones (optical depth twice, transmittance); the march-step sweep's field
   // with its tetrahedra and two steps, optical depth and colour each (6); the cell-count sweep's
   // two meshes, optical depth and colour each (4); VTK's three mappers beside the default
-  // dataset's colour and the ball's transmittance (6).
-  ASSERT_EQ(rows.size(), 26u) << slurp(dir / "bench.csv");
+  // dataset's colour and the ball's transmittance (6); the Cornell box in each surface mode
+  // this device draws (forward: 1).
+  ASSERT_EQ(rows.size(), 27u) << slurp(dir / "bench.csv");
   std::map<std::string, double> flip_of;  // the default dataset's colour, by mode/settings
   std::multiset<std::string> peers;        // quantity/mode of the wall-clock rows
   std::map<std::string, double> default_rmse, default_ssim;  // by quantity/mode/settings
@@ -424,7 +425,11 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
                                                 "transmittance/vtk-zsweep"}));
   // The perceptual metric agrees with RMSE that exact order beats mesh order.
   EXPECT_LT(flip_of.at("interval-exact-order/default"), flip_of.at("interval/default"));
-  EXPECT_EQ(sweeps, (std::set<std::string>{"modes", "tetlet-size", "preintegration", "march-step", "cells"}));
+  EXPECT_EQ(sweeps, (std::set<std::string>{"modes", "tetlet-size", "preintegration", "march-step", "cells", "surfaces"}));
+  const auto surface_row = std::find_if(rows.begin(), rows.end(), [&](const auto& row) { return row[sweep] == "surfaces"; });
+  ASSERT_NE(surface_row, rows.end());
+  EXPECT_EQ((*surface_row)[dataset], "cornell-box");
+  EXPECT_EQ((*surface_row)[mode], "forward");
   EXPECT_EQ(cell_counts, (std::set<std::string>{"1296", "10368"}));  // 6 * N^3 for N = 6, 12
   // The march's midpoint rule converges: a 4x finer step is more accurate for either quantity.
   ASSERT_EQ(march_rmse.size(), 4u);

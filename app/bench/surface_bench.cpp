@@ -1,0 +1,122 @@
+#include "app/bench/surface_bench.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+
+#include "app/surface_args.hpp"
+#include "renderer/reference/direct_light.hpp"
+#include "renderer/reference/flip.hpp"
+#include "renderer/reference/image_error.hpp"
+#include "renderer/surface/surface_renderer.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/memory.hpp"
+#include "scene/surface_generators.hpp"
+
+namespace prismoid::bench {
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+SurfaceScene load_scene(const std::string& name) {
+  app::ParsedArgs one;
+  one.files.push_back(name);
+  return app::surface_scene_from(one, "bench");
+}
+
+struct Frame {
+  std::vector<float> rgba;
+  std::vector<vk::PassTiming> passes;
+};
+
+Frame render(const vk::Device& device, surface::SurfaceRenderer& renderer, const Camera& camera, const std::string& mode,
+             VkExtent2D extent) {
+  renderer.resize(extent);
+  vk::GpuTimer timer(device, 16);
+  device.submit_and_wait([&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    renderer.record(cmd, camera, mode, timer);
+  });
+  Frame f;
+  f.rgba.resize(size_t(extent.width) * extent.height * 4);
+  vk::read_image(device, renderer.display(), sizeof(float) * 4, std::as_writable_bytes(std::span(f.rgba)));
+  f.passes = timer.read();
+  return f;
+}
+
+}  // namespace
+
+std::string surface_reference_kind(const std::string&) { return "direct light without shadows (CPU, double)"; }
+
+std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenchOptions& options) {
+  std::vector<BenchRow> rows;
+  const VkExtent2D extent{options.size.width, options.size.height};
+  for (const std::string& name : options.scenes) {
+    const SurfaceScene raw = load_scene(name);
+    const SurfaceScene scene = with_default_lighting(raw, raw.camera);
+    const Camera& camera = scene.camera;
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<glm::dvec3> ref3 =
+        reference::supersampled_direct_light(scene, camera, extent.width, extent.height, options.supersample);
+    const double reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    std::vector<float> reference(ref3.size() * 4);
+    double peak = 0.0;
+    for (size_t p = 0; p < ref3.size(); ++p) {
+      for (int c = 0; c < 3; ++c) {
+        reference[4 * p + c] = float(ref3[p][c]);
+        peak = std::max(peak, ref3[p][c]);
+      }
+      reference[4 * p + 3] = 1.0f;
+    }
+    surface::SurfaceRenderer renderer(device, scene);
+    for (const std::string& mode : renderer.modes()) {
+      render(device, renderer, camera, mode, extent);  // warm-up: pipelines, first-use work
+      std::vector<double> totals;
+      std::vector<std::vector<vk::PassTiming>> timings;
+      Frame f;
+      for (uint32_t i = 0; i < options.frames; ++i) {
+        f = render(device, renderer, camera, mode, extent);
+        double total = 0.0;
+        for (const auto& p : f.passes) total += p.gpu_ms;
+        totals.push_back(total);
+        timings.push_back(f.passes);
+      }
+      BenchRow m;
+      m.dataset = scene.name;
+      for (const SceneMesh& mesh : scene.meshes) m.cells += mesh.triangles.size();
+      m.sweep = "surfaces";
+      m.quantity = "color";
+      m.mode = mode;
+      m.settings = "default";
+      m.ordering = "-";
+      m.width = extent.width;
+      m.height = extent.height;
+      m.frames = options.frames;
+      m.ms_median = median(totals);
+      m.ms_min = *std::min_element(totals.begin(), totals.end());
+      m.ms_max = *std::max_element(totals.begin(), totals.end());
+      for (size_t p = 0; p < timings.front().size(); ++p) {
+        std::vector<double> ms;
+        for (const auto& t : timings) ms.push_back(t[p].gpu_ms);
+        m.passes += (p ? " " : "") + timings.front()[p].name + "=" + std::to_string(median(ms));
+      }
+      m.mesh_bytes = renderer.gpu_scene().bytes;
+      m.error = reference::image_error(f.rgba, reference, peak > 0.0 ? peak : 1.0, 4, 3);
+      m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak > 0.0 ? peak : 1.0, 4, 3);
+      m.flip = reference::flip(f.rgba, reference, extent.width, extent.height, 4).mean;
+      m.peak = peak > 0.0 ? peak : 1.0;
+      m.reference_ms = reference_ms;
+      std::cout << m.dataset << " surfaces color " << m.mode << " " << m.width << "x" << m.height << ": " << m.ms_median
+                << " ms GPU, RMSE " << m.error.rmse << std::endl;
+      rows.push_back(std::move(m));
+    }
+  }
+  return rows;
+}
+
+}  // namespace prismoid::bench

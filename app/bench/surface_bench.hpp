@@ -1,0 +1,30 @@
+#pragma once
+// The bench's surface rows: every surface mode of surface::SurfaceRenderer on each surface scene,
+// timed on the GPU and measured against the CPU double-precision reference of what the mode
+// computes (surface_reference_kind), supersampled so that a mode's aliasing counts as error the
+// way a person sees it.
+#include <string>
+#include <vector>
+
+#include "app/bench/bench_cases.hpp"
+#include "app/bench/bench_table.hpp"
+
+namespace prismoid::vk {
+class Device;
+}
+
+namespace prismoid::bench {
+
+struct SurfaceBenchOptions {
+  std::vector<std::string> scenes{"cornell-box"};  // as `prismoid render` names them
+  ImageSize size{96, 72};
+  uint32_t frames = 3;
+  uint32_t supersample = 4;  // the reference's samples per pixel side
+};
+
+// Which CPU reference a mode is held to, in words (the report's notes say it).
+std::string surface_reference_kind(const std::string& mode);
+
+std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenchOptions& options);
+
+}  // namespace prismoid::bench
