@@ -53,7 +53,7 @@ bool wants_forward(const std::vector<std::string>& args) {
 
 int cmd_render_forward(const std::vector<std::string>& args) {
   const ParsedArgs a =
-      parse(args, 1, with_camera({"output", "size", "mode", "quantity", "supersample", "frames", "stats", "device"}), {"validate"});
+      parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "quantity", "supersample", "frames", "stats", "device"})), {"validate"});
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
   if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");

@@ -34,7 +34,7 @@ bool wants_path_reference(const std::vector<std::string>& args) {
 }
 
 int cmd_render_path_reference(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse(args, 1, with_camera({"output", "size", "mode", "spp", "max-bounces", "seed", "variance", "stats"}), {});
+  const ParsedArgs a = parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "spp", "max-bounces", "seed", "variance", "stats"})), {});
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
   if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");

@@ -1,17 +1,109 @@
 #include "app/surface_args.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "io/surface_io.hpp"
+#include "io/transfer_function_io.hpp"
+#include "renderer/volume/transfer_function.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
 
 namespace prismoid::app {
 
+namespace {
+
+// The scalar of each tuple: one component, or the magnitude (the default for vectors).
+std::vector<double> scalars_of(const SurfaceArray& array, int component, const std::string& file) {
+  if (component >= int(array.components))
+    throw InputError("--component", "array '" + array.name + "' of " + file + " has " + std::to_string(array.components) +
+                                        " component(s)");
+  const size_t tuples = array.values.size() / array.components;
+  std::vector<double> s(tuples);
+  for (size_t t = 0; t < tuples; ++t) {
+    const double* v = &array.values[t * array.components];
+    if (component >= 0 || array.components == 1) {
+      s[t] = v[std::max(component, 0)];
+    } else {
+      double sum = 0.0;
+      for (uint32_t c = 0; c < array.components; ++c) sum += v[c] * v[c];
+      s[t] = std::sqrt(sum);
+    }
+    if (!std::isfinite(s[t])) throw InputError(file, "array '" + array.name + "' has a non-finite value at tuple " + std::to_string(t));
+  }
+  return s;
+}
+
+}  // namespace
+
+SurfaceArrayColoring array_coloring_from(const ParsedArgs& a) {
+  SurfaceArrayColoring c;
+  if (a.has("array")) c.array = a.values.at("array");
+  if (a.has("component")) {
+    if (c.array.empty()) throw InputError("--component", "picks a component of the --array NAME");
+    const std::string& v = a.values.at("component");
+    c.component = v == "x" || v == "X" ? 0 : v == "y" || v == "Y" ? 1 : v == "z" || v == "Z" ? 2 : v == "magnitude" ? -1
+                                                                                                   : int(parse_uint("component", v));
+  }
+  c.transfer = io::transfer_function_from(a.has("tf") ? a.values.at("tf") : "cool-to-warm");
+  if (a.has("tf-range")) {
+    if (c.array.empty()) throw InputError("--tf-range", "maps the --array NAME's values: give --array");
+    const std::string& text = a.values.at("tf-range");
+    const auto comma = text.find(',');
+    if (comma == std::string::npos) throw InputError("--tf-range", "expects LO,HI, got '" + text + "'");
+    c.range = {parse_double("tf-range", text.substr(0, comma)), parse_double("tf-range", text.substr(comma + 1))};
+    if (!(c.range->second > c.range->first)) throw InputError("--tf-range", "HI must be greater than LO");
+  }
+  return c;
+}
+
+void color_by_array(SurfaceScene& scene, const SurfaceMesh& surface, const SurfaceArrayColoring& coloring) {
+  if (coloring.array.empty()) return;
+  auto find = [&](const std::vector<SurfaceArray>& arrays) {
+    return std::find_if(arrays.begin(), arrays.end(), [&](const SurfaceArray& x) { return x.name == coloring.array; });
+  };
+  const auto point = find(surface.point_arrays);
+  const auto cell = find(surface.cell_arrays);
+  if (point == surface.point_arrays.end() && cell == surface.cell_arrays.end()) {
+    std::string names;
+    for (const auto& x : surface.point_arrays) names += (names.empty() ? "" : ", ") + x.name + " (point)";
+    for (const auto& x : surface.cell_arrays) names += (names.empty() ? "" : ", ") + x.name + " (cell)";
+    throw InputError(surface.name, "has no array '" + coloring.array + "' (" + (names.empty() ? "it has no data arrays" : "arrays: " + names) + ")");
+  }
+  const bool per_point = point != surface.point_arrays.end();
+  const std::vector<double> s = scalars_of(per_point ? *point : *cell, coloring.component, surface.name);
+  volume::TransferFunction tf = coloring.transfer;
+  if (coloring.range) {
+    tf.range_lo = coloring.range->first;
+    tf.range_hi = coloring.range->second;
+  } else {
+    const auto [lo, hi] = std::minmax_element(s.begin(), s.end());
+    tf.range_lo = *lo;
+    tf.range_hi = *hi > *lo ? *hi : *lo + 1.0;  // a constant array maps to the range's start
+  }
+  const std::vector<volume::TfSample> samples = volume::breakpoints(tf);
+  SceneMesh& mesh = scene.meshes.at(0);
+  mesh.colors.clear();
+  for (double v : s) mesh.colors.push_back(volume::evaluate(samples, volume::normalized(tf, v)).rgb);
+  mesh.color_binding = per_point ? ColorBinding::PerVertex : ColorBinding::PerTriangle;
+}
+
 SurfaceScene surface_scene_from(const ParsedArgs& a, const std::string& mode) {
   if (a.files.size() != 1)
     throw InputError("render", "--mode " + mode + " renders one surface scene: cornell-box, furnace:A[:LE] or a surface file");
   const std::string& file = a.files.front();
-  if (is_named_surface_scene(file)) return make_named_surface_scene(file);
-  if (io::is_surface_path(file)) return make_surface_scene(io::read_surface(file));
+  const SurfaceArrayColoring coloring = array_coloring_from(a);
+  if (is_named_surface_scene(file)) {
+    if (!coloring.array.empty()) throw InputError(file, "has no data arrays for --array (a built-in scene)");
+    return make_named_surface_scene(file);
+  }
+  if (io::is_surface_path(file)) {
+    const SurfaceMesh surface = io::read_surface(file);
+    SurfaceScene scene = make_surface_scene(surface);
+    color_by_array(scene, surface, coloring);
+    return scene;
+  }
   throw InputError(file, "--mode " + mode + " renders surfaces: cornell-box, furnace:A[:LE], .vtp .stl .obj .ply .off");
 }
 

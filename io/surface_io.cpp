@@ -24,7 +24,10 @@
 
 #include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkCleanPolyData.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
 #include <vtkFillHolesFilter.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
@@ -118,9 +121,35 @@ SurfaceMesh to_surface(vtkPolyData* poly, const std::string& name, const Progres
   }
   vtkCellArray* polys = out->GetPolys();
   vtkNew<vtkIdList> ids;
-  for (polys->InitTraversal(); polys->GetNextCell(ids);)
-    if (ids->GetNumberOfIds() == 3)
+  // Cell data run over vertices, lines, polygons and strips in that order: a polygon's tuple is
+  // at its index among the polygons plus the vertices and lines before them.
+  const vtkIdType first_poly = out->GetNumberOfVerts() + out->GetNumberOfLines();
+  std::vector<vtkIdType> triangle_cells;
+  vtkIdType poly_index = 0;
+  for (polys->InitTraversal(); polys->GetNextCell(ids); ++poly_index)
+    if (ids->GetNumberOfIds() == 3) {
       s.triangles.push_back({uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)), uint32_t(ids->GetId(2))});
+      triangle_cells.push_back(first_poly + poly_index);
+    }
+  // Numeric arrays (VTK's readers pass them through the triangle and cleaning filters).
+  auto read_arrays = [&](vtkDataSetAttributes* data, vtkIdType tuples, const std::vector<vtkIdType>* rows) {
+    std::vector<SurfaceArray> arrays;
+    for (int i = 0; data && i < data->GetNumberOfArrays(); ++i) {
+      vtkDataArray* array = data->GetArray(i);
+      if (!array || !array->GetName() || array->GetNumberOfTuples() < tuples) continue;
+      SurfaceArray a;
+      a.name = array->GetName();
+      a.components = uint32_t(array->GetNumberOfComponents());
+      const vtkIdType n = rows ? vtkIdType(rows->size()) : tuples;
+      a.values.reserve(size_t(n) * a.components);
+      for (vtkIdType t = 0; t < n; ++t)
+        for (uint32_t c = 0; c < a.components; ++c) a.values.push_back(array->GetComponent(rows ? (*rows)[size_t(t)] : t, int(c)));
+      arrays.push_back(std::move(a));
+    }
+    return arrays;
+  };
+  s.point_arrays = read_arrays(out->GetPointData(), out->GetNumberOfPoints(), nullptr);
+  s.cell_arrays = read_arrays(out->GetCellData(), out->GetNumberOfCells(), &triangle_cells);
   return s;
 }
 

@@ -12,6 +12,9 @@
 #include "io/image_io.hpp"
 #include "support/cli_run.hpp"
 #include "renderer/reference/direct_light.hpp"
+#include "app/cli_args.hpp"
+#include "app/surface_args.hpp"
+#include "renderer/reference/tet_ray.hpp"
 #include "scene/surface_generators.hpp"
 
 namespace prismoid {
@@ -103,6 +106,90 @@ TEST(CliForward, BadInputExitsWithTwoAndNamesTheProblem) {
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
   }
+}
+
+std::vector<std::string> words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+// A unit square in z = 0 as VTK XML polydata: a vertex cell first (so the polygon's cell data
+// sit after it), then the square as one quad (split into two triangles on reading); point
+// array "x" = the point's x, cell array "id" a 3-vector per cell.
+fs::path write_square_vtp() {
+  const fs::path vtp = work_dir() / "square.vtp";
+  std::ofstream(vtp) << R"(<?xml version="1.0"?>
+<VTKFile type="PolyData" version="0.1" byte_order="LittleEndian">
+<PolyData><Piece NumberOfPoints="4" NumberOfVerts="1" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="1">
+<PointData><DataArray type="Float64" Name="x" format="ascii">0 1 1 0</DataArray></PointData>
+<CellData><DataArray type="Float64" Name="id" NumberOfComponents="3" format="ascii">9 9 9 0.25 0.5 2</DataArray></CellData>
+<Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 1 1 0 0 1 0</DataArray></Points>
+<Verts><DataArray type="Int64" Name="connectivity" format="ascii">0</DataArray><DataArray type="Int64" Name="offsets" format="ascii">1</DataArray></Verts>
+<Polys><DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3</DataArray><DataArray type="Int64" Name="offsets" format="ascii">4</DataArray></Polys>
+</Piece></PolyData></VTKFile>
+)";
+  return vtp;
+}
+
+// Colour by a data array through the transfer function, as the CPU reference sees it: the
+// scene the CLI builds has the transfer function's colours (grayscale: the array's range onto
+// black..white, linear), and the GPU image matches the CPU direct light of that scene away from
+// the square's edges (relative 1e-4: float shading of a few terms). A point array's colours are
+// interpolated across the quad's two triangles; a cell array colours the quad's two triangles
+// with the quad's tuple.
+TEST(CliForward, ColoursBySurfaceArraysThroughTheTransferFunction) {
+  const fs::path vtp = write_square_vtp(), pfm = work_dir() / "x.pfm";
+  const uint32_t w = 48, h = 36;
+  const std::string camera = " --eye 0.5,0.5,2 --target 0.5,0.5,0 --up 0,1,0 --fovy 40";
+  for (const std::string coloring : {"--array x --tf grayscale", "--array id --component y --tf grayscale --tf-range 0,1"}) {
+    const CliRun r = run("render " + vtp.string() + " --mode forward --validate " + coloring + " --size " + std::to_string(w) + "x" +
+                         std::to_string(h) + camera + " --output " + pfm.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const io::FloatImage img = io::read_pfm(pfm.string());
+    app::ParsedArgs a = app::parse(words(vtp.string() + " " + coloring + camera), 0,
+                                   app::with_surface_color(app::with_camera({})), {});
+    const SurfaceScene raw = app::surface_scene_from(a, "forward");
+    const Camera cam = app::surface_camera(a, raw.camera);
+    const SurfaceScene scene = with_default_lighting(raw, cam);
+    const SceneMesh& mesh = scene.meshes.at(0);
+    if (coloring.find("--array x") != std::string::npos) {
+      ASSERT_EQ(mesh.color_binding, ColorBinding::PerVertex);
+      for (size_t v = 0; v < mesh.positions.size(); ++v)
+        EXPECT_NEAR(mesh.colors[v].g, mesh.positions[v].x, 1e-12) << "vertex " << v;  // x in [0, 1] onto grey x
+    } else {
+      ASSERT_EQ(mesh.color_binding, ColorBinding::PerTriangle);
+      ASSERT_EQ(mesh.colors.size(), 2u);
+      for (const auto& c : mesh.colors) EXPECT_NEAR(c.r, 0.5, 1e-12);  // the quad's y = 0.5, not the vertex cell's 9
+    }
+    const reference::DirectLightImage ref = reference::direct_light_image(scene, cam, w, h);
+    const std::vector<float> ref_rgb = ref.rgb();
+    size_t compared = 0;
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x) {
+        const size_t p = size_t(y) * w + x;
+        const auto& hit = ref.pixels[p];
+        const glm::dvec3 point = cam.eye + hit.t * reference::ray_direction(cam, w, h, x + 0.5, y + 0.5);
+        if (!hit.hit || std::min({point.x, point.y, 1.0 - point.x, 1.0 - point.y}) < 0.03) continue;
+        const size_t row = size_t(h - 1 - y) * w + x;  // PFM rows run bottom-up
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(img.pixels[3 * row + c], ref_rgb[3 * p + c], 1e-4 * std::abs(ref_rgb[3 * p + c]) + 1e-6) << coloring << " " << x << "," << y;
+        ++compared;
+      }
+    EXPECT_GT(compared, w * h / 4) << coloring;
+  }
+
+  // An unknown array names the file and lists what it has; --component past the last fails too.
+  CliRun r = run("render " + vtp.string() + " --mode forward --array pressure --output " + pfm.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("has no array 'pressure' (arrays: x (point), id (cell))"), std::string::npos) << r.err;
+  r = run("render " + vtp.string() + " --mode forward --array x --component 2 --output " + pfm.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("has 1 component(s)"), std::string::npos) << r.err;
+  r = run("render cornell-box --mode forward --array x --output " + pfm.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("no data arrays"), std::string::npos) << r.err;
 }
 
 }  // namespace
