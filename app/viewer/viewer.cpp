@@ -126,17 +126,10 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   state.tf_preset = options.settings.resolve.transfer.name;
   rebuild_scene(state);
 
-  GlfwSession glfw;
-  if (!glfwVulkanSupported()) throw vk::NoSuitableDevice("GLFW found no Vulkan loader able to present");
-  uint32_t ext_count = 0;
-  const char** exts = glfwGetRequiredInstanceExtensions(&ext_count);
-  vk::InstanceOptions instance_options;
-  instance_options.validation = options.validation;
-  for (uint32_t i = 0; i < ext_count; ++i) instance_options.extensions.emplace_back(exts[i]);
-  vk::Instance instance(instance_options);
-  const auto devices = vk::query_devices(instance.get());
-  const auto& caps = vk::select_device(devices, options.device_index);
-  vk::Device device(instance, caps, {.presentation = true});
+  PresentingDevice presenting(options.validation, options.device_index);
+  const vk::Instance& instance = presenting.instance;
+  const vk::DeviceCapabilities& caps = presenting.caps;
+  vk::Device& device = presenting.device;
 
   Window window(options.width, options.height, "Prismoid");
   Surface surface(instance.get(), window.get());
@@ -163,32 +156,13 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   const uint32_t max_tetlet = volume::max_tetlet_size(device);
 
   vk::GpuTimer timer(device, 16);
-  vk::UniqueSemaphore image_available = vk::create_semaphore(device);
-  vk::UniqueFence in_flight = vk::create_fence(device, true);
-  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  alloc.commandPool = device.command_pool();
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = 1;
-  VkCommandBuffer cmd;
-  vk::check(vkAllocateCommandBuffers(device.get(), &alloc, &cmd), "vkAllocateCommandBuffers");
-  struct FreeCommandBuffer {
-    const vk::Device& d;
-    VkCommandBuffer c;
-    ~FreeCommandBuffer() { d.wait_idle(); vkFreeCommandBuffers(d.get(), d.command_pool(), 1, &c); }
-  } free_cmd{device, cmd};
+  FrameResources frame_resources(device);
+  const VkSemaphore image_available = frame_resources.image_available.get();
+  const vk::UniqueFence& in_flight = frame_resources.in_flight;
+  const VkCommandBuffer cmd = frame_resources.cmd;
 
-  auto recreate = [&] {
-    swapchain.recreate(window.framebuffer_extent());
-    ui.swapchain_changed();
-    ++report.swapchain_recreations;
-  };
-  auto finish_capture = [&] {
-    try {
-      if (const auto written = capture.finish()) report.files_written.push_back(*written);
-    } catch (const InputError& e) {  // an unwritable path: say so, keep the window
-      s.message(e.what());
-    }
-  };
+  auto recreate = [&] { recreate_swapchain(swapchain, window, ui, report); };
+  auto finish_frame_capture = [&] { finish_capture(capture, report, [&](const std::string& m) { s.message(m); }); };
 
   bool frame_in_flight = false;
   MouseState mouse;
@@ -231,7 +205,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
         s.stats.primitives = counts.primitives;
       }
       compare.frame_finished();
-      finish_capture();
+      finish_frame_capture();
       frame_in_flight = false;
       if (options.print_timings && now - last_print > std::chrono::seconds(1)) {
         print_timings(window.get(), s.stats);
@@ -261,14 +235,14 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
     compare.update(s);
     renderer.resize(swapchain.extent());  // the difference view's GPU frame may have left the reference's size
 
-    const auto index = swapchain.acquire(image_available.get());
+    const auto index = swapchain.acquire(image_available);
     if (!index) {
       recreate();
       continue;
     }
     vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
     record_frame(cmd, s, compare, ui, capture, timer, *index);
-    submit_frame(device, cmd, image_available.get(), swapchain.render_finished(*index), in_flight.get());
+    submit_frame(device, cmd, image_available, swapchain.render_finished(*index), in_flight.get());
     frame_in_flight = true;
     if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
     ++report.frames_presented;
@@ -284,7 +258,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   if (frame_in_flight) {
     s.stats.gpu_passes = timer.read();
     compare.frame_finished();
-    finish_capture();
+    finish_frame_capture();
   }
   report.last_frame = s.stats;
   report.camera = s.camera.camera();

@@ -2,6 +2,7 @@
 
 #include "app/viewer/mouse_bindings.hpp"
 #include "renderer/vk/error.hpp"
+#include "scene/input_error.hpp"
 
 namespace prismoid::app {
 
@@ -28,6 +29,54 @@ void handle_mouse(Window& window, CameraController& camera, MouseState& mouse, V
     auto held = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS ? 1.0 : 0.0; };
     const glm::dvec3 direction(held(GLFW_KEY_D) - held(GLFW_KEY_A), held(GLFW_KEY_E) - held(GLFW_KEY_Q), held(GLFW_KEY_W) - held(GLFW_KEY_S));
     if (direction != glm::dvec3(0.0)) camera.fly_move(direction, seconds);
+  }
+}
+
+namespace {
+
+vk::Instance presenting_instance(bool validation) {
+  if (!glfwVulkanSupported()) throw vk::NoSuitableDevice("GLFW found no Vulkan loader able to present");
+  uint32_t ext_count = 0;
+  const char** exts = glfwGetRequiredInstanceExtensions(&ext_count);
+  vk::InstanceOptions options;
+  options.validation = validation;
+  for (uint32_t i = 0; i < ext_count; ++i) options.extensions.emplace_back(exts[i]);
+  return vk::Instance(options);
+}
+
+}  // namespace
+
+PresentingDevice::PresentingDevice(bool validation, std::optional<uint32_t> device_index)
+    : instance(presenting_instance(validation)),
+      devices(vk::query_devices(instance.get())),
+      caps(vk::select_device(devices, device_index)),
+      device(instance, caps, {.presentation = true}) {}
+
+FrameResources::FrameResources(const vk::Device& d)
+    : device(d), image_available(vk::create_semaphore(d)), in_flight(vk::create_fence(d, true)) {
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = d.command_pool();
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  vk::check(vkAllocateCommandBuffers(d.get(), &alloc, &cmd), "vkAllocateCommandBuffers");
+}
+
+FrameResources::~FrameResources() {
+  device.wait_idle();
+  vkFreeCommandBuffers(device.get(), device.command_pool(), 1, &cmd);
+}
+
+void recreate_swapchain(vk::Swapchain& swapchain, const Window& window, ImGuiLayer& ui, ViewerReport& report) {
+  swapchain.recreate(window.framebuffer_extent());
+  ui.swapchain_changed();
+  ++report.swapchain_recreations;
+}
+
+void finish_capture(SwapchainCapture& capture, ViewerReport& report, const std::function<void(const std::string&)>& message) {
+  try {
+    if (const auto written = capture.finish()) report.files_written.push_back(*written);
+  } catch (const InputError& e) {  // an unwritable path: say so, keep the window
+    message(e.what());
   }
 }
 

@@ -7,9 +7,21 @@
 
 #include <glm/vec2.hpp>
 
+#include <optional>
+#include <vector>
+
+#include <functional>
+#include <string>
+
 #include "app/viewer/camera_controller.hpp"
+#include "app/viewer/imgui_layer.hpp"
+#include "app/viewer/screenshot.hpp"
+#include "app/viewer/viewer.hpp"
 #include "app/viewer/window.hpp"
+#include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
+#include "renderer/vk/instance.hpp"
+#include "renderer/vk/swapchain.hpp"
 
 namespace prismoid::app {
 
@@ -22,6 +34,37 @@ struct MouseState {
 // panel the panel's. `seconds` since the last frame (fly mode's movement).
 void handle_mouse(Window& window, CameraController& camera, MouseState& mouse, VkExtent2D viewport, bool ui_wants_mouse,
                   bool ui_wants_keyboard, double seconds);
+
+// GLFW, an instance with the extensions GLFW needs to present, and a device that presents
+// (NoSuitableDevice when GLFW finds no Vulkan loader or no device can present).
+struct PresentingDevice {
+  PresentingDevice(bool validation, std::optional<uint32_t> device_index);
+  GlfwSession glfw;
+  vk::Instance instance;
+  std::vector<vk::DeviceCapabilities> devices;
+  const vk::DeviceCapabilities& caps;
+  vk::Device device;
+};
+
+// One frame in flight: the semaphore the acquired image signals, the fence of the frame's
+// submission (created signalled) and its command buffer (freed once the device is idle).
+struct FrameResources {
+  explicit FrameResources(const vk::Device& device);
+  ~FrameResources();
+  FrameResources(const FrameResources&) = delete;
+  FrameResources& operator=(const FrameResources&) = delete;
+  const vk::Device& device;
+  vk::UniqueSemaphore image_available;
+  vk::UniqueFence in_flight;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+};
+
+// A new swapchain at the window's framebuffer size (resized or out of date), the UI told, the
+// report counting it.
+void recreate_swapchain(vk::Swapchain& swapchain, const Window& window, ImGuiLayer& ui, ViewerReport& report);
+// After the frame a screenshot was recorded in has finished: writes it and lists it in the
+// report; an unwritable path goes to `message` (the window stays).
+void finish_capture(SwapchainCapture& capture, ViewerReport& report, const std::function<void(const std::string&)>& message);
 
 // Waits for the acquired image before the blit writes it; signals `done` for presentation.
 void submit_frame(const vk::Device& device, VkCommandBuffer cmd, VkSemaphore acquired, VkSemaphore done, VkFence fence);
