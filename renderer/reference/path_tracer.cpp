@@ -6,6 +6,7 @@
 #include <cmath>
 #include <mutex>
 #include <numbers>
+#include <string>
 #include <thread>
 
 #include <glm/geometric.hpp>
@@ -224,27 +225,39 @@ class Integrator {
   Integrator(const PreparedScene& scene, const PathTracerSettings& settings, PathTracerCounts& counts)
       : s_(scene), settings_(settings), counts_(counts) {}
 
-  glm::dvec3 radiance(glm::dvec3 origin, glm::dvec3 direction, double t_min, SampleRng& rng) const {
+  // Radiance arriving at `origin` along -direction. `first`, when given, is the first hit itself
+  // (not traced): a point whose radiance towards -direction is wanted.
+  glm::dvec3 radiance(glm::dvec3 origin, glm::dvec3 direction, double t_min, SampleRng& rng,
+                      const TriangleHit* first = nullptr) const {
     glm::dvec3 result(0.0), throughput(1.0);
     uint32_t from_triangle = kNoTriangle;
     glm::dvec3 from_position = origin;
     double bsdf_pdf_of_ray = 0.0;  // solid-angle pdf with which `direction` was sampled (0: camera ray)
+    // Light that reached the eye after `reflections` reflections counts from min_bounces on.
+    auto counted = [&](uint32_t reflections) { return reflections >= settings_.min_bounces; };
     for (uint32_t bounce = 0;; ++bounce) {
-      ++counts_.rays;
-      const TriangleHit hit = s_.bvh().closest_hit(origin, direction, t_min, std::numeric_limits<double>::infinity(),
-                                                   from_triangle);
+      TriangleHit hit;
+      if (bounce == 0 && first != nullptr) {
+        hit = *first;
+      } else {
+        ++counts_.rays;
+        hit = s_.bvh().closest_hit(origin, direction, t_min, std::numeric_limits<double>::infinity(), from_triangle);
+      }
       if (!hit.hit()) {
-        result += throughput * s_.scene().sky.radiance(direction);
+        if (counted(bounce)) result += throughput * s_.scene().sky.radiance(direction);
         break;
       }
       const FlatTriangle& tri = s_.triangle(hit.triangle);
       const glm::dvec3 p = (1.0 - hit.b1 - hit.b2) * tri.v[0] + hit.b1 * tri.v[1] + hit.b2 * tri.v[2];
-      result += throughput * emitted(hit.triangle, p, direction, from_position, bsdf_pdf_of_ray);
+      if (counted(bounce)) result += throughput * emitted(hit.triangle, p, direction, from_position, bsdf_pdf_of_ray);
       if (bounce >= settings_.max_bounces) break;
 
       const ShadingPoint sp = shading_point(hit, p, -direction);
       if (max_of(sp.bsdf.albedo) <= 0.0 && max_of(sp.bsdf.specular_f0) <= 0.0) break;  // black: reflects nothing
-      if (settings_.light_sampling != LightSampling::BsdfOnly) result += throughput * next_event(sp, rng);
+      if (settings_.light_sampling != LightSampling::BsdfOnly) {
+        const glm::dvec3 direct = next_event(sp, rng);  // drawn either way: the streams stay aligned
+        if (counted(bounce + 1)) result += throughput * direct;
+      }
 
       const double u_lobe = rng.next(), u1 = rng.next(), u2 = rng.next();
       const auto sample = sample_bsdf(sp.bsdf, sp.wo_local, u_lobe, u1, u2);
@@ -445,6 +458,70 @@ PathTracedImage path_trace(const SurfaceScene& scene, const Camera& camera, cons
   for (auto& t : pool) t.join();
   image.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return image;
+}
+
+glm::dvec3 PointRadiance::standard_error() const { return glm::sqrt(variance / double(std::max(samples, 1u))); }
+
+std::vector<PointRadiance> radiance_leaving(const SurfaceScene& scene, std::span<const SurfacePointQuery> points,
+                                            const PathTracerSettings& settings, PathTracerCounts* counts_out) {
+  validate(scene);
+  if (settings.samples_per_pixel == 0) throw InputError("path tracer", "the path count per point must be at least 1");
+  const PreparedScene prepared(scene);
+  std::vector<uint32_t> first_of_mesh(scene.meshes.size() + 1, 0);
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    first_of_mesh[m + 1] = first_of_mesh[m] + static_cast<uint32_t>(scene.meshes[m].triangles.size());
+  std::vector<TriangleHit> hits(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const SurfacePointQuery& q = points[i];
+    const std::string where = "surface point " + std::to_string(i);
+    if (q.mesh >= scene.meshes.size() || q.triangle >= scene.meshes[q.mesh].triangles.size())
+      throw InputError("path tracer", where + " names no triangle of the scene");
+    hits[i].triangle = first_of_mesh[q.mesh] + q.triangle;
+    if (!(prepared.triangle(hits[i].triangle).area > 0.0)) throw InputError("path tracer", where + " lies on a zero-area triangle");
+    const double len = glm::length(q.wo);
+    if (!(len > 0.0) || !std::isfinite(len)) throw InputError("path tracer", where + " has no finite, non-zero direction");
+    hits[i].t = 1.0;
+    hits[i].b1 = q.b1;
+    hits[i].b2 = q.b2;
+  }
+  std::vector<PointRadiance> out(points.size());
+  std::atomic<size_t> next{0};
+  std::mutex merge;
+  PathTracerCounts total;
+  auto worker = [&] {
+    PathTracerCounts counts;
+    const Integrator integrator(prepared, settings, counts);
+    for (size_t i = next++; i < points.size(); i = next++) {
+      const glm::dvec3 wo = glm::normalize(points[i].wo);
+      const FlatTriangle& t = prepared.triangle(hits[i].triangle);
+      const glm::dvec3 p = (1.0 - hits[i].b1 - hits[i].b2) * t.v[0] + hits[i].b1 * t.v[1] + hits[i].b2 * t.v[2];
+      glm::dvec3 mean(0.0), m2(0.0);
+      for (uint32_t s = 0; s < settings.samples_per_pixel; ++s) {
+        SampleRng rng(settings.seed, i, s);
+        glm::dvec3 value = integrator.radiance(p + wo, -wo, 0.0, rng, &hits[i]);
+        ++counts.paths;
+        if (!finite(value)) {
+          ++counts.non_finite;
+          value = glm::dvec3(0.0);
+        }
+        const glm::dvec3 delta = value - mean;
+        mean += delta / double(s + 1);
+        m2 += delta * (value - mean);
+      }
+      out[i].mean = mean;
+      out[i].samples = settings.samples_per_pixel;
+      out[i].variance = settings.samples_per_pixel > 1 ? m2 / double(settings.samples_per_pixel - 1) : glm::dvec3(0.0);
+    }
+    const std::lock_guard lock(merge);
+    add(total, counts);
+  };
+  const unsigned threads = std::max(1u, settings.threads ? settings.threads : std::thread::hardware_concurrency());
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (counts_out) *counts_out = total;
+  return out;
 }
 
 std::vector<SurfaceHit> first_hits(const SurfaceScene& scene, std::span<const SurfaceRay> rays) {

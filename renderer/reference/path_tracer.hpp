@@ -53,6 +53,8 @@ struct PathTracerSettings {
   uint32_t height = 64;
   uint32_t samples_per_pixel = 16;
   uint32_t max_bounces = 64;     // reflections per path; 0: emission and sky seen directly
+  uint32_t min_bounces = 0;      // light reaching the eye after fewer reflections is left out (e.g. 2 with
+                                 // max_bounces 2: the one-bounce indirect light alone)
   uint32_t roulette_after = 3;   // paths with up to this many reflections are never cut by Russian roulette
   LightSampling light_sampling = LightSampling::Mis;
   bool jitter = true;            // false: every sample through the pixel centre
@@ -81,6 +83,31 @@ struct PathTracedImage {
 
 // Throws InputError for an invalid scene (validate) or camera, or a zero image size / sample count.
 PathTracedImage path_trace(const SurfaceScene& scene, const Camera& camera, const PathTracerSettings& settings);
+
+// Radiance leaving given surface points towards given directions (for object-space shading:
+// a shading sample's radiance towards its viewer), estimated by the same integrator as
+// path_trace, each point with settings.samples_per_pixel paths of its own random stream
+// (seed, point index, path). The first "hit" is the point itself: its emission counts (front
+// side, as seen from `wo`), reflection there is shaded for the viewer at `wo` (the shading
+// normal turned to wo's side, as for a camera ray arriving along -wo). width, height and jitter
+// are ignored. With max_bounces = 2 the result is emission + direct light + light reflected
+// once more (one bounce): what direct shading plus one-bounce GI (renderer/surface/restir_gi)
+// converges to; min_bounces = max_bounces = 2 gives the one-bounce part alone.
+struct SurfacePointQuery {
+  uint32_t mesh = 0, triangle = 0;  // the scene's mesh and the triangle within it
+  double b1 = 0.0, b2 = 0.0;        // barycentric weights of the triangle's corners 1 and 2
+  glm::dvec3 wo{0.0, 0.0, 1.0};     // unit direction towards the viewer
+};
+struct PointRadiance {
+  glm::dvec3 mean{0.0};
+  glm::dvec3 variance{0.0};  // unbiased sample variance of one path's radiance
+  uint32_t samples = 0;
+  glm::dvec3 standard_error() const;  // sqrt(variance / samples)
+};
+// Throws InputError for an invalid scene, a zero sample count, a point naming no triangle or a
+// zero-area one, or a direction that is not finite and non-zero.
+std::vector<PointRadiance> radiance_leaving(const SurfaceScene& scene, std::span<const SurfacePointQuery> points,
+                                            const PathTracerSettings& settings, PathTracerCounts* counts = nullptr);
 
 // The first surface along each ray (for tests and tools: what a pixel sees). Builds the
 // hierarchy once for all rays.

@@ -108,7 +108,7 @@ struct SurfaceFrame {
   uvec4 counts;         // x: point lights, y: directional lights, z: emitters, w: 1 when the sky is not black
   vec4 sky_top;         // rgb: Sky::top
   vec4 sky_bottom;      // rgb: Sky::bottom
-  vec4 sky_up;          // xyz: unit Sky::up
+  vec4 sky_up;          // xyz: unit Sky::up; w: 1 when ReSTIR GI carries the sky (no ambient term), else 0
   vec4 camera_right;    // xyz: unit right vector; w: tan(fovy / 2) * aspect
   vec4 camera_up;       // xyz: unit up vector (in the image); w: tan(fovy / 2)
   vec4 camera_forward;  // xyz: unit viewing direction

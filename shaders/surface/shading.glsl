@@ -146,9 +146,11 @@ vec3 sky_cosine_mean(vec3 n) {
   return 0.5 * (frame.sky_top.rgb + frame.sky_bottom.rgb) + (frame.sky_top.rgb - frame.sky_bottom.rgb) * (dot(frame.sky_up.xyz, n) / 3.0);
 }
 
-vec3 shade_surface_point(SurfacePoint sp, ShadingMaterial m, vec3 emission) {
+// The light the scene's lights (point, directional, emissive triangles) reflect at the point:
+// no emission of its own and no sky. ReSTIR GI (shaders/surface/gi/) uses it for the radiance a
+// bounce's hit point sends back.
+vec3 surface_lights(SurfacePoint sp, ShadingMaterial m) {
   vec3 L = vec3(0.0);
-  if (sp.front) L += emission;
   for (uint i = 0u; i < frame.counts.x; ++i) {
     vec3 to = point_lights[i].position.xyz - sp.position;
     float d2 = dot(to, to);
@@ -170,7 +172,16 @@ vec3 shade_surface_point(SurfacePoint sp, ShadingMaterial m, vec3 emission) {
     if (Le == vec3(0.0)) continue;
     L += Le * emitter_visibility(sp, i);
   }
-  if (frame.counts.w != 0u) L += m.albedo * sky_cosine_mean(sp.normal);
+  return L;
+}
+
+// Emission (front side) + the lights + the sky's ambient term. With ReSTIR GI on, the host sets
+// frame.sky_up.w = 1: the sky then reaches the point through GI's bounce rays (with occlusion)
+// and its ambient term is left out here (default 0: unchanged).
+vec3 shade_surface_point(SurfacePoint sp, ShadingMaterial m, vec3 emission) {
+  vec3 L = surface_lights(sp, m);
+  if (sp.front) L += emission;
+  if (frame.counts.w != 0u && frame.sky_up.w == 0.0) L += m.albedo * sky_cosine_mean(sp.normal);
   return L;
 }
 
