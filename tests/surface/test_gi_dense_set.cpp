@@ -159,7 +159,9 @@ TEST(GiDenseSet, NeighboursAcrossEdgesAreGeometricallyClose) {
         const uint32_t n = set.neighbours[k * set.table_width + c];
         if (n != kNoNeighbour && set.samples[n].edge != set.samples[k].edge) ++other_quad;
       }
-    EXPECT_GT(other_quad, valid / 4) << scene.name;
+    // (a tenth at least: with quads of up to 16 texels, a radius-2 walk leaves its quad only
+    // from the texels within 2 of its border)
+    EXPECT_GT(other_quad, valid / 10) << scene.name;
     std::printf("%s: %zu samples, %zu of %zu table entries valid (%zu in another quad), worst distance %.3f of the bound\n",
                 scene.name.c_str(), set.samples.size(), valid, total, other_quad, worst);
   }
