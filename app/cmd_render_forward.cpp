@@ -12,8 +12,11 @@
 #include "app/commands.hpp"
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
+#include "renderer/rt/acceleration_structure.hpp"
 #include "renderer/surface/forward_pass.hpp"
+#include "renderer/surface/shadowed_forward_pass.hpp"
 #include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
 #include "scene/input_error.hpp"
 
@@ -53,7 +56,7 @@ bool wants_forward(const std::vector<std::string>& args) {
 
 int cmd_render_forward(const std::vector<std::string>& args) {
   const ParsedArgs a =
-      parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "quantity", "supersample", "frames", "stats", "device"})), {"validate"});
+      parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "quantity", "supersample", "frames", "stats", "device", "shadows"})), {"validate"});
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
   if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
@@ -64,6 +67,13 @@ int cmd_render_forward(const std::vector<std::string>& args) {
   const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : 1;
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
+  enum class Shadows { Auto, On, Off } shadows_asked = Shadows::Auto;
+  if (a.has("shadows")) {
+    const std::string& v = a.values.at("shadows");
+    if (v == "on") shadows_asked = Shadows::On;
+    else if (v == "off") shadows_asked = Shadows::Off;
+    else throw InputError("--shadows", "'" + v + "' is not on or off");
+  }
   const SurfaceScene scene = surface_scene_from(a, "forward");
   const Camera camera = surface_camera(a, scene.camera);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
@@ -72,10 +82,27 @@ int cmd_render_forward(const std::vector<std::string>& args) {
   const auto devices = vk::query_devices(instance.get());
   const auto& caps = vk::select_device(devices, parse_device(a));
   vk::Device device(instance, caps, {});
-  surface::ForwardPass pass(device);
   const surface::GpuSurfaceScene gpu = surface::upload(device, lit);
+  // Shadows by default where the device traces rays and the scene has a light that casts them.
+  const bool casts = gpu.point_light_count + gpu.directional_light_count + gpu.emitter_count > 0;
+  if (shadows_asked == Shadows::On && !device.ray_tracing_enabled())
+    throw vk::NoSuitableDevice(caps.name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure): "
+                               "--shadows on needs it; use --shadows off");
+  const bool shadows = shadows_asked == Shadows::On || (shadows_asked == Shadows::Auto && device.ray_tracing_enabled() && casts);
+  std::unique_ptr<surface::ForwardPass> pass;
+  std::unique_ptr<surface::ShadowedForwardPass> shadowed;
+  std::unique_ptr<rt::SceneAccel> accel;
+  if (shadows) {
+    shadowed = std::make_unique<surface::ShadowedForwardPass>(device);
+    accel = std::make_unique<rt::SceneAccel>(device, lit);  // origin: the bounds centre, as gpu.origin
+  } else {
+    pass = std::make_unique<surface::ForwardPass>(device);
+  }
   auto render = [&] {
-    return k == 1 ? surface::render_forward(device, pass, gpu, camera, size) : surface::render_forward_supersampled(device, pass, gpu, camera, size, k);
+    if (shadows)
+      return k == 1 ? surface::render_forward_shadowed(device, *shadowed, gpu, *accel, camera, size)
+                    : surface::render_forward_shadowed_supersampled(device, *shadowed, gpu, *accel, camera, size, k);
+    return k == 1 ? surface::render_forward(device, *pass, gpu, camera, size) : surface::render_forward_supersampled(device, *pass, gpu, camera, size, k);
   };
   if (frames > 1) render();  // warm-up: caches, first-use work
   surface::ForwardImage image;
@@ -98,9 +125,14 @@ int cmd_render_forward(const std::vector<std::string>& args) {
     total += p.gpu_ms;
   }
   std::cout << "  total: " << json_number(total) << " ms GPU" << (frames > 1 ? " (median of " + std::to_string(frames) + " frames)" : "") << "\n";
-  if (k == 1) std::cout << "  covered: " << covered << " pixels" << (image.statistics ? ", " + std::to_string(image.fragment_invocations) + " shading invocations" : "") << "\n";
+  if (k == 1 && shadows) std::cout << "  covered: " << covered << " pixels, " << image.shading_invocations << " shading invocations\n";
+  else if (k == 1) std::cout << "  covered: " << covered << " pixels" << (image.statistics ? ", " + std::to_string(image.fragment_invocations) + " shading invocations" : "") << "\n";
   if (lit.directional_lights.size() != scene.directional_lights.size()) std::cout << "  no lights in the scene: default headlight and sky\n";
-  std::cout << "  direct light without shadows (shadows need the ray-tracing pass)\n";
+  if (shadows)
+    std::cout << "  direct light with ray-traced shadows (one shadow ray per point or directional light, " << PRISMOID_EMITTER_SHADOW_SAMPLES
+              << " per emissive triangle)\n";
+  else
+    std::cout << "  direct light without shadows" << (device.ray_tracing_enabled() ? (casts ? " (--shadows off)" : " (no light casts shadows)") : " (the device has no ray tracing)") << "\n";
 
   if (a.has("stats")) {
     std::ostringstream js;
@@ -109,7 +141,9 @@ int cmd_render_forward(const std::vector<std::string>& args) {
        << size.width << ",\n  \"height\": " << size.height << ",\n  \"supersample\": " << k << ",\n  \"triangles\": " << gpu.triangle_count
        << ",\n  \"emitters\": " << gpu.emitter_count << ",\n  \"gpu_scene_bytes\": " << gpu.bytes << ",\n  \"covered_pixels\": " << covered
        << ",\n  \"default_lighting\": " << (lit.directional_lights.size() != scene.directional_lights.size() ? "true" : "false");
+    js << ",\n  \"shadows\": " << (shadows ? "true" : "false");
     if (image.statistics) js << ",\n  \"fragments\": " << image.fragment_invocations;
+    if (shadows) js << ",\n  \"shading_invocations\": " << image.shading_invocations;
     js << ",\n  \"frames\": " << frames << ",\n  \"passes\": [";
     for (size_t i = 0; i < image.passes.size(); ++i)
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(image.passes[i].name) << "\", \"gpu_ms\": " << json_number(image.passes[i].gpu_ms) << "}";

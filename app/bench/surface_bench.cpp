@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <map>
 
 #include "app/surface_args.hpp"
 #include "renderer/reference/direct_light.hpp"
@@ -49,9 +50,37 @@ Frame render(const vk::Device& device, surface::SurfaceRenderer& renderer, const
   return f;
 }
 
+struct ReferenceImage {
+  std::vector<float> rgba;
+  double peak = 1.0, ms = 0.0;
+};
+
+ReferenceImage reference_image(const SurfaceScene& scene, VkExtent2D extent, uint32_t supersample, bool shadows) {
+  reference::DirectLightOptions options;
+  options.shadows = shadows;
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<glm::dvec3> ref3 =
+      reference::supersampled_direct_light(scene, scene.camera, extent.width, extent.height, supersample, options);
+  ReferenceImage r;
+  r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  r.rgba.resize(ref3.size() * 4);
+  double peak = 0.0;
+  for (size_t p = 0; p < ref3.size(); ++p) {
+    for (int c = 0; c < 3; ++c) {
+      r.rgba[4 * p + c] = float(ref3[p][c]);
+      peak = std::max(peak, ref3[p][c]);
+    }
+    r.rgba[4 * p + 3] = 1.0f;
+  }
+  r.peak = peak > 0.0 ? peak : 1.0;
+  return r;
+}
+
 }  // namespace
 
-std::string surface_reference_kind(const std::string&) { return "direct light without shadows (CPU, double)"; }
+std::string surface_reference_kind(const std::string&) {
+  return "direct light (CPU, double; with the same shadow rays as the GPU where shadows=on)";
+}
 
 std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenchOptions& options) {
   std::vector<BenchRow> rows;
@@ -60,21 +89,19 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     const SurfaceScene raw = load_scene(name);
     const SurfaceScene scene = with_default_lighting(raw, raw.camera);
     const Camera& camera = scene.camera;
-    const auto start = std::chrono::steady_clock::now();
-    const std::vector<glm::dvec3> ref3 =
-        reference::supersampled_direct_light(scene, camera, extent.width, extent.height, options.supersample);
-    const double reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    std::vector<float> reference(ref3.size() * 4);
-    double peak = 0.0;
-    for (size_t p = 0; p < ref3.size(); ++p) {
-      for (int c = 0; c < 3; ++c) {
-        reference[4 * p + c] = float(ref3[p][c]);
-        peak = std::max(peak, ref3[p][c]);
-      }
-      reference[4 * p + 3] = 1.0f;
-    }
+    std::map<std::string, ReferenceImage> references;
     surface::SurfaceRenderer renderer(device, scene);
+    std::vector<bool> shadow_settings{false};
+    if (renderer.can_shadow()) shadow_settings.push_back(true);
+    for (const bool shadows : shadow_settings)
     for (const std::string& mode : renderer.modes()) {
+      renderer.set_shadows(shadows);
+      // The CPU reference of what the mode computes, once per shadow setting.
+      const std::string ref_key = shadows ? "shadows" : "none";
+      if (!references.count(ref_key)) references[ref_key] = reference_image(scene, extent, options.supersample, shadows);
+      const ReferenceImage& ref = references.at(ref_key);
+      const std::vector<float>& reference = ref.rgba;
+      const double peak = ref.peak, reference_ms = ref.ms;
       render(device, renderer, camera, mode, extent);  // warm-up: pipelines, first-use work
       std::vector<double> totals;
       std::vector<std::vector<vk::PassTiming>> timings;
@@ -92,7 +119,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.sweep = "surfaces";
       m.quantity = "color";
       m.mode = mode;
-      m.settings = "default";
+      m.settings = shadows ? "shadows=on" : "shadows=off";
       m.ordering = "-";
       m.width = extent.width;
       m.height = extent.height;
@@ -106,10 +133,10 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
         m.passes += (p ? " " : "") + timings.front()[p].name + "=" + std::to_string(median(ms));
       }
       m.mesh_bytes = renderer.gpu_scene().bytes;
-      m.error = reference::image_error(f.rgba, reference, peak > 0.0 ? peak : 1.0, 4, 3);
-      m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak > 0.0 ? peak : 1.0, 4, 3);
+      m.error = reference::image_error(f.rgba, reference, peak, 4, 3);
+      m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak, 4, 3);
       m.flip = reference::flip(f.rgba, reference, extent.width, extent.height, 4).mean;
-      m.peak = peak > 0.0 ? peak : 1.0;
+      m.peak = peak;
       m.reference_ms = reference_ms;
       std::cout << m.dataset << " surfaces color " << m.mode << " " << m.width << "x" << m.height << ": " << m.ms_median
                 << " ms GPU, RMSE " << m.error.rmse << std::endl;

@@ -59,6 +59,13 @@ struct SurfaceSession {
     if (problem.empty()) mode = name;
     message(problem);
   }
+  void set_shadows(bool on) {
+    try {
+      renderer.set_shadows(on);
+    } catch (const vk::NoSuitableDevice& e) {
+      message(e.what());
+    }
+  }
   void next_mode() {
     const auto& modes = renderer.modes();
     const auto it = std::find(modes.begin(), modes.end(), mode);
@@ -95,6 +102,7 @@ struct SurfaceSession {
     if (camera_key(camera, key, aspect())) return;
     switch (key.key) {
       case GLFW_KEY_M: next_mode(); break;
+      case GLFW_KEY_L: set_shadows(!renderer.shadows()); break;
       case GLFW_KEY_H: show_ui = !show_ui; break;
       case GLFW_KEY_C: copy_camera(); break;
       case GLFW_KEY_P: capture_path = "prismoid-screenshot-" + std::to_string(++screenshot_count) + ".png"; break;
@@ -107,6 +115,7 @@ struct SurfaceSession {
     const auto whole = [&](size_t i) { return parse_uint(c.verb, a.at(i)); };
     if (c.verb == "key") on_key(key_from_name(a[0]));
     else if (c.verb == "mode") set_mode(a[0]);
+    else if (c.verb == "shadows") set_shadows(script_on_off(c));
     else if (run_camera_command(camera, c, swapchain.extent(), bounds)) {
     } else if (c.verb == "ui") show_ui = script_on_off(c);
     else if (c.verb == "screenshot") capture_path = a[0];
@@ -133,6 +142,12 @@ void draw_surface_panel(SurfaceSession& s) {
   ImGui::TextUnformatted("Mode (M cycles)");
   for (const std::string& m : s.renderer.modes())
     if (ImGui::RadioButton(m.c_str(), s.mode == m)) s.set_mode(m);
+  if (s.renderer.can_shadow()) {
+    bool shadows = s.renderer.shadows();
+    if (ImGui::Checkbox("ray-traced shadows (L)", &shadows)) s.set_shadows(shadows);
+  } else {
+    ImGui::TextDisabled("no shadows: the device has no ray tracing");
+  }
   ImGui::Separator();
   double total = 0.0;
   for (const auto& p : s.passes) {

@@ -236,6 +236,8 @@ void ViewerSession::run(const ScriptCommand& c) {
     const double seconds = a.empty() ? 300.0 : number(0);
     reference_deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                                  std::chrono::duration<double>(seconds));
+  } else {
+    message(c.where + ": " + c.verb + " is for the surface window");
   }
 }
 

@@ -14,7 +14,7 @@ namespace {
 // Verbs and their argument counts (-1: any, the rest of the line).
 const std::map<std::string, int>& verbs() {
   static const std::map<std::string, int> v = {
-      {"key", 1},        {"mode", 1},          {"quantity", 1},     {"tf", 1},
+      {"key", 1},        {"mode", 1}, {"shadows", 1}, {"quantity", 1},     {"tf", 1},
       {"tf-range", -1},  {"tf-export", 1},     {"tetlet-size", 1},  {"shared-vertices", 1},
       {"preintegration-size", 1}, {"march-step", 1}, {"density-scale", 1}, {"camera", -1},
       {"view", 1},       {"reset", 0},         {"rotate", 2},       {"pan", 2},

@@ -7,6 +7,7 @@
 //   wait N                  ... N frames after the previous ones
 //   key NAME                a key press as the window gets it: R, F, P, H, C, X, shift+X, W...
 //   mode NAME               interval, interval-sorted, interval-exact-order, interval-march...
+//   shadows on|off          the surface window's ray-traced shadows
 //   quantity NAME           optical-depth, transmittance, color, isosurface
 //   tf PRESET|FILE          a preset or a ParaView JSON colour map
 //   tf-range LO HI          the transfer function's scalar range ("tf-range data": the data's)

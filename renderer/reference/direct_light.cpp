@@ -4,11 +4,13 @@
 #include <atomic>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <thread>
 
 #include <glm/geometric.hpp>
 
 #include "renderer/reference/area_light.hpp"
+#include "renderer/reference/shadow_rays.hpp"
 #include "renderer/reference/surface_bsdf.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/input_error.hpp"
@@ -46,7 +48,9 @@ struct Emitter {
 struct Prepared {
   std::vector<uint32_t> first_triangle;  // per mesh
   std::vector<Emitter> emitters;
-  explicit Prepared(const SurfaceScene& scene) {
+  std::optional<ShadowRays> shadows;
+  Prepared(const SurfaceScene& scene, bool with_shadows) {
+    if (with_shadows) shadows.emplace(scene);
     uint32_t offset = 0;
     for (const SceneMesh& mesh : scene.meshes) {
       first_triangle.push_back(offset);
@@ -125,13 +129,27 @@ class PointShader {
       const glm::dvec3 to = light.position - p;
       const double d2 = glm::dot(to, to);
       if (!(d2 > 0.0)) continue;
-      L += punctual(to / std::sqrt(d2), light.intensity / d2, out);
+      const glm::dvec3 term = punctual(to / std::sqrt(d2), light.intensity / d2, out);
+      if (term != glm::dvec3(0.0) && shadows())
+        L += term * visibility(prepared_.shadows->point_light(p, geometric_, out.global_triangle, light.position), out);
+      else
+        L += term;
     }
-    for (const DirectionalLight& light : scene_.directional_lights)
-      L += punctual(-glm::normalize(light.direction), light.irradiance, out);
+    for (const DirectionalLight& light : scene_.directional_lights) {
+      const glm::dvec3 wi = -glm::normalize(light.direction);
+      const glm::dvec3 term = punctual(wi, light.irradiance, out);
+      if (term != glm::dvec3(0.0) && shadows())
+        L += term * visibility(prepared_.shadows->directional_light(p, geometric_, out.global_triangle, wi), out);
+      else
+        L += term;
+    }
     for (const Emitter& e : prepared_.emitters) {
       if (e.global_triangle == out.global_triangle) continue;  // a point does not light itself
-      L += area(e, p, out);
+      const glm::dvec3 term = area(e, p, out);
+      if (term != glm::dvec3(0.0) && shadows())
+        L += term * visibility(prepared_.shadows->emitter(p, geometric_, n_, out.global_triangle, e.v, e.normal, e.global_triangle), out);
+      else
+        L += term;
     }
     if (!scene_.sky.black()) {
       const glm::dvec3 sky = params_.albedo * sky_cosine_mean(scene_.sky, n_);
@@ -146,6 +164,13 @@ class PointShader {
   static void add_rounding(DirectLightSample& out, double magnitude, double condition) {
     out.rounding_scale += magnitude * condition;
     ++out.terms;
+  }
+
+  bool shadows() const { return prepared_.shadows.has_value(); }
+  static double visibility(const ShadowVisibility& v, DirectLightSample& out) {
+    out.shadow_ambiguous = out.shadow_ambiguous || v.ambiguous;
+    out.shadow_rays += v.rays;
+    return v.value;
   }
 
   // How much D's denominator amplifies the rounding of n.h for the pair (wo, wi).
@@ -221,7 +246,7 @@ std::vector<DirectLightSample> direct_light(const SurfaceScene& scene, std::span
   validate(scene);
   if (options.subdivision == 0) throw InputError("direct light", "the area-light subdivision must be at least 1");
   const std::vector<SurfaceHit> hits = first_hits(scene, rays);
-  const Prepared prepared(scene);
+  const Prepared prepared(scene, options.shadows);
   std::vector<DirectLightSample> out(rays.size());
   std::atomic<size_t> next{0};
   constexpr size_t kChunk = 64;

@@ -17,8 +17,14 @@
 //     cosine-weighted mean of the sky's radiance over the shading normal's hemisphere, in
 //     closed form), with nothing occluding the sky; the sky's reflection in the GGX lobe is
 //     left out.
-// Nothing casts shadows: every light is seen from every point above its horizons (the hook for
-// shadows is in shaders/surface/shading.glsl). A ray that hits nothing sees the sky.
+// Without `shadows` nothing casts shadows: every light is seen from every point above its
+// horizons. With `shadows` each point, directional and emitter term is multiplied by the
+// visibility the GPU's shadow rays compute (shaders/surface/shadow_rays.glsl), evaluated by its
+// double twin (shadow_rays.hpp): one segment per point or directional light, the weighted
+// ratio over four fixed points per emissive triangle; the sky stays unoccluded. Each sample
+// then says whether any of its shadow segments is ambiguous (passes within a few float ulps of
+// an occluder's edge, where a float evaluation may answer either way). A ray that hits
+// nothing sees the sky.
 //
 // The scene is rendered as given: callers that want the "never black" rule apply
 // with_default_lighting first.
@@ -41,6 +47,7 @@ struct DirectLightOptions {
   uint32_t subdivision = 4;         // the forward rule's n (PRISMOID_AREA_SPECULAR_SUBDIVISION)
   double exact_tolerance = 1e-9;    // Exact: relative to each emitter's GGX contribution
   unsigned threads = 0;             // 0: std::thread::hardware_concurrency()
+  bool shadows = false;             // multiply each light by its shadow-ray visibility (above)
 };
 
 struct DirectLightSample {
@@ -57,6 +64,9 @@ struct DirectLightSample {
   // terms u rounding_scale for the summation.
   double rounding_scale = 0.0;
   uint32_t terms = 0;
+  // With shadows: whether any shadow segment of this point is ambiguous, and how many were traced.
+  bool shadow_ambiguous = false;
+  uint32_t shadow_rays = 0;
 };
 
 // One sample per ray (SurfaceRay: origin, direction, t_min).

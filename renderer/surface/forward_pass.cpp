@@ -47,7 +47,10 @@ std::vector<VkVertexInputAttributeDescription> vertex_attributes(bool attributes
   return a;
 }
 
-gpu::SurfaceFrame frame_uniforms(const GpuSurfaceScene& scene, const Camera& camera, VkExtent2D e, const glm::dvec2& subpixel) {
+
+}  // namespace
+
+gpu::SurfaceFrame surface_frame(const GpuSurfaceScene& scene, const Camera& camera, VkExtent2D e, const glm::dvec2& subpixel) {
   gpu::SurfaceFrame f{};
   const double aspect = double(e.width) / double(e.height);
   f.view = glm::mat4(view_matrix(camera, scene.origin));
@@ -70,11 +73,9 @@ gpu::SurfaceFrame frame_uniforms(const GpuSurfaceScene& scene, const Camera& cam
   f.camera_right = glm::vec4(glm::vec3(right), float(tan_half * aspect));
   f.camera_up = glm::vec4(glm::vec3(up), float(tan_half));
   f.camera_forward = glm::vec4(glm::vec3(forward), 0.0f);
-  f.subpixel = glm::vec4(float(subpixel.x), float(subpixel.y), 0.0f, 0.0f);
+  f.subpixel = glm::vec4(float(subpixel.x), float(subpixel.y), float(scene.scale), 0.0f);
   return f;
 }
-
-}  // namespace
 
 ForwardTargets create_forward_targets(const vk::Device& device, VkExtent2D extent) {
   ForwardTargets t;
@@ -170,7 +171,7 @@ void ForwardPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Forw
   const VkPipeline shading = shading_pipeline(settings.count_shading);  // before any recording state
   bind(scene, targets);
   const VkExtent2D e = targets.extent;
-  const gpu::SurfaceFrame frame = frame_uniforms(scene, camera, e, settings.subpixel);
+  const gpu::SurfaceFrame frame = surface_frame(scene, camera, e, settings.subpixel);
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
 
   const VkViewport viewport{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
@@ -313,6 +314,10 @@ ForwardImage render_forward(const vk::Device& device, ForwardPass& pass, const G
 
 ForwardImage render_forward_supersampled(const vk::Device& device, ForwardPass& pass, const GpuSurfaceScene& scene,
                                          const Camera& camera, VkExtent2D extent, uint32_t k) {
+  return average_subpixel_frames(k, [&](const ForwardSettings& settings) { return render_forward(device, pass, scene, camera, extent, settings); });
+}
+
+ForwardImage average_subpixel_frames(uint32_t k, const std::function<ForwardImage(const ForwardSettings&)>& render) {
   if (k == 0 || k > 64) throw InputError("--supersample", "must be between 1 and 64 samples per pixel side");
   ForwardImage sum;
   std::vector<double> accumulated;
@@ -320,7 +325,7 @@ ForwardImage render_forward_supersampled(const vk::Device& device, ForwardPass& 
     for (uint32_t i = 0; i < k; ++i) {
       ForwardSettings settings;
       settings.subpixel = {(i + 0.5) / k - 0.5, (j + 0.5) / k - 0.5};
-      const ForwardImage frame = render_forward(device, pass, scene, camera, extent, settings);
+      const ForwardImage frame = render(settings);
       if (accumulated.empty()) {
         sum = frame;
         accumulated.assign(frame.rgba.begin(), frame.rgba.end());
@@ -329,6 +334,7 @@ ForwardImage render_forward_supersampled(const vk::Device& device, ForwardPass& 
       for (size_t p = 0; p < accumulated.size(); ++p) accumulated[p] += double(frame.rgba[p]);
       for (size_t p = 0; p < sum.passes.size() && p < frame.passes.size(); ++p) sum.passes[p].gpu_ms += frame.passes[p].gpu_ms;
       sum.fragment_invocations += frame.fragment_invocations;
+      sum.shading_invocations += frame.shading_invocations;
     }
   const double scale = 1.0 / (double(k) * double(k));
   for (size_t p = 0; p < accumulated.size(); ++p) sum.rgba[p] = static_cast<float>(accumulated[p] * scale);

@@ -8,6 +8,7 @@
 // Output: linear RGBA float (alpha 1 where a surface is seen, 0 on the sky). What it computes is
 // reference::direct_light (renderer/reference/direct_light.hpp): direct light without shadows.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -17,6 +18,7 @@
 #include "renderer/vk/pipeline.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
+#include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
 
@@ -71,6 +73,10 @@ class ForwardPass {
   bool counted_ = false;
 };
 
+// The frame uniforms every surface pass shades with: the camera relative to the scene's origin,
+// the projection with the sub-pixel offset folded in, counts, sky, and the scene's scale.
+gpu::SurfaceFrame surface_frame(const GpuSurfaceScene& scene, const Camera& camera, VkExtent2D extent, const glm::dvec2& subpixel);
+
 // One frame rendered and read back: what the CLI and the tests use.
 struct ForwardImage {
   uint32_t width = 0, height = 0;
@@ -79,6 +85,10 @@ struct ForwardImage {
   std::vector<vk::PassTiming> passes;  // GPU time per pass (summed over the frames when supersampled)
   uint64_t fragment_invocations = 0;   // of the surfaces' shading draw (summed), when counted
   bool statistics = false;             // fragment_invocations was counted
+  // The shadowed pass (shadowed_forward_pass.hpp): shade_surface_point calls, counted by the
+  // ray-generation shader (one per covered pixel); fragment_invocations stays 0 there.
+  uint64_t shading_invocations = 0;
+  bool shadows = false;
   std::vector<float> rgb() const;      // 3 floats per pixel
 };
 ForwardImage render_forward(const vk::Device& device, ForwardPass& pass, const GpuSurfaceScene& scene, const Camera& camera,
@@ -87,5 +97,7 @@ ForwardImage render_forward(const vk::Device& device, ForwardPass& pass, const G
 // the supersampled visual reference. Coverage (alpha) is averaged too.
 ForwardImage render_forward_supersampled(const vk::Device& device, ForwardPass& pass, const GpuSurfaceScene& scene,
                                          const Camera& camera, VkExtent2D extent, uint32_t k);
+// The same average over any renderer of one frame at a sub-pixel offset (settings.subpixel).
+ForwardImage average_subpixel_frames(uint32_t k, const std::function<ForwardImage(const ForwardSettings&)>& render);
 
 }  // namespace prismoid::surface

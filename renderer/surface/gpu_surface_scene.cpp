@@ -44,7 +44,12 @@ glm::dvec3 winding_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::d
 GpuSurfaceScene upload(const vk::Device& device, const SurfaceScene& scene) {
   validate(scene);
   GpuSurfaceScene gpu;
-  gpu.origin = bounds_of(scene).center();
+  const Bounds bounds = bounds_of(scene);
+  gpu.origin = bounds.center();
+  {
+    const glm::dvec3 half = bounds.max - gpu.origin;
+    gpu.scale = std::max(std::abs(half.x), std::max(std::abs(half.y), std::abs(half.z)));
+  }
   gpu.sky = scene.sky;
   const glm::dvec3 o = gpu.origin;
 

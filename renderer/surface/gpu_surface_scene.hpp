@@ -29,6 +29,7 @@ struct GpuSurfaceScene {
   vk::Buffer directional_lights;  // DirectionalLightGpu[]
   vk::Buffer emitters;            // EmitterGpu[]: the non-degenerate triangles of emissive materials
   glm::dvec3 origin{0.0};
+  double scale = 0.0;             // largest |vertex coordinate - origin| (shadow-ray offsets: SurfaceFrame subpixel.z)
   uint32_t vertex_count = 0;
   uint32_t triangle_count = 0;
   uint32_t point_light_count = 0;

@@ -18,6 +18,16 @@ std::vector<std::string> surface_modes(const vk::Device& device) {
 SurfaceRenderer::SurfaceRenderer(const vk::Device& device, const SurfaceScene& scene)
     : device_(device), source_(scene), scene_(upload(device, scene)), modes_(surface_modes(device)) {
   if (modes_.empty()) throw vk::NoSuitableDevice(device.capabilities().name + " can draw no surface mode (no geometryShader feature)");
+  shadows_ = can_shadow() && scene_.point_light_count + scene_.directional_light_count + scene_.emitter_count > 0;
+}
+
+bool SurfaceRenderer::can_shadow() const { return device_.ray_tracing_enabled(); }
+
+void SurfaceRenderer::set_shadows(bool on) {
+  if (on && !can_shadow())
+    throw vk::NoSuitableDevice(device_.capabilities().name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and "
+                               "VK_KHR_acceleration_structure): shadows need it");
+  shadows_ = on;
 }
 
 SurfaceRenderer::~SurfaceRenderer() = default;
@@ -34,18 +44,29 @@ void SurfaceRenderer::resize(VkExtent2D extent) {
   if (extent.width == extent_.width && extent.height == extent_.height) return;
   extent_ = extent;
   forward_targets_.reset();
+  shadowed_targets_.reset();
+  display_ = nullptr;
 }
 
 void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer) {
   if (const std::string problem = mode_problem(mode); !problem.empty()) throw InputError("--mode " + mode, problem);
+  if (shadows_) {
+    if (!accel_) accel_ = std::make_unique<rt::SceneAccel>(device_, source_);  // origin: the bounds centre, as scene_.origin
+    if (!shadowed_) shadowed_ = std::make_unique<ShadowedForwardPass>(device_);
+    if (!shadowed_targets_) shadowed_targets_ = std::make_unique<ShadowedForwardTargets>(create_shadowed_forward_targets(device_, extent_));
+    shadowed_->record(cmd, scene_, *accel_, *shadowed_targets_, camera, {}, timer);
+    display_ = &shadowed_targets_->color;
+    return;
+  }
   if (!forward_) forward_ = std::make_unique<ForwardPass>(device_);
   if (!forward_targets_) forward_targets_ = std::make_unique<ForwardTargets>(create_forward_targets(device_, extent_));
   forward_->record(cmd, scene_, *forward_targets_, camera, {}, timer);
+  display_ = &forward_targets_->color;
 }
 
 const vk::Image& SurfaceRenderer::display() const {
-  if (!forward_targets_) throw std::logic_error("SurfaceRenderer::display before the first record");
-  return forward_targets_->color;
+  if (!display_) throw std::logic_error("SurfaceRenderer::display before the first record");
+  return *display_;
 }
 
 }  // namespace prismoid::surface

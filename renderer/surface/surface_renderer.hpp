@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "renderer/rt/acceleration_structure.hpp"
 #include "renderer/surface/forward_pass.hpp"
+#include "renderer/surface/shadowed_forward_pass.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
@@ -28,6 +30,13 @@ class SurfaceRenderer {
   // Empty when `mode` can be drawn, else why not.
   std::string mode_problem(const std::string& mode) const;
 
+  // Shadows: ray-traced where the device traces rays (can_shadow); on by default there when the
+  // scene has a light that casts them. set_shadows(true) without can_shadow() throws
+  // vk::NoSuitableDevice. The acceleration structure is built on first use.
+  bool can_shadow() const;
+  bool shadows() const { return shadows_; }
+  void set_shadows(bool on);
+
   // The image size of the next frames (targets are remade when it changes).
   void resize(VkExtent2D extent);
   VkExtent2D extent() const { return extent_; }
@@ -46,8 +55,13 @@ class SurfaceRenderer {
   GpuSurfaceScene scene_;
   std::vector<std::string> modes_;
   VkExtent2D extent_{1, 1};
+  bool shadows_ = false;
   std::unique_ptr<ForwardPass> forward_;
   std::unique_ptr<ForwardTargets> forward_targets_;
+  std::unique_ptr<rt::SceneAccel> accel_;
+  std::unique_ptr<ShadowedForwardPass> shadowed_;
+  std::unique_ptr<ShadowedForwardTargets> shadowed_targets_;
+  const vk::Image* display_ = nullptr;  // the last recorded frame's colour
 };
 
 }  // namespace prismoid::surface

@@ -54,6 +54,30 @@ PRISMOID_SHARED_BEGIN
 // A triangle clipped by two planes has at most 5 corners.
 #define PRISMOID_CLIPPED_POLYGON_MAX 5
 
+// Shadow rays (shaders/surface/shadow_rays.glsl; its CPU double twin
+// renderer/reference/shadow_rays.hpp follows the same rules):
+//  - every shadow ray starts at the shading point moved off its surface along the viewer-side
+//    geometric normal by PRISMOID_SHADOW_RAY_OFFSET times the scene's scale (SurfaceFrame
+//    subpixel.z: the largest |coordinate| of any vertex relative to the scene origin);
+//  - a point light's segment ends that same distance short of the light; an emitter's sample
+//    point is moved off the emitter by it along the emitter's normal (towards its front);
+//  - an emissive triangle's visibility is the ratio over its PRISMOID_EMITTER_SHADOW_SAMPLES
+//    fixed points below (barycentric weights of corners 0, 1, 2: the centroids of the four
+//    triangles of its midpoint subdivision), each weighted by
+//    max(cos at the point with the shading normal, 0) max(cos at the emitter, 0) / d^2
+//    (from the shading point to the sample point; 0 below the point's geometric horizon, which
+//    the closed-form term clips away); 1 when every weight is 0.
+// The offset is 2^-16 of the scale: at least 128 float ulps of any vertex coordinate, far above
+// the few ulps by which a point interpolated from float corners lies off its triangle's plane
+// and by which a float ray-triangle test can err, so that the surface a ray leaves (and its
+// coplanar neighbours) is never found again; and small next to any feature the scene resolves.
+#define PRISMOID_SHADOW_RAY_OFFSET 1.52587890625e-5
+#define PRISMOID_EMITTER_SHADOW_SAMPLES 4u
+#define PRISMOID_EMITTER_SHADOW_SAMPLE_0 (2.0 / 3.0), (1.0 / 6.0), (1.0 / 6.0)
+#define PRISMOID_EMITTER_SHADOW_SAMPLE_1 (1.0 / 6.0), (2.0 / 3.0), (1.0 / 6.0)
+#define PRISMOID_EMITTER_SHADOW_SAMPLE_2 (1.0 / 6.0), (1.0 / 6.0), (2.0 / 3.0)
+#define PRISMOID_EMITTER_SHADOW_SAMPLE_3 (1.0 / 3.0), (1.0 / 3.0), (1.0 / 3.0)
+
 // GGX alpha below this is raised to it (as kMinGgxAlpha in scene/surface_scene.hpp).
 #define PRISMOID_MIN_GGX_ALPHA 1e-3
 
@@ -112,7 +136,9 @@ struct SurfaceFrame {
   vec4 camera_right;    // xyz: unit right vector; w: tan(fovy / 2) * aspect
   vec4 camera_up;       // xyz: unit up vector (in the image); w: tan(fovy / 2)
   vec4 camera_forward;  // xyz: unit viewing direction
-  vec4 subpixel;        // xy: where in the pixel the image is sampled, in pixels from its centre
+  vec4 subpixel;        // xy: where in the pixel the image is sampled, in pixels from its centre;
+                        // z: the scene's scale for shadow-ray offsets (largest |vertex coordinate|
+                        // relative to the origin; 0: unknown, shadow_rays.glsl then uses max(|p|, 1))
 };
 
 PRISMOID_SHARED_END

@@ -9,7 +9,7 @@
 // light for the diffuse lobe (albedo times the sky's cosine-weighted mean over the shading
 // normal's hemisphere, in closed form for the gradient sky, ignoring occlusion; the sky's
 // reflection in the GGX lobe is left out), each light weighted by its visibility (the shadow
-// hook below; 1 for now).
+// hook below: 1 without ray tracing, shadow_rays.glsl with it).
 #ifndef PRISMOID_SURFACE_SHADING_GLSL
 #define PRISMOID_SURFACE_SHADING_GLSL
 

@@ -14,13 +14,19 @@
 layout(set = 0, binding = PRISMOID_SURFACE_BINDING_TLAS) uniform accelerationStructureEXT scene_tlas;
 layout(location = PRISMOID_SURFACE_PAYLOAD_SHADOW) rayPayloadEXT uint shadow_visible;
 
-// A ray origin moved off the surface along its viewer-side geometric normal by a few float
-// ulps of the position's magnitude, so the surface it starts on is not found again (the
-// rounding of a float position, not a scene-dependent epsilon, sets the distance).
-vec3 offset_ray_origin(vec3 p, vec3 n) {
-  float scale = max(max(abs(p.x), abs(p.y)), max(abs(p.z), 1.0));
-  return p + n * (scale * 1.0e-5);
+// The distance shadow rays keep from the surfaces at their ends (PRISMOID_SHADOW_RAY_OFFSET
+// times the scene's scale; shaders/shared/surface.h says why): the scale is the largest
+// |vertex coordinate| relative to the origin, so the rounding of float positions, not a unit of
+// length, sets it. Without a scale in the frame (frame.subpixel.z = 0) max(|p|, 1) stands in.
+float shadow_ray_offset(vec3 p) {
+  float m = max(max(abs(p.x), abs(p.y)), abs(p.z));
+  float scale = frame.subpixel.z > 0.0 ? max(m, frame.subpixel.z) : max(m, 1.0);
+  return scale * PRISMOID_SHADOW_RAY_OFFSET;
 }
+
+// A ray origin moved off the surface along its viewer-side geometric normal n by
+// shadow_ray_offset(p), so the surface it starts on is not found again.
+vec3 offset_ray_origin(vec3 p, vec3 n) { return p + n * shadow_ray_offset(p); }
 
 // 1 when nothing lies on origin + t direction for t in (t_min, t_max).
 float trace_shadow(vec3 origin, vec3 direction, float t_min, float t_max) {
@@ -31,11 +37,14 @@ float trace_shadow(vec3 origin, vec3 direction, float t_min, float t_max) {
   return float(shadow_visible);
 }
 
+// One segment from the offset origin to the light, ending the offset short of it.
 float point_light_visibility(SurfacePoint sp, uint light, vec3 to_light) {
-  vec3 origin = offset_ray_origin(sp.position, sp.geometric);
+  float offset = shadow_ray_offset(sp.position);
+  vec3 origin = sp.position + sp.geometric * offset;
   vec3 to = point_lights[light].position.xyz - origin;
   float d = length(to);
-  return trace_shadow(origin, to / d, 0.0, d * (1.0 - 1.0e-5));
+  if (!(d > offset)) return 1.0;
+  return trace_shadow(origin, to / d, 0.0, d - offset);
 }
 
 float directional_light_visibility(SurfacePoint sp, uint light, vec3 to_light) {
@@ -43,33 +52,43 @@ float directional_light_visibility(SurfacePoint sp, uint light, vec3 to_light) {
 }
 
 // The emitter's shadow sample points, as barycentric weights of its corners: the centroids of
-// the four triangles of its midpoint subdivision (renderer/reference evaluates the same points).
-#define PRISMOID_EMITTER_SHADOW_SAMPLES 4u
+// the four triangles of its midpoint subdivision (the table in shaders/shared/surface.h, which
+// renderer/reference reads too).
 vec3 emitter_shadow_sample(uint k) {
-  if (k == 3u) return vec3(1.0 / 3.0);
-  vec3 b = vec3(1.0 / 6.0);
-  b[k] = 2.0 / 3.0;
-  return b;
+  const vec3 samples[PRISMOID_EMITTER_SHADOW_SAMPLES] =
+      vec3[](vec3(PRISMOID_EMITTER_SHADOW_SAMPLE_0), vec3(PRISMOID_EMITTER_SHADOW_SAMPLE_1),
+             vec3(PRISMOID_EMITTER_SHADOW_SAMPLE_2), vec3(PRISMOID_EMITTER_SHADOW_SAMPLE_3));
+  return samples[k];
 }
 
 // The visible fraction of an emissive triangle: PRISMOID_EMITTER_SHADOW_SAMPLES fixed points on
-// it, each weighted by its unshadowed contribution (Heitz, Hill & McGuire 2018's ratio).
+// it, each weighted by its unshadowed contribution (Heitz, Hill & McGuire 2018's ratio), each
+// seen along the segment from the offset origin to the point moved off the emitter towards its
+// front (the emitter's own triangle and its coplanar neighbours are then never hit).
 float emitter_visibility(SurfacePoint sp, uint emitter) {
   EmitterGpu e = emitters[emitter];
-  vec3 origin = offset_ray_origin(sp.position, sp.geometric);
+  float offset = shadow_ray_offset(sp.position);
+  vec3 origin = sp.position + sp.geometric * offset;
   float seen = 0.0, total = 0.0;
   for (uint k = 0u; k < PRISMOID_EMITTER_SHADOW_SAMPLES; ++k) {
     vec3 b = emitter_shadow_sample(k);
     vec3 q = b.x * e.v0.xyz + b.y * e.v1.xyz + b.z * e.v2.xyz;
-    vec3 to = q - origin;
+    vec3 to = q - sp.position;
     float d2 = dot(to, to);
     if (!(d2 > 0.0)) continue;
-    float d = sqrt(d2);
-    vec3 w = to / d;
-    float weight = max(dot(w, sp.normal), 0.0) * max(-dot(w, e.normal.xyz), 0.0) / d2;
+    vec3 w = to * inversesqrt(d2);
+    // Below the geometric horizon the closed-form term has no light (clipped), so no weight.
+    float weight = dot(w, sp.geometric) > 0.0 ? max(dot(w, sp.normal), 0.0) * max(-dot(w, e.normal.xyz), 0.0) / d2 : 0.0;
     if (!(weight > 0.0)) continue;
     total += weight;
-    seen += weight * trace_shadow(origin, w, 0.0, d * (1.0 - 1.0e-4));
+    vec3 end = q + e.normal.xyz * shadow_ray_offset(q);
+    vec3 segment = end - origin;
+    float length_ = length(segment);
+    if (!(length_ > 0.0)) {
+      seen += weight;
+      continue;
+    }
+    seen += weight * trace_shadow(origin, segment / length_, 0.0, length_);
   }
   return total > 0.0 ? seen / total : 1.0;
 }

@@ -383,8 +383,8 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   // with its tetrahedra and two steps, optical depth and colour each (6); the cell-count sweep's
   // two meshes, optical depth and colour each (4); VTK's three mappers beside the default
   // dataset's colour and the ball's transmittance (6); the Cornell box in each surface mode
-  // this device draws (forward: 1).
-  ASSERT_EQ(rows.size(), 27u) << slurp(dir / "bench.csv");
+  // this device draws (forward), with shadows off and on (2).
+  ASSERT_EQ(rows.size(), 28u) << slurp(dir / "bench.csv");
   std::map<std::string, double> flip_of;  // the default dataset's colour, by mode/settings
   std::multiset<std::string> peers;        // quantity/mode of the wall-clock rows
   std::map<std::string, double> default_rmse, default_ssim;  // by quantity/mode/settings

@@ -1,7 +1,9 @@
 // End-to-end: `prismoid render SCENE --mode forward` as a user runs it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -54,7 +56,7 @@ TEST(CliForward, RendersTheFurnaceAtItsClosedFormWithStats) {
 // tests/surface; pixels on an edge may keep either side there).
 TEST(CliForward, SupersampledCornellBoxAveragesTheReference) {
   const fs::path pfm = work_dir() / "cornell.pfm", png = work_dir() / "cornell.png";
-  const CliRun r = run("render cornell-box --mode forward --size 32x32 --supersample 2 --output " + pfm.string());
+  const CliRun r = run("render cornell-box --mode forward --shadows off --size 32x32 --supersample 2 --output " + pfm.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("2x2 supersampled"), std::string::npos) << r.out;
   const io::FloatImage img = io::read_pfm(pfm.string());
@@ -91,6 +93,85 @@ TEST(CliForward, LightsASurfaceFileThatHasNoLights) {
   for (float v : img.pixels) EXPECT_GT(v, 0.0f);
 }
 
+// --shadows on: the ray-traced pass, whose image is the CPU twin with shadows: every pixel but
+// those next to a silhouette (where the rasterizer may keep either surface) within 1e-4 of the
+// peak, and the shadows make a difference (the unshadowed image differs in many pixels).
+TEST(CliForward, ShadowsOnMatchesTheShadowedTwin) {
+  const fs::path pfm = work_dir() / "cornell_shadows.pfm", stats = work_dir() / "cornell_shadows.json";
+  const CliRun r = run("render cornell-box --mode forward --shadows on --size 64x48 --validate --output " + pfm.string() + " --stats " +
+                       stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("ray-traced shadows"), std::string::npos) << r.out;
+  const io::FloatImage img = io::read_pfm(pfm.string());
+  const SurfaceScene scene = make_cornell_box();
+  reference::DirectLightOptions options;
+  options.shadows = true;
+  const auto twin = reference::direct_light_image(scene, scene.camera, 64, 48, 0.0, 0.0, options);
+  const auto plain = reference::direct_light_image(scene, scene.camera, 64, 48);
+  double peak = 0.0;
+  for (const auto& p : twin.pixels) peak = std::max({peak, p.radiance.x, p.radiance.y, p.radiance.z});
+  size_t off = 0, edge = 0, shadowed = 0, covered = 0;
+  for (uint32_t y = 0; y < 48; ++y)
+    for (uint32_t x = 0; x < 64; ++x) {
+      const size_t i = size_t(y) * 64 + x;
+      covered += twin.pixels[i].hit;
+      bool near_edge = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = int(x) + dx, ny = int(y) + dy;
+          if (nx < 0 || ny < 0 || nx >= 64 || ny >= 48) continue;
+          const auto& n = twin.pixels[size_t(ny) * 64 + size_t(nx)];
+          near_edge = near_edge || n.hit != twin.pixels[i].hit || n.mesh != twin.pixels[i].mesh;
+        }
+      double error = 0.0, change = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        error = std::max(error, std::abs(double(img.pixels[i * 3 + c]) - twin.pixels[i].radiance[c]));
+        change = std::max(change, std::abs(plain.pixels[i].radiance[c] - twin.pixels[i].radiance[c]));
+      }
+      if (near_edge || twin.pixels[i].shadow_ambiguous) {
+        ++edge;
+        continue;
+      }
+      off += error > 1e-4 * peak;
+      shadowed += change > 2e-4 * peak;  // twice the tolerance: an unshadowed image fails there
+    }
+  EXPECT_EQ(off, 0u) << edge << " pixels near an edge left out";
+  EXPECT_LT(edge, size_t(64 * 48 / 2));
+  EXPECT_GT(shadowed, 50u) << "pixels the shadows change";
+  std::printf("[ cli shadows ] %zu pixels compared, %zu near an edge, %zu changed by shadows\n", size_t(64 * 48) - edge, edge, shadowed);
+  const std::string js = slurp(stats);
+  for (const std::string& key : {std::string("\"shadows\": true"), std::string("\"name\": \"depth pre-pass\""),
+                                std::string("\"name\": \"forward shading\""), std::string("\"validation_messages\": 0"),
+                                "\"shading_invocations\": " + std::to_string(covered)})
+    EXPECT_NE(js.find(key), std::string::npos) << key << " in " << js;
+}
+
+// On a surface file (default headlight and sky) --shadows on works and, the cube being convex
+// and lit from the eye, casts no shadow on what the camera sees: the image of --shadows off (to
+// the raster path's sub-pixel snapping, which moves the shaded point by 2^-8 pixel).
+TEST(CliForward, ShadowsOnASurfaceFile) {
+  const fs::path off = work_dir() / "shadow_cube.off", on_pfm = work_dir() / "cube_on.pfm", off_pfm = work_dir() / "cube_off.pfm";
+  {
+    std::ofstream out(off);
+    out << "OFF\n8 12 0\n";
+    for (int i = 0; i < 8; ++i) out << (i & 1) << " " << ((i >> 1) & 1) << " " << ((i >> 2) & 1) << "\n";
+    for (const char* f : {"0 1 3", "0 3 2", "4 6 7", "4 7 5", "0 4 5", "0 5 1", "2 3 7", "2 7 6", "0 2 6", "0 6 4", "1 5 7", "1 7 3"})
+      out << "3 " << f << "\n";
+  }
+  const CliRun on = run("render " + off.string() + " --mode forward --shadows on --size 20x20 --eye 2,1.5,3 --output " + on_pfm.string());
+  ASSERT_EQ(on.code, 0) << on.err;
+  EXPECT_NE(on.out.find("ray-traced shadows"), std::string::npos) << on.out;
+  const CliRun plain = run("render " + off.string() + " --mode forward --shadows off --size 20x20 --eye 2,1.5,3 --output " + off_pfm.string());
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  EXPECT_NE(plain.out.find("without shadows"), std::string::npos) << plain.out;
+  const io::FloatImage a = io::read_pfm(on_pfm.string()), b = io::read_pfm(off_pfm.string());
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    EXPECT_GT(a.pixels[i], 0.0f);
+    EXPECT_NEAR(a.pixels[i], b.pixels[i], 1e-3 * std::max(1.0, double(b.pixels[i]))) << i;  // sub-pixel snapping of the raster path
+  }
+}
+
 TEST(CliForward, BadInputExitsWithTwoAndNamesTheProblem) {
   const std::string out = (work_dir() / "x.pfm").string();
   const std::pair<std::string, std::string> cases[] = {
@@ -100,6 +181,7 @@ TEST(CliForward, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render furnace:2 --mode forward --output " + out, "furnace:2"},
       {"render cornell-box --mode forward --output x.tiff", "x.tiff"},
       {"render /no/such.stl --mode forward --output " + out, "/no/such.stl"},
+      {"render cornell-box --mode forward --shadows maybe --output " + out, "--shadows"},
   };
   for (const auto& [args, needle] : cases) {
     const CliRun r = run(args);

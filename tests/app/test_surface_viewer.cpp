@@ -18,6 +18,7 @@
 #include "io/image_io.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
+#include "renderer/surface/shadowed_forward_pass.hpp"
 #include "scene/surface_generators.hpp"
 #include "surface/forward_comparison.hpp"
 
@@ -47,15 +48,16 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   options.validation = true;
   options.print_timings = false;
   options.max_frames = 500;
-  options.script = app::parse_script("frame 2\nui off\nframe 3\nscreenshot " + (dir / "plain.png").string() + "\nrender 160 120 " +
+  options.script = app::parse_script("frame 2\nui off\nshadows off\nframe 3\nscreenshot " + (dir / "plain.png").string() + "\nrender 160 120 " +
                                          (dir / "render.pfm").string() + "\nrender 160 120 " + (dir / "render.png").string() +
+                                         "\nframe 4\nshadows on\nrender 160 120 " + (dir / "shadowed.pfm").string() +
                                          "\nmode no-such-mode\nkey M\nframe 5\nui on\nscreenshot " + (dir / "ui.png").string() +
                                          "\nframe 6\nrotate 40 0\nzoom 1\nprint-camera\ntetlet-size 4\nframe 8\nclose\n",
                                      "test script");
   const app::ViewerReport report = app::run_surface_viewer(scene, options);
   EXPECT_EQ(report.validation_messages, 0u);
   EXPECT_EQ(report.mode, "forward");  // M cycles through the one mode this device draws
-  ASSERT_EQ(report.files_written.size(), 4u);
+  ASSERT_EQ(report.files_written.size(), 5u);
 
   // Refused: an unknown mode, and a volume verb; each named in a message.
   ASSERT_EQ(report.messages.size(), 2u);
@@ -77,6 +79,22 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   for (size_t p = 0; p < size_t(160) * 120; ++p)
     for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(render.pixels[3 * p + c]) - double(cmp.gpu.rgba[4 * p + c])));
   EXPECT_LE(worst, 1e-6);  // the same device and code: the same floats up to rasterization order
+
+  // With shadows on (the window's default where the device traces rays and the scene has
+  // lights), the window's render is the shadowed pass's image, which holds to the CPU twin.
+  surface::ShadowedForwardPass shadowed_pass(device);
+  const test::ForwardComparison shadowed = test::compare_forward_shadowed(device, shadowed_pass, scene, scene.camera, 160, 120);
+  EXPECT_EQ(shadowed.failures, 0u) << shadowed.first_failure;
+  const io::FloatImage shadowed_render = io::read_pfm((dir / "shadowed.pfm").string());
+  double shadowed_worst = 0.0;
+  size_t darker = 0;
+  for (size_t p = 0; p < size_t(160) * 120; ++p)
+    for (int c = 0; c < 3; ++c) {
+      shadowed_worst = std::max(shadowed_worst, std::abs(double(shadowed_render.pixels[3 * p + c]) - double(shadowed.gpu.rgba[4 * p + c])));
+      darker += shadowed_render.pixels[3 * p + c] < render.pixels[3 * p + c] - 1e-3f;
+    }
+  EXPECT_LE(shadowed_worst, 1e-6);
+  EXPECT_GT(darker, 100u);  // the blocks' shadows on the floor
 
   // The screenshot is that image encoded to 8-bit sRGB by the swapchain's blit, the PNG by the
   // writer: each rounds once, so they are at most 2 levels apart.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <sstream>
 
 #include <glm/geometric.hpp>
@@ -37,6 +38,14 @@ bool touching(const SurfaceScene& scene, const reference::DirectLightSample& a, 
 
 }  // namespace
 
+namespace {
+
+// r.gpu filled: compares it pixel by pixel with the twin (shadows or not).
+void compare_with_reference(const vk::Device& device, ForwardComparison& r, const SurfaceScene& scene, const Camera& camera,
+                            uint32_t width, uint32_t height, glm::dvec2 subpixel, bool shadows);
+
+}  // namespace
+
 ForwardComparison compare_forward(const vk::Device& device, surface::ForwardPass& pass, const SurfaceScene& scene,
                                   const Camera& camera, uint32_t width, uint32_t height, glm::dvec2 subpixel) {
   ForwardComparison r;
@@ -44,6 +53,26 @@ ForwardComparison compare_forward(const vk::Device& device, surface::ForwardPass
   surface::ForwardSettings settings;
   settings.subpixel = subpixel;
   r.gpu = surface::render_forward(device, pass, gpu_scene, camera, {width, height}, settings);
+  compare_with_reference(device, r, scene, camera, width, height, subpixel, false);
+  return r;
+}
+
+ForwardComparison compare_forward_shadowed(const vk::Device& device, surface::ShadowedForwardPass& pass, const SurfaceScene& scene,
+                                           const Camera& camera, uint32_t width, uint32_t height, glm::dvec2 subpixel) {
+  ForwardComparison r;
+  const surface::GpuSurfaceScene gpu_scene = surface::upload(device, scene);
+  const rt::SceneAccel accel(device, scene);
+  surface::ForwardSettings settings;
+  settings.subpixel = subpixel;
+  r.gpu = surface::render_forward_shadowed(device, pass, gpu_scene, accel, camera, {width, height}, settings);
+  compare_with_reference(device, r, scene, camera, width, height, subpixel, true);
+  return r;
+}
+
+namespace {
+
+void compare_with_reference(const vk::Device& device, ForwardComparison& r, const SurfaceScene& scene, const Camera& camera,
+                            uint32_t width, uint32_t height, glm::dvec2 subpixel, bool shadows) {
 
   const double radius = 2.0 * std::ldexp(1.0, -int(device.capabilities().subpixel_precision_bits));
   constexpr int kProbes = 8;
@@ -60,7 +89,11 @@ ForwardComparison compare_forward(const vk::Device& device, surface::ForwardPass
         rays.push_back({camera.eye, d, camera.near_distance / glm::dot(d, forward)});
       }
   }
-  const auto samples = reference::direct_light(scene, rays);
+  reference::DirectLightOptions options;
+  options.shadows = shadows;
+  const auto samples = reference::direct_light(scene, rays, options);
+  std::vector<reference::DirectLightSample> unshadowed;
+  if (shadows) unshadowed = reference::direct_light(scene, std::span(rays).first(pixels));
 
   r.pixels = pixels;
   for (size_t i = 0; i < pixels; ++i) {
@@ -79,10 +112,18 @@ ForwardComparison compare_forward(const vk::Device& device, surface::ForwardPass
       ++r.excluded;
       continue;
     }
+    if (centre.shadow_ambiguous) {
+      ++r.ambiguous;
+      continue;
+    }
     ++r.compared;
     const double u = 0x1p-24;
     const double rounding = u * (kUlpBudget + centre.terms) * centre.rounding_scale;
-    const double tolerance = variation + rounding;
+    // The shadowed pass shades the plane of the triangle the rasterizer kept, met by the centre
+    // ray: where that is a neighbour seen by a probe r away, its value at the centre differs from
+    // the probe's by about that neighbour's change over r, bounded by the variation once more.
+    const double tolerance = (shadows ? 2.0 : 1.0) * variation + rounding;
+    if (shadows && max_abs(unshadowed[i].radiance - centre.radiance) > tolerance) ++r.shadowed;
     r.max_rounding_tolerance = std::max(r.max_rounding_tolerance, rounding);
     r.peak_radiance = std::max(r.peak_radiance, max_abs(centre.radiance));
     bool ok = g[3] == (centre.hit ? 1.0f : 0.0f);
@@ -103,7 +144,8 @@ ForwardComparison compare_forward(const vk::Device& device, surface::ForwardPass
       ++r.failures;
     }
   }
-  return r;
 }
+
+}  // namespace
 
 }  // namespace prismoid::test

@@ -19,6 +19,7 @@
 #include <glm/vec2.hpp>
 
 #include "renderer/surface/forward_pass.hpp"
+#include "renderer/surface/shadowed_forward_pass.hpp"
 #include "scene/surface_scene.hpp"
 
 namespace prismoid::test {
@@ -36,11 +37,19 @@ struct ForwardComparison {
   double max_ratio = 0.0;       // max error / tolerance
   double max_rounding_tolerance = 0.0;  // the rounding part of the tolerance
   double peak_radiance = 0.0;           // the reference's largest value
+  size_t ambiguous = 0;   // with shadows: the centre's shadow rays pass within the twin's ambiguity distance of an edge (left out)
+  size_t shadowed = 0;    // with shadows: compared pixels the shadows change (beyond the tolerance)
   bool finite = true;           // every GPU value finite (all pixels, excluded ones too)
   surface::ForwardImage gpu;
 };
 
 ForwardComparison compare_forward(const vk::Device& device, surface::ForwardPass& pass, const SurfaceScene& scene,
                                   const Camera& camera, uint32_t width, uint32_t height, glm::dvec2 subpixel = glm::dvec2(0.0));
+
+// The shadowed forward pass against the CPU twin with shadows (DirectLightOptions::shadows), by
+// the same rule; a pixel whose centre sample has an ambiguous shadow ray is counted, not compared.
+ForwardComparison compare_forward_shadowed(const vk::Device& device, surface::ShadowedForwardPass& pass, const SurfaceScene& scene,
+                                           const Camera& camera, uint32_t width, uint32_t height,
+                                           glm::dvec2 subpixel = glm::dvec2(0.0));
 
 }  // namespace prismoid::test

@@ -5,6 +5,7 @@
 // from a visible sphere point: direct light without shadows is the exact direct light there.
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -87,6 +88,43 @@ inline SurfaceScene sphere_scene(const SphereSceneOptions& o = {}) {
   if (all || o.lights == Lights::Area) s.meshes.push_back(facing_quad({-1.8, 0.5, 1.2}, glm::dvec3(0.0), 0.5, 1));
   if (o.sky) s.sky = Sky{glm::dvec3(0.3), glm::dvec3(0.1), {0.0, 1.0, 0.0}};
   s.camera = sphere_camera();
+  return s;
+}
+
+// A horizontal square of side `size` at height y, centred at (cx, cz), wound upwards (+y).
+inline SceneMesh horizontal_quad(const std::string& name, double cx, double y, double cz, double size, uint32_t material) {
+  const double h = 0.5 * size;
+  SceneMesh mesh;
+  mesh.name = name;
+  mesh.material = material;
+  mesh.positions = {{cx - h, y, cz - h}, {cx - h, y, cz + h}, {cx + h, y, cz + h}, {cx + h, y, cz - h}};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return mesh;
+}
+
+// Shadows with a known umbra: a diffuse floor (side 4 at y = 0, centred at the origin), a
+// square occluder of side 1 at height 1 above (0.3, 0.2), a gradient sky as ambient light and
+// one light: a point light at (0.4, 3, 0.3) or a directional light travelling along
+// (-0.25, -1, 0.15). Seen from above and to the side.
+enum class ShadowLight { Point, Directional };
+inline constexpr double kOccluderX = 0.3, kOccluderZ = 0.2, kOccluderY = 1.0, kOccluderSize = 1.0;
+inline const glm::dvec3 kShadowPointLight{0.4, 3.0, 0.3};
+inline const glm::dvec3 kShadowDirection{-0.25, -1.0, 0.15};
+inline SurfaceScene occluder_scene(ShadowLight light) {
+  SurfaceScene s;
+  s.name = "occluder over a floor";
+  s.materials = {{"floor", glm::dvec3(0.6, 0.5, 0.4), glm::dvec3(0.0), 1.0, glm::dvec3(0.0)},
+                 {"occluder", glm::dvec3(0.3), glm::dvec3(0.0), 1.0, glm::dvec3(0.0)}};
+  s.meshes.push_back(horizontal_quad("floor", 0.0, 0.0, 0.0, 4.0, 0));
+  s.meshes.push_back(horizontal_quad("occluder", kOccluderX, kOccluderY, kOccluderZ, kOccluderSize, 1));
+  if (light == ShadowLight::Point) s.point_lights.push_back({kShadowPointLight, {9.0, 8.0, 7.0}});
+  else s.directional_lights.push_back({kShadowDirection, {1.5, 1.3, 1.1}});
+  s.sky = Sky{glm::dvec3(0.3), glm::dvec3(0.1), {0.0, 1.0, 0.0}};
+  s.camera.eye = {0.5, 4.5, 4.0};
+  s.camera.target = {0.0, 0.0, 0.0};
+  s.camera.up = {0.0, 1.0, 0.0};
+  s.camera.fovy_degrees = 45.0;
+  s.camera.near_distance = 0.1;
   return s;
 }
 
