@@ -238,6 +238,34 @@ std::vector<DirectLightSample> direct_light(const SurfaceScene& scene, std::span
   return out;
 }
 
+std::vector<DirectLightSample> direct_light_at(const SurfaceScene& scene, std::span<const SurfacePointQuery> points,
+                                               const DirectLightOptions& options) {
+  validate(scene);
+  if (options.subdivision == 0) throw InputError("direct light", "the area-light subdivision must be at least 1");
+  const Prepared prepared(scene);
+  PointShader shader(scene, prepared, options);
+  std::vector<DirectLightSample> out;
+  out.reserve(points.size());
+  for (const SurfacePointQuery& q : points) {
+    const SceneMesh& mesh = scene.meshes.at(q.mesh);
+    const auto& t = mesh.triangles.at(q.triangle);
+    const auto& p = mesh.positions;
+    SurfaceHit hit;
+    hit.hit = true;
+    hit.mesh = q.mesh;
+    hit.triangle = q.triangle;
+    hit.b1 = q.bary.y;
+    hit.b2 = q.bary.z;
+    hit.position = q.bary.x * p[t[0]] + q.bary.y * p[t[1]] + q.bary.z * p[t[2]];
+    const glm::dvec3 n = glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
+    const double len = glm::length(n);
+    hit.normal = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
+    hit.t = glm::length(hit.position - q.eye);
+    out.push_back(shader.shade(SurfaceRay{q.eye, hit.position - q.eye, 0.0}, hit));
+  }
+  return out;
+}
+
 std::vector<float> DirectLightImage::rgb() const {
   std::vector<float> out;
   out.reserve(pixels.size() * 3);
