@@ -71,6 +71,7 @@ HtexTableData htex_table_data(const HtexGeometry& g, uint32_t capacity_pages) {
     for (size_t h = 0; h < mesh.halfedge_count(); ++h) {
       d.twin.push_back(mesh.twin[h] == kNoHalfedge ? -1 : h0 + mesh.twin[h]);
       d.edge_of.push_back(ml.first_quad + mesh.edge_of[h]);
+      d.vertex_corner.push_back(h0 + htex::canonical_corner(mesh, int32_t(h)));
     }
     for (size_t e = 0; e < mesh.edge_count(); ++e) d.edge_halfedge.push_back(h0 + mesh.edge_halfedge[e]);
     for (size_t f = 0; f < mesh.face_count(); ++f)
@@ -102,6 +103,7 @@ HtexTables upload_htex_tables(const vk::Device& device, const HtexGeometry& geom
   t.face_of_triangle = storage(device, std::move(d.face_of_triangle), t.bytes);
   t.triangle_of_face = storage(device, std::move(d.triangle_of_face), t.bytes);
   t.shadel_region = storage(device, std::move(d.shadel_region), t.bytes);
+  t.vertex_corner = storage(device, std::move(d.vertex_corner), t.bytes);
   return t;
 }
 
@@ -109,6 +111,7 @@ std::vector<vk::DescriptorBinding> htex_table_bindings(VkShaderStageFlags stages
   std::vector<vk::DescriptorBinding> b;
   for (uint32_t binding = PRISMOID_HTEX_BINDING_MESHES; binding <= PRISMOID_HTEX_BINDING_SHADEL_REGION; ++binding)
     b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+  b.push_back({PRISMOID_HTEX_BINDING_VERTEX_CORNER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
   return b;
 }
 
@@ -121,6 +124,7 @@ void write_htex_table_descriptors(const vk::Device& device, VkDescriptorSet set,
   vk::write_buffer_descriptor(device, set, PRISMOID_HTEX_BINDING_FACE_OF_TRIANGLE, s, t.face_of_triangle.get());
   vk::write_buffer_descriptor(device, set, PRISMOID_HTEX_BINDING_TRIANGLE_OF_FACE, s, t.triangle_of_face.get());
   vk::write_buffer_descriptor(device, set, PRISMOID_HTEX_BINDING_SHADEL_REGION, s, t.shadel_region.get());
+  vk::write_buffer_descriptor(device, set, PRISMOID_HTEX_BINDING_VERTEX_CORNER, s, t.vertex_corner.get());
 }
 
 }  // namespace prismoid::surface

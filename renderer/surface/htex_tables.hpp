@@ -38,13 +38,13 @@ struct HtexGeometry {
 
 // GPU side (device-local storage buffers).
 struct HtexTables {
-  vk::Buffer meshes, twin, edge_of, edge_halfedge, face_of_triangle, triangle_of_face, shadel_region;
+  vk::Buffer meshes, twin, edge_of, edge_halfedge, face_of_triangle, triangle_of_face, shadel_region, vertex_corner;
   uint64_t bytes = 0;
 };
 // `capacity_pages` goes into HtexAtlasGpu::counts.z.
 HtexTables upload_htex_tables(const vk::Device& device, const HtexGeometry& geometry, uint32_t capacity_pages);
 
-// The table bindings (PRISMOID_HTEX_BINDING_MESHES .. SHADEL_REGION) for `stages`, and their writes.
+// The table bindings (PRISMOID_HTEX_BINDING_MESHES .. SHADEL_REGION, VERTEX_CORNER) for `stages`, and their writes.
 std::vector<vk::DescriptorBinding> htex_table_bindings(VkShaderStageFlags stages);
 void write_htex_table_descriptors(const vk::Device& device, VkDescriptorSet set, const HtexTables& tables);
 
@@ -55,6 +55,7 @@ struct HtexTableData {
   std::vector<int32_t> twin;
   std::vector<uint32_t> edge_of;
   std::vector<int32_t> edge_halfedge;
+  std::vector<int32_t> vertex_corner;
   std::vector<uint32_t> face_of_triangle, triangle_of_face, shadel_region;
 };
 HtexTableData htex_table_data(const HtexGeometry& geometry, uint32_t capacity_pages);

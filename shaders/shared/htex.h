@@ -45,6 +45,8 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_HTEX_BINDING_POOL 28              // vec4[] per slot: shaded radiance (rgb), a = 1 once shaded
 #define PRISMOID_HTEX_BINDING_INDIRECT 29          // vec4[] per slot: indirect radiance added at gather (GI hook)
 #define PRISMOID_HTEX_BINDING_VISIBILITY 30        // uvec4[] per pixel: triangle + 1 (0: sky), level, b1, b2 bits
+// One more geometry table:
+#define PRISMOID_HTEX_BINDING_VERTEX_CORNER 31     // int[] per global halfedge: htex::canonical_corner (global)
 
 // Push-constant flags.
 #define PRISMOID_HTEX_FLAG_NO_SNAP 1u   // vertex-corner texels at their nominal points (tests' control only)

@@ -17,6 +17,7 @@ layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_EDGE_HALFEDGE) readonly 
 layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_FACE_OF_TRIANGLE) readonly buffer HtexFaceOfTriangleBuffer { uint htex_face_of_triangle[]; };
 layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_TRIANGLE_OF_FACE) readonly buffer HtexTriangleOfFaceBuffer { uint htex_triangle_of_face[]; };
 layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_SHADEL_REGION) readonly buffer HtexShadelRegionBuffer { uint htex_shadel_region[]; };
+layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_VERTEX_CORNER) readonly buffer HtexVertexCornerBuffer { int htex_vertex_corner[]; };
 
 // ---- Halfedges (global ids; scene/halfedge_mesh.hpp) ----------------------------------------
 int htex_face(int h) { return h / 3; }
@@ -102,12 +103,11 @@ HtexTexelPoint htex_quad_surface_point(uint edge, vec2 xy) {
 HtexTexelPoint htex_texel_point(uint edge, uint n, uint i, uint j, bool snap_vertex_corners) {
   if (snap_vertex_corners && n >= 2u && ((i == n - 1u && j == 0u) || (i == 0u && j == n - 1u))) {
     int p = htex_edge_halfedge[edge];
-    int corner = htex_corner(p);
-    int at = i == n - 1u ? corner : (corner + 1) % 3;  // start(p) at (1, 0), end(p) at (0, 1)
+    int c = htex_vertex_corner[i == n - 1u ? p : htex_next(p)];  // start(p) at (1, 0), end(p) at (0, 1)
     HtexTexelPoint s;
-    s.face = uint(htex_face(p));
+    s.face = uint(htex_face(c));
     s.bary = vec3(0.0);
-    s.bary[at] = 1.0;
+    s.bary[htex_corner(c)] = 1.0;
     s.ghost = false;
     s.vertex = true;
     return s;
