@@ -49,6 +49,11 @@ const char* const kRenderHelp =
     "                                              by default where the device traces rays and a light\n"
     "                                              casts shadows); --supersample K averages K x K sub-\n"
     "                                              pixel positions; --frames N; --size default 256x256\n"
+    "                       htex                   GPU Htex object-space shading of a surface scene (the same\n"
+    "                                              FILEs): shading on per-edge texture quads, with shadows\n"
+    "                                              (--no-shadows: without), gathered per pixel;\n"
+    "                                              --texels-per-unit D (default 128), --pool-pages N (64 KiB\n"
+    "                                              each, default 1024); --size default 256x256\n"
     "                       (default: interval; interval-sorted for --quantity color)\n"
     "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
     "                       color: emission-absorption of a scalar field through a transfer function\n"
@@ -143,6 +148,7 @@ std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::v
 int cmd_render(const std::vector<std::string>& args) {
   if (wants_path_reference(args)) return cmd_render_path_reference(args);
   if (wants_forward(args)) return cmd_render_forward(args);
+  if (wants_htex(args)) return cmd_render_htex(args);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});

@@ -19,6 +19,9 @@ int cmd_render_path_reference(const std::vector<std::string>& args);
 // `render --mode forward`: a surface scene through the forward GPU backend (app/cmd_render_forward.cpp).
 bool wants_forward(const std::vector<std::string>& args);
 int cmd_render_forward(const std::vector<std::string>& args);
+// `render --mode htex`: a surface scene through the Htex object-space backend (app/cmd_render_htex.cpp).
+bool wants_htex(const std::vector<std::string>& args);
+int cmd_render_htex(const std::vector<std::string>& args);
 
 struct ParsedArgs;
 // `info --plan`: prints the frame plan the volume options give (app/cmd_plan.cpp).

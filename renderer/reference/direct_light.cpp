@@ -263,6 +263,47 @@ std::vector<DirectLightSample> direct_light(const SurfaceScene& scene, std::span
   return out;
 }
 
+std::vector<DirectLightSample> direct_light_at(const SurfaceScene& scene, std::span<const ShadingPointQuery> points,
+                                               const DirectLightOptions& options) {
+  validate(scene);
+  if (options.subdivision == 0) throw InputError("direct light", "the area-light subdivision must be at least 1");
+  for (const ShadingPointQuery& q : points)
+    if (q.mesh >= scene.meshes.size() || q.triangle >= scene.meshes[q.mesh].triangles.size())
+      throw InputError("direct light", "a surface point names a triangle the scene does not have");
+  const Prepared prepared(scene, options.shadows);
+  std::vector<DirectLightSample> out(points.size());
+  std::atomic<size_t> next{0};
+  constexpr size_t kChunk = 64;
+  auto worker = [&] {
+    PointShader shader(scene, prepared, options);
+    for (size_t begin = next.fetch_add(kChunk); begin < points.size(); begin = next.fetch_add(kChunk))
+      for (size_t i = begin; i < std::min(points.size(), begin + kChunk); ++i) {
+        const ShadingPointQuery& q = points[i];
+        const SceneMesh& mesh = scene.meshes[q.mesh];
+        const auto& t = mesh.triangles[q.triangle];
+        const auto& p = mesh.positions;
+        SurfaceHit hit;
+        hit.hit = true;
+        hit.mesh = q.mesh;
+        hit.triangle = q.triangle;
+        hit.b1 = q.bary.y;
+        hit.b2 = q.bary.z;
+        hit.position = q.bary.x * p[t[0]] + q.bary.y * p[t[1]] + q.bary.z * p[t[2]];
+        const glm::dvec3 n = glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
+        const double len = glm::length(n);
+        hit.normal = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
+        hit.t = glm::length(hit.position - q.eye);
+        out[i] = shader.shade(SurfaceRay{q.eye, hit.position - q.eye, 0.0}, hit);
+      }
+  };
+  const unsigned threads = std::max(1u, options.threads ? options.threads : std::thread::hardware_concurrency());
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  return out;
+}
+
 std::vector<float> DirectLightImage::rgb() const {
   std::vector<float> out;
   out.reserve(pixels.size() * 3);

@@ -73,6 +73,18 @@ struct DirectLightSample {
 std::vector<DirectLightSample> direct_light(const SurfaceScene& scene, std::span<const SurfaceRay> rays,
                                             const DirectLightOptions& options = {});
 
+// Direct light at given surface points rather than at rays' first hits: what texel-space
+// backends shade (an Htex texel's point may be a vertex, or a ghost point in a face's plane
+// beyond a boundary, so it is given as mesh, triangle and barycentric weights, any of which may
+// be negative). The viewer is at `eye`; nothing is traced.
+struct ShadingPointQuery {
+  uint32_t mesh = 0, triangle = 0;  // triangle index within its mesh
+  glm::dvec3 bary{1.0 / 3.0};       // weights of the triangle's corners
+  glm::dvec3 eye{0.0};
+};
+std::vector<DirectLightSample> direct_light_at(const SurfaceScene& scene, std::span<const ShadingPointQuery> points,
+                                               const DirectLightOptions& options = {});
+
 struct DirectLightImage {
   uint32_t width = 0, height = 0;
   std::vector<DirectLightSample> pixels;  // row-major, row 0 at the top

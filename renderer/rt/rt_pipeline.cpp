@@ -150,3 +150,28 @@ void RayTracingPipeline::trace(VkCommandBuffer cmd, uint32_t raygen, uint32_t wi
 }
 
 }  // namespace prismoid::rt
+
+namespace prismoid::rt {
+
+void RayTracingPipeline::trace_indirect(VkCommandBuffer cmd, uint32_t raygen, VkDeviceAddress command) const {
+  if (raygen >= layout_.raygen.records)
+    throw std::invalid_argument("ray-tracing pipeline: no ray-generation shader " + std::to_string(raygen));
+  if (!device_->cmd_trace_rays_indirect)
+    throw vk::NoSuitableDevice(device_->capabilities().name + " cannot trace rays with GPU-written launch sizes "
+                               "(no rayTracingPipelineTraceRaysIndirect)");
+  auto region = [&](const SbtRegion& r, VkDeviceSize first, VkDeviceSize size) {
+    VkStridedDeviceAddressRegionKHR out{};
+    if (r.records == 0) return out;
+    out.deviceAddress = sbt_address_ + r.offset + first;
+    out.stride = r.stride;
+    out.size = size;
+    return out;
+  };
+  const VkStridedDeviceAddressRegionKHR rgen = region(layout_.raygen, raygen * layout_.raygen.stride, layout_.raygen.stride);
+  const VkStridedDeviceAddressRegionKHR miss = region(layout_.miss, 0, layout_.miss.size);
+  const VkStridedDeviceAddressRegionKHR hit = region(layout_.hit, 0, layout_.hit.size);
+  const VkStridedDeviceAddressRegionKHR callable{};
+  device_->cmd_trace_rays_indirect(cmd, &rgen, &miss, &hit, &callable, command);
+}
+
+}  // namespace prismoid::rt

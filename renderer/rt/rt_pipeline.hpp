@@ -74,6 +74,11 @@ class RayTracingPipeline {
   // (the pipeline and its descriptors must be bound). Throws std::invalid_argument for a
   // raygen index out of range or a launch beyond the device's invocation limit.
   void trace(VkCommandBuffer cmd, uint32_t raygen, uint32_t width, uint32_t height, uint32_t depth = 1) const;
+  // Records vkCmdTraceRaysIndirectKHR: the launch size is the VkTraceRaysIndirectCommandKHR at
+  // `command` (a buffer made with INDIRECT_BUFFER and SHADER_DEVICE_ADDRESS usage), written on
+  // the GPU; the writer keeps it within the device's invocation limit. Throws
+  // vk::NoSuitableDevice without caps.trace_rays_indirect.
+  void trace_indirect(VkCommandBuffer cmd, uint32_t raygen, VkDeviceAddress command) const;
 
  private:
   const vk::Device* device_ = nullptr;

@@ -14,6 +14,7 @@
 #include <glm/vec2.hpp>
 
 #include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/surface/surface_frame.hpp"
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "renderer/vk/timer.hpp"
@@ -72,10 +73,6 @@ class ForwardPass {
   VkImageView bound_count_view_ = VK_NULL_HANDLE;
   bool counted_ = false;
 };
-
-// The frame uniforms every surface pass shades with: the camera relative to the scene's origin,
-// the projection with the sub-pixel offset folded in, counts, sky, and the scene's scale.
-gpu::SurfaceFrame surface_frame(const GpuSurfaceScene& scene, const Camera& camera, VkExtent2D extent, const glm::dvec2& subpixel);
 
 // One frame rendered and read back: what the CLI and the tests use.
 struct ForwardImage {

@@ -70,12 +70,15 @@ TexelPoint texel_point(const HalfedgeMesh& mesh, uint32_t edge, uint32_t n, uint
   TexelPoint texel;
   const int32_t p = mesh.edge_halfedge[edge];
   if (snap_vertex_corners && n >= 2 && ((i == n - 1 && j == 0) || (i == 0 && j == n - 1))) {
-    const int corner = HalfedgeMesh::corner(p);
-    const int at = i == n - 1 ? corner : (corner + 1) % 3;  // start(p) at (1, 0), end(p) at (0, 1)
-    texel.face = static_cast<uint32_t>(HalfedgeMesh::face(p));
+    // start(p) at (1, 0), end(p) at (0, 1); shaded in the vertex's own corner (vertex_halfedge),
+    // the same triangle for every quad around the vertex, so that shading terms that depend on
+    // the triangle (its geometric normal, its emitter) agree there too.
+    const int32_t from = i == n - 1 ? p : HalfedgeMesh::next(p);
+    const int32_t c = canonical_corner(mesh, from);
+    texel.face = static_cast<uint32_t>(HalfedgeMesh::face(c));
     texel.bary = glm::dvec3(0.0);
-    texel.bary[at] = 1.0;
-    texel.vertex = static_cast<int32_t>(mesh.faces[texel.face][at]);
+    texel.bary[HalfedgeMesh::corner(c)] = 1.0;
+    texel.vertex = static_cast<int32_t>(mesh.vertex(c));
     texel.position = mesh.positions[texel.vertex];
     return texel;
   }
@@ -87,6 +90,11 @@ TexelPoint texel_point(const HalfedgeMesh& mesh, uint32_t edge, uint32_t n, uint
   const auto& f = mesh.faces[s.face];
   texel.position = s.bary[0] * mesh.positions[f[0]] + s.bary[1] * mesh.positions[f[1]] + s.bary[2] * mesh.positions[f[2]];
   return texel;
+}
+
+int32_t canonical_corner(const HalfedgeMesh& mesh, int32_t h) {
+  const int32_t c = mesh.vertex_halfedge[mesh.vertex(h)];
+  return c == kNoHalfedge ? h : c;
 }
 
 double quad_stretch(const HalfedgeMesh& mesh, uint32_t edge) {

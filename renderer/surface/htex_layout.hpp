@@ -26,7 +26,8 @@
 // end(p), sit on the edge half a texel from the vertex. Htex is continuous across an edge only
 // if every quad around a vertex holds the same value in that corner texel (Barbier & Dupuy's
 // viewer averages them in a preprocessing pass, for displacement maps); here those texels are
-// shaded at the vertex itself, so any shading of positions agrees there by construction.
+// shaded at the vertex itself, in one canonical triangle of the vertex (canonical_corner), so
+// all quads around it hold the same value by construction, whatever the shading depends on.
 // That needs the two vertex corners of a quad to be distinct texels: n >= 2 at every level.
 //
 // Sizes (Li & Guo 3.1): all quads of a mesh have one size, chosen so that the largest quad
@@ -104,6 +105,9 @@ struct TexelPoint {
   bool ghost = false;         // beyond a boundary edge, in the face's plane
   int32_t vertex = -1;        // >= 0: a vertex corner texel, shaded at this vertex
 };
+// The halfedge whose start corner a vertex-corner texel at vertex(h) is shaded in: the vertex's
+// vertex_halfedge, one for all quads around the vertex (h itself if it has none).
+int32_t canonical_corner(const HalfedgeMesh& mesh, int32_t h);
 // snap_vertex_corners = false places the vertex corner texels at their nominal points, half a
 // texel along the edge (what breaks continuity at vertices: for tests that show it).
 TexelPoint texel_point(const HalfedgeMesh& mesh, uint32_t edge, uint32_t n, uint32_t i, uint32_t j,

@@ -127,6 +127,7 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   caps.mesh_shader = ext_mesh && mesh.meshShader;
   caps.task_shader = ext_mesh && mesh.taskShader;
   caps.ray_tracing_pipeline = ext_rt && rt.rayTracingPipeline;
+  caps.trace_rays_indirect = caps.ray_tracing_pipeline && rt.rayTracingPipelineTraceRaysIndirect;
   caps.acceleration_structure = ext_as && as.accelerationStructure;
   caps.ray_query = ext_rq && rq.rayQuery;
   caps.buffer_device_address = api_1_2 && v12.bufferDeviceAddress;

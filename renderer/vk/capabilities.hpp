@@ -30,6 +30,7 @@ struct DeviceCapabilities {
   uint32_t max_shader_group_stride = 0;
   uint32_t max_ray_recursion_depth = 0;
   uint32_t max_ray_dispatch_invocations = 0;
+  bool trace_rays_indirect = false;  // rayTracingPipelineTraceRaysIndirect: launch sizes read from a GPU buffer
   uint32_t min_acceleration_structure_scratch_alignment = 0;  // VK_KHR_acceleration_structure
   // Ray-tracing pipelines, acceleration structures and buffer device addresses together: what
   // Device enables, and what renderer/rt needs. Ray queries are neither needed nor enabled.

@@ -42,6 +42,7 @@ Device::Device(const Instance& instance, const DeviceCapabilities& caps, const D
   as.accelerationStructure = VK_TRUE;
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
   rt.rayTracingPipeline = VK_TRUE;
+  rt.rayTracingPipelineTraceRaysIndirect = caps.trace_rays_indirect ? VK_TRUE : VK_FALSE;
   rt.pNext = &as;
   VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   v13.dynamicRendering = VK_TRUE;
@@ -91,6 +92,7 @@ Device::Device(const Instance& instance, const DeviceCapabilities& caps, const D
     load(create_ray_tracing_pipelines, "vkCreateRayTracingPipelinesKHR");
     load(get_ray_tracing_shader_group_handles, "vkGetRayTracingShaderGroupHandlesKHR");
     load(cmd_trace_rays, "vkCmdTraceRaysKHR");
+    if (caps.trace_rays_indirect) load(cmd_trace_rays_indirect, "vkCmdTraceRaysIndirectKHR");
   }
 
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};

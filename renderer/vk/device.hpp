@@ -53,6 +53,7 @@ class Device {
   PFN_vkCreateRayTracingPipelinesKHR create_ray_tracing_pipelines = nullptr;
   PFN_vkGetRayTracingShaderGroupHandlesKHR get_ray_tracing_shader_group_handles = nullptr;
   PFN_vkCmdTraceRaysKHR cmd_trace_rays = nullptr;
+  PFN_vkCmdTraceRaysIndirectKHR cmd_trace_rays_indirect = nullptr;  // with caps.trace_rays_indirect
 
  private:
   VkInstance instance_ = VK_NULL_HANDLE;

@@ -1,0 +1,437 @@
+#include "renderer/surface/htex_pass.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstring>
+#include <stdexcept>
+
+#include "renderer/surface/scene_descriptors.hpp"
+#include "renderer/surface/surface_frame.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
+#include "renderer/vk/graphics_pipeline.hpp"
+#include "renderer/rt/acceleration_structure.hpp"
+#include "scene/input_error.hpp"
+#include "shaders/shared/htex.h"
+#include "shaders/shared/surface.h"
+
+namespace prismoid::surface {
+
+namespace {
+
+constexpr VkFormat kColorFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+constexpr VkShaderStageFlags kStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_COMPUTE_BIT |
+                                       VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR;
+constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+
+// allocate.comp's steps.
+enum Step : uint32_t { kCount = 0, kDecide, kClear, kRemark, kRelease, kAllocate, kFinish, kTasks };
+
+std::vector<vk::DescriptorBinding> htex_bindings() {
+  std::vector<vk::DescriptorBinding> b = scene_bindings({.stages = kStages, .vertex_buffers = true, .tlas = false});
+  b.push_back({PRISMOID_SURFACE_BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, VK_SHADER_STAGE_RAYGEN_BIT_KHR});
+  for (const auto& t : htex_table_bindings(kStages)) b.push_back(t);
+  for (uint32_t binding = PRISMOID_HTEX_BINDING_OCCUPANCY; binding <= PRISMOID_HTEX_BINDING_VISIBILITY; ++binding)
+    b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
+  return b;
+}
+
+void compute_barrier(VkCommandBuffer cmd) {
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+void check_device(const vk::Device& device) {
+  const auto& caps = device.capabilities();
+  if (!caps.geometry_shader)
+    throw vk::NoSuitableDevice(caps.name + " cannot read gl_PrimitiveID in fragment shaders (no geometryShader feature)");
+  if (!caps.fragment_stores) throw vk::NoSuitableDevice(caps.name + " cannot write storage buffers from fragment shaders");
+  if (!device.ray_tracing_enabled())
+    throw vk::NoSuitableDevice(caps.name + " has no ray tracing enabled (the Htex shading pass is a ray-generation shader)");
+  if (!device.cmd_trace_rays_indirect)
+    throw vk::NoSuitableDevice(caps.name + " cannot trace rays with GPU-written launch sizes (rayTracingPipelineTraceRaysIndirect)");
+  if (!(device.format_properties(kColorFormat).optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
+    throw vk::NoSuitableDevice(caps.name + " cannot render to R32G32B32A32_SFLOAT images");
+}
+
+uint32_t checked_pages(const vk::Device& device, uint32_t pages) {
+  const auto& caps = device.capabilities();
+  if (pages == 0) throw InputError("--pool-pages", "the pool needs at least one page");
+  const uint64_t bytes = uint64_t(pages) * PRISMOID_HTEX_PAGE_TEXELS * 16;
+  if (bytes > caps.max_storage_buffer_range)
+    throw InputError("--pool-pages", std::to_string(pages) + " pages (" + std::to_string(bytes) + " bytes) exceed the storage-buffer range of " +
+                                         caps.name + " (" + std::to_string(caps.max_storage_buffer_range) + " bytes)");
+  if (uint64_t(pages) * PRISMOID_HTEX_PAGE_TEXELS > caps.max_ray_dispatch_invocations)
+    throw InputError("--pool-pages", std::to_string(pages) + " pages hold more texels than " + caps.name + " can shade in one launch");
+  return pages;
+}
+
+rt::RayTracingPipelineDesc shade_desc(VkPipelineLayout layout) {
+  rt::RayTracingPipelineDesc d;
+  d.raygen = {"surface/htex/shade.rgen", "surface/htex/shade_unshadowed.rgen"};
+  d.miss = {"surface/rt/shadow.rmiss", "surface/rt/hit.rmiss"};  // PRISMOID_SURFACE_MISS_SHADOW, _HIT
+  d.hit_groups = {{"surface/rt/hit.rchit", {}}};                  // PRISMOID_SURFACE_HIT_GROUP
+  d.layout = layout;
+  return d;
+}
+
+vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLayout set) {
+  const VkPushConstantRange push{kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(gpu::HtexPush)};
+  return vk::create_pipeline_layout(device, std::span(&set, 1), std::span(&push, 1));
+}
+
+}  // namespace
+
+HtexTargets create_htex_targets(const vk::Device& device, VkExtent2D extent) {
+  if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
+  HtexTargets t;
+  t.extent = extent;
+  t.color = vk::Image(device, extent, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  t.depth = vk::Image(device, extent, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+  t.visibility = vk::Buffer(device, VkDeviceSize(extent.width) * extent.height * 16, kStorage, vk::MemoryUse::DeviceLocal);
+  return t;
+}
+
+HtexPass::HtexPass(const vk::Device& device, const HtexGeometry& geometry, const HtexSettings& settings)
+    : device_(device),
+      geometry_(geometry),
+      settings_(settings),
+      tables_((check_device(device), upload_htex_tables(device, geometry, checked_pages(device, settings.pool_pages)))),
+      set_layout_(vk::create_descriptor_set_layout(device, htex_bindings())),
+      layout_(make_layout(device, set_layout_.get())),
+      shade_pipeline_(device, shade_desc(layout_.get())) {
+  const std::vector<vk::DescriptorBinding> bindings = htex_bindings();
+  set_ = vk::allocate_descriptor_set(device, set_layout_.get(), bindings);
+  frame_uniforms_ = vk::Buffer(device, sizeof(gpu::SurfaceFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_SURFACE_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frame_uniforms_.get());
+  write_htex_table_descriptors(device, set_.set, tables_);
+
+  const uint64_t groups = geometry.group_count(), pages = settings.pool_pages;
+  occupancy_ = vk::Buffer(device, groups * 8, kStorage, vk::MemoryUse::DeviceLocal);
+  page_table_ = vk::Buffer(device, groups * 4, kStorage, vk::MemoryUse::DeviceLocal);
+  free_list_ = vk::Buffer(device, pages * 4, kStorage, vk::MemoryUse::DeviceLocal);
+  state_ = vk::Buffer(device, sizeof(gpu::HtexStateGpu),
+                      kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, vk::MemoryUse::DeviceLocal);
+  tasks_ = vk::Buffer(device, pages * 64 * 4, kStorage, vk::MemoryUse::DeviceLocal);
+  pool_ = vk::Buffer(device, pages * PRISMOID_HTEX_PAGE_TEXELS * 16, kStorage, vk::MemoryUse::DeviceLocal);
+  indirect_ = vk::Buffer(device, settings.indirect ? pages * PRISMOID_HTEX_PAGE_TEXELS * 16 : 16, kStorage, vk::MemoryUse::DeviceLocal);
+  readback_ = vk::Buffer(device, sizeof(gpu::HtexStateGpu), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
+  const VkDescriptorType s = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_OCCUPANCY, s, occupancy_.get());
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_PAGE_TABLE, s, page_table_.get());
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_FREE_LIST, s, free_list_.get());
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_STATE, s, state_.get());
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_TASKS, s, tasks_.get());
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_POOL, s, pool_.get());
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_INDIRECT, s, indirect_.get());
+
+  vk::VertexPipelineDesc depth;
+  depth.vertex_shader = "surface/depth.vert";
+  depth.layout = layout_.get();
+  depth.bindings = {{0, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX}};
+  depth.attributes = {{PRISMOID_SURFACE_VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+  depth.depth_format = kDepthFormat;
+  depth.depth_compare = VK_COMPARE_OP_GREATER;  // reversed z
+  depth.depth_write = true;
+  depth_pipeline_ = vk::create_vertex_pipeline(device, depth);
+  vk::VertexPipelineDesc mark = depth;
+  mark.fragment_shader = "surface/htex/mark.frag";
+  mark.depth_compare = VK_COMPARE_OP_EQUAL;  // only the surface the pre-pass kept
+  mark.depth_write = false;
+  mark_pipeline_ = vk::create_vertex_pipeline(device, mark);
+  vk::VertexPipelineDesc gather;
+  gather.vertex_shader = "surface/sky.vert";  // one triangle covering the viewport
+  gather.fragment_shader = "surface/htex/gather.frag";
+  gather.layout = layout_.get();
+  gather.color_formats = {kColorFormat};
+  gather_pipeline_ = vk::create_vertex_pipeline(device, gather);
+  allocate_pipeline_ = vk::create_compute_pipeline(device, "surface/htex/allocate.comp", layout_.get());
+  set_settings(settings);
+  reset_residency();
+}
+
+void HtexPass::set_settings(const HtexSettings& settings) {
+  if (settings.pool_pages != settings_.pool_pages || settings.indirect != settings_.indirect)
+    throw std::invalid_argument("HtexPass: the pool's size and the indirect buffer are fixed when the pass is made");
+  settings_ = settings;
+  flags_ = (settings.snap_vertex_corners ? 0u : PRISMOID_HTEX_FLAG_NO_SNAP) | (settings.indirect ? PRISMOID_HTEX_FLAG_INDIRECT : 0u);
+}
+
+void HtexPass::reset_residency() {
+  const uint32_t pages = settings_.pool_pages;
+  std::vector<uint32_t> free(pages);
+  for (uint32_t i = 0; i < pages; ++i) free[i] = pages - 1 - i;  // page 0 on top
+  vk::Buffer staging(device_, free.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, vk::MemoryUse::HostVisible);
+  staging.write(std::as_bytes(std::span(free)));
+  gpu::HtexStateGpu state{};
+  state.persistent.x = pages;
+  device_.submit_and_wait([&](VkCommandBuffer cmd) {
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdFillBuffer(cmd, page_table_.get(), 0, VK_WHOLE_SIZE, PRISMOID_HTEX_NOT_RESIDENT);
+    const VkBufferCopy copy{0, 0, free.size() * 4};
+    vkCmdCopyBuffer(cmd, staging.get(), free_list_.get(), 1, &copy);
+    vkCmdUpdateBuffer(cmd, state_.get(), 0, sizeof(state), &state);
+    vkCmdFillBuffer(cmd, pool_.get(), 0, VK_WHOLE_SIZE, 0u);
+    if (settings_.indirect) vkCmdFillBuffer(cmd, indirect_.get(), 0, VK_WHOLE_SIZE, 0u);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                       VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  });
+}
+
+void HtexPass::bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const HtexTargets& targets) {
+  if (scene.triangle_count != geometry_.triangle_count)
+    throw std::invalid_argument("HtexPass: the GPU scene is not the one the Htex geometry was built from");
+  if (bound_scene_ != &scene) {
+    write_scene_descriptors(device_, set_.set, scene, true);
+    bound_scene_ = &scene;
+  }
+  if (bound_tlas_ != tlas) {
+    rt::write_tlas_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_TLAS, tlas);
+    bound_tlas_ = tlas;
+  }
+  if (bound_visibility_ != targets.visibility.get()) {
+    vk::write_buffer_descriptor(device_, set_.set, PRISMOID_HTEX_BINDING_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, targets.visibility.get());
+    bound_visibility_ = targets.visibility.get();
+  }
+}
+
+void HtexPass::dispatch_step(VkCommandBuffer cmd, uint32_t step, uint32_t invocations) {
+  gpu::HtexPush push{};
+  push.image = glm::uvec4(extent_.width, extent_.height, flags_, step);
+  push.lod = glm::vec4(settings_.lod_bias, 0.0f, 0.0f, 0.0f);
+  vkCmdPushConstants(cmd, layout_.get(), kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(push), &push);
+  const uint32_t groups = std::max(1u, (invocations + 63) / 64);
+  const uint32_t x = std::min(groups, 32768u);
+  vkCmdDispatch(cmd, x, (groups + x - 1) / x, 1);
+}
+
+void HtexPass::record_marking(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, HtexTargets& targets,
+                              const Camera& camera, vk::GpuTimer& timer) {
+  validate(camera);
+  bind(scene, tlas, targets);
+  extent_ = targets.extent;
+  const VkExtent2D e = targets.extent;
+  const gpu::SurfaceFrame frame = surface_frame(scene, camera, e, glm::dvec2(0.0));
+  frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
+
+  // This frame's counters, occupancy and visibility start at zero; the page table, free list and
+  // pool carry over.
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  vkCmdFillBuffer(cmd, occupancy_.get(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd, targets.visibility.get(), 0, VK_WHOLE_SIZE, 0u);
+  gpu::HtexStateGpu fresh{};
+  fresh.trace = glm::uvec4(8u, 8u, 0u, 0u);
+  vkCmdUpdateBuffer(cmd, state_.get(), 0, offsetof(gpu::HtexStateGpu, persistent), &fresh);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+
+  vk::ScopedPass pass(timer, cmd, "pre-z + marking");
+  const VkViewport viewport{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
+  const VkRect2D scissor{{0, 0}, e};
+  const VkDeviceSize zero = 0;
+  const VkBuffer positions = scene.positions.get();
+  const uint32_t index_count = scene.triangle_count * 3;
+  vk::image_barrier(cmd, targets.depth.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                    VK_IMAGE_ASPECT_DEPTH_BIT);
+  VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  depth.imageView = targets.depth.view();
+  depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  depth.clearValue.depthStencil = {0.0f, 0};  // reversed z: 0 is infinitely far
+  VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  rendering.renderArea = scissor;
+  rendering.layerCount = 1;
+  rendering.pDepthAttachment = &depth;
+  gpu::HtexPush push{};
+  push.image = glm::uvec4(e.width, e.height, flags_, 0u);
+  push.lod = glm::vec4(settings_.lod_bias, 0.0f, 0.0f, 0.0f);
+  for (int draw = 0; draw < 2; ++draw) {
+    if (draw == 1) {
+      vk::image_barrier(cmd, targets.depth.get(), VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+      depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+      depth.storeOp = VK_ATTACHMENT_STORE_OP_NONE;
+    }
+    vkCmdBeginRendering(cmd, &rendering);
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    if (index_count > 0) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, draw == 0 ? depth_pipeline_.get() : mark_pipeline_.get());
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set_.set, 0, nullptr);
+      vkCmdPushConstants(cmd, layout_.get(), kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(push), &push);
+      vkCmdBindVertexBuffers(cmd, 0, 1, &positions, &zero);
+      vkCmdBindIndexBuffer(cmd, scene.indices.get(), 0, VK_INDEX_TYPE_UINT32);
+      vkCmdDrawIndexed(cmd, index_count, 1, 0, 0, 0);
+    }
+    vkCmdEndRendering(cmd);
+  }
+}
+
+void HtexPass::record_allocation(VkCommandBuffer cmd, const HtexTargets& targets, vk::GpuTimer& timer) {
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  vk::ScopedPass pass(timer, cmd, "allocation");
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, allocate_pipeline_.get());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
+  const uint32_t groups = geometry_.group_count();
+  const uint32_t pixels = targets.extent.width * targets.extent.height;
+  auto step = [&](uint32_t s, uint32_t invocations) {
+    dispatch_step(cmd, s, invocations);
+    compute_barrier(cmd);
+  };
+  // Count and decide; while over capacity (and a coarser level is left), bias and re-mark.
+  for (uint32_t iteration = 0; iteration < geometry_.max_levels; ++iteration) {
+    step(kCount, groups);
+    step(kDecide, 1);
+    if (iteration + 1 == geometry_.max_levels) break;
+    step(kClear, groups);
+    step(kRemark, pixels);
+  }
+  step(kRelease, groups);
+  step(kAllocate, groups);
+  step(kFinish, 1);
+  dispatch_step(cmd, kTasks, groups);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                         VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                     VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+void HtexPass::record_shading(VkCommandBuffer cmd, const HtexTargets&, vk::GpuTimer& timer) {
+  vk::ScopedPass pass(timer, cmd, "shading");
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, shade_pipeline_.get());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, layout_.get(), 0, 1, &set_.set, 0, nullptr);
+  gpu::HtexPush push{};
+  push.image = glm::uvec4(extent_.width, extent_.height, flags_, 0u);
+  vkCmdPushConstants(cmd, layout_.get(), kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(push), &push);
+  shade_pipeline_.trace_indirect(cmd, settings_.shadows ? 0 : 1, state_.device_address());
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
+                         VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+void HtexPass::record_gather(VkCommandBuffer cmd, HtexTargets& targets, vk::GpuTimer& timer) {
+  const VkExtent2D e = targets.extent;
+  {
+    vk::ScopedPass pass(timer, cmd, "gather");
+    vk::image_barrier(cmd, targets.color.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE,
+                      VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = targets.color.view();
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    rendering.renderArea = {{0, 0}, e};
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachments = &color;
+    const VkViewport viewport{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, e};
+    vkCmdBeginRendering(cmd, &rendering);
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gather_pipeline_.get());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set_.set, 0, nullptr);
+    gpu::HtexPush push{};
+    push.image = glm::uvec4(e.width, e.height, flags_, 0u);
+    vkCmdPushConstants(cmd, layout_.get(), kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(push), &push);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+  }
+  vk::image_barrier(cmd, targets.color.get(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                    VK_ACCESS_2_TRANSFER_READ_BIT);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  const VkBufferCopy copy{0, 0, sizeof(gpu::HtexStateGpu)};
+  vkCmdCopyBuffer(cmd, state_.get(), readback_.get(), 1, &copy);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+}
+
+void HtexPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, HtexTargets& targets,
+                      const Camera& camera, vk::GpuTimer& timer) {
+  record_marking(cmd, scene, tlas, targets, camera, timer);
+  record_allocation(cmd, targets, timer);
+  record_shading(cmd, targets, timer);
+  record_gather(cmd, targets, timer);
+}
+
+HtexCounters HtexPass::read_counters() const {
+  gpu::HtexStateGpu s{};
+  std::memcpy(&s, readback_.mapped(), sizeof(s));
+  HtexCounters c;
+  c.marked_groups = s.marking.x;
+  c.marked_shadels = s.marking.y;
+  c.bias_levels = s.marking.z;
+  c.marked_groups_unbiased = s.result.z;
+  c.overflow = s.result.x != 0;
+  c.hole_pixels = s.result.y;
+  c.released_pages = s.pages.x;
+  c.allocated_pages = s.pages.y;
+  c.unallocated_groups = s.pages.z;
+  c.resident_groups = s.pages.w;
+  c.free_pages = s.persistent.x;
+  c.shaded_shadels = s.trace.z;
+  c.shaded_texels = s.trace.w;
+  c.pool_bytes = pool_.size() + (settings_.indirect ? indirect_.size() : 0);
+  return c;
+}
+
+std::vector<std::byte> HtexPass::read_buffer(const vk::Buffer& buffer) const {
+  vk::Buffer staging(device_, buffer.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
+  device_.submit_and_wait([&](VkCommandBuffer cmd) {
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                       VK_ACCESS_2_TRANSFER_READ_BIT);
+    const VkBufferCopy copy{0, 0, buffer.size()};
+    vkCmdCopyBuffer(cmd, buffer.get(), staging.get(), 1, &copy);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+  });
+  std::vector<std::byte> out(buffer.size());
+  std::memcpy(out.data(), staging.mapped(), out.size());
+  return out;
+}
+
+std::vector<float> HtexImage::rgb() const {
+  std::vector<float> out;
+  out.reserve(size_t(width) * height * 3);
+  for (size_t i = 0; i + 4 <= rgba.size(); i += 4) out.insert(out.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+  return out;
+}
+
+HtexImage render_htex(const vk::Device& device, HtexPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
+                      const Camera& camera, VkExtent2D extent) {
+  HtexTargets targets = create_htex_targets(device, extent);
+  vk::GpuTimer timer(device, 4);
+  device.submit_and_wait([&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    pass.record(cmd, scene, tlas, targets, camera, timer);
+  });
+  HtexImage image;
+  image.width = extent.width;
+  image.height = extent.height;
+  const size_t pixels = size_t(extent.width) * extent.height;
+  image.rgba.resize(pixels * 4);
+  vk::read_image(device, targets.color, sizeof(float) * 4, std::as_writable_bytes(std::span(image.rgba)));
+  const std::vector<std::byte> vis = pass.read_buffer(targets.visibility);
+  image.visibility.resize(pixels);
+  std::memcpy(image.visibility.data(), vis.data(), pixels * sizeof(glm::uvec4));
+  image.passes = timer.read();
+  image.counters = pass.read_counters();
+  return image;
+}
+
+}  // namespace prismoid::surface
