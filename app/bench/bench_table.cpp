@@ -96,7 +96,7 @@ void mark_pareto(std::vector<BenchRow>& rows) {
 void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& rows) {
   std::ofstream out(path);
   out << "dataset,cells,sweep,quantity,mode,settings,ordering,timer,width,height,frames,ms_median,ms_min,ms_max,cpu_ms,"
-         "passes,mesh_bytes,rmse,max_abs,psnr_db,ssim,flip_mean,peak,non_finite,reference_ms,pareto\n";
+         "passes,mesh_bytes,rmse,max_abs,psnr_db,ssim,flip_mean,peak,non_finite,reference_ms,pareto,shaded,mode_bytes\n";
   for (const auto& r : rows)
     out << '"' << r.dataset << "\"," << r.cells << ',' << r.sweep << ',' << r.quantity << ',' << r.mode << ",\"" << r.settings
         << "\",\"" << r.ordering << "\"," << r.timer << ',' << r.width << ',' << r.height << ',' << r.frames << ','
@@ -104,7 +104,7 @@ void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& r
         << r.passes << "\"," << r.mesh_bytes << ',' << number(r.error.rmse) << ',' << number(r.error.max_abs) << ','
         << number(r.error.psnr_db) << ',' << number(r.ssim) << ',' << (std::isnan(r.flip) ? "" : number(r.flip)) << ','
         << number(r.peak) << ',' << r.error.non_finite << ','
-        << number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << '\n';
+        << number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << ',' << r.shaded << ',' << r.mode_bytes << '\n';
   out.close();
   if (!out) throw InputError(path.string(), "cannot write the CSV");
 }
@@ -151,6 +151,12 @@ std::vector<BenchRow> read_csv(const std::filesystem::path& path) {
                mesh_bytes = column("mesh_bytes"), rmse = column("rmse"), max_abs = column("max_abs"), psnr = column("psnr_db"),
                ssim = column("ssim"), flip = column("flip_mean"), peak = column("peak"), non_finite = column("non_finite"),
                reference_ms = column("reference_ms"), pareto = column("pareto");
+  // Added later: CSVs written before have neither (read as 0).
+  const auto optional_column = [&](const char* name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    return it == header.end() ? header.size() : size_t(it - header.begin());
+  };
+  const size_t shaded = optional_column("shaded"), mode_bytes = optional_column("mode_bytes");
   std::vector<BenchRow> rows;
   for (size_t number = 2; std::getline(in, line); ++number) {
     if (line.empty()) continue;
@@ -186,6 +192,8 @@ std::vector<BenchRow> read_csv(const std::filesystem::path& path) {
       r.error.non_finite = std::stoull(f[non_finite]);
       r.reference_ms = csv_number(f[reference_ms]);
       r.pareto = f[pareto] == "1";
+      if (shaded < f.size()) r.shaded = std::stoull(f[shaded]);
+      if (mode_bytes < f.size()) r.mode_bytes = std::stoull(f[mode_bytes]);
       rows.push_back(std::move(r));
     } catch (const std::logic_error&) {  // stoull/stod: invalid_argument, out_of_range
       throw InputError(path.string(), "line " + std::to_string(number) + " has a field that is not a number where one belongs");
@@ -227,15 +235,17 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
     });
     out << "\n## " << d << " (" << sorted.front()->cells << " cells, mesh " << mib(sorted.front()->mesh_bytes)
         << " MiB on the GPU)\n\n"
-        << "| | quantity | size | mode | settings | sweep | ms (median) | min-max | timer | CPU ms | RMSE | max abs | PSNR dB | SSIM | FLIP | reference ms |\n"
-        << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        << "| | quantity | size | mode | settings | sweep | ms (median) | min-max | timer | CPU ms | RMSE | max abs | PSNR dB | SSIM | FLIP | reference ms | shaded | mode MiB |\n"
+        << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto* r : sorted)
       out << "| " << (r->pareto ? "*" : "") << " | " << r->quantity << " | " << r->width << "x" << r->height << " | " << r->mode
           << " | " << r->settings << " | " << r->sweep << " | " << fixed(r->ms_median, 4) << " | " << fixed(r->ms_min, 4) << "-"
           << fixed(r->ms_max, 4) << " | " << r->timer << " | " << fixed(r->cpu_ms, 3) << " | " << fixed(r->error.rmse, 3) << " | "
           << fixed(r->error.max_abs, 3) << " | " << fixed(r->error.psnr_db, 4) << " | " << fixed(r->ssim, 6) << " | "
           << (std::isnan(r->flip) ? std::string("-") : fixed(r->flip, 4)) << " | " << fixed(r->reference_ms, 4)
-          << (r->error.non_finite ? " (non-finite: " + std::to_string(r->error.non_finite) + ")" : "") << " |\n";
+          << (r->error.non_finite ? " (non-finite: " + std::to_string(r->error.non_finite) + ")" : "") << " | "
+          << (r->shaded ? std::to_string(r->shaded) : std::string("-")) << " | " << (r->mode_bytes ? mib(r->mode_bytes) : std::string("-"))
+          << " |\n";
   }
   out.close();
   if (!out) throw InputError(path.string(), "cannot write the report");

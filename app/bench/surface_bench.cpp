@@ -133,6 +133,9 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
         m.passes += (p ? " " : "") + timings.front()[p].name + "=" + std::to_string(median(ms));
       }
       m.mesh_bytes = renderer.gpu_scene().bytes;
+      const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
+      m.shaded = counts.shaded;
+      m.mode_bytes = counts.mode_bytes;
       m.error = reference::image_error(f.rgba, reference, peak, 4, 3);
       m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak, 4, 3);
       m.flip = reference::flip(f.rgba, reference, extent.width, extent.height, 4).mean;

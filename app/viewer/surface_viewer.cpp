@@ -42,6 +42,7 @@ struct SurfaceSession {
   std::optional<std::string> capture_path;
   uint32_t screenshot_count = 0;
   std::vector<vk::PassTiming> passes;
+  surface::SurfaceRenderer::FrameCounts counts;
   double cpu_frame_ms = 0.0;
 
   double aspect() const {
@@ -155,6 +156,9 @@ void draw_surface_panel(SurfaceSession& s) {
     total += p.gpu_ms;
   }
   ImGui::Text("GPU total %.3f ms, frame (CPU) %.2f ms", total, s.cpu_frame_ms);
+  ImGui::Text("shaded %llu %s", static_cast<unsigned long long>(s.counts.shaded), s.mode == "htex" ? "texels" : "pixels");
+  if (s.counts.mode_bytes) ImGui::Text("%s memory %.2f MiB", s.mode.c_str(), double(s.counts.mode_bytes) / (1024.0 * 1024.0));
+  if (!s.counts.detail.empty()) ImGui::TextWrapped("%s", s.counts.detail.c_str());
   if (ImGui::Button("Fit (R)")) s.camera.reset(s.aspect());
   ImGui::SameLine();
   if (ImGui::Button("Copy camera (C)")) s.copy_camera();
@@ -247,6 +251,7 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
     vk::check(vkWaitForFences(device.get(), 1, in_flight.ptr(), VK_TRUE, UINT64_MAX), "vkWaitForFences");
     if (frame_in_flight) {
       s.passes = timer.read();
+      s.counts = renderer.read_counts();
       finish_frame_capture();
       frame_in_flight = false;
       if (options.print_timings && now - last_print > std::chrono::seconds(1)) {
@@ -299,6 +304,8 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
   }
   report.last_frame.device_name = caps.name;
   report.last_frame.gpu_passes = s.passes;
+  report.last_frame.counted = true;
+  report.last_frame.fragments = s.counts.shaded;
   report.camera = s.camera.camera();
   report.mode = s.mode;
   report.validation_messages = instance.validation_log().count();

@@ -43,16 +43,7 @@ void compute_barrier(VkCommandBuffer cmd) {
 }
 
 void check_device(const vk::Device& device) {
-  const auto& caps = device.capabilities();
-  if (!caps.geometry_shader)
-    throw vk::NoSuitableDevice(caps.name + " cannot read gl_PrimitiveID in fragment shaders (no geometryShader feature)");
-  if (!caps.fragment_stores) throw vk::NoSuitableDevice(caps.name + " cannot write storage buffers from fragment shaders");
-  if (!device.ray_tracing_enabled())
-    throw vk::NoSuitableDevice(caps.name + " has no ray tracing enabled (the Htex shading pass is a ray-generation shader)");
-  if (!device.cmd_trace_rays_indirect)
-    throw vk::NoSuitableDevice(caps.name + " cannot trace rays with GPU-written launch sizes (rayTracingPipelineTraceRaysIndirect)");
-  if (!(device.format_properties(kColorFormat).optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
-    throw vk::NoSuitableDevice(caps.name + " cannot render to R32G32B32A32_SFLOAT images");
+  if (const std::string problem = htex_device_problem(device); !problem.empty()) throw vk::NoSuitableDevice(problem);
 }
 
 uint32_t checked_pages(const vk::Device& device, uint32_t pages) {
@@ -82,6 +73,18 @@ vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLa
 }
 
 }  // namespace
+
+std::string htex_device_problem(const vk::Device& device) {
+  const auto& caps = device.capabilities();
+  if (!caps.geometry_shader) return caps.name + " cannot read gl_PrimitiveID in fragment shaders (no geometryShader feature)";
+  if (!caps.fragment_stores) return caps.name + " cannot write storage buffers from fragment shaders";
+  if (!device.ray_tracing_enabled()) return caps.name + " has no ray tracing enabled (the Htex shading pass is a ray-generation shader)";
+  if (!device.cmd_trace_rays_indirect)
+    return caps.name + " cannot trace rays with GPU-written launch sizes (rayTracingPipelineTraceRaysIndirect)";
+  if (!(device.format_properties(kColorFormat).optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
+    return caps.name + " cannot render to R32G32B32A32_SFLOAT images";
+  return {};
+}
 
 HtexTargets create_htex_targets(const vk::Device& device, VkExtent2D extent) {
   if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");

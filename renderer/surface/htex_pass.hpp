@@ -36,6 +36,7 @@
 // shadel group, not a binned chunk allocator; the bias is per frame and global (every pixel
 // below the bias level), not per group.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -57,6 +58,9 @@ struct HtexSettings {
   float lod_bias = 0.0f;           // added to the level of detail before rounding
   bool snap_vertex_corners = true; // false only in tests: the control that shows seams
 };
+
+// Empty when the device can run the Htex backend, else why not (what HtexPass would throw).
+std::string htex_device_problem(const vk::Device& device);
 
 struct HtexTargets {
   vk::Image color;       // RGBA32F linear radiance; alpha = coverage

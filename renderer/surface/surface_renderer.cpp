@@ -12,6 +12,7 @@ namespace prismoid::surface {
 std::vector<std::string> surface_modes(const vk::Device& device) {
   std::vector<std::string> modes;
   if (device.capabilities().geometry_shader) modes.push_back("forward");
+  if (htex_device_problem(device).empty()) modes.push_back("htex");
   return modes;
 }
 
@@ -28,6 +29,11 @@ void SurfaceRenderer::set_shadows(bool on) {
     throw vk::NoSuitableDevice(device_.capabilities().name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and "
                                "VK_KHR_acceleration_structure): shadows need it");
   shadows_ = on;
+  if (htex_) {
+    HtexSettings settings = htex_->settings();
+    settings.shadows = on;
+    htex_->set_settings(settings);
+  }
 }
 
 SurfaceRenderer::~SurfaceRenderer() = default;
@@ -45,13 +51,28 @@ void SurfaceRenderer::resize(VkExtent2D extent) {
   extent_ = extent;
   forward_targets_.reset();
   shadowed_targets_.reset();
+  htex_targets_.reset();
   display_ = nullptr;
 }
 
 void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer) {
   if (const std::string problem = mode_problem(mode); !problem.empty()) throw InputError("--mode " + mode, problem);
+  last_mode_ = mode;
+  if ((shadows_ || mode == "htex") && !accel_)
+    accel_ = std::make_unique<rt::SceneAccel>(device_, source_);  // origin: the bounds centre, as scene_.origin
+  if (mode == "htex") {
+    if (!htex_) {
+      htex_geometry_ = std::make_unique<HtexGeometry>(source_, htex::LayoutOptions{.texels_per_unit = 128.0});
+      HtexSettings settings;
+      settings.shadows = shadows_;
+      htex_ = std::make_unique<HtexPass>(device_, *htex_geometry_, settings);
+    }
+    if (!htex_targets_) htex_targets_ = std::make_unique<HtexTargets>(create_htex_targets(device_, extent_));
+    htex_->record(cmd, scene_, accel_->tlas(), *htex_targets_, camera, timer);
+    display_ = &htex_targets_->color;
+    return;
+  }
   if (shadows_) {
-    if (!accel_) accel_ = std::make_unique<rt::SceneAccel>(device_, source_);  // origin: the bounds centre, as scene_.origin
     if (!shadowed_) shadowed_ = std::make_unique<ShadowedForwardPass>(device_);
     if (!shadowed_targets_) shadowed_targets_ = std::make_unique<ShadowedForwardTargets>(create_shadowed_forward_targets(device_, extent_));
     shadowed_->record(cmd, scene_, *accel_, *shadowed_targets_, camera, {}, timer);
@@ -62,6 +83,23 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   if (!forward_targets_) forward_targets_ = std::make_unique<ForwardTargets>(create_forward_targets(device_, extent_));
   forward_->record(cmd, scene_, *forward_targets_, camera, {}, timer);
   display_ = &forward_targets_->color;
+}
+
+SurfaceRenderer::FrameCounts SurfaceRenderer::read_counts() const {
+  FrameCounts c;
+  if (last_mode_ == "htex" && htex_) {
+    const HtexCounters h = htex_->read_counters();
+    c.shaded = h.shaded_texels;
+    c.mode_bytes = h.pool_bytes + htex_->tables().bytes;
+    c.detail = std::to_string(h.marked_shadels) + " shadels marked, " + std::to_string(h.resident_groups) + " groups resident, " +
+               std::to_string(h.allocated_pages) + " pages allocated, " + std::to_string(h.released_pages) + " released" +
+               (h.bias_levels ? ", bias " + std::to_string(h.bias_levels) + " levels" : "") + (h.overflow ? ", POOL OVERFLOW" : "");
+  } else if (last_mode_ == "forward" && shadows_ && shadowed_) {
+    c.shaded = shadowed_->read_shading_invocations();
+  } else if (last_mode_ == "forward" && forward_) {
+    c.shaded = forward_->read_fragment_invocations();
+  }
+  return c;
 }
 
 const vk::Image& SurfaceRenderer::display() const {

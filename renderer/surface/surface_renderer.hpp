@@ -10,13 +10,17 @@
 #include "renderer/surface/forward_pass.hpp"
 #include "renderer/surface/shadowed_forward_pass.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/surface/htex_pass.hpp"
+#include "renderer/surface/htex_tables.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
 #include "scene/surface_scene.hpp"
 
 namespace prismoid::surface {
 
-// The surface modes this device can draw, in the order the window lists them.
+// The surface modes this device can draw, in the order the window lists them: forward (per
+// pixel, renderer/surface/forward_pass and shadowed_forward_pass), htex (object space,
+// renderer/surface/htex_pass).
 std::vector<std::string> surface_modes(const vk::Device& device);
 
 class SurfaceRenderer {
@@ -46,6 +50,16 @@ class SurfaceRenderer {
   void record(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer);
   const vk::Image& display() const;
 
+  // What the last frame shaded, read after its submission completed (the window reads it once
+  // the frame's fence has signalled): shading-code invocations (pixels for forward, texels for
+  // htex) and the mode's own memory beyond the scene (htex: pool and tables).
+  struct FrameCounts {
+    uint64_t shaded = 0;
+    uint64_t mode_bytes = 0;
+    std::string detail;  // a line for the panel and reports (htex: shadels, pages, bias)
+  };
+  FrameCounts read_counts() const;
+
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
   const SurfaceScene& scene() const { return source_; }
 
@@ -61,7 +75,11 @@ class SurfaceRenderer {
   std::unique_ptr<rt::SceneAccel> accel_;
   std::unique_ptr<ShadowedForwardPass> shadowed_;
   std::unique_ptr<ShadowedForwardTargets> shadowed_targets_;
+  std::unique_ptr<HtexGeometry> htex_geometry_;
+  std::unique_ptr<HtexPass> htex_;
+  std::unique_ptr<HtexTargets> htex_targets_;
   const vk::Image* display_ = nullptr;  // the last recorded frame's colour
+  std::string last_mode_;
 };
 
 }  // namespace prismoid::surface

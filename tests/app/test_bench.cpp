@@ -126,6 +126,8 @@ TEST(BenchTable, TheCsvReadsBackAsWritten) {
   rows[1].error.psnr_db = std::numeric_limits<double>::infinity();
   rows[1].cells = 12'582'912;
   rows[1].mesh_bytes = 1ull << 33;
+  rows[1].shaded = 123'456'789'012ull;
+  rows[1].mode_bytes = 1ull << 26;
   mark_pareto(rows);
   write_csv(dir / "bench.csv", rows);
   const std::vector<BenchRow> back = read_csv(dir / "bench.csv");
@@ -141,6 +143,8 @@ TEST(BenchTable, TheCsvReadsBackAsWritten) {
     EXPECT_EQ(back[i].error.rmse, rows[i].error.rmse);
     EXPECT_EQ(back[i].error.psnr_db, rows[i].error.psnr_db);
     EXPECT_EQ(back[i].pareto, rows[i].pareto);
+    EXPECT_EQ(back[i].shaded, rows[i].shaded);
+    EXPECT_EQ(back[i].mode_bytes, rows[i].mode_bytes);
   }
   EXPECT_EQ(back[0].flip, 0.125);
   EXPECT_TRUE(std::isnan(back[1].flip));  // no colour: no FLIP, written empty

@@ -383,8 +383,8 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   // with its tetrahedra and two steps, optical depth and colour each (6); the cell-count sweep's
   // two meshes, optical depth and colour each (4); VTK's three mappers beside the default
   // dataset's colour and the ball's transmittance (6); the Cornell box in each surface mode
-  // this device draws (forward), with shadows off and on (2).
-  ASSERT_EQ(rows.size(), 28u) << slurp(dir / "bench.csv");
+  // this device draws (forward, htex), with shadows off and on (4).
+  ASSERT_EQ(rows.size(), 30u) << slurp(dir / "bench.csv");
   std::map<std::string, double> flip_of;  // the default dataset's colour, by mode/settings
   std::multiset<std::string> peers;        // quantity/mode of the wall-clock rows
   std::map<std::string, double> default_rmse, default_ssim;  // by quantity/mode/settings
@@ -426,10 +426,18 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   // The perceptual metric agrees with RMSE that exact order beats mesh order.
   EXPECT_LT(flip_of.at("interval-exact-order/default"), flip_of.at("interval/default"));
   EXPECT_EQ(sweeps, (std::set<std::string>{"modes", "tetlet-size", "preintegration", "march-step", "cells", "surfaces"}));
-  const auto surface_row = std::find_if(rows.begin(), rows.end(), [&](const auto& row) { return row[sweep] == "surfaces"; });
-  ASSERT_NE(surface_row, rows.end());
-  EXPECT_EQ((*surface_row)[dataset], "cornell-box");
-  EXPECT_EQ((*surface_row)[mode], "forward");
+  // Surface rows: each mode with shadows off and on, against the CPU direct light; the shaded
+  // samples are counted (forward: the covered pixels; htex: texels, at about the same rate).
+  std::set<std::string> surface_configurations;
+  const size_t shaded = column("shaded");
+  for (const auto& row : rows)
+    if (row[sweep] == "surfaces") {
+      EXPECT_EQ(row[dataset], "cornell-box");
+      surface_configurations.insert(row[mode] + "/" + row[settings]);
+      EXPECT_GT(std::stoull(row[shaded]), 128u * 96u / 4) << row[mode];
+      EXPECT_LT(std::stoull(row[shaded]), 128u * 96u * 8) << row[mode];
+    }
+  EXPECT_EQ(surface_configurations, (std::set<std::string>{"forward/shadows=off", "forward/shadows=on", "htex/shadows=off", "htex/shadows=on"}));
   EXPECT_EQ(cell_counts, (std::set<std::string>{"1296", "10368"}));  // 6 * N^3 for N = 6, 12
   // The march's midpoint rule converges: a 4x finer step is more accurate for either quantity.
   ASSERT_EQ(march_rmse.size(), 4u);

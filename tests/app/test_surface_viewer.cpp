@@ -19,6 +19,8 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
 #include "renderer/surface/shadowed_forward_pass.hpp"
+#include "renderer/surface/htex_pass.hpp"
+#include "renderer/rt/acceleration_structure.hpp"
 #include "scene/surface_generators.hpp"
 #include "surface/forward_comparison.hpp"
 
@@ -51,13 +53,14 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   options.script = app::parse_script("frame 2\nui off\nshadows off\nframe 3\nscreenshot " + (dir / "plain.png").string() + "\nrender 160 120 " +
                                          (dir / "render.pfm").string() + "\nrender 160 120 " + (dir / "render.png").string() +
                                          "\nframe 4\nshadows on\nrender 160 120 " + (dir / "shadowed.pfm").string() +
+                                         "\nmode htex\nrender 160 120 " + (dir / "htex.pfm").string() + "\nmode forward" +
                                          "\nmode no-such-mode\nkey M\nframe 5\nui on\nscreenshot " + (dir / "ui.png").string() +
                                          "\nframe 6\nrotate 40 0\nzoom 1\nprint-camera\ntetlet-size 4\nframe 8\nclose\n",
                                      "test script");
   const app::ViewerReport report = app::run_surface_viewer(scene, options);
   EXPECT_EQ(report.validation_messages, 0u);
-  EXPECT_EQ(report.mode, "forward");  // M cycles through the one mode this device draws
-  ASSERT_EQ(report.files_written.size(), 5u);
+  EXPECT_EQ(report.mode, "htex");  // M cycles from forward to the next mode
+  ASSERT_EQ(report.files_written.size(), 6u);
 
   // Refused: an unknown mode, and a volume verb; each named in a message.
   ASSERT_EQ(report.messages.size(), 2u);
@@ -96,6 +99,30 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   EXPECT_LE(shadowed_worst, 1e-6);
   EXPECT_GT(darker, 100u);  // the blocks' shadows on the floor
 
+  // In htex mode the window's render is the Htex backend's image of that camera (which
+  // tests/surface holds to the CPU Htex lookup of CPU-shaded texels).
+  {
+    const SurfaceScene& lit = scene;
+    const surface::GpuSurfaceScene gpu = surface::upload(device, lit);
+    const rt::SceneAccel accel(device, lit);
+    const surface::HtexGeometry geometry(lit, htex::LayoutOptions{.texels_per_unit = 128.0});
+    surface::HtexPass htex_pass(device, geometry, {});
+    const surface::HtexImage htex = surface::render_htex(device, htex_pass, gpu, accel.tlas(), scene.camera, {160, 120});
+    const io::FloatImage htex_render = io::read_pfm((dir / "htex.pfm").string());
+    double htex_worst = 0.0, against_forward = 0.0;
+    for (size_t p = 0; p < size_t(160) * 120; ++p)
+      for (int c = 0; c < 3; ++c) {
+        htex_worst = std::max(htex_worst, std::abs(double(htex_render.pixels[3 * p + c]) - double(htex.rgba[4 * p + c])));
+        against_forward += std::abs(double(htex_render.pixels[3 * p + c]) - double(shadowed_render.pixels[3 * p + c]));
+      }
+    EXPECT_LE(htex_worst, 1e-6);
+    EXPECT_GT(against_forward, 0.0);  // a different backend: not the forward image again
+    EXPECT_EQ(htex.counters.hole_pixels, 0u);
+  }
+  // The panel's count of what the last frame shaded.
+  EXPECT_TRUE(report.last_frame.counted);
+  EXPECT_GT(report.last_frame.fragments, 0u);
+
   // The screenshot is that image encoded to 8-bit sRGB by the swapchain's blit, the PNG by the
   // writer: each rounds once, so they are at most 2 levels apart.
   int w = 0, h = 0, w2 = 0, h2 = 0;
@@ -121,10 +148,10 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   ASSERT_EQ(report.camera_lines.size(), 1u);
   const Camera parsed = app::camera_from_line(report.camera_lines[0], bounds_of(scene));
   EXPECT_NEAR(glm::distance(parsed.eye, report.camera.eye), 0.0, 1e-9);
-  // Every pass the frame ran has a time.
+  // Every pass the last (htex) frame ran has a time.
   std::vector<std::string> names;
   for (const auto& p : report.last_frame.gpu_passes) names.push_back(p.name);
-  for (const char* pass_name : {"depth pre-pass", "forward shading", "present-blit", "ui"})
+  for (const char* pass_name : {"pre-z + marking", "allocation", "shading", "gather", "present-blit", "ui"})
     EXPECT_NE(std::find(names.begin(), names.end(), pass_name), names.end()) << pass_name;
 }
 
