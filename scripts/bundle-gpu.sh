@@ -12,12 +12,13 @@ out="${1:-bundle}"
 rm -rf "$out"
 mkdir -p "$out/lib" "$out/layers"
 cp build/app/prismoid "$out/"
-# The GPU test suite too, so the numerical tests can run against the CPU reference there
-# (bundle/run-tests.sh); its libraries are a subset of prismoid's.
-[ -x build/tests/test_gpu ] && cp build/tests/test_gpu "$out/"
-# The ray-tracing tests (acceleration structures, the ray-tracing pipeline against the CPU BVH):
-# bundle/run-tests.sh rt
-[ -x build/tests/test_rt ] && cp build/tests/test_rt "$out/"
+# The GPU test suites too, so the numerical tests can run against the CPU reference there
+# (bundle/run-tests.sh [SUITE]); their libraries are a subset of prismoid's. test_gpu: volumes;
+# test_rt: acceleration structures and the ray-tracing pipeline against the CPU BVH;
+# test_surface_gpu: forward and shadowed forward; test_htex_gpu: the Htex passes;
+# test_restir_gi: ReSTIR GI.
+gpu_tests="test_gpu test_rt test_surface_gpu test_htex_gpu test_restir_gi"
+for t in $gpu_tests; do [ -x "build/tests/$t" ] && cp "build/tests/$t" "$out/"; done
 # glibc and the dynamic linker come from the target machine (newer glibc runs older binaries).
 ldd build/app/prismoid | awk '/=> \// {print $3}' |
   grep -vE '/(libc|libm|libdl|libpthread|librt|ld-linux-x86-64)\.so' |
@@ -30,7 +31,7 @@ if [ -f "$layer_json" ]; then
 fi
 # Debug symbols stay here: the device call carries at most 64 MiB.
 strip --strip-unneeded "$out/prismoid" "$out"/lib/*.so* "$out"/layers/*.so 2>/dev/null || true
-for t in test_gpu test_rt; do [ -f "$out/$t" ] && strip --strip-unneeded "$out/$t"; done
+for t in $gpu_tests; do [ -f "$out/$t" ] && strip --strip-unneeded "$out/$t"; done
 cat >"$out/prismoid.sh" <<'LAUNCH'
 #!/usr/bin/env bash
 # Runs the bundled prismoid with its own libraries and the machine's Vulkan driver.
@@ -47,8 +48,9 @@ exec "$here/${PRISMOID_BUNDLE_EXE:-prismoid}" "$@"
 LAUNCH
 chmod +x "$out/prismoid.sh"
 # The GPU tests with the same environment (validation layer on, as here).
-# bundle/run-tests.sh [rt] [gtest options]: test_gpu, or test_rt with "rt".
-printf '#!/usr/bin/env bash\nexe=test_gpu\nif [ "${1:-}" = rt ]; then exe=test_rt; shift; fi\nPRISMOID_BUNDLE_EXE=$exe exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
+# bundle/run-tests.sh [SUITE] [gtest options]: test_gpu, or test_SUITE (rt, surface_gpu,
+# htex_gpu, restir_gi).
+printf '#!/usr/bin/env bash\nexe=test_gpu\ncase "${1:-}" in rt|surface_gpu|htex_gpu|restir_gi) exe=test_$1; shift ;; esac\nPRISMOID_BUNDLE_EXE=$exe exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
 chmod +x "$out/run-tests.sh"
 # About 80 MB with the VTK, TetGen and image libraries: over the 64 MiB a device call carries, so
 # it also travels packed (about 17 MB): carry $out.tar.xz and unpack it there first.
