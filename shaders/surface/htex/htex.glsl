@@ -50,12 +50,15 @@ HtexHalfedgePoint htex_locate_in_face(uint face, vec3 bary) {
   return p;
 }
 
+// The unit vector along component k (0, 1 or 2). Components are set through it rather than by
+// a dynamically indexed write (b[k] += x): NVIDIA's driver (580) dropped such writes to a local
+// vector in ray-generation shaders, so texel points came out wrong on the GPU machine while the
+// same code was right in compute shaders and on lavapipe.
+vec3 htex_unit3(int k) { return vec3(equal(ivec3(k), ivec3(0, 1, 2))); }
+
 vec3 htex_face_barycentric(int halfedge, vec2 uv) {
   int k = htex_corner(halfedge);
-  vec3 b = vec3((1.0 - uv.x - uv.y) / 3.0);
-  b[k] += uv.x;
-  b[(k + 1) % 3] += uv.y;
-  return b;
+  return vec3((1.0 - uv.x - uv.y) / 3.0) + uv.x * htex_unit3(k) + uv.y * htex_unit3((k + 1) % 3);
 }
 
 vec2 htex_quad_coordinates(int halfedge, vec2 uv) { return htex_primary(halfedge) ? uv : vec2(1.0) - uv; }
@@ -106,8 +109,7 @@ HtexTexelPoint htex_texel_point(uint edge, uint n, uint i, uint j, bool snap_ver
     int c = htex_vertex_corner[i == n - 1u ? p : htex_next(p)];  // start(p) at (1, 0), end(p) at (0, 1)
     HtexTexelPoint s;
     s.face = uint(htex_face(c));
-    s.bary = vec3(0.0);
-    s.bary[htex_corner(c)] = 1.0;
+    s.bary = htex_unit3(htex_corner(c));
     s.ghost = false;
     s.vertex = true;
     return s;
