@@ -1,6 +1,9 @@
 #include "renderer/surface/surface_renderer.hpp"
 
 #include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
 #include <stdexcept>
 
 #include "renderer/vk/device.hpp"
@@ -14,6 +17,12 @@ std::vector<std::string> surface_modes(const vk::Device& device) {
   if (device.capabilities().geometry_shader) modes.push_back("forward");
   if (htex_device_problem(device).empty()) modes.push_back("htex");
   return modes;
+}
+
+double htex_texels_per_unit(const SurfaceScene& scene) {
+  const Bounds b = bounds_of(scene);
+  const double diagonal = glm::length(b.max - b.min);
+  return diagonal > 0.0 && std::isfinite(diagonal) ? kHtexTexelsPerDiagonal / diagonal : 1.0;
 }
 
 SurfaceRenderer::SurfaceRenderer(const vk::Device& device, const SurfaceScene& scene)
@@ -62,7 +71,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
     accel_ = std::make_unique<rt::SceneAccel>(device_, source_);  // origin: the bounds centre, as scene_.origin
   if (mode == "htex") {
     if (!htex_) {
-      htex_geometry_ = std::make_unique<HtexGeometry>(source_, htex::LayoutOptions{.texels_per_unit = 128.0});
+      htex_geometry_ = std::make_unique<HtexGeometry>(source_, htex::LayoutOptions{.texels_per_unit = htex_texels_per_unit(source_)});
       HtexSettings settings;
       settings.shadows = shadows_;
       htex_ = std::make_unique<HtexPass>(device_, *htex_geometry_, settings);

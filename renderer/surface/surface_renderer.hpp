@@ -18,6 +18,14 @@
 
 namespace prismoid::surface {
 
+// Htex's finest level: this many texels along the scene's bounding-box diagonal on its largest
+// quads (texels_per_unit = this / diagonal), so the finest level is about two texels per pixel
+// for the whole scene seen in a 1080p view; the level of detail picks coarser levels from
+// there. The size follows the scene, not its units (a scene in millimetres gets the same atlas
+// as one in metres).
+inline constexpr double kHtexTexelsPerDiagonal = 2048.0;
+double htex_texels_per_unit(const SurfaceScene& scene);
+
 // The surface modes this device can draw, in the order the window lists them: forward (per
 // pixel, renderer/surface/forward_pass and shadowed_forward_pass), htex (object space,
 // renderer/surface/htex_pass).

@@ -20,6 +20,7 @@
 #include "renderer/vk/instance.hpp"
 #include "renderer/surface/shadowed_forward_pass.hpp"
 #include "renderer/surface/htex_pass.hpp"
+#include "renderer/surface/surface_renderer.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
 #include "scene/surface_generators.hpp"
 #include "surface/forward_comparison.hpp"
@@ -105,7 +106,7 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
     const SurfaceScene& lit = scene;
     const surface::GpuSurfaceScene gpu = surface::upload(device, lit);
     const rt::SceneAccel accel(device, lit);
-    const surface::HtexGeometry geometry(lit, htex::LayoutOptions{.texels_per_unit = 128.0});
+    const surface::HtexGeometry geometry(lit, htex::LayoutOptions{.texels_per_unit = surface::htex_texels_per_unit(lit)});
     surface::HtexPass htex_pass(device, geometry, {});
     const surface::HtexImage htex = surface::render_htex(device, htex_pass, gpu, accel.tlas(), scene.camera, {160, 120});
     const io::FloatImage htex_render = io::read_pfm((dir / "htex.pfm").string());
