@@ -234,7 +234,7 @@ HtexGiImage render_htex_gi(const vk::Device& device, HtexPass& pass, HtexGi& gi,
       pass.record_gather(cmd, targets, timer);
     });
     vk::read_image(device, targets.color, sizeof(float) * 4, std::as_writable_bytes(std::span(rgba)));
-    for (size_t i = 0; i < rgba.size(); ++i) sum[i] += rgba[i];
+    for (size_t i = 0; i < rgba.size(); ++i) sum[i] += double(rgba[i]);
     if (keep_frames) out.frames.push_back(rgba);
   }
   image.rgba.resize(pixels * 4);
