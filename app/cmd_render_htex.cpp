@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "app/cli.hpp"
@@ -12,6 +13,7 @@
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
+#include "renderer/surface/htex_gi.hpp"
 #include "renderer/surface/htex_pass.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
@@ -26,7 +28,8 @@ bool wants_htex(const std::vector<std::string>& args) {
 }
 
 int cmd_render_htex(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse(args, 1, with_camera({"output", "size", "mode", "quantity", "texels-per-unit", "pool-pages", "stats", "device"}),
+  const ParsedArgs a = parse(args, 1, with_camera({"output", "size", "mode", "quantity", "texels-per-unit", "pool-pages", "stats", "device", "gi",
+                                                         "gi-frames", "gi-neighbours", "gi-fallback"}),
                              {"validate", "no-shadows"});
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
@@ -42,7 +45,31 @@ int cmd_render_htex(const std::vector<std::string>& args) {
     if (end == v.c_str() || *end != '\0' || !(layout.texels_per_unit > 0.0) || !std::isfinite(layout.texels_per_unit))
       throw InputError("--texels-per-unit", "must be a positive number, got '" + v + "'");
   }
+  // GI (ReSTIR GI hosted by the Htex backend, renderer/surface/htex_gi.hpp).
+  const std::string gi_mode = a.has("gi") ? a.values.at("gi") : "off";
+  if (gi_mode != "off" && gi_mode != "biased" && gi_mode != "unbiased")
+    throw InputError("--gi", "must be off, biased or unbiased, got '" + gi_mode + "'");
+  const bool gi_on = gi_mode != "off";
+  surface::RestirGiSettings gi_settings;
+  gi_settings.unbiased = gi_mode == "unbiased";
+  uint32_t gi_frames = 8;
+  if (a.has("gi-frames")) gi_frames = parse_uint("gi-frames", a.values.at("gi-frames"));
+  if (gi_frames == 0) throw InputError("--gi-frames", "at least one frame");
+  if (a.has("gi-neighbours")) gi_settings.spatial_neighbours = parse_uint("gi-neighbours", a.values.at("gi-neighbours"));
+  if (gi_settings.spatial_neighbours > 16) throw InputError("--gi-neighbours", "at most 16 spatial neighbours");
+  if (a.has("gi-fallback")) {
+    const std::string& v = a.values.at("gi-fallback");
+    if (v != "on" && v != "off") throw InputError("--gi-fallback", "must be on or off, got '" + v + "'");
+    gi_settings.fallback = v == "on";
+  }
+  if (!gi_on && (a.has("gi-frames") || a.has("gi-neighbours") || a.has("gi-fallback")))
+    throw InputError("--gi", "--gi-frames, --gi-neighbours and --gi-fallback need --gi biased|unbiased");
   surface::HtexSettings settings;
+  if (gi_on) {
+    settings.pool_pages = 64;  // GI keeps 256 B per pool texel
+    settings.indirect = true;
+    settings.sky_ambient = false;
+  }
   if (a.has("pool-pages")) settings.pool_pages = parse_uint("pool-pages", a.values.at("pool-pages"));
   if (settings.pool_pages == 0) throw InputError("--pool-pages", "the pool needs at least one page");
   settings.shadows = a.flags.count("no-shadows") == 0;
@@ -59,7 +86,14 @@ int cmd_render_htex(const std::vector<std::string>& args) {
   const rt::SceneAccel accel(device, lit);
   const surface::HtexGeometry geometry(lit, layout);
   surface::HtexPass pass(device, geometry, settings);
-  const surface::HtexImage image = surface::render_htex(device, pass, gpu, accel.tlas(), camera, size);
+  std::unique_ptr<surface::HtexGi> gi;
+  surface::HtexImage image;
+  if (gi_on) {
+    gi = std::make_unique<surface::HtexGi>(device, pass, gpu, accel);
+    image = surface::render_htex_gi(device, pass, *gi, gpu, accel.tlas(), camera, size, gi_frames, gi_settings).image;
+  } else {
+    image = surface::render_htex(device, pass, gpu, accel.tlas(), camera, size);
+  }
   io::FloatImage out;
   out.width = image.width;
   out.height = image.height;
@@ -80,6 +114,10 @@ int cmd_render_htex(const std::vector<std::string>& args) {
   std::cout << "  total: " << json_number(total) << " ms GPU\n  covered: " << covered << " pixels; marked " << c.marked_shadels
             << " shadels in " << c.marked_groups << " groups; shaded " << c.shaded_texels << " texels; pool " << settings.pool_pages
             << " pages (" << c.pool_bytes << " bytes)\n";
+  if (gi_on)
+    std::cout << "  GI " << gi_mode << ": " << gi_frames << " frames averaged, " << gi_settings.spatial_neighbours << " neighbours, fallback "
+              << (gi_settings.fallback ? "on" : "off") << "; reservoirs " << gi->reservoir_bytes() << " bytes, persistent layer "
+              << gi->persistent_bytes() << " bytes\n";
   if (c.bias_levels > 0) std::cout << "  the pool was too small: level of detail biased by " << c.bias_levels << "\n";
   if (c.overflow)
     std::cout << "  the pool is too small even at the coarsest level: " << c.unallocated_groups << " groups not shaded, " << c.hole_pixels
@@ -100,7 +138,12 @@ int cmd_render_htex(const std::vector<std::string>& args) {
        << ",\n  \"resident_groups\": " << c.resident_groups << ",\n  \"shaded_shadels\": " << c.shaded_shadels << ",\n  \"shaded_texels\": "
        << c.shaded_texels << ",\n  \"bias_levels\": " << c.bias_levels << ",\n  \"overflow\": " << (c.overflow ? "true" : "false")
        << ",\n  \"unallocated_groups\": " << c.unallocated_groups << ",\n  \"hole_pixels\": " << c.hole_pixels
-       << ",\n  \"default_lighting\": " << (lit.directional_lights.size() != scene.directional_lights.size() ? "true" : "false")
+       << ",\n  \"gi\": \"" << gi_mode << "\"";
+    if (gi_on)
+      js << ",\n  \"gi_frames\": " << gi_frames << ",\n  \"gi_neighbours\": " << gi_settings.spatial_neighbours
+         << ",\n  \"gi_fallback\": " << (gi_settings.fallback ? "true" : "false") << ",\n  \"gi_reservoir_bytes\": " << gi->reservoir_bytes()
+         << ",\n  \"gi_persistent_bytes\": " << gi->persistent_bytes() << ",\n  \"gi_persistent_texels\": " << gi->persistent_texels();
+    js << ",\n  \"default_lighting\": " << (lit.directional_lights.size() != scene.directional_lights.size() ? "true" : "false")
        << ",\n  \"passes\": [";
     for (size_t i = 0; i < image.passes.size(); ++i)
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(image.passes[i].name) << "\", \"gpu_ms\": " << json_number(image.passes[i].gpu_ms) << "}";

@@ -216,7 +216,8 @@ void HtexPass::record_marking(VkCommandBuffer cmd, const GpuSurfaceScene& scene,
   bind(scene, tlas, targets);
   extent_ = targets.extent;
   const VkExtent2D e = targets.extent;
-  const gpu::SurfaceFrame frame = surface_frame(scene, camera, e, glm::dvec2(0.0));
+  gpu::SurfaceFrame frame = surface_frame(scene, camera, e, glm::dvec2(0.0));
+  if (!settings_.sky_ambient) frame.sky_up.w = 1.0f;  // shade_surface_point leaves the sky's ambient term to GI
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
 
   // This frame's counters, occupancy and visibility start at zero; the page table, free list and

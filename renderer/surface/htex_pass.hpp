@@ -57,6 +57,7 @@ struct HtexSettings {
   bool indirect = false;           // allocate indirect_radiance() and add it at gather (GI hook)
   float lod_bias = 0.0f;           // added to the level of detail before rounding
   bool snap_vertex_corners = true; // false only in tests: the control that shows seams
+  bool sky_ambient = true;         // false with GI (HtexGi): frame.sky_up.w = 1, the sky arrives through GI's rays
 };
 
 // Empty when the device can run the Htex backend, else why not (what HtexPass would throw).

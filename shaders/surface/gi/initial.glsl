@@ -56,7 +56,7 @@ GiReservoir gi_new_candidate(GiPoint p, inout uint rng, out float pdf) {
 }
 
 void gi_initial_main() {
-  const uint q = gl_LaunchIDEXT.y * gl_LaunchSizeEXT.x + gl_LaunchIDEXT.x;
+  const uint q = gi_launch_sample();
   if (q >= gi_settings.params.y) return;
   const uint flags = gi_settings.params.z;
   GiPoint p = gi_point_of_sample(q);

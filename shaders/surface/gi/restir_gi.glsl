@@ -66,6 +66,14 @@ uint gi_slot(uint sample_index);
 bool gi_history_valid(uint sample_index);
 bool gi_neighbor(uint sample_index, uint k, inout uint rng, out uint neighbor_sample);
 bool gi_fallback_slot(uint sample_index, out uint slot);
+// The sample this invocation handles (>= GiSettings sample count: none). By default the 2D
+// launch index, row by row; a host that launches otherwise (Htex: 8 x 8 texels per task shadel,
+// indirectly) defines PRISMOID_GI_HOST_LAUNCH before including this file and defines it.
+#ifdef PRISMOID_GI_HOST_LAUNCH
+uint gi_launch_sample();
+#else
+uint gi_launch_sample() { return gl_LaunchIDEXT.y * gl_LaunchSizeEXT.x + gl_LaunchIDEXT.x; }
+#endif
 
 // ---- Random numbers -----------------------------------------------------------------------
 // A PCG-style integer hash (O'Neill's PCG output permutation on one LCG step).

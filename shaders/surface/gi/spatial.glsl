@@ -9,7 +9,7 @@
 #define PRISMOID_GI_MAX_NEIGHBOURS 16
 
 void gi_spatial_main() {
-  const uint q = gl_LaunchIDEXT.y * gl_LaunchSizeEXT.x + gl_LaunchIDEXT.x;
+  const uint q = gi_launch_sample();
   if (q >= gi_settings.params.y) return;
   GiPoint p = gi_point_of_sample(q);
   uint rng = gi_seed(q, 1u);

@@ -7,17 +7,23 @@
 
 #include "../../shared/htex.h"
 
-layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_MESHES) readonly buffer HtexMeshBuffer {
+// The descriptor set of the tables (0 for the Htex passes; a pass whose set 0 is taken, e.g. the
+// GI host, defines another before including this file).
+#ifndef PRISMOID_HTEX_SET
+#define PRISMOID_HTEX_SET 0
+#endif
+
+layout(std430, set = PRISMOID_HTEX_SET, binding = PRISMOID_HTEX_BINDING_MESHES) readonly buffer HtexMeshBuffer {
   HtexAtlasGpu htex_atlas;
   HtexMeshGpu htex_meshes[];
 };
-layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_TWIN) readonly buffer HtexTwinBuffer { int htex_twin[]; };
-layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_EDGE_OF) readonly buffer HtexEdgeOfBuffer { uint htex_edge_of[]; };
-layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_EDGE_HALFEDGE) readonly buffer HtexEdgeHalfedgeBuffer { int htex_edge_halfedge[]; };
-layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_FACE_OF_TRIANGLE) readonly buffer HtexFaceOfTriangleBuffer { uint htex_face_of_triangle[]; };
-layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_TRIANGLE_OF_FACE) readonly buffer HtexTriangleOfFaceBuffer { uint htex_triangle_of_face[]; };
-layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_SHADEL_REGION) readonly buffer HtexShadelRegionBuffer { uint htex_shadel_region[]; };
-layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_VERTEX_CORNER) readonly buffer HtexVertexCornerBuffer { int htex_vertex_corner[]; };
+layout(std430, set = PRISMOID_HTEX_SET, binding = PRISMOID_HTEX_BINDING_TWIN) readonly buffer HtexTwinBuffer { int htex_twin[]; };
+layout(std430, set = PRISMOID_HTEX_SET, binding = PRISMOID_HTEX_BINDING_EDGE_OF) readonly buffer HtexEdgeOfBuffer { uint htex_edge_of[]; };
+layout(std430, set = PRISMOID_HTEX_SET, binding = PRISMOID_HTEX_BINDING_EDGE_HALFEDGE) readonly buffer HtexEdgeHalfedgeBuffer { int htex_edge_halfedge[]; };
+layout(std430, set = PRISMOID_HTEX_SET, binding = PRISMOID_HTEX_BINDING_FACE_OF_TRIANGLE) readonly buffer HtexFaceOfTriangleBuffer { uint htex_face_of_triangle[]; };
+layout(std430, set = PRISMOID_HTEX_SET, binding = PRISMOID_HTEX_BINDING_TRIANGLE_OF_FACE) readonly buffer HtexTriangleOfFaceBuffer { uint htex_triangle_of_face[]; };
+layout(std430, set = PRISMOID_HTEX_SET, binding = PRISMOID_HTEX_BINDING_SHADEL_REGION) readonly buffer HtexShadelRegionBuffer { uint htex_shadel_region[]; };
+layout(std430, set = PRISMOID_HTEX_SET, binding = PRISMOID_HTEX_BINDING_VERTEX_CORNER) readonly buffer HtexVertexCornerBuffer { int htex_vertex_corner[]; };
 
 // ---- Halfedges (global ids; scene/halfedge_mesh.hpp) ----------------------------------------
 int htex_face(int h) { return h / 3; }
