@@ -9,6 +9,7 @@
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/flip.hpp"
 #include "renderer/reference/image_error.hpp"
+#include "renderer/reference/path_tracer.hpp"
 #include "renderer/surface/surface_renderer.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/memory.hpp"
@@ -76,9 +77,36 @@ ReferenceImage reference_image(const SurfaceScene& scene, VkExtent2D extent, uin
   return r;
 }
 
+// What a GI mode converges to: emission + direct + one bounce, all with exact visibility: the
+// path tracer with at most two reflections (CPU, double).
+ReferenceImage path_reference(const SurfaceScene& scene, VkExtent2D extent, uint32_t spp) {
+  reference::PathTracerSettings settings;
+  settings.width = extent.width;
+  settings.height = extent.height;
+  settings.samples_per_pixel = spp;
+  settings.max_bounces = 2;
+  const reference::PathTracedImage image = reference::path_trace(scene, scene.camera, settings);
+  ReferenceImage r;
+  r.ms = image.seconds * 1000.0;
+  r.rgba.resize(image.mean.size() * 4);
+  double peak = 0.0;
+  for (size_t p = 0; p < image.mean.size(); ++p) {
+    for (int c = 0; c < 3; ++c) {
+      r.rgba[4 * p + c] = float(image.mean[p][c]);
+      peak = std::max(peak, image.mean[p][c]);
+    }
+    r.rgba[4 * p + 3] = 1.0f;
+  }
+  r.peak = peak > 0.0 ? peak : 1.0;
+  return r;
+}
+
+bool gi_mode(const std::string& mode) { return mode == "htex-gi" || mode == "htex-gi-unbiased" || mode == "htex-pt"; }
+
 }  // namespace
 
-std::string surface_reference_kind(const std::string&) {
+std::string surface_reference_kind(const std::string& mode) {
+  if (gi_mode(mode)) return "the CPU path tracer with at most two reflections (emission + direct + one bounce, exact shadows)";
   return "direct light (CPU, double; with the same shadow rays as the GPU where shadows=on)";
 }
 
@@ -97,12 +125,21 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     for (const std::string& mode : renderer.modes()) {
       renderer.set_shadows(shadows);
       // The CPU reference of what the mode computes, once per shadow setting.
-      const std::string ref_key = shadows ? "shadows" : "none";
-      if (!references.count(ref_key)) references[ref_key] = reference_image(scene, extent, options.supersample, shadows);
+      if (gi_mode(mode) && !shadows) continue;  // GI's bounce rays see occlusion: only with shadows
+      const std::string ref_key = gi_mode(mode) ? "path" : shadows ? "shadows" : "none";
+      if (!references.count(ref_key))
+        references[ref_key] = gi_mode(mode) ? path_reference(scene, extent, options.path_spp)
+                                            : reference_image(scene, extent, options.supersample, shadows);
       const ReferenceImage& ref = references.at(ref_key);
       const std::vector<float>& reference = ref.rgba;
       const double peak = ref.peak, reference_ms = ref.ms;
       render(device, renderer, camera, mode, extent);  // warm-up: pipelines, first-use work
+      // GI modes: the reservoirs accumulate over a still camera's frames, as in the window; the
+      // row measures the frame after options.gi_frames of them.
+      if (gi_mode(mode)) {
+        renderer.reset_gi();
+        for (uint32_t i = 0; i + options.frames < options.gi_frames; ++i) render(device, renderer, camera, mode, extent);
+      }
       std::vector<double> totals;
       std::vector<std::vector<vk::PassTiming>> timings;
       Frame f;
@@ -120,6 +157,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.quantity = "color";
       m.mode = mode;
       m.settings = shadows ? "shadows=on" : "shadows=off";
+      if (gi_mode(mode)) m.settings += " frames=" + std::to_string(renderer.gi_frames());
       m.ordering = "-";
       m.width = extent.width;
       m.height = extent.height;

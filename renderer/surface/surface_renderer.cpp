@@ -15,7 +15,8 @@ namespace prismoid::surface {
 std::vector<std::string> surface_modes(const vk::Device& device) {
   std::vector<std::string> modes;
   if (device.capabilities().geometry_shader) modes.push_back("forward");
-  if (htex_device_problem(device).empty()) modes.push_back("htex");
+  if (htex_device_problem(device).empty())
+    for (const char* m : {"htex", "htex-gi", "htex-gi-unbiased", "htex-pt"}) modes.push_back(m);
   return modes;
 }
 
@@ -38,11 +39,12 @@ void SurfaceRenderer::set_shadows(bool on) {
     throw vk::NoSuitableDevice(device_.capabilities().name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and "
                                "VK_KHR_acceleration_structure): shadows need it");
   shadows_ = on;
-  if (htex_) {
-    HtexSettings settings = htex_->settings();
-    settings.shadows = on;
-    htex_->set_settings(settings);
-  }
+  for (HtexPass* pass : {htex_.get(), gi_pass_.get()})
+    if (pass) {
+      HtexSettings settings = pass->settings();
+      settings.shadows = on;
+      pass->set_settings(settings);
+    }
 }
 
 SurfaceRenderer::~SurfaceRenderer() = default;
@@ -67,8 +69,13 @@ void SurfaceRenderer::resize(VkExtent2D extent) {
 void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer) {
   if (const std::string problem = mode_problem(mode); !problem.empty()) throw InputError("--mode " + mode, problem);
   last_mode_ = mode;
-  if ((shadows_ || mode == "htex") && !accel_)
+  const bool htex_mode = mode.rfind("htex", 0) == 0;
+  if ((shadows_ || htex_mode) && !accel_)
     accel_ = std::make_unique<rt::SceneAccel>(device_, source_);  // origin: the bounds centre, as scene_.origin
+  if (htex_mode && mode != "htex") {
+    record_htex_gi(cmd, camera, mode, timer);
+    return;
+  }
   if (mode == "htex") {
     if (!htex_) {
       htex_geometry_ = std::make_unique<HtexGeometry>(source_, htex::LayoutOptions{.texels_per_unit = htex_texels_per_unit(source_)});
@@ -94,15 +101,54 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   display_ = &forward_targets_->color;
 }
 
+RestirGiSettings SurfaceRenderer::gi_settings(const std::string& mode) {
+  RestirGiSettings s;
+  s.unbiased = mode == "htex-gi-unbiased";
+  if (mode == "htex-pt") {  // one fresh bounce sample per texel and frame, nothing reused
+    s.temporal = false;
+    s.fallback = false;
+    s.spatial_neighbours = 0;
+  }
+  return s;
+}
+
+void SurfaceRenderer::reset_gi() {
+  if (gi_) gi_->reset();
+  gi_frame_ = 0;
+}
+
+void SurfaceRenderer::record_htex_gi(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer) {
+  if (!gi_pass_) {
+    if (!htex_geometry_)
+      htex_geometry_ = std::make_unique<HtexGeometry>(source_, htex::LayoutOptions{.texels_per_unit = htex_texels_per_unit(source_)});
+    HtexSettings settings;
+    settings.shadows = shadows_;
+    settings.indirect = true;
+    settings.sky_ambient = false;  // the sky arrives through GI's bounce rays, occluded
+    settings.pool_pages = kGiPoolPages;
+    gi_pass_ = std::make_unique<HtexPass>(device_, *htex_geometry_, settings);
+    gi_ = std::make_unique<HtexGi>(device_, *gi_pass_, scene_, *accel_);
+  }
+  if (!htex_targets_) htex_targets_ = std::make_unique<HtexTargets>(create_htex_targets(device_, extent_));
+  gi_pass_->record_marking(cmd, scene_, accel_->tlas(), *htex_targets_, camera, timer);
+  gi_pass_->record_allocation(cmd, *htex_targets_, timer);
+  gi_pass_->record_shading(cmd, *htex_targets_, timer);
+  gi_->record(cmd, camera, extent_, gi_frame_++, gi_settings(mode), &timer);
+  gi_pass_->record_gather(cmd, *htex_targets_, timer);
+  display_ = &htex_targets_->color;
+}
+
 SurfaceRenderer::FrameCounts SurfaceRenderer::read_counts() const {
   FrameCounts c;
-  if (last_mode_ == "htex" && htex_) {
-    const HtexCounters h = htex_->read_counters();
+  const HtexPass* pass = last_mode_ == "htex" ? htex_.get() : last_mode_.rfind("htex", 0) == 0 ? gi_pass_.get() : nullptr;
+  if (pass) {
+    const HtexCounters h = pass->read_counters();
     c.shaded = h.shaded_texels;
-    c.mode_bytes = h.pool_bytes + htex_->tables().bytes;
+    c.mode_bytes = h.pool_bytes + pass->tables().bytes + (pass == gi_pass_.get() ? gi_->reservoir_bytes() + gi_->persistent_bytes() : 0);
     c.detail = std::to_string(h.marked_shadels) + " shadels marked, " + std::to_string(h.resident_groups) + " groups resident, " +
                std::to_string(h.allocated_pages) + " pages allocated, " + std::to_string(h.released_pages) + " released" +
                (h.bias_levels ? ", bias " + std::to_string(h.bias_levels) + " levels" : "") + (h.overflow ? ", POOL OVERFLOW" : "");
+    if (pass == gi_pass_.get()) c.detail += "; GI " + std::to_string(gi_frame_) + " frames";
   } else if (last_mode_ == "forward" && shadows_ && shadowed_) {
     c.shaded = shadowed_->read_shading_invocations();
   } else if (last_mode_ == "forward" && forward_) {

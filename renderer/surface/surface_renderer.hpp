@@ -11,6 +11,7 @@
 #include "renderer/surface/shadowed_forward_pass.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
 #include "renderer/surface/htex_pass.hpp"
+#include "renderer/surface/htex_gi.hpp"
 #include "renderer/surface/htex_tables.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
@@ -24,11 +25,17 @@ namespace prismoid::surface {
 // there. The size follows the scene, not its units (a scene in millimetres gets the same atlas
 // as one in metres).
 inline constexpr double kHtexTexelsPerDiagonal = 2048.0;
+// The GI modes' pool: GI keeps 256 bytes per pool texel (samples, reservoirs, stamps), 16 times
+// the pool's own 16, so 256 pages of 4096 texels hold 16 MiB of radiance and 256 MiB of GI.
+inline constexpr uint32_t kGiPoolPages = 256;
 double htex_texels_per_unit(const SurfaceScene& scene);
 
 // The surface modes this device can draw, in the order the window lists them: forward (per
 // pixel, renderer/surface/forward_pass and shadowed_forward_pass), htex (object space,
-// renderer/surface/htex_pass).
+// renderer/surface/htex_pass), and Htex with one-bounce indirect light (renderer/surface/
+// htex_gi): htex-gi (ReSTIR GI as the paper ships it, biased), htex-gi-unbiased (the
+// bias-corrected combination) and htex-pt (one bounce sample per texel and frame, no reuse: plain
+// path tracing in object space, the baseline ReSTIR is measured against).
 std::vector<std::string> surface_modes(const vk::Device& device);
 
 class SurfaceRenderer {
@@ -68,6 +75,12 @@ class SurfaceRenderer {
   };
   FrameCounts read_counts() const;
 
+  // The GI modes' settings for `mode` (htex-gi, htex-gi-unbiased, htex-pt).
+  static RestirGiSettings gi_settings(const std::string& mode);
+  // Frames of GI since its reservoirs were last forgotten (the bench lets them accumulate).
+  uint32_t gi_frames() const { return gi_frame_; }
+  void reset_gi();
+
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
   const SurfaceScene& scene() const { return source_; }
 
@@ -86,8 +99,12 @@ class SurfaceRenderer {
   std::unique_ptr<HtexGeometry> htex_geometry_;
   std::unique_ptr<HtexPass> htex_;
   std::unique_ptr<HtexTargets> htex_targets_;
+  std::unique_ptr<HtexPass> gi_pass_;  // indirect buffer on, sky ambient off, its own pool
+  std::unique_ptr<HtexGi> gi_;
+  uint32_t gi_frame_ = 0;
   const vk::Image* display_ = nullptr;  // the last recorded frame's colour
   std::string last_mode_;
+  void record_htex_gi(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer);
 };
 
 }  // namespace prismoid::surface

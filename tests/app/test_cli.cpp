@@ -383,8 +383,9 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   // with its tetrahedra and two steps, optical depth and colour each (6); the cell-count sweep's
   // two meshes, optical depth and colour each (4); VTK's three mappers beside the default
   // dataset's colour and the ball's transmittance (6); the Cornell box in each surface mode
-  // this device draws (forward, htex), with shadows off and on (4).
-  ASSERT_EQ(rows.size(), 30u) << slurp(dir / "bench.csv");
+  // this device draws (forward, htex with shadows off and on; htex-gi, htex-gi-unbiased and
+  // htex-pt with shadows: 7).
+  ASSERT_EQ(rows.size(), 33u) << slurp(dir / "bench.csv");
   std::map<std::string, double> flip_of;  // the default dataset's colour, by mode/settings
   std::multiset<std::string> peers;        // quantity/mode of the wall-clock rows
   std::map<std::string, double> default_rmse, default_ssim;  // by quantity/mode/settings
@@ -412,7 +413,10 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
     if (row[sweep] == "cells") cell_counts.insert(row[cells]);
     if (row[quantity] == "color") {  // FLIP: 0 identical .. 1; the close images here are near 0
       const double f = std::stod(row[flip]);
-      EXPECT_TRUE(f >= 0.0 && f < 0.05) << row[dataset] << " " << row[mode] << " flip " << f;
+      // (GI rows carry Monte Carlo noise against a path-traced reference: looser, compared below)
+      const bool gi = row[mode].rfind("htex-", 0) == 0;
+      EXPECT_TRUE(f >= 0.0 && f < (gi ? 0.25 : 0.05)) << row[dataset] << " " << row[mode] << " flip " << f;
+      if (row[sweep] == "surfaces") flip_of[row[mode] + "/" + row[settings].substr(0, row[settings].find(' '))] = f;
       if (row[dataset].rfind("default", 0) == 0) flip_of[row[mode] + "/" + row[settings]] = f;
     } else {
       EXPECT_EQ(row[flip], "") << row[quantity];
@@ -433,11 +437,16 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   for (const auto& row : rows)
     if (row[sweep] == "surfaces") {
       EXPECT_EQ(row[dataset], "cornell-box");
-      surface_configurations.insert(row[mode] + "/" + row[settings]);
+      surface_configurations.insert(row[mode] + "/" + row[settings].substr(0, row[settings].find(' ')));
       EXPECT_GT(std::stoull(row[shaded]), 128u * 96u / 4) << row[mode];
       EXPECT_LT(std::stoull(row[shaded]), 128u * 96u * 8) << row[mode];
     }
-  EXPECT_EQ(surface_configurations, (std::set<std::string>{"forward/shadows=off", "forward/shadows=on", "htex/shadows=off", "htex/shadows=on"}));
+  // Reuse pays: after the same frames, ReSTIR GI's image is perceptually closer to the path
+  // tracer than one fresh bounce sample per texel.
+  EXPECT_LT(flip_of.at("htex-gi/shadows=on"), flip_of.at("htex-pt/shadows=on"));
+  EXPECT_EQ(surface_configurations,
+            (std::set<std::string>{"forward/shadows=off", "forward/shadows=on", "htex/shadows=off", "htex/shadows=on", "htex-gi/shadows=on",
+                                   "htex-gi-unbiased/shadows=on", "htex-pt/shadows=on"}));
   EXPECT_EQ(cell_counts, (std::set<std::string>{"1296", "10368"}));  // 6 * N^3 for N = 6, 12
   // The march's midpoint rule converges: a 4x finer step is more accurate for either quantity.
   ASSERT_EQ(march_rmse.size(), 4u);

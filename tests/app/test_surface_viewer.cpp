@@ -56,11 +56,11 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
                                          "\nframe 4\nshadows on\nrender 160 120 " + (dir / "shadowed.pfm").string() +
                                          "\nmode htex\nrender 160 120 " + (dir / "htex.pfm").string() + "\nmode forward" +
                                          "\nmode no-such-mode\nkey M\nframe 5\nui on\nscreenshot " + (dir / "ui.png").string() +
-                                         "\nframe 6\nrotate 40 0\nzoom 1\nprint-camera\ntetlet-size 4\nframe 8\nclose\n",
+                                         "\nframe 6\nmode htex-gi\nrotate 40 0\nzoom 1\nprint-camera\ntetlet-size 4\nframe 8\nclose\n",
                                      "test script");
   const app::ViewerReport report = app::run_surface_viewer(scene, options);
   EXPECT_EQ(report.validation_messages, 0u);
-  EXPECT_EQ(report.mode, "htex");  // M cycles from forward to the next mode
+  EXPECT_EQ(report.mode, "htex-gi");  // M cycled from forward to htex; the script then chose GI
   ASSERT_EQ(report.files_written.size(), 6u);
 
   // Refused: an unknown mode, and a volume verb; each named in a message.
@@ -149,10 +149,10 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   ASSERT_EQ(report.camera_lines.size(), 1u);
   const Camera parsed = app::camera_from_line(report.camera_lines[0], bounds_of(scene));
   EXPECT_NEAR(glm::distance(parsed.eye, report.camera.eye), 0.0, 1e-9);
-  // Every pass the last (htex) frame ran has a time.
+  // Every pass the last (Htex + ReSTIR GI) frame ran has a time.
   std::vector<std::string> names;
   for (const auto& p : report.last_frame.gpu_passes) names.push_back(p.name);
-  for (const char* pass_name : {"pre-z + marking", "allocation", "shading", "gather", "present-blit", "ui"})
+  for (const char* pass_name : {"pre-z + marking", "allocation", "shading", "gi initial+temporal", "gi spatial", "gather", "present-blit", "ui"})
     EXPECT_NE(std::find(names.begin(), names.end(), pass_name), names.end()) << pass_name;
 }
 

@@ -167,7 +167,11 @@ TEST_F(RestirGiTest, FurnaceWithoutSpatialReuseIsOneBounce) {
     }
     std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
     const double median = errors[errors.size() / 2];
-    EXPECT_LT(highest, exact * (1.0 + 1e-4));
+    // No sample above the closed form beyond float rounding: x2's direct light sums 1279
+    // closed-form area-light terms, which tests/app/test_cli_forward.cpp bounds by 3e-4 on the
+    // area part A Le = 0.5 of the furnace's direct light (6e-4 relative); the estimate A Lo
+    // carries that relative bound.
+    EXPECT_LT(highest, exact * (1.0 + 6e-4));
     EXPECT_LT(median, 1e-4);
     EXPECT_NEAR(mean, exact, 0.05 * exact);  // the shadow loss near edges (measured 3%)
     for (const auto& r : gi.read_reservoirs()) {
