@@ -11,6 +11,7 @@
 
 #include "renderer/reference/area_light.hpp"
 #include "renderer/reference/shadow_rays.hpp"
+#include "shaders/shared/surface.h"
 #include "renderer/reference/surface_bsdf.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/input_error.hpp"
@@ -49,8 +50,14 @@ struct Prepared {
   std::vector<uint32_t> first_triangle;  // per mesh
   std::vector<Emitter> emitters;
   std::optional<ShadowRays> shadows;
+  double scale = 0.0;  // half the bounds' largest side, as GpuSurfaceScene::scale
   Prepared(const SurfaceScene& scene, bool with_shadows) {
     if (with_shadows) shadows.emplace(scene);
+    {
+      const Bounds b = bounds_of(scene);
+      const glm::dvec3 half = b.max - b.center();
+      scale = std::max(std::abs(half.x), std::max(std::abs(half.y), std::abs(half.z)));
+    }
     uint32_t offset = 0;
     for (const SceneMesh& mesh : scene.meshes) {
       first_triangle.push_back(offset);
@@ -199,7 +206,8 @@ class PointShader {
   }
 
   glm::dvec3 area(const Emitter& e, const glm::dvec3& p, DirectLightSample& out) {
-    if (!(glm::dot(e.normal, p - e.v[0]) > 0.0)) return glm::dvec3(0.0);  // behind the emitter
+    // Behind the emitter, or in its plane within PRISMOID_EMITTER_PLANE_EPSILON of the scale.
+    if (!(glm::dot(e.normal, p - e.v[0]) > PRISMOID_EMITTER_PLANE_EPSILON * prepared_.scale)) return glm::dvec3(0.0);
     Polygon polygon{e.v[0] - p, e.v[1] - p, e.v[2] - p};
     polygon = clip_to_hemisphere(clip_to_hemisphere(polygon, geometric_), n_);
     if (polygon.size() < 3) return glm::dvec3(0.0);

@@ -126,7 +126,9 @@ vec3 emitter_specular(SurfacePoint sp, ShadingMaterial m, PolygonCorners poly, i
 
 vec3 emitter_light(SurfacePoint sp, ShadingMaterial m, EmitterGpu e) {
   vec3 p = sp.position;
-  if (!(dot(e.normal.xyz, p - e.v0.xyz) > 0.0)) return vec3(0.0);  // its back: emitters are one-sided
+  // Its back (emitters are one-sided), or its plane within PRISMOID_EMITTER_PLANE_EPSILON.
+  float scale = frame.subpixel.z > 0.0 ? frame.subpixel.z : max(max(abs(p.x), abs(p.y)), max(abs(p.z), 1.0));
+  if (!(dot(e.normal.xyz, p - e.v0.xyz) > float(PRISMOID_EMITTER_PLANE_EPSILON) * scale)) return vec3(0.0);
   PolygonCorners corners;
   corners[0] = e.v0.xyz - p;
   corners[1] = e.v1.xyz - p;
