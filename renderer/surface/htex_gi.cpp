@@ -59,12 +59,7 @@ vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLa
 }
 
 rt::RayTracingPipelineDesc pipeline_desc(VkPipelineLayout layout) {
-  rt::RayTracingPipelineDesc d;
-  d.raygen = {"surface/gi/htex_samples.rgen", "surface/gi/htex_initial.rgen", "surface/gi/htex_spatial.rgen"};
-  d.miss = {"surface/rt/shadow.rmiss", "surface/rt/hit.rmiss"};  // PRISMOID_SURFACE_MISS_*
-  d.hit_groups = {{"surface/rt/hit.rchit", {}}};                  // PRISMOID_SURFACE_HIT_GROUP
-  d.layout = layout;
-  return d;
+  return surface_rt_pipeline({"surface/gi/htex_samples.rgen", "surface/gi/htex_initial.rgen", "surface/gi/htex_spatial.rgen"}, layout);
 }
 
 void rt_barrier(VkCommandBuffer cmd) {

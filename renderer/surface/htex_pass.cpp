@@ -59,12 +59,7 @@ uint32_t checked_pages(const vk::Device& device, uint32_t pages) {
 }
 
 rt::RayTracingPipelineDesc shade_desc(VkPipelineLayout layout) {
-  rt::RayTracingPipelineDesc d;
-  d.raygen = {"surface/htex/shade.rgen", "surface/htex/shade_unshadowed.rgen"};
-  d.miss = {"surface/rt/shadow.rmiss", "surface/rt/hit.rmiss"};  // PRISMOID_SURFACE_MISS_SHADOW, _HIT
-  d.hit_groups = {{"surface/rt/hit.rchit", {}}};                  // PRISMOID_SURFACE_HIT_GROUP
-  d.layout = layout;
-  return d;
+  return surface_rt_pipeline({"surface/htex/shade.rgen", "surface/htex/shade_unshadowed.rgen"}, layout);
 }
 
 vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLayout set) {

@@ -46,12 +46,7 @@ vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLa
 }
 
 rt::RayTracingPipelineDesc pipeline_desc(VkPipelineLayout layout) {
-  rt::RayTracingPipelineDesc d;
-  d.raygen = {"surface/gi/dense_initial.rgen", "surface/gi/dense_spatial.rgen"};  // PRISMOID_GI_RAYGEN_*
-  d.miss = {"surface/rt/shadow.rmiss", "surface/rt/hit.rmiss"};                    // PRISMOID_SURFACE_MISS_*
-  d.hit_groups = {{"surface/rt/hit.rchit", {}}};                                   // PRISMOID_SURFACE_HIT_GROUP
-  d.layout = layout;
-  return d;
+  return surface_rt_pipeline({"surface/gi/dense_initial.rgen", "surface/gi/dense_spatial.rgen"}, layout);
 }
 
 // The frame block GI shades with: the scene's lights and sky; the sky reaches samples through

@@ -36,4 +36,13 @@ void write_scene_descriptors(const vk::Device& device, VkDescriptorSet set, cons
   vk::write_buffer_descriptor(device, set, PRISMOID_SURFACE_BINDING_MESHES, storage, scene.meshes.get());
 }
 
+rt::RayTracingPipelineDesc surface_rt_pipeline(std::vector<std::string_view> raygen, VkPipelineLayout layout) {
+  rt::RayTracingPipelineDesc d;
+  d.raygen = std::move(raygen);
+  d.miss = {"surface/rt/shadow.rmiss", "surface/rt/hit.rmiss"};  // PRISMOID_SURFACE_MISS_SHADOW, _HIT
+  d.hit_groups = {{"surface/rt/hit.rchit", {}}};                  // PRISMOID_SURFACE_HIT_GROUP
+  d.layout = layout;
+  return d;
+}
+
 }  // namespace prismoid::surface

@@ -6,6 +6,9 @@
 // (rt::write_tlas_descriptor), since a GpuSurfaceScene has no acceleration structure.
 #include <vector>
 
+#include <string_view>
+
+#include "renderer/rt/rt_pipeline.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
 #include "renderer/vk/pipeline.hpp"
 
@@ -22,5 +25,10 @@ std::vector<vk::DescriptorBinding> scene_bindings(const SceneBindingOptions& opt
 // index and mesh buffers); the frame uniforms, the TLAS and a backend's own bindings are the
 // caller's.
 void write_scene_descriptors(const vk::Device& device, VkDescriptorSet set, const GpuSurfaceScene& scene, bool vertex_buffers);
+
+// A ray-tracing pipeline of the surface passes: these ray-generation shaders, then the miss
+// shaders and the hit group in the order shaders/shared/surface.h names them
+// (PRISMOID_SURFACE_MISS_SHADOW, PRISMOID_SURFACE_MISS_HIT, PRISMOID_SURFACE_HIT_GROUP).
+rt::RayTracingPipelineDesc surface_rt_pipeline(std::vector<std::string_view> raygen, VkPipelineLayout layout);
 
 }  // namespace prismoid::surface

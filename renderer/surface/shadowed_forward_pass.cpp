@@ -47,12 +47,7 @@ vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLa
 }
 
 rt::RayTracingPipelineDesc shading_desc(VkPipelineLayout layout) {
-  rt::RayTracingPipelineDesc d;
-  d.raygen = {"surface/rt/forward_shade.rgen"};
-  d.miss = {"surface/rt/shadow.rmiss", "surface/rt/hit.rmiss"};  // PRISMOID_SURFACE_MISS_SHADOW, _HIT
-  d.hit_groups = {{"surface/rt/hit.rchit", {}}};                  // PRISMOID_SURFACE_HIT_GROUP
-  d.layout = layout;
-  return d;
+  return surface_rt_pipeline({"surface/rt/forward_shade.rgen"}, layout);
 }
 
 }  // namespace
