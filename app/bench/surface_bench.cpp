@@ -144,6 +144,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       std::vector<std::vector<vk::PassTiming>> timings;
       Frame f;
       for (uint32_t i = 0; i < options.frames; ++i) {
+        if (!gi_mode(mode)) renderer.forget_shading();  // each frame costs what a moving camera's does
         f = render(device, renderer, camera, mode, extent);
         double total = 0.0;
         for (const auto& p : f.passes) total += p.gpu_ms;

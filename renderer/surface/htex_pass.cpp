@@ -1,5 +1,7 @@
 #include "renderer/surface/htex_pass.hpp"
 
+#include <utility>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstring>
@@ -34,6 +36,7 @@ std::vector<vk::DescriptorBinding> htex_bindings() {
   for (const auto& t : htex_table_bindings(kStages)) b.push_back(t);
   for (uint32_t binding = PRISMOID_HTEX_BINDING_OCCUPANCY; binding <= PRISMOID_HTEX_BINDING_VISIBILITY; ++binding)
     b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
+  b.push_back({PRISMOID_HTEX_BINDING_SHADED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
   return b;
 }
 
@@ -108,6 +111,7 @@ HtexPass::HtexPass(const vk::Device& device, const HtexGeometry& geometry, const
   const uint64_t groups = geometry.group_count(), pages = settings.pool_pages;
   occupancy_ = vk::Buffer(device, groups * 8, kStorage, vk::MemoryUse::DeviceLocal);
   page_table_ = vk::Buffer(device, groups * 4, kStorage, vk::MemoryUse::DeviceLocal);
+  shaded_ = vk::Buffer(device, groups * 8, kStorage, vk::MemoryUse::DeviceLocal);
   free_list_ = vk::Buffer(device, pages * 4, kStorage, vk::MemoryUse::DeviceLocal);
   state_ = vk::Buffer(device, sizeof(gpu::HtexStateGpu),
                       kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, vk::MemoryUse::DeviceLocal);
@@ -118,6 +122,7 @@ HtexPass::HtexPass(const vk::Device& device, const HtexGeometry& geometry, const
   const VkDescriptorType s = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_OCCUPANCY, s, occupancy_.get());
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_PAGE_TABLE, s, page_table_.get());
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_SHADED, s, shaded_.get());
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_FREE_LIST, s, free_list_.get());
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_STATE, s, state_.get());
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_TASKS, s, tasks_.get());
@@ -153,7 +158,8 @@ void HtexPass::set_settings(const HtexSettings& settings) {
   if (settings.pool_pages != settings_.pool_pages || settings.indirect != settings_.indirect)
     throw std::invalid_argument("HtexPass: the pool's size and the indirect buffer are fixed when the pass is made");
   settings_ = settings;
-  flags_ = (settings.snap_vertex_corners ? 0u : PRISMOID_HTEX_FLAG_NO_SNAP) | (settings.indirect ? PRISMOID_HTEX_FLAG_INDIRECT : 0u);
+  flags_ = (settings.snap_vertex_corners ? 0u : PRISMOID_HTEX_FLAG_NO_SNAP) | (settings.indirect ? PRISMOID_HTEX_FLAG_INDIRECT : 0u) |
+           (settings.reuse_shading ? PRISMOID_HTEX_FLAG_REUSE : 0u);
 }
 
 void HtexPass::reset_residency() {
@@ -168,6 +174,7 @@ void HtexPass::reset_residency() {
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, page_table_.get(), 0, VK_WHOLE_SIZE, PRISMOID_HTEX_NOT_RESIDENT);
+    vkCmdFillBuffer(cmd, shaded_.get(), 0, VK_WHOLE_SIZE, 0u);
     const VkBufferCopy copy{0, 0, free.size() * 4};
     vkCmdCopyBuffer(cmd, staging.get(), free_list_.get(), 1, &copy);
     vkCmdUpdateBuffer(cmd, state_.get(), 0, sizeof(state), &state);
@@ -221,6 +228,7 @@ void HtexPass::record_marking(VkCommandBuffer cmd, const GpuSurfaceScene& scene,
                      VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
   vkCmdFillBuffer(cmd, occupancy_.get(), 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cmd, targets.visibility.get(), 0, VK_WHOLE_SIZE, 0u);
+  if (std::exchange(invalidate_, false)) vkCmdFillBuffer(cmd, shaded_.get(), 0, VK_WHOLE_SIZE, 0u);
   gpu::HtexStateGpu fresh{};
   fresh.trace = glm::uvec4(8u, 8u, 0u, 0u);
   vkCmdUpdateBuffer(cmd, state_.get(), 0, offsetof(gpu::HtexStateGpu, persistent), &fresh);
@@ -385,6 +393,7 @@ HtexCounters HtexPass::read_counters() const {
   c.resident_groups = s.pages.w;
   c.free_pages = s.persistent.x;
   c.shaded_shadels = s.trace.z;
+  c.reused_shadels = s.result.w;
   c.shaded_texels = s.trace.w;
   c.pool_bytes = pool_.size() + (settings_.indirect ? indirect_.size() : 0);
   return c;

@@ -57,6 +57,11 @@ struct HtexSettings {
   bool indirect = false;           // allocate indirect_radiance() and add it at gather (GI hook)
   float lod_bias = 0.0f;           // added to the level of detail before rounding
   bool snap_vertex_corners = true; // false only in tests: the control that shows seams
+  // Shadels shaded in an earlier frame whose group kept its page are not shaded again. Only
+  // right while nothing their shading depends on changed (lights, materials, shadows setting;
+  // and the camera where shading is view-dependent): the caller decides (plan_shading_reuse)
+  // and calls invalidate_shading() when it no longer holds.
+  bool reuse_shading = false;
   bool sky_ambient = true;         // false with GI (HtexGi): frame.sky_up.w = 1, the sky arrives through GI's rays
 };
 
@@ -85,6 +90,7 @@ struct HtexCounters {
   uint32_t free_pages = 0;           // on the free list after allocation
   uint32_t shaded_shadels = 0;       // tasks
   uint32_t shaded_texels = 0;        // texels of the tasks that belong to a quad
+  uint32_t reused_shadels = 0;       // marked shadels not shaded again (reuse_shading)
   uint32_t hole_pixels = 0;          // gathered pixels that missed a non-resident texel
   uint64_t pool_bytes = 0;
 };
@@ -113,6 +119,8 @@ class HtexPass {
   HtexCounters read_counters() const;
   // Every page back on the free list, every group non-resident (waits for the device).
   void reset_residency();
+  // Forgets which shadels hold valid shading: the next frame shades every marked shadel.
+  void invalidate_shading() { invalidate_ = true; }
 
   const HtexSettings& settings() const { return settings_; }
   void set_settings(const HtexSettings& settings);  // pool_pages and indirect must stay the same
@@ -143,7 +151,8 @@ class HtexPass {
   rt::RayTracingPipeline shade_pipeline_;
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_;
-  vk::Buffer occupancy_, page_table_, free_list_, state_, tasks_, pool_, indirect_;
+  vk::Buffer occupancy_, page_table_, free_list_, state_, tasks_, pool_, indirect_, shaded_;
+  bool invalidate_ = false;
   vk::Buffer readback_;  // host-visible copy of the state after each frame
   const GpuSurfaceScene* bound_scene_ = nullptr;
   VkAccelerationStructureKHR bound_tlas_ = VK_NULL_HANDLE;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <stdexcept>
@@ -18,6 +19,13 @@ std::vector<std::string> surface_modes(const vk::Device& device) {
   if (htex_device_problem(device).empty())
     for (const char* m : {"htex", "htex-gi", "htex-gi-unbiased", "htex-pt"}) modes.push_back(m);
   return modes;
+}
+
+ShadingReuse plan_shading_reuse(const ReuseInputs& in) {
+  if (in.first_frame) return {true, "shaded: the first frame of this mode"};
+  if (in.settings_changed) return {true, "shaded again: the shadows setting changed"};
+  if (in.eye_moved) return {true, "shaded again: the eye moved (the shading depends on it)"};
+  return {false, "reused: the eye did not move"};
 }
 
 double htex_texels_per_unit(const SurfaceScene& scene) {
@@ -68,6 +76,7 @@ void SurfaceRenderer::resize(VkExtent2D extent) {
 
 void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer) {
   if (const std::string problem = mode_problem(mode); !problem.empty()) throw InputError("--mode " + mode, problem);
+  if (mode != last_mode_) last_eye_.reset();  // another mode drew in between: shade afresh
   last_mode_ = mode;
   const bool htex_mode = mode.rfind("htex", 0) == 0;
   if ((shadows_ || htex_mode) && !accel_)
@@ -84,7 +93,20 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
       htex_ = std::make_unique<HtexPass>(device_, *htex_geometry_, settings);
     }
     if (!htex_targets_) htex_targets_ = std::make_unique<HtexTargets>(create_htex_targets(device_, extent_));
+    ReuseInputs in;
+    in.first_frame = !last_eye_;
+    in.settings_changed = last_shadows_ != shadows_;
+    in.eye_moved = last_eye_ && *last_eye_ != camera.eye;
+    last_reuse_ = plan_shading_reuse(in);
+    if (last_reuse_.invalidate) htex_->invalidate_shading();
+    if (!htex_->settings().reuse_shading) {
+      HtexSettings settings = htex_->settings();
+      settings.reuse_shading = true;
+      htex_->set_settings(settings);
+    }
     htex_->record(cmd, scene_, accel_->tlas(), *htex_targets_, camera, timer);
+    last_eye_ = camera.eye;
+    last_shadows_ = shadows_;
     display_ = &htex_targets_->color;
     return;
   }
@@ -148,6 +170,9 @@ SurfaceRenderer::FrameCounts SurfaceRenderer::read_counts() const {
     c.detail = std::to_string(h.marked_shadels) + " shadels marked, " + std::to_string(h.resident_groups) + " groups resident, " +
                std::to_string(h.allocated_pages) + " pages allocated, " + std::to_string(h.released_pages) + " released" +
                (h.bias_levels ? ", bias " + std::to_string(h.bias_levels) + " levels" : "") + (h.overflow ? ", POOL OVERFLOW" : "");
+    if (pass == htex_.get())
+      c.detail += "; " + std::to_string(h.reused_shadels) + " shadels reused, " + std::to_string(h.shaded_shadels) + " shaded (" +
+                  last_reuse_.reason + ")";
     if (pass == gi_pass_.get()) c.detail += "; GI " + std::to_string(gi_frame_) + " frames";
   } else if (last_mode_ == "forward" && shadows_ && shadowed_) {
     c.shaded = shadowed_->read_shading_invocations();

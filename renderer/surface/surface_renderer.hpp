@@ -3,6 +3,7 @@
 // the window, the bench and the CLI use to switch between surface modes. Each backend is made
 // on first use (a mode never chosen costs nothing) and shades with the same code and buffers.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,24 @@ inline constexpr double kHtexTexelsPerDiagonal = 2048.0;
 // the pool's own 16, so 256 pages of 4096 texels hold 16 MiB of radiance and 256 MiB of GI.
 inline constexpr uint32_t kGiPoolPages = 256;
 double htex_texels_per_unit(const SurfaceScene& scene);
+
+// The frame planner's rule for reusing Htex shading from earlier frames (HtexSettings::
+// reuse_shading): a shadel's shaded texels stay right while nothing they depend on changes. The
+// lights, materials and geometry are fixed for a SurfaceRenderer; what can change is the mode,
+// the shadows setting and the eye. Every term of the shading depends on the eye through wo, if
+// only where a shading normal facing away from the eye is replaced by the geometric one (even a
+// diffuse sphere's grazing texels change), so a moved eye shades again; a still eye (the view
+// turned or zoomed, or nothing moved) keeps every resident shadel's shading.
+struct ShadingReuse {
+  bool invalidate = false;  // shade every marked shadel this frame
+  std::string reason;
+};
+struct ReuseInputs {
+  bool first_frame = true;        // no earlier frame of this mode
+  bool settings_changed = false;  // the shadows setting changed since the last frame
+  bool eye_moved = false;
+};
+ShadingReuse plan_shading_reuse(const ReuseInputs& in);
 
 // The surface modes this device can draw, in the order the window lists them: forward (per
 // pixel, renderer/surface/forward_pass and shadowed_forward_pass), htex (object space,
@@ -80,6 +99,9 @@ class SurfaceRenderer {
   // Frames of GI since its reservoirs were last forgotten (the bench lets them accumulate).
   uint32_t gi_frames() const { return gi_frame_; }
   void reset_gi();
+  // The next htex frame shades every marked shadel, as after a moved eye (the bench times each
+  // frame as a moving camera's).
+  void forget_shading() { last_eye_.reset(); }
 
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
   const SurfaceScene& scene() const { return source_; }
@@ -104,6 +126,9 @@ class SurfaceRenderer {
   uint32_t gi_frame_ = 0;
   const vk::Image* display_ = nullptr;  // the last recorded frame's colour
   std::string last_mode_;
+  std::optional<glm::dvec3> last_eye_;  // of the last htex frame
+  bool last_shadows_ = false;
+  ShadingReuse last_reuse_;
   void record_htex_gi(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer);
 };
 

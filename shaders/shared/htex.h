@@ -46,11 +46,13 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_HTEX_BINDING_INDIRECT 29          // vec4[] per slot: indirect radiance added at gather (GI hook)
 #define PRISMOID_HTEX_BINDING_VISIBILITY 30        // uvec4[] per pixel: triangle + 1 (0: sky), level, b1, b2 bits
 // One more geometry table:
+#define PRISMOID_HTEX_BINDING_SHADED 32            // uint[] 2 per group: shadels whose pool texels hold valid shading (persists)
 #define PRISMOID_HTEX_BINDING_VERTEX_CORNER 31     // int[] per global halfedge: htex::canonical_corner (global)
 
 // Push-constant flags.
 #define PRISMOID_HTEX_FLAG_NO_SNAP 1u   // vertex-corner texels at their nominal points (tests' control only)
 #define PRISMOID_HTEX_FLAG_INDIRECT 2u  // the gather adds the indirect buffer
+#define PRISMOID_HTEX_FLAG_REUSE 4u     // shadels shaded in an earlier frame and still resident are not shaded again
 
 // The allocation loop's phases (HtexStateGpu::marking.w).
 #define PRISMOID_HTEX_PHASE_COUNT 0u
@@ -76,7 +78,8 @@ struct HtexStateGpu {
                      // w: resident groups after allocation
   uvec4 marking;     // x: marked groups, y: marked shadels, z: bias levels applied, w: phase (PRISMOID_HTEX_PHASE_*)
   uvec4 result;      // x: 1 when the marked groups exceeded the pool even at the largest bias, y: gather pixels with a
-                     // footprint texel not resident (holes), z: groups marked before any bias, w: unused
+                     // footprint texel not resident (holes), z: groups marked before any bias, w: marked shadels
+                     // reused (shaded in an earlier frame, PRISMOID_HTEX_FLAG_REUSE)
   uvec4 persistent;  // x: pages on the free list
 };
 

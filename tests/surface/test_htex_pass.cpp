@@ -382,6 +382,50 @@ TEST_F(HtexPassTest, PagesPersistWhileMarkedAndAreReleasedWhenNot) {
               m.counters.released_pages, m.counters.allocated_pages);
 }
 
+// Shading reuse (HtexSettings::reuse_shading): a still camera shades nothing again and draws the
+// same image to the last bit; after a move the planner invalidates (plan_shading_reuse: the
+// shading depends on the eye), and the image is the one a pass without reuse draws.
+TEST_F(HtexPassTest, ReusedShadingIsWhatShadingAgainGives) {
+  SphereSceneOptions o;
+  o.lights = Lights::Directional;
+  o.sky = true;
+  surface::HtexSettings reuse = unshadowed(64);
+  reuse.reuse_shading = true;
+  HtexRig rig(device(), sphere_scene(o), density(160.0), reuse);
+  HtexRig fresh(device(), sphere_scene(o), density(160.0), unshadowed(64));
+  Camera camera = rig.scene.camera;
+  camera.eye = glm::dvec3(0.0, 0.0, 2.6);
+  const surface::HtexImage a = rig.render(device(), camera, 120, 90);
+  EXPECT_EQ(a.counters.reused_shadels, 0u);
+  EXPECT_EQ(a.counters.shaded_shadels, a.counters.marked_shadels);
+  const surface::HtexImage b = rig.render(device(), camera, 120, 90);
+  EXPECT_EQ(b.counters.shaded_shadels, 0u);
+  EXPECT_EQ(b.counters.reused_shadels, b.counters.marked_shadels);
+  EXPECT_EQ(b.rgba, a.rgba);
+
+  // The view turned with the eye still (the target moved): the pixels see other texels, those
+  // already shaded are reused, the new ones shaded; the image is a fresh pass's.
+  Camera turned = camera;
+  turned.target = glm::dvec3(0.25, 0.1, 0.0);
+  const surface::HtexImage c = rig.render(device(), turned, 120, 90);
+  const surface::HtexImage f = fresh.render(device(), turned, 120, 90);
+  EXPECT_GT(c.counters.reused_shadels, 0u);
+  EXPECT_EQ(c.counters.reused_shadels + c.counters.shaded_shadels, c.counters.marked_shadels);
+  EXPECT_EQ(c.counters.hole_pixels, 0u);
+  EXPECT_EQ(c.rgba, f.rgba);
+
+  // A moved eye: invalidated, everything marked is shaded again, as from scratch.
+  camera.eye = glm::dvec3(0.9, 0.3, 2.4);
+  rig.pass->invalidate_shading();
+  const surface::HtexImage d = rig.render(device(), camera, 120, 90);
+  const surface::HtexImage g = fresh.render(device(), camera, 120, 90);
+  EXPECT_EQ(d.counters.shaded_shadels, d.counters.marked_shadels);
+  EXPECT_EQ(d.counters.reused_shadels, 0u);
+  EXPECT_EQ(d.rgba, g.rgba);
+  std::printf("[ reuse ] still camera: %u of %u shadels reused; turned view: %u reused, %u shaded\n", b.counters.reused_shadels,
+              b.counters.marked_shadels, c.counters.reused_shadels, c.counters.shaded_shadels);
+}
+
 // A pool too small even at the coarsest level: reported, nothing written outside it, no crash,
 // a finite image; the pixels that missed texels are counted.
 TEST_F(HtexPassTest, PoolTooSmallEvenAtTheCoarsestLevelIsReported) {

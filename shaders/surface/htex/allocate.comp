@@ -10,8 +10,9 @@
 //   ALLOCATE (per group)  a marked group without a page takes one from the free list, or is
 //                         counted as left without one (the pool is full even at the largest bias)
 //   FINISH   (one thread) the free list loses what was taken
-//   TASKS    (per group)  each marked shadel of a resident group joins the task list; the
-//                         indirect launch (8, 8, tasks) counts them
+//   TASKS    (per group)  each marked shadel of a resident group joins the task list (with
+//                         PRISMOID_HTEX_FLAG_REUSE only those not shaded since their page was
+//                         taken: htex_shaded); the indirect launch (8, 8, tasks) counts them
 // A group that stays marked keeps its page, so what is stored per texel (shading, and later
 // reservoirs) persists from frame to frame at the same slot.
 #extension GL_GOOGLE_include_directive : require
@@ -78,6 +79,8 @@ void main() {
     if (page == PRISMOID_HTEX_NOT_RESIDENT || marked(id)) return;
     htex_free_list[atomicAdd(htex_state.persistent.x, 1u)] = page;
     htex_page_table[id] = PRISMOID_HTEX_NOT_RESIDENT;
+    htex_shaded[2u * id] = 0u;  // the page's texels belong to no one now
+    htex_shaded[2u * id + 1u] = 0u;
     atomicAdd(htex_state.pages.x, 1u);
   } else if (step == STEP_ALLOCATE) {
     if (id >= groups || !marked(id) || htex_page_table[id] != PRISMOID_HTEX_NOT_RESIDENT) return;
@@ -85,6 +88,8 @@ void main() {
     uint free_pages = htex_state.persistent.x;  // not written during this step
     if (k < free_pages) {
       htex_page_table[id] = htex_free_list[free_pages - 1u - k];
+      htex_shaded[2u * id] = 0u;  // a fresh page holds another group's old texels
+      htex_shaded[2u * id + 1u] = 0u;
     } else {
       atomicAdd(htex_state.pages.z, 1u);
     }
@@ -97,7 +102,16 @@ void main() {
   } else if (step == STEP_TASKS) {
     if (id >= groups || htex_page_table[id] == PRISMOID_HTEX_NOT_RESIDENT) return;
     atomicAdd(htex_state.pages.w, 1u);
-    uvec2 o = occupancy(id);
+    uvec2 marked_bits = occupancy(id);
+    // Reuse: what was shaded into this page since it was taken is still right (the frame planner
+    // asks for reuse only when nothing the shading depends on changed), so only the rest is shaded.
+    bool reuse = (htex_push.image.z & PRISMOID_HTEX_FLAG_REUSE) != 0u;
+    uvec2 done = reuse ? uvec2(htex_shaded[2u * id], htex_shaded[2u * id + 1u]) : uvec2(0u);
+    uvec2 o = marked_bits & ~done;
+    htex_shaded[2u * id] = done.x | marked_bits.x;
+    htex_shaded[2u * id + 1u] = done.y | marked_bits.y;
+    uint reused = uint(bitCount(marked_bits.x & done.x) + bitCount(marked_bits.y & done.y));
+    if (reused > 0u) atomicAdd(htex_state.result.w, reused);
     uint group_columns = htex_atlas.size.w;
     for (uint bit = 0u; bit < 64u; ++bit) {
       if (((bit < 32u ? o.x : o.y) & (1u << (bit % 32u))) == 0u) continue;

@@ -10,6 +10,7 @@ layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_STATE) buffer HtexStateB
 layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_TASKS) buffer HtexTaskBuffer { uint htex_tasks[]; };
 layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_POOL) buffer HtexPoolBuffer { vec4 htex_pool[]; };
 layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_INDIRECT) buffer HtexIndirectBuffer { vec4 htex_indirect[]; };
+layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_SHADED) buffer HtexShadedBuffer { uint htex_shaded[]; };
 layout(std430, set = 0, binding = PRISMOID_HTEX_BINDING_VISIBILITY) buffer HtexVisibilityBuffer { uvec4 htex_visibility[]; };
 
 layout(push_constant) uniform HtexPushBlock { HtexPush htex_push; };
