@@ -127,13 +127,7 @@ RayTracingPipeline::RayTracingPipeline(const vk::Device& device, const RayTracin
       std::memcpy(table + r->offset + i * r->stride, handles.data() + size_t(group) * handle_size, handle_size);
 }
 
-void RayTracingPipeline::trace(VkCommandBuffer cmd, uint32_t raygen, uint32_t width, uint32_t height, uint32_t depth) const {
-  if (raygen >= layout_.raygen.records)
-    throw std::invalid_argument("ray-tracing pipeline: no ray-generation shader " + std::to_string(raygen));
-  const uint64_t invocations = uint64_t(width) * height * depth;
-  if (invocations > device_->capabilities().max_ray_dispatch_invocations)
-    throw std::invalid_argument("ray-tracing launch of " + std::to_string(invocations) + " rays exceeds the device's limit of " +
-                                std::to_string(device_->capabilities().max_ray_dispatch_invocations));
+RayTracingPipeline::Regions RayTracingPipeline::regions(uint32_t raygen) const {
   auto region = [&](const SbtRegion& r, VkDeviceSize first, VkDeviceSize size) {
     VkStridedDeviceAddressRegionKHR out{};
     if (r.records == 0) return out;  // an unused region is all zero
@@ -142,11 +136,22 @@ void RayTracingPipeline::trace(VkCommandBuffer cmd, uint32_t raygen, uint32_t wi
     out.size = size;
     return out;
   };
-  const VkStridedDeviceAddressRegionKHR rgen = region(layout_.raygen, raygen * layout_.raygen.stride, layout_.raygen.stride);
-  const VkStridedDeviceAddressRegionKHR miss = region(layout_.miss, 0, layout_.miss.size);
-  const VkStridedDeviceAddressRegionKHR hit = region(layout_.hit, 0, layout_.hit.size);
-  const VkStridedDeviceAddressRegionKHR callable{};
-  device_->cmd_trace_rays(cmd, &rgen, &miss, &hit, &callable, width, height, depth);
+  Regions out;
+  out.raygen = region(layout_.raygen, raygen * layout_.raygen.stride, layout_.raygen.stride);
+  out.miss = region(layout_.miss, 0, layout_.miss.size);
+  out.hit = region(layout_.hit, 0, layout_.hit.size);
+  return out;
+}
+
+void RayTracingPipeline::trace(VkCommandBuffer cmd, uint32_t raygen, uint32_t width, uint32_t height, uint32_t depth) const {
+  if (raygen >= layout_.raygen.records)
+    throw std::invalid_argument("ray-tracing pipeline: no ray-generation shader " + std::to_string(raygen));
+  const uint64_t invocations = uint64_t(width) * height * depth;
+  if (invocations > device_->capabilities().max_ray_dispatch_invocations)
+    throw std::invalid_argument("ray-tracing launch of " + std::to_string(invocations) + " rays exceeds the device's limit of " +
+                                std::to_string(device_->capabilities().max_ray_dispatch_invocations));
+  const Regions r = regions(raygen);
+  device_->cmd_trace_rays(cmd, &r.raygen, &r.miss, &r.hit, &r.callable, width, height, depth);
 }
 
 }  // namespace prismoid::rt
@@ -159,19 +164,8 @@ void RayTracingPipeline::trace_indirect(VkCommandBuffer cmd, uint32_t raygen, Vk
   if (!device_->cmd_trace_rays_indirect)
     throw vk::NoSuitableDevice(device_->capabilities().name + " cannot trace rays with GPU-written launch sizes "
                                "(no rayTracingPipelineTraceRaysIndirect)");
-  auto region = [&](const SbtRegion& r, VkDeviceSize first, VkDeviceSize size) {
-    VkStridedDeviceAddressRegionKHR out{};
-    if (r.records == 0) return out;
-    out.deviceAddress = sbt_address_ + r.offset + first;
-    out.stride = r.stride;
-    out.size = size;
-    return out;
-  };
-  const VkStridedDeviceAddressRegionKHR rgen = region(layout_.raygen, raygen * layout_.raygen.stride, layout_.raygen.stride);
-  const VkStridedDeviceAddressRegionKHR miss = region(layout_.miss, 0, layout_.miss.size);
-  const VkStridedDeviceAddressRegionKHR hit = region(layout_.hit, 0, layout_.hit.size);
-  const VkStridedDeviceAddressRegionKHR callable{};
-  device_->cmd_trace_rays_indirect(cmd, &rgen, &miss, &hit, &callable, command);
+  const Regions r = regions(raygen);
+  device_->cmd_trace_rays_indirect(cmd, &r.raygen, &r.miss, &r.hit, &r.callable, command);
 }
 
 }  // namespace prismoid::rt

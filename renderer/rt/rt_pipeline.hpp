@@ -81,6 +81,12 @@ class RayTracingPipeline {
   void trace_indirect(VkCommandBuffer cmd, uint32_t raygen, VkDeviceAddress command) const;
 
  private:
+  // The shader binding table's regions for a launch of ray-generation record `raygen`.
+  struct Regions {
+    VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
+  };
+  Regions regions(uint32_t raygen) const;
+
   const vk::Device* device_ = nullptr;
   vk::UniquePipeline pipeline_;
   vk::Buffer sbt_;

@@ -22,34 +22,17 @@ namespace prismoid::surface {
 
 namespace {
 
-constexpr VkShaderStageFlags kStages =
-    VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
 constexpr VkBufferUsageFlags kBufferUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 constexpr uint32_t kMaxNeighbours = 16;     // PRISMOID_GI_MAX_NEIGHBOURS in spatial.glsl
 constexpr uint32_t kHostNoSnap = 256u;      // PRISMOID_GI_HTEX_NO_SNAP in htex_host_common.glsl
 constexpr uint32_t kRaygenSamples = 0, kRaygenInitial = 1, kRaygenSpatial = 2;
 
-std::vector<vk::DescriptorBinding> gi_bindings() {
-  std::vector<vk::DescriptorBinding> b = scene_bindings({.stages = kStages, .vertex_buffers = true, .tlas = true});
-  for (uint32_t binding : {PRISMOID_GI_BINDING_SAMPLES, PRISMOID_GI_BINDING_SLOTS, PRISMOID_GI_BINDING_TEMPORAL,
-                           PRISMOID_GI_BINDING_FALLBACK, PRISMOID_GI_BINDING_OUTPUT, PRISMOID_GI_BINDING_DIRECT,
-                           PRISMOID_GI_BINDING_HOST, PRISMOID_GI_BINDING_HOST + 1})
-    b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_RAYGEN_BIT_KHR});
-  return b;
-}
-
 std::vector<vk::DescriptorBinding> htex_bindings() {
   std::vector<vk::DescriptorBinding> b = htex_table_bindings(VK_SHADER_STAGE_RAYGEN_BIT_KHR);
   for (uint32_t binding : {PRISMOID_HTEX_BINDING_OCCUPANCY, PRISMOID_HTEX_BINDING_PAGE_TABLE, PRISMOID_HTEX_BINDING_TASKS})
     b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_RAYGEN_BIT_KHR});
   return b;
-}
-
-vk::UniqueDescriptorSetLayout make_gi_layout(const vk::Device& device) {
-  if (!device.ray_tracing_enabled())
-    throw vk::NoSuitableDevice(device.capabilities().name + " has no ray tracing enabled (ReSTIR GI traces its rays)");
-  return vk::create_descriptor_set_layout(device, gi_bindings());
 }
 
 vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLayout gi, VkDescriptorSetLayout htex) {
@@ -74,7 +57,7 @@ HtexGi::HtexGi(const vk::Device& device, const HtexPass& pass, const GpuSurfaceS
     : device_(device),
       pass_(pass),
       scene_(scene),
-      gi_layout_(make_gi_layout(device)),
+      gi_layout_(gi_set_layout(device)),
       htex_layout_(vk::create_descriptor_set_layout(device, htex_bindings())),
       layout_(make_layout(device, gi_layout_.get(), htex_layout_.get())),
       pipeline_(device, pipeline_desc(layout_.get())) {

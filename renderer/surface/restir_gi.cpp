@@ -25,21 +25,6 @@ constexpr VkBufferUsageFlags kReservoirUsage =
 constexpr uint32_t kLaunchWidth = 1024;
 constexpr uint32_t kMaxNeighbours = 16;  // PRISMOID_GI_MAX_NEIGHBOURS in spatial.glsl
 
-std::vector<vk::DescriptorBinding> gi_bindings() {
-  std::vector<vk::DescriptorBinding> b = scene_bindings({.stages = kStages, .vertex_buffers = true, .tlas = true});
-  for (uint32_t binding : {PRISMOID_GI_BINDING_SAMPLES, PRISMOID_GI_BINDING_SLOTS, PRISMOID_GI_BINDING_TEMPORAL,
-                           PRISMOID_GI_BINDING_FALLBACK, PRISMOID_GI_BINDING_OUTPUT, PRISMOID_GI_BINDING_DIRECT,
-                           PRISMOID_GI_BINDING_HOST, PRISMOID_GI_BINDING_HOST + 1})
-    b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_RAYGEN_BIT_KHR});
-  return b;
-}
-
-vk::UniqueDescriptorSetLayout make_set_layout(const vk::Device& device) {
-  if (!device.ray_tracing_enabled())
-    throw vk::NoSuitableDevice(device.capabilities().name + " has no ray tracing enabled (ReSTIR GI traces its rays)");
-  return vk::create_descriptor_set_layout(device, gi_bindings());
-}
-
 vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLayout set) {
   const VkPushConstantRange push{VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof(gpu::GiSettings)};
   return vk::create_pipeline_layout(device, std::span(&set, 1), std::span(&push, 1));
@@ -70,8 +55,24 @@ std::span<const std::byte> bytes_of(const std::vector<T>& v) {
 
 }  // namespace
 
+std::vector<vk::DescriptorBinding> gi_bindings() {
+  std::vector<vk::DescriptorBinding> b = scene_bindings({.stages = kStages, .vertex_buffers = true, .tlas = true});
+  for (uint32_t binding : {PRISMOID_GI_BINDING_SAMPLES, PRISMOID_GI_BINDING_SLOTS, PRISMOID_GI_BINDING_TEMPORAL,
+                           PRISMOID_GI_BINDING_FALLBACK, PRISMOID_GI_BINDING_OUTPUT, PRISMOID_GI_BINDING_DIRECT,
+                           PRISMOID_GI_BINDING_HOST, PRISMOID_GI_BINDING_HOST + 1})
+    b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_RAYGEN_BIT_KHR});
+  return b;
+}
+
+vk::UniqueDescriptorSetLayout gi_set_layout(const vk::Device& device) {
+  if (!device.ray_tracing_enabled())
+    throw vk::NoSuitableDevice(device.capabilities().name + " has no ray tracing enabled (ReSTIR GI traces its rays)");
+  return vk::create_descriptor_set_layout(device, gi_bindings());
+}
+
+
 RestirGiPipeline::RestirGiPipeline(const vk::Device& device)
-    : set_layout_(make_set_layout(device)),
+    : set_layout_(gi_set_layout(device)),
       layout_(make_layout(device, set_layout_.get())),
       pipeline_(device, pipeline_desc(layout_.get())) {}
 

@@ -44,6 +44,12 @@ struct RestirGiSettings {
   double jacobian_limit = 3.0;      // tau: reconnection shifts with a Jacobian outside [1/tau, tau] are not made
 };
 
+// The GI passes' descriptor set 0 (shaders/shared/gi.h), whatever the host: the scene with its
+// vertex buffers and TLAS, the GI buffers and two host buffers. Throws vk::NoSuitableDevice
+// without ray tracing.
+vk::UniqueDescriptorSetLayout gi_set_layout(const vk::Device& device);
+std::vector<vk::DescriptorBinding> gi_bindings();
+
 // The GI passes' layout and ray-tracing pipeline over the dense sample set: independent of the
 // scene, so one serves every RestirGi of a device (compiling it is the slow part on lavapipe).
 class RestirGiPipeline {

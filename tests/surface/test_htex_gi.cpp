@@ -360,7 +360,7 @@ TEST_F(HtexGiTest, FallbackLayerLowersTheErrorWhereShadelsAreNew) {
     fresh = count;
     rms[fallback ? 1 : 0] = std::sqrt(sq / double(std::max<size_t>(count, 1)));
   }
-  std::printf("persistent layer: levels %u.., %llu texels\n", g.gi.persistent_levels()[0], (unsigned long long)g.gi.persistent_texels());
+  std::printf("persistent layer: levels %u.., %llu texels\n", g.gi.persistent_levels()[0], static_cast<unsigned long long>(g.gi.persistent_texels()));
   std::printf("disocclusion: %zu newly allocated pixel samples over 3 runs: RMS error after one frame %.5f without the fallback "
               "layer, %.5f with it\n",
               fresh, rms[0], rms[1]);
