@@ -60,6 +60,14 @@ const char* const kRenderHelp =
     "                                              through GI's rays; --gi-frames N (default 8, the image\n"
     "                                              is their mean), --gi-neighbours K (0..16, default 4),\n"
     "                                              --gi-fallback on|off (persistent layer, default on)\n"
+    "                       texel                  GPU texel shading of a surface scene (the same FILEs):\n"
+    "                                              a static mip-mapped atlas of planar charts, 8x8 tiles\n"
+    "                                              queued per frame, shaded with shadows (--no-shadows:\n"
+    "                                              without), gathered bilinearly; --texel-density D (level-0\n"
+    "                                              texels per unit; default: about 4M texels in all, fewer\n"
+    "                                              where the device's buffers are smaller),\n"
+    "                                              --texel-levels N (default 4), --mip-bias B (shading rate:\n"
+    "                                              +1 shades a quarter); --size default 256x256\n"
     "                       (default: interval; interval-sorted for --quantity color)\n"
     "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
     "                       color: emission-absorption of a scalar field through a transfer function\n"
@@ -155,6 +163,7 @@ int cmd_render(const std::vector<std::string>& args) {
   if (wants_path_reference(args)) return cmd_render_path_reference(args);
   if (wants_forward(args)) return cmd_render_forward(args);
   if (wants_htex(args)) return cmd_render_htex(args);
+  if (wants_texel(args)) return cmd_render_texel(args);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});

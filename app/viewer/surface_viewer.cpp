@@ -156,7 +156,7 @@ void draw_surface_panel(SurfaceSession& s) {
     total += p.gpu_ms;
   }
   ImGui::Text("GPU total %.3f ms, frame (CPU) %.2f ms", total, s.cpu_frame_ms);
-  ImGui::Text("shaded %llu %s", static_cast<unsigned long long>(s.counts.shaded), s.mode == "htex" ? "texels" : "pixels");
+  ImGui::Text("shaded %llu %s", static_cast<unsigned long long>(s.counts.shaded), s.mode == "forward" ? "pixels" : "texels");
   if (s.counts.mode_bytes) ImGui::Text("%s memory %.2f MiB", s.mode.c_str(), double(s.counts.mode_bytes) / (1024.0 * 1024.0));
   if (!s.counts.detail.empty()) ImGui::TextWrapped("%s", s.counts.detail.c_str());
   if (ImGui::Button("Fit (R)")) s.camera.reset(s.aspect());

@@ -9,6 +9,7 @@
 
 #include "renderer/surface/scene_descriptors.hpp"
 #include "renderer/surface/surface_frame.hpp"
+#include "renderer/surface/texture_space_passes.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/graphics_pipeline.hpp"
@@ -21,8 +22,8 @@ namespace prismoid::surface {
 
 namespace {
 
-constexpr VkFormat kColorFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
-constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+constexpr VkFormat kColorFormat = kTextureSpaceColorFormat;
+constexpr VkFormat kDepthFormat = kTextureSpaceDepthFormat;
 constexpr VkShaderStageFlags kStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_COMPUTE_BIT |
                                        VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR;
 constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
@@ -63,6 +64,10 @@ uint32_t checked_pages(const vk::Device& device, uint32_t pages) {
 
 rt::RayTracingPipelineDesc shade_desc(VkPipelineLayout layout) {
   return surface_rt_pipeline({"surface/htex/shade.rgen", "surface/htex/shade_unshadowed.rgen"}, layout);
+}
+
+PassBinding pass_binding(VkPipelineLayout layout, VkDescriptorSet set, const gpu::HtexPush& push) {
+  return {layout, set, kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, std::as_bytes(std::span(&push, 1))};
 }
 
 vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLayout set) {
@@ -129,26 +134,10 @@ HtexPass::HtexPass(const vk::Device& device, const HtexGeometry& geometry, const
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_POOL, s, pool_.get());
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_HTEX_BINDING_INDIRECT, s, indirect_.get());
 
-  vk::VertexPipelineDesc depth;
-  depth.vertex_shader = "surface/depth.vert";
-  depth.layout = layout_.get();
-  depth.bindings = {{0, sizeof(float) * 3, VK_VERTEX_INPUT_RATE_VERTEX}};
-  depth.attributes = {{PRISMOID_SURFACE_VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-  depth.depth_format = kDepthFormat;
-  depth.depth_compare = VK_COMPARE_OP_GREATER;  // reversed z
-  depth.depth_write = true;
-  depth_pipeline_ = vk::create_vertex_pipeline(device, depth);
-  vk::VertexPipelineDesc mark = depth;
-  mark.fragment_shader = "surface/htex/mark.frag";
-  mark.depth_compare = VK_COMPARE_OP_EQUAL;  // only the surface the pre-pass kept
-  mark.depth_write = false;
-  mark_pipeline_ = vk::create_vertex_pipeline(device, mark);
-  vk::VertexPipelineDesc gather;
-  gather.vertex_shader = "surface/sky.vert";  // one triangle covering the viewport
-  gather.fragment_shader = "surface/htex/gather.frag";
-  gather.layout = layout_.get();
-  gather.color_formats = {kColorFormat};
-  gather_pipeline_ = vk::create_vertex_pipeline(device, gather);
+  DepthThenVisiblePipelines marking = create_depth_then_visible(device, layout_.get(), "surface/htex/mark.frag");
+  depth_pipeline_ = std::move(marking.depth);
+  mark_pipeline_ = std::move(marking.visible);
+  gather_pipeline_ = create_fullscreen(device, layout_.get(), "surface/htex/gather.frag");
   allocate_pipeline_ = vk::create_compute_pipeline(device, "surface/htex/allocate.comp", layout_.get());
   set_settings(settings);
   reset_residency();
@@ -237,53 +226,10 @@ void HtexPass::record_marking(VkCommandBuffer cmd, const GpuSurfaceScene& scene,
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 
   vk::ScopedPass pass(timer, cmd, "pre-z + marking");
-  const VkViewport viewport{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
-  const VkRect2D scissor{{0, 0}, e};
-  const VkDeviceSize zero = 0;
-  const VkBuffer positions = scene.positions.get();
-  const uint32_t index_count = scene.triangle_count * 3;
-  vk::image_barrier(cmd, targets.depth.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                    VK_IMAGE_ASPECT_DEPTH_BIT);
-  VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-  depth.imageView = targets.depth.view();
-  depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-  depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  depth.clearValue.depthStencil = {0.0f, 0};  // reversed z: 0 is infinitely far
-  VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  rendering.renderArea = scissor;
-  rendering.layerCount = 1;
-  rendering.pDepthAttachment = &depth;
   gpu::HtexPush push{};
   push.image = glm::uvec4(e.width, e.height, flags_, 0u);
   push.lod = glm::vec4(settings_.lod_bias, 0.0f, 0.0f, 0.0f);
-  for (int draw = 0; draw < 2; ++draw) {
-    if (draw == 1) {
-      vk::image_barrier(cmd, targets.depth.get(), VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
-      depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
-      depth.storeOp = VK_ATTACHMENT_STORE_OP_NONE;
-    }
-    vkCmdBeginRendering(cmd, &rendering);
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
-    if (index_count > 0) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, draw == 0 ? depth_pipeline_.get() : mark_pipeline_.get());
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set_.set, 0, nullptr);
-      vkCmdPushConstants(cmd, layout_.get(), kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(push), &push);
-      vkCmdBindVertexBuffers(cmd, 0, 1, &positions, &zero);
-      vkCmdBindIndexBuffer(cmd, scene.indices.get(), 0, VK_INDEX_TYPE_UINT32);
-      vkCmdDrawIndexed(cmd, index_count, 1, 0, 0, 0);
-    }
-    vkCmdEndRendering(cmd);
-  }
+  record_depth_then_visible(cmd, scene, targets.depth, e, depth_pipeline_.get(), mark_pipeline_.get(), pass_binding(layout_.get(), set_.set, push));
 }
 
 void HtexPass::record_allocation(VkCommandBuffer cmd, const HtexTargets& targets, vk::GpuTimer& timer) {
@@ -334,34 +280,10 @@ void HtexPass::record_gather(VkCommandBuffer cmd, HtexTargets& targets, vk::GpuT
   const VkExtent2D e = targets.extent;
   {
     vk::ScopedPass pass(timer, cmd, "gather");
-    vk::image_barrier(cmd, targets.color.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE,
-                      VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    color.imageView = targets.color.view();
-    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    color.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
-    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    rendering.renderArea = {{0, 0}, e};
-    rendering.layerCount = 1;
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachments = &color;
-    const VkViewport viewport{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
-    const VkRect2D scissor{{0, 0}, e};
-    vkCmdBeginRendering(cmd, &rendering);
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gather_pipeline_.get());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set_.set, 0, nullptr);
     gpu::HtexPush push{};
     push.image = glm::uvec4(e.width, e.height, flags_, 0u);
-    vkCmdPushConstants(cmd, layout_.get(), kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(push), &push);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    vkCmdEndRendering(cmd);
+    record_fullscreen(cmd, targets.color, e, gather_pipeline_.get(), pass_binding(layout_.get(), set_.set, push));
   }
-  vk::image_barrier(cmd, targets.color.get(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                    VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                    VK_ACCESS_2_TRANSFER_READ_BIT);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                      VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   const VkBufferCopy copy{0, 0, sizeof(gpu::HtexStateGpu)};
@@ -399,19 +321,7 @@ HtexCounters HtexPass::read_counters() const {
   return c;
 }
 
-std::vector<std::byte> HtexPass::read_buffer(const vk::Buffer& buffer) const {
-  vk::Buffer staging(device_, buffer.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
-  device_.submit_and_wait([&](VkCommandBuffer cmd) {
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                       VK_ACCESS_2_TRANSFER_READ_BIT);
-    const VkBufferCopy copy{0, 0, buffer.size()};
-    vkCmdCopyBuffer(cmd, buffer.get(), staging.get(), 1, &copy);
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-  });
-  std::vector<std::byte> out(buffer.size());
-  std::memcpy(out.data(), staging.mapped(), out.size());
-  return out;
-}
+std::vector<std::byte> HtexPass::read_buffer(const vk::Buffer& buffer) const { return read_device_buffer(device_, buffer); }
 
 std::vector<float> HtexImage::rgb() const {
   std::vector<float> out;

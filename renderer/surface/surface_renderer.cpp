@@ -18,6 +18,7 @@ std::vector<std::string> surface_modes(const vk::Device& device) {
   if (device.capabilities().geometry_shader) modes.push_back("forward");
   if (htex_device_problem(device).empty())
     for (const char* m : {"htex", "htex-gi", "htex-gi-unbiased", "htex-pt"}) modes.push_back(m);
+  if (texel_device_problem(device).empty()) modes.push_back("texel");
   return modes;
 }
 
@@ -71,6 +72,7 @@ void SurfaceRenderer::resize(VkExtent2D extent) {
   forward_targets_.reset();
   shadowed_targets_.reset();
   htex_targets_.reset();
+  texel_targets_.reset();
   display_ = nullptr;
 }
 
@@ -79,10 +81,14 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   if (mode != last_mode_) last_eye_.reset();  // another mode drew in between: shade afresh
   last_mode_ = mode;
   const bool htex_mode = mode.rfind("htex", 0) == 0;
-  if ((shadows_ || htex_mode) && !accel_)
+  if ((shadows_ || htex_mode || mode == "texel") && !accel_)
     accel_ = std::make_unique<rt::SceneAccel>(device_, source_);  // origin: the bounds centre, as scene_.origin
   if (htex_mode && mode != "htex") {
     record_htex_gi(cmd, camera, mode, timer);
+    return;
+  }
+  if (mode == "texel") {
+    record_texel(cmd, camera, timer);
     return;
   }
   if (mode == "htex") {
@@ -93,11 +99,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
       htex_ = std::make_unique<HtexPass>(device_, *htex_geometry_, settings);
     }
     if (!htex_targets_) htex_targets_ = std::make_unique<HtexTargets>(create_htex_targets(device_, extent_));
-    ReuseInputs in;
-    in.first_frame = !last_eye_;
-    in.settings_changed = last_shadows_ != shadows_;
-    in.eye_moved = last_eye_ && *last_eye_ != camera.eye;
-    last_reuse_ = plan_shading_reuse(in);
+    last_reuse_ = plan_reuse(camera);
     if (last_reuse_.invalidate) htex_->invalidate_shading();
     if (!htex_->settings().reuse_shading) {
       HtexSettings settings = htex_->settings();
@@ -121,6 +123,36 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   if (!forward_targets_) forward_targets_ = std::make_unique<ForwardTargets>(create_forward_targets(device_, extent_));
   forward_->record(cmd, scene_, *forward_targets_, camera, {}, timer);
   display_ = &forward_targets_->color;
+}
+
+ShadingReuse SurfaceRenderer::plan_reuse(const Camera& camera) const {
+  ReuseInputs in;
+  in.first_frame = !last_eye_;
+  in.settings_changed = last_shadows_ != shadows_;
+  in.eye_moved = last_eye_ && *last_eye_ != camera.eye;
+  return plan_shading_reuse(in);
+}
+
+void SurfaceRenderer::record_texel(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer) {
+  if (!texel_) {
+    texel_atlas_ = std::make_unique<texel::TexelAtlas>(build_texel_atlas_for(device_, source_));
+    TexelSettings settings;
+    settings.shadows = shadows_;
+    texel_ = std::make_unique<TexelPass>(device_, *texel_atlas_, settings);
+  }
+  if (!texel_targets_) texel_targets_ = std::make_unique<TexelTargets>(create_texel_targets(device_, extent_));
+  TexelSettings settings = texel_->settings();
+  settings.shadows = shadows_;
+  // The planner's rule (plan_shading_reuse): a still eye reuses every tile shaded since the last
+  // change, whatever its age; a moved eye shades again.
+  last_reuse_ = plan_reuse(camera);
+  settings.max_age = last_reuse_.invalidate ? 1u : 0xffffffffu;
+  texel_->set_settings(settings);
+  if (last_reuse_.invalidate) texel_->invalidate_shading();
+  texel_->record(cmd, scene_, accel_->tlas(), *texel_targets_, camera, timer);
+  last_eye_ = camera.eye;
+  last_shadows_ = shadows_;
+  display_ = &texel_targets_->color;
 }
 
 RestirGiSettings SurfaceRenderer::gi_settings(const std::string& mode) {
@@ -174,6 +206,13 @@ SurfaceRenderer::FrameCounts SurfaceRenderer::read_counts() const {
       c.detail += "; " + std::to_string(h.reused_shadels) + " shadels reused, " + std::to_string(h.shaded_shadels) + " shaded (" +
                   last_reuse_.reason + ")";
     if (pass == gi_pass_.get()) c.detail += "; GI " + std::to_string(gi_frame_) + " frames";
+  } else if (last_mode_ == "texel" && texel_) {
+    const TexelCounters t = texel_->read_counters();
+    c.shaded = t.shaded_texels;
+    c.mode_bytes = t.atlas_bytes;
+    c.detail = std::to_string(t.queued_tiles) + " tiles shaded (" + last_reuse_.reason + "); atlas " + std::to_string(texel_atlas_->width) +
+               " x " + std::to_string(texel_atlas_->height) + ", " + std::to_string(texel_atlas_->levels) + " levels, " +
+               std::to_string(texel_atlas_->charts.size()) + " charts" + (t.hole_pixels ? ", HOLES " + std::to_string(t.hole_pixels) : "");
   } else if (last_mode_ == "forward" && shadows_ && shadowed_) {
     c.shaded = shadowed_->read_shading_invocations();
   } else if (last_mode_ == "forward" && forward_) {

@@ -14,6 +14,7 @@
 #include "renderer/surface/htex_pass.hpp"
 #include "renderer/surface/htex_gi.hpp"
 #include "renderer/surface/htex_tables.hpp"
+#include "renderer/surface/texel_pass.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
 #include "scene/surface_scene.hpp"
@@ -54,7 +55,8 @@ ShadingReuse plan_shading_reuse(const ReuseInputs& in);
 // renderer/surface/htex_pass), and Htex with one-bounce indirect light (renderer/surface/
 // htex_gi): htex-gi (ReSTIR GI as the paper ships it, biased), htex-gi-unbiased (the
 // bias-corrected combination) and htex-pt (one bounce sample per texel and frame, no reuse: plain
-// path tracing in object space, the baseline ReSTIR is measured against).
+// path tracing in object space, the baseline ReSTIR is measured against), then texel (texel
+// shading over a static atlas, renderer/surface/texel_pass).
 std::vector<std::string> surface_modes(const vk::Device& device);
 
 class SurfaceRenderer {
@@ -99,8 +101,8 @@ class SurfaceRenderer {
   // Frames of GI since its reservoirs were last forgotten (the bench lets them accumulate).
   uint32_t gi_frames() const { return gi_frame_; }
   void reset_gi();
-  // The next htex frame shades every marked shadel, as after a moved eye (the bench times each
-  // frame as a moving camera's).
+  // The next htex (texel) frame shades every marked shadel (queued tile), as after a moved eye
+  // (the bench times each frame as a moving camera's).
   void forget_shading() { last_eye_.reset(); }
 
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
@@ -121,14 +123,19 @@ class SurfaceRenderer {
   std::unique_ptr<HtexGeometry> htex_geometry_;
   std::unique_ptr<HtexPass> htex_;
   std::unique_ptr<HtexTargets> htex_targets_;
+  std::unique_ptr<texel::TexelAtlas> texel_atlas_;
+  std::unique_ptr<TexelPass> texel_;
+  std::unique_ptr<TexelTargets> texel_targets_;
   std::unique_ptr<HtexPass> gi_pass_;  // indirect buffer on, sky ambient off, its own pool
   std::unique_ptr<HtexGi> gi_;
   uint32_t gi_frame_ = 0;
   const vk::Image* display_ = nullptr;  // the last recorded frame's colour
   std::string last_mode_;
-  std::optional<glm::dvec3> last_eye_;  // of the last htex frame
+  std::optional<glm::dvec3> last_eye_;  // of the last htex or texel frame
   bool last_shadows_ = false;
   ShadingReuse last_reuse_;
+  ShadingReuse plan_reuse(const Camera& camera) const;
+  void record_texel(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer);
   void record_htex_gi(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer);
 };
 

@@ -10,7 +10,7 @@
 #include "../scene_bindings.glsl"
 #include "htex.glsl"
 #include "htex_residency.glsl"
-#include "htex_pixel.glsl"
+#include "../pixel_ray.glsl"
 
 layout(early_fragment_tests) in;
 
@@ -24,14 +24,14 @@ void main() {
     return;
   }
   vec3 b, bx, by;
-  bool ok = htex_pixel_barycentrics(triangle, gl_FragCoord.xy, b) && htex_pixel_barycentrics(triangle, gl_FragCoord.xy + vec2(1.0, 0.0), bx) &&
-            htex_pixel_barycentrics(triangle, gl_FragCoord.xy + vec2(0.0, 1.0), by);
+  bool ok = pixel_barycentrics(triangle, gl_FragCoord.xy, b) && pixel_barycentrics(triangle, gl_FragCoord.xy + vec2(1.0, 0.0), bx) &&
+            pixel_barycentrics(triangle, gl_FragCoord.xy + vec2(0.0, 1.0), by);
   if (!ok) {
     b = vec3(1.0 / 3.0);
     bx = b;
     by = b;
   }
-  vec3 point = htex_clamp_to_triangle(b);
+  vec3 point = clamp_to_triangle(b);
   uint mesh = triangles[triangle].info.y;
   float lod = htex_level_of_detail(mesh, face, point, bx - b, by - b);
   uint level = htex_pick_level(mesh, lod, htex_push.lod.x, 0u);
