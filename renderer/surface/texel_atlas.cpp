@@ -95,6 +95,37 @@ double triangle_distance_sq(const glm::dvec2& p, const std::array<glm::dvec2, 3>
   return d2 <= kOnTriangle * kOnTriangle ? 0.0 : d2;
 }
 
+// triangle_distance_sq's rule, prepared for many points and cut off beyond sqrt(2): the squared
+// distance when it is <= 2, else something > 2.
+class TriangleDistance {
+ public:
+  explicit TriangleDistance(const std::array<glm::dvec2, 3>& t) : t_(t), area2_(usable_area2(t)) {
+    for (int k = 0; k < 3; ++k) {
+      const double len = glm::length(t[(k + 1) % 3] - t[k]);
+      inv_len_[k] = len > 0.0 ? 1.0 / len : 0.0;
+    }
+  }
+  double operator()(const glm::dvec2& p) const {
+    if (!(area2_ > 0.0)) return triangle_distance_sq(p, t_, area2_);
+    double s[3];
+    for (int k = 0; k < 3; ++k) s[k] = orient(t_[k], t_[(k + 1) % 3], p);
+    if (s[0] >= 0.0 && s[1] >= 0.0 && s[2] >= 0.0) return 0.0;
+    // Beyond sqrt(2) of an edge's line (on its outer side): beyond sqrt(2) of the triangle.
+    for (int k = 0; k < 3; ++k)
+      if (s[k] * inv_len_[k] < -kSqrt2 * (1.0 + 1e-12)) return 4.0;
+    // The nearest point lies on an edge that has p on its outer side.
+    double d2 = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k)
+      if (s[k] < 0.0) d2 = std::min(d2, segment_distance_sq(p, t_[k], t_[(k + 1) % 3]));
+    return d2 <= kOnTriangle * kOnTriangle ? 0.0 : d2;
+  }
+
+ private:
+  std::array<glm::dvec2, 3> t_;
+  double area2_;
+  double inv_len_[3];
+};
+
 // Andrew's monotone chain: counter-clockwise hull without collinear points.
 std::vector<glm::dvec2> convex_hull(std::vector<glm::dvec2> points) {
   std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
@@ -419,7 +450,7 @@ TexelAtlas build_texel_atlas(const SurfaceScene& scene, const AtlasSettings& set
     total_padded += double(padded[c].x) * double(padded[c].y);
   }
   if (widest > settings.max_side) throw too_large("a chart");
-  const uint64_t width = std::max(round_up(static_cast<uint64_t>(std::ceil(std::sqrt(total_padded))), side_align), round_up(widest, side_align));
+  const uint64_t width = std::max({side_align, round_up(static_cast<uint64_t>(std::ceil(std::sqrt(total_padded))), side_align), round_up(widest, side_align)});
   if (width > settings.max_side || width > std::numeric_limits<uint32_t>::max()) throw too_large("the atlas's width");
   std::vector<uint32_t> order(charts.size());
   std::iota(order.begin(), order.end(), 0u);
@@ -473,7 +504,7 @@ TexelAtlas build_texel_atlas(const SurfaceScene& scene, const AtlasSettings& set
       for (uint32_t t : chart.triangles) {  // ascending ids: an equal distance keeps the lower id
         std::array<glm::dvec2, 3> q;
         for (int v = 0; v < 3; ++v) q[v] = atlas.corner_uv[t][v] * scale;
-        const double area2 = usable_area2(q);
+        const TriangleDistance distance_sq(q);
         const Box2 box = box_of(q);
         // Texel centres i + 0.5 within sqrt(2) of the box.
         const int64_t i0 = std::max(ci0, static_cast<int64_t>(std::ceil(box.lo.x - kSqrt2 - 0.5)));
@@ -482,7 +513,7 @@ TexelAtlas build_texel_atlas(const SurfaceScene& scene, const AtlasSettings& set
         const int64_t j1 = std::min(cj1 - 1, static_cast<int64_t>(std::floor(box.hi.y + kSqrt2 - 0.5)));
         for (int64_t j = j0; j <= j1; ++j) {
           for (int64_t i = i0; i <= i1; ++i) {
-            const double d2 = triangle_distance_sq({double(i) + 0.5, double(j) + 0.5}, q, area2);
+            const double d2 = distance_sq({double(i) + 0.5, double(j) + 0.5});
             if (!(d2 <= 2.0)) continue;
             const uint64_t at = uint64_t(j) * w + uint64_t(i);
             const float d2f = static_cast<float>(d2);

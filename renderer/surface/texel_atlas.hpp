@@ -111,7 +111,8 @@ struct Tap {
   glm::uvec2 texel{0};
   double weight = 0.0;  // 0 for a texel without triangle (and the rest renormalized)
 };
-// The four bilinear taps of uv at `level` (texel coordinates clamped to the level).
+// The four bilinear taps of uv at `level` (texel coordinates clamped to the level), in the order
+// (i0, j0), (i0 + 1, j0), (i0, j0 + 1), (i0 + 1, j0 + 1); a non-finite uv gets four zero taps.
 std::array<Tap, 4> bilinear_taps(const TexelAtlas& atlas, const glm::dvec2& uv, uint32_t level);
 
 }  // namespace prismoid::texel

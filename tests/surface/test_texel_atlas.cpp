@@ -70,6 +70,16 @@ SceneMesh helicoid(double turns, double pitch, uint32_t around, uint32_t across)
   return m;
 }
 
+// Four flaps on one edge (a non-manifold "book"): two nearly coplanar ones on the same side,
+// whose projections overlap, one on the other side, one steep.
+SceneMesh book() {
+  SceneMesh m;
+  m.name = "book";
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.4, 1, 0.1}, {0.5, -1, 0.05}, {0.5, 0.2, 1}};
+  m.triangles = {{0, 1, 2}, {0, 1, 3}, {1, 0, 4}, {0, 1, 5}};
+  return m;
+}
+
 struct NamedScene {
   SurfaceScene scene;
   AtlasSettings settings;
@@ -89,6 +99,7 @@ std::vector<NamedScene> small_scenes() {
   helix.levels = 3;
   helix.max_chart_triangles = 4096;
   out.push_back({scene_of("helicoid", {helicoid(2.5, 0.1, 48, 4)}), helix});
+  out.push_back({scene_of("non-manifold book", {book()}), s});
   AtlasSettings one = s;
   one.levels = 1;
   one.max_chart_triangles = 7;
@@ -114,6 +125,17 @@ bool degenerate3(const std::array<glm::dvec3, 3>& p) {
   double longest = 0.0;
   for (int k = 0; k < 3; ++k) longest = std::max(longest, glm::dot(p[(k + 1) % 3] - p[k], p[(k + 1) % 3] - p[k]));
   return !(glm::length(normal_of(p)) > 1e-12 * longest);
+}
+
+TEST(TexelAtlas, NonManifoldEdgeJoinsOnlyWhatFits) {
+  AtlasSettings s;
+  s.target_texels = 4096.0;
+  const TexelAtlas atlas = build_texel_atlas(scene_of("book", {book()}), s);
+  // 0 and 2 (the far side, unfolded into the plane) fit together; 1 overlaps 0; 3 is 80 degrees off.
+  EXPECT_EQ(atlas.chart_of_triangle[0], atlas.chart_of_triangle[2]);
+  EXPECT_NE(atlas.chart_of_triangle[0], atlas.chart_of_triangle[1]);
+  EXPECT_NE(atlas.chart_of_triangle[0], atlas.chart_of_triangle[3]);
+  EXPECT_NE(atlas.chart_of_triangle[1], atlas.chart_of_triangle[3]);
 }
 
 void print_summary(const std::string& name, const TexelAtlas& atlas, double seconds) {
@@ -498,6 +520,36 @@ TEST(TexelAtlas, CubeFacesAreChartsOfTheirOwnSize) {
   EXPECT_NEAR(covered, content, 6 * 4 * (2 * half * rho + 1));
 }
 
+// A 3 x 1 rectangle turned 30 degrees about its normal in a tilted plane, split into a fan of
+// triangles about an off-centre point: its minimum-area rectangle is itself, laid out landscape
+// (3 rho x 1 rho), whatever the frame the seed's normal gives.
+TEST(TexelAtlas, MinimumAreaRectangleLandscape) {
+  const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, -0.5, 0.8));
+  const glm::dvec3 a0 = glm::normalize(glm::cross(n, glm::dvec3(0, 0, 1)));
+  const glm::dvec3 b0 = glm::cross(n, a0);
+  const double c = std::cos(0.5235987755982988), s_ = std::sin(0.5235987755982988);
+  const glm::dvec3 a = c * a0 + s_ * b0, b = -s_ * a0 + c * b0;
+  SceneMesh m;
+  m.name = "rectangle";
+  const glm::dvec3 o(0.2, 0.4, -0.1);
+  m.positions = {o, o + 3.0 * a, o + 3.0 * a + b, o + b, o + 1.1 * a + 0.3 * b};
+  m.triangles = {{4, 0, 1}, {4, 1, 2}, {4, 2, 3}, {4, 3, 0}};
+  AtlasSettings settings;
+  settings.texels_per_unit = 41.0;
+  const TexelAtlas atlas = build_texel_atlas(scene_of("rectangle", {m}), settings);
+  ASSERT_EQ(atlas.charts.size(), 1u);
+  glm::dvec2 lo(1e300), hi(-1e300);
+  for (const auto& uv : atlas.corner_uv)
+    for (const auto& q : uv) {
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+  EXPECT_NEAR(hi.x - lo.x, 3.0 * 41.0, 1e-9);
+  EXPECT_NEAR(hi.y - lo.y, 1.0 * 41.0, 1e-9);
+  // Content 123 x 41 rounded up to multiples of 8 (4 levels), 16 texels of padding each side.
+  EXPECT_EQ(atlas.charts[0].size, glm::uvec2(128 + 32, 48 + 32));
+}
+
 // texels_per_unit given: used as is; 0: the charts' 3D area times rho^2 is the target.
 TEST(TexelAtlas, DensityFromTargetOrGiven) {
   const SurfaceScene scene = make_furnace(0.5, 1.0, 2);
@@ -654,6 +706,18 @@ TEST(TexelAtlas, DegenerateTrianglesAreHarmless) {
   check_packing(atlas);
   check_triangle_index(scene.name, atlas);
   check_taps(scene.name, atlas, 4);
+}
+
+TEST(TexelAtlas, EmptySceneGivesTheSmallestAtlas) {
+  AtlasSettings s;
+  s.levels = 3;
+  const TexelAtlas atlas = build_texel_atlas(scene_of("empty", {}), s);
+  EXPECT_EQ(atlas.width, kTileTexels * 4);
+  EXPECT_EQ(atlas.height, kTileTexels * 4);
+  EXPECT_TRUE(atlas.charts.empty());
+  EXPECT_EQ(atlas.used_texels(), 0u);
+  EXPECT_EQ(atlas.triangle_index.size(), 3u);
+  EXPECT_EQ(atlas.tile_count(), 16u + 4u + 1u);  // 32 x 32, 16 x 16, 8 x 8 texels
 }
 
 // ---- (8) bad settings ----------------------------------------------------------------------------
