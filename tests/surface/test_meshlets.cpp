@@ -12,12 +12,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <meshoptimizer.h>
 
 #include "io/surface_io.hpp"
 #include "scene/generators.hpp"
@@ -392,6 +394,81 @@ TEST(Meshlets, BlockClassesFollowTheRule) {
   EXPECT_EQ(msa_class_for({1.0, 0.1}, 60.0), 3u * 7u + 0u);  // 62 -> 64, 8 -> 8
   EXPECT_NEAR(msa_block_scale({3.0, 1.0}, msa_class_for({3.0, 1.0}, 10.0)), 10.0, 1e-12);  // min(30 / 3, 14 / 1)
   EXPECT_EQ(msa_block_scale({0.0, 0.0}, 0), 1.0);
+}
+
+// ---- Meshoptimizer: its meshlets, split only where they do not chart ------------------------------
+
+// meshopt_buildMeshlets called directly on one mesh (64 vertices, 84 triangles, cone weight 0.5):
+// each meshlet's triangle ids in meshoptimizer's order (the mesh has no repeated vertex triples).
+std::vector<std::vector<uint32_t>> direct_meshoptimizer(const SceneMesh& mesh) {
+  std::vector<uint32_t> indices;
+  for (const auto& t : mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
+  std::vector<float> positions;
+  for (const auto& p : mesh.positions)
+    for (int c = 0; c < 3; ++c) positions.push_back(static_cast<float>(p[c]));
+  const size_t bound = meshopt_buildMeshletsBound(indices.size(), 64, 84);
+  std::vector<meshopt_Meshlet> meshlets(bound);
+  std::vector<unsigned int> vertices(bound * 64);
+  std::vector<unsigned char> triangles(bound * 84 * 3);
+  const size_t count = meshopt_buildMeshlets(meshlets.data(), vertices.data(), triangles.data(), indices.data(), indices.size(),
+                                             positions.data(), mesh.positions.size(), 12, 64, 84, 0.5f);
+  std::map<std::array<uint32_t, 3>, uint32_t> id;
+  for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    auto key = mesh.triangles[t];
+    std::sort(key.begin(), key.end());
+    id[key] = t;
+  }
+  std::vector<std::vector<uint32_t>> out(count);
+  for (size_t m = 0; m < count; ++m)
+    for (uint32_t t = 0; t < meshlets[m].triangle_count; ++t) {
+      std::array<uint32_t, 3> key;
+      for (int c = 0; c < 3; ++c) key[c] = vertices[meshlets[m].vertex_offset + triangles[meshlets[m].triangle_offset + 3 * t + c]];
+      std::sort(key.begin(), key.end());
+      out[m].push_back(id.at(key));
+    }
+  return out;
+}
+
+std::vector<std::vector<uint32_t>> sorted_groups(std::vector<std::vector<uint32_t>> groups) {
+  for (auto& g : groups) std::sort(g.begin(), g.end());
+  std::sort(groups.begin(), groups.end());
+  return groups;
+}
+
+// On a flat surface every meshoptimizer meshlet charts: the meshlets are exactly meshoptimizer's.
+TEST(Meshlets, FlatSurfaceKeepsMeshoptimizersMeshlets) {
+  const SurfaceScene scene = scene_of("flat grid", {terrain(32, 0.0, 0.0, 1)});
+  const MeshletSet set = build_meshlets(scene, with(Clustering::Meshoptimizer));
+  std::vector<std::vector<uint32_t>> ours;
+  for (const Meshlet& m : set.meshlets) ours.push_back(m.triangles);
+  const auto theirs = direct_meshoptimizer(scene.meshes[0]);
+  EXPECT_GT(theirs.size(), 2048u / 84u);
+  EXPECT_EQ(sorted_groups(ours), sorted_groups(theirs));
+}
+
+// A closed 80-triangle sphere is one meshoptimizer meshlet, which no plane charts: it is split
+// in halves of meshoptimizer's order until each half charts.
+TEST(Meshlets, MeshletsThatDoNotChartAreSplitInHalves) {
+  const SurfaceScene scene = make_furnace(0.5, 1.0, 1);
+  const auto theirs = direct_meshoptimizer(scene.meshes[0]);
+  ASSERT_EQ(theirs.size(), 1u);
+  ASSERT_EQ(theirs[0].size(), 80u);
+  const MeshletSet set = build_meshlets(scene, with(Clustering::Meshoptimizer));
+  check_set(scene, with(Clustering::Meshoptimizer), set);
+  EXPECT_GE(set.meshlets.size(), 2u);
+  // Each meshlet is a range [k n / 2^d, (k + 1) n / 2^d) of meshoptimizer's order (halves by
+  // integer division: sizes n >> d or (n >> d) + 1).
+  std::vector<uint32_t> position(80);
+  for (uint32_t i = 0; i < 80; ++i) position[theirs[0][i]] = i;
+  for (const Meshlet& m : set.meshlets) {
+    std::vector<uint32_t> at;
+    for (uint32_t t : m.triangles) at.push_back(position[t]);
+    std::sort(at.begin(), at.end());
+    EXPECT_EQ(at.back() - at.front() + 1, at.size()) << "not a contiguous range of meshoptimizer's order";
+    bool half = false;
+    for (uint32_t d = 1; d < 8; ++d) half = half || at.size() == (80u >> d) || at.size() == (80u >> d) + 1;
+    EXPECT_TRUE(half) << at.size() << " triangles";
+  }
 }
 
 // ---- Degenerate triangles and bad input -------------------------------------------------------
