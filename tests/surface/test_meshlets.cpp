@@ -22,6 +22,7 @@
 #include <meshoptimizer.h>
 
 #include "io/surface_io.hpp"
+#include "renderer/surface/planar_charts.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
@@ -469,6 +470,33 @@ TEST(Meshlets, MeshletsThatDoNotChartAreSplitInHalves) {
     for (uint32_t d = 1; d < 8; ++d) half = half || at.size() == (80u >> d) || at.size() == (80u >> d) + 1;
     EXPECT_TRUE(half) << at.size() << " triangles";
   }
+}
+
+// chart_triangles (planar_charts.hpp), which the splitting relies on: nullopt for what no plane
+// charts, a chart otherwise.
+TEST(Meshlets, ChartTrianglesRefusesWhatCannotChart) {
+  SceneMesh m;
+  m.name = "pieces";
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 0, 0}, {3, 0, 0}};
+  m.triangles = {{0, 1, 2}, {1, 3, 2}, {0, 2, 1}, {0, 1, 2}, {1, 4, 5}};
+  const SurfaceScene scene = scene_of("pieces", {m, m});  // triangles 0..4 and 5..9
+  const auto geometry = charts::triangle_geometry(scene);
+  const auto square = charts::chart_triangles(geometry, {1, 0});
+  ASSERT_TRUE(square.has_value());
+  EXPECT_EQ(square->triangles, (std::vector<uint32_t>{0, 1}));
+  EXPECT_NEAR(square->extent.x, 1.0, 1e-15);
+  EXPECT_NEAR(square->extent.y, 1.0, 1e-15);
+  EXPECT_FALSE(charts::chart_triangles(geometry, {}).has_value());
+  EXPECT_FALSE(charts::chart_triangles(geometry, {0, 2}).has_value());   // turned over: flips
+  EXPECT_FALSE(charts::chart_triangles(geometry, {0, 3}).has_value());   // duplicates: overlap
+  EXPECT_FALSE(charts::chart_triangles(geometry, {0, 0}).has_value());   // a repeated id
+  EXPECT_FALSE(charts::chart_triangles(geometry, {0, 6}).has_value());   // two meshes
+  EXPECT_FALSE(charts::chart_triangles(geometry, {0, 4}).has_value());   // with a degenerate triangle
+  const auto point = charts::chart_triangles(geometry, {4});             // a degenerate triangle alone
+  ASSERT_TRUE(point.has_value());
+  EXPECT_TRUE(point->point_like());
+  EXPECT_EQ(point->extent, glm::dvec2(0.0));
+  EXPECT_FALSE(charts::chart_triangles(geometry, {10}).has_value());     // no such triangle
 }
 
 // ---- Degenerate triangles and bad input -------------------------------------------------------
