@@ -48,7 +48,6 @@ const MsaSettings& checked(const vk::Device& device, const msa::MeshletSet& mesh
     throw InputError("--msa-superblocks", std::to_string(s.superblocks) + " superblocks (" + std::to_string(bytes) +
                                               " bytes) exceed the storage-buffer range of " + caps.name + " (" +
                                               std::to_string(caps.max_storage_buffer_range) + " bytes)");
-  if (s.shade_every == 0) throw InputError("--msa-shade-every", "shade at least every frame (n >= 1)");
   if (meshlets.meshlets.size() >= (1u << 20)) throw InputError("meshlets", "more than 2^20 meshlets");
   return s;
 }
@@ -237,7 +236,8 @@ void MsaPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccele
   const gpu::SurfaceFrame frame = surface_frame(scene, camera, e, glm::dvec2(0.0));
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
   frame_stamp_ += 1;
-  const bool shade_all = std::exchange(invalidate_, false) || ++frames_since_shading_ >= settings_.shade_every;
+  const bool periodic = settings_.shade_every > 0 && ++frames_since_shading_ >= settings_.shade_every;
+  const bool shade_all = std::exchange(invalidate_, false) || periodic;
   if (shade_all) frames_since_shading_ = 0;
 
   gpu::MsaPush push{};

@@ -19,8 +19,8 @@
 //    bilinear by hand from the atlas.
 //
 // Shading is reused while a meshlet keeps its block: always for a still eye (the planner's
-// rule), and with temporal amortization (`shade_every` n > 1) blocks are shaded again only every
-// n-th frame (new blocks at once), the paper's 4.5 experiment.
+// rule), and with temporal amortization (`shade_every` n) held blocks are shaded again only every
+// n-th frame whatever the camera does (new blocks at once), the paper's 4.5 experiment.
 //
 // Deviations from the paper: planar charts rather than LSCM; one block size (not one width)
 // per superblock, and superblocks go back to the pool only when the atlas is reset (after it
@@ -45,7 +45,10 @@ struct MsaSettings {
   uint32_t superblocks = 16;      // the atlas: this many 512 x 512 superblocks (4 MiB of RGBA32F each)
   bool shadows = true;
   uint32_t budget_texels = 0;     // shading budget per frame (block texels); 0: none
-  uint32_t shade_every = 1;       // temporal amortization n: shade held blocks every n-th frame
+  // Temporal amortization n: every n-th frame shades every held block again; in between only new
+  // blocks are shaded. 0: held blocks are shaded again only after invalidate_shading() (the
+  // caller's rule: a moved eye), which keeps the image exact.
+  uint32_t shade_every = 0;
 };
 
 std::string msa_device_problem(const vk::Device& device);

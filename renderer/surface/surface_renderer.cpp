@@ -19,6 +19,7 @@ std::vector<std::string> surface_modes(const vk::Device& device) {
   if (htex_device_problem(device).empty())
     for (const char* m : {"htex", "htex-gi", "htex-gi-unbiased", "htex-pt"}) modes.push_back(m);
   if (texel_device_problem(device).empty()) modes.push_back("texel");
+  if (msa_device_problem(device).empty()) modes.push_back("msa");
   return modes;
 }
 
@@ -73,6 +74,7 @@ void SurfaceRenderer::resize(VkExtent2D extent) {
   shadowed_targets_.reset();
   htex_targets_.reset();
   texel_targets_.reset();
+  msa_targets_.reset();
   display_ = nullptr;
 }
 
@@ -81,7 +83,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   if (mode != last_mode_) last_eye_.reset();  // another mode drew in between: shade afresh
   last_mode_ = mode;
   const bool htex_mode = mode.rfind("htex", 0) == 0;
-  if ((shadows_ || htex_mode || mode == "texel") && !accel_)
+  if ((shadows_ || htex_mode || mode == "texel" || mode == "msa") && !accel_)
     accel_ = std::make_unique<rt::SceneAccel>(device_, source_);  // origin: the bounds centre, as scene_.origin
   if (htex_mode && mode != "htex") {
     record_htex_gi(cmd, camera, mode, timer);
@@ -89,6 +91,10 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   }
   if (mode == "texel") {
     record_texel(cmd, camera, timer);
+    return;
+  }
+  if (mode == "msa") {
+    record_msa(cmd, camera, timer);
     return;
   }
   if (mode == "htex") {
@@ -155,6 +161,28 @@ void SurfaceRenderer::record_texel(VkCommandBuffer cmd, const Camera& camera, vk
   display_ = &texel_targets_->color;
 }
 
+void SurfaceRenderer::record_msa(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer) {
+  if (!msa_) {
+    meshlets_ = std::make_unique<msa::MeshletSet>(msa::build_meshlets(source_));
+    MsaSettings settings;
+    settings.shadows = shadows_;
+    // As many superblocks (4 MiB each) as one storage buffer holds, up to 64 (16 M texels).
+    settings.superblocks = uint32_t(std::clamp<uint64_t>(device_.capabilities().max_storage_buffer_range / (uint64_t(512) * 512 * 16), 1, 64));
+    msa_ = std::make_unique<MsaPass>(device_, *meshlets_, settings);
+  }
+  if (!msa_targets_) msa_targets_ = std::make_unique<MsaTargets>(create_msa_targets(device_, extent_));
+  MsaSettings settings = msa_->settings();
+  settings.shadows = shadows_;
+  msa_->set_settings(settings);
+  // The planner's rule: a still eye reuses every block's shading; a moved eye shades them again.
+  last_reuse_ = plan_reuse(camera);
+  if (last_reuse_.invalidate) msa_->invalidate_shading();
+  msa_->record(cmd, scene_, accel_->tlas(), *msa_targets_, camera, timer);
+  last_eye_ = camera.eye;
+  last_shadows_ = shadows_;
+  display_ = &msa_targets_->color;
+}
+
 RestirGiSettings SurfaceRenderer::gi_settings(const std::string& mode) {
   RestirGiSettings s;
   s.unbiased = mode == "htex-gi-unbiased";
@@ -213,6 +241,14 @@ SurfaceRenderer::FrameCounts SurfaceRenderer::read_counts() const {
     c.detail = std::to_string(t.queued_tiles) + " tiles shaded (" + last_reuse_.reason + "); atlas " + std::to_string(texel_atlas_->width) +
                " x " + std::to_string(texel_atlas_->height) + ", " + std::to_string(texel_atlas_->levels) + " levels, " +
                std::to_string(texel_atlas_->charts.size()) + " charts" + (t.hole_pixels ? ", HOLES " + std::to_string(t.hole_pixels) : "");
+  } else if (last_mode_ == "msa" && msa_) {
+    const MsaCounters m = msa_->read_counters();
+    c.shaded = m.shaded_texels;
+    c.mode_bytes = m.atlas_bytes;
+    c.detail = std::to_string(m.seen_meshlets) + " of " + std::to_string(meshlets_->meshlets.size()) + " meshlets seen, " +
+               std::to_string(m.shaded_blocks) + " blocks shaded (" + last_reuse_.reason + "), " + std::to_string(m.allocated_blocks) +
+               " allocated, " + std::to_string(m.released_blocks) + " released; " + std::to_string(m.free_superblocks) + " superblocks free" +
+               (m.hole_pixels ? ", ATLAS FULL: " + std::to_string(m.hole_pixels) + " pixels unshaded" : "");
   } else if (last_mode_ == "forward" && shadows_ && shadowed_) {
     c.shaded = shadowed_->read_shading_invocations();
   } else if (last_mode_ == "forward" && forward_) {
