@@ -14,6 +14,7 @@ BASE_PACKAGES=(
   nlohmann-json3-dev
   tetgen libtet1.5-dev
   libopenvdb-dev
+  libmeshoptimizer-dev
   libimgui-dev
   clang libclang-rt-14-dev
   xvfb xauth

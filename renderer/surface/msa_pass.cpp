@@ -63,28 +63,7 @@ vk::Buffer upload(const vk::Device& device, std::vector<T> data) {
   return vk::upload_buffer(device, std::as_bytes(std::span<const T>(data)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
 }
 
-uint32_t size_level(double n) {
-  uint32_t level = 0;
-  while (level + 1 < PRISMOID_MSA_SIZES && double(PRISMOID_MSA_MIN_BLOCK << level) < n) ++level;
-  return level;
-}
-
 }  // namespace
-
-uint32_t msa_class_for(const glm::dvec2& extent, double density) {
-  return size_level(std::ceil(extent.x * density) + 2.0) * PRISMOID_MSA_SIZES + size_level(std::ceil(extent.y * density) + 2.0);
-}
-
-glm::uvec2 msa_class_size(uint32_t c) {
-  return {PRISMOID_MSA_MIN_BLOCK << (c / PRISMOID_MSA_SIZES), PRISMOID_MSA_MIN_BLOCK << (c % PRISMOID_MSA_SIZES)};
-}
-
-double msa_block_scale(const glm::dvec2& extent, uint32_t c) {
-  const glm::dvec2 size(msa_class_size(c));
-  const double sx = extent.x > 0.0 ? (size.x - 2.0) / extent.x : 1e300, sy = extent.y > 0.0 ? (size.y - 2.0) / extent.y : 1e300;
-  const double s = std::min(sx, sy);
-  return s < 1e300 ? s : 1.0;
-}
 
 std::string msa_device_problem(const vk::Device& device) {
   const auto& caps = device.capabilities();

@@ -78,10 +78,10 @@ struct MsaCounters {
   uint64_t atlas_bytes = 0;
 };
 
-// Block-size arithmetic (the twins of shaders/surface/msa/msa.glsl).
-uint32_t msa_class_for(const glm::dvec2& extent, double density);
-glm::uvec2 msa_class_size(uint32_t size_class);
-double msa_block_scale(const glm::dvec2& extent, uint32_t size_class);
+// Block-size arithmetic (the twins of shaders/surface/msa/msa.glsl), in meshlets.hpp.
+using msa::msa_block_scale;
+using msa::msa_class_for;
+using msa::msa_class_size;
 
 class MsaPass {
  public:

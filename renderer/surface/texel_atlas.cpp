@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "renderer/surface/planar_charts.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::texel {
@@ -17,27 +18,21 @@ namespace prismoid::texel {
 namespace {
 
 constexpr double kSqrt2 = 1.4142135623730951;
-// A triangle (3D, or its image in the plane) with |cross| <= kDegenerate * (longest edge)^2 has
-// no usable plane: it forms a chart of its own (3D) or gets the centroid's weights (uv).
-constexpr double kDegenerate = 1e-12;
-// A candidate's projection must keep at least this fraction of its 3D area (positive orientation).
-constexpr double kMinProjectedArea = 1e-9;
 
 double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
 double orient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& p) { return cross2(b - a, p - a); }
 
 uint64_t round_up(uint64_t value, uint64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 double longest_edge_sq(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
   return std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
 }
 
-// Twice the signed area of the uv triangle, or 0 when it is degenerate (kDegenerate).
+// Twice the signed area of the uv triangle, or 0 when it is degenerate (the 3D rule,
+// charts::kDegenerateTriangle): such a triangle gets the centroid's weights.
 double usable_area2(const std::array<glm::dvec2, 3>& t) {
   const double a2 = orient(t[0], t[1], t[2]);
-  if (!std::isfinite(a2) || std::abs(a2) <= kDegenerate * longest_edge_sq(t[0], t[1], t[2])) return 0.0;
+  if (!std::isfinite(a2) || std::abs(a2) <= charts::kDegenerateTriangle * longest_edge_sq(t[0], t[1], t[2])) return 0.0;
   return a2;
 }
 
@@ -51,26 +46,6 @@ struct Box2 {
 
 Box2 box_of(const std::array<glm::dvec2, 3>& t) {
   return {glm::min(t[0], glm::min(t[1], t[2])), glm::max(t[0], glm::max(t[1], t[2]))};
-}
-
-bool boxes_overlap(const Box2& a, const Box2& b) {
-  return a.lo.x < b.hi.x && b.lo.x < a.hi.x && a.lo.y < b.hi.y && b.lo.y < a.hi.y;
-}
-
-// True when some edge of `a` (counter-clockwise) has all of `b` in its closed outer half-plane.
-bool separated_by_edge_of(const std::array<glm::dvec2, 3>& a, const std::array<glm::dvec2, 3>& b) {
-  for (int k = 0; k < 3; ++k) {
-    const glm::dvec2& p = a[k];
-    const glm::dvec2& q = a[(k + 1) % 3];
-    if (orient(p, q, b[0]) <= 0.0 && orient(p, q, b[1]) <= 0.0 && orient(p, q, b[2]) <= 0.0) return true;
-  }
-  return false;
-}
-
-// Interiors of two counter-clockwise triangles intersect (separating axis theorem; touching
-// along edges or at vertices is not overlap).
-bool interiors_overlap(const std::array<glm::dvec2, 3>& a, const std::array<glm::dvec2, 3>& b) {
-  return !separated_by_edge_of(a, b) && !separated_by_edge_of(b, a);
 }
 
 // Squared distance from p to segment [a, b].
@@ -127,85 +102,6 @@ class TriangleDistance {
 };
 
 // Andrew's monotone chain: counter-clockwise hull without collinear points.
-std::vector<glm::dvec2> convex_hull(std::vector<glm::dvec2> points) {
-  std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-  points.erase(std::unique(points.begin(), points.end()), points.end());
-  if (points.size() < 3) return points;
-  std::vector<glm::dvec2> hull(2 * points.size());
-  size_t k = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && orient(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
-  }
-  for (size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && orient(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
-  }
-  hull.resize(k - 1);
-  return hull;
-}
-
-struct GlobalTriangle {
-  uint32_t mesh = 0;
-  std::array<glm::dvec3, 3> p;
-  glm::dvec3 normal{0.0};  // unit; meaningful when !degenerate
-  double area = 0.0;
-  bool degenerate = true;
-};
-
-// Per mesh: the triangles sharing each unordered vertex pair (all of them on a non-manifold edge).
-std::vector<std::vector<uint32_t>> edge_neighbours(const SceneMesh& mesh, uint32_t first_id) {
-  const size_t n = mesh.triangles.size();
-  std::vector<std::pair<uint64_t, uint32_t>> edges;
-  edges.reserve(3 * n);
-  for (size_t t = 0; t < n; ++t) {
-    const auto& tri = mesh.triangles[t];
-    for (int k = 0; k < 3; ++k) {
-      const uint64_t a = tri[k], b = tri[(k + 1) % 3];
-      if (a == b) continue;
-      edges.emplace_back(std::min(a, b) << 32 | std::max(a, b), static_cast<uint32_t>(t));
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  std::vector<std::vector<uint32_t>> neighbours(n);
-  for (size_t begin = 0; begin < edges.size();) {
-    size_t end = begin;
-    while (end < edges.size() && edges[end].first == edges[begin].first) ++end;
-    for (size_t x = begin; x < end; ++x)
-      for (size_t y = begin; y < end; ++y)
-        if (edges[x].second != edges[y].second) neighbours[edges[x].second].push_back(first_id + edges[y].second);
-    begin = end;
-  }
-  for (auto& list : neighbours) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
-  return neighbours;
-}
-
-// A chart during construction: its plane frame and its triangles' projections (plane units).
-struct ChartBuild {
-  uint32_t mesh = 0;
-  glm::dvec3 origin{0.0}, e_u{1.0, 0.0, 0.0}, e_v{0.0, 1.0, 0.0}, normal{0.0, 0.0, 1.0};
-  bool point_like = false;
-  std::vector<uint32_t> triangles;
-  std::vector<std::array<glm::dvec2, 3>> projected;
-  std::vector<Box2> boxes;
-  glm::dvec2 content{0.0};  // content size, level-0 texels (before rounding)
-
-  glm::dvec2 project(const glm::dvec3& p) const { return {glm::dot(p - origin, e_u), glm::dot(p - origin, e_v)}; }
-};
-
-void frame_from_normal(ChartBuild& chart, const glm::dvec3& n) {
-  chart.normal = n;
-  // The axis least aligned with n, made orthogonal to it; (e_u, e_v, n) right-handed.
-  const glm::dvec3 a = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z) ? glm::dvec3(1, 0, 0)
-                       : std::abs(n.y) <= std::abs(n.z)                                 ? glm::dvec3(0, 1, 0)
-                                                                                         : glm::dvec3(0, 0, 1);
-  chart.e_u = glm::normalize(a - glm::dot(a, n) * n);
-  chart.e_v = glm::cross(n, chart.e_u);
-}
-
 std::string fmt(double v) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.6g", v);
@@ -269,166 +165,32 @@ TexelAtlas build_texel_atlas(const SurfaceScene& scene, const AtlasSettings& set
   const uint64_t padding = padding_texels(levels);
   const uint64_t side_align = kTileTexels * align;
 
-  // Triangles in global order.
-  std::vector<GlobalTriangle> tris;
-  std::vector<std::vector<uint32_t>> neighbours;
-  double total_area = 0.0;
-  for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
-    const SceneMesh& mesh = scene.meshes[m];
-    const uint32_t first = static_cast<uint32_t>(tris.size());
-    for (const auto& tri : mesh.triangles) {
-      GlobalTriangle g;
-      g.mesh = m;
-      for (int k = 0; k < 3; ++k) {
-        if (tri[k] >= mesh.positions.size())
-          throw InputError(name, "texel atlas: mesh " + std::to_string(m) + " has a vertex index out of range");
-        g.p[k] = mesh.positions[tri[k]];
-      }
-      const glm::dvec3 c = glm::cross(g.p[1] - g.p[0], g.p[2] - g.p[0]);
-      const double len = glm::length(c);
-      const double longest = std::max({glm::dot(g.p[1] - g.p[0], g.p[1] - g.p[0]), glm::dot(g.p[2] - g.p[1], g.p[2] - g.p[1]),
-                                       glm::dot(g.p[0] - g.p[2], g.p[0] - g.p[2])});
-      g.degenerate = !(std::isfinite(len) && finite(g.p[0]) && finite(g.p[1]) && finite(g.p[2]) && len > kDegenerate * longest);
-      if (!g.degenerate) {
-        g.normal = c / len;
-        g.degenerate = !finite(g.normal);
-      }
-      if (!g.degenerate) {
-        g.area = 0.5 * len;
-        total_area += g.area;
-      }
-      tris.push_back(g);
-    }
-    auto local = edge_neighbours(mesh, first);
-    for (auto& list : local) neighbours.push_back(std::move(list));
-  }
-  if (tris.size() > size_t(kNoTriangle)) throw InputError(name, "texel atlas: too many triangles for 32-bit triangle ids");
+  // Charts (planar_charts.hpp): grown over shared edges, turned to their minimum-area rectangle.
+  const std::vector<charts::TriangleGeometry> tris = charts::triangle_geometry(scene);
   const uint32_t triangle_count = static_cast<uint32_t>(tris.size());
+  double total_area = 0.0;
+  for (const auto& g : tris) total_area += g.area;  // 0 for degenerate triangles
 
   double rho = settings.texels_per_unit;
   if (rho == 0.0) rho = total_area > 0.0 ? std::sqrt(settings.target_texels / total_area) : 1.0;
   if (!(rho > 0.0) || !std::isfinite(rho)) throw InputError(name, "texel atlas: no usable texel density (" + fmt(rho) + " texels per unit)");
 
-  // ---- Charts: grow from the lowest unassigned triangle over shared edges ----
-  const double cos_max = std::cos(settings.max_normal_angle_deg * (3.14159265358979323846 / 180.0));
-  constexpr uint32_t kUnassigned = kNoTriangle;
-  std::vector<uint32_t> chart_of(triangle_count, kUnassigned);
-  std::vector<uint32_t> tried(triangle_count, kUnassigned);  // the chart that last tested the triangle
-  std::vector<ChartBuild> charts;
-  std::vector<uint32_t> queue;
-  for (uint32_t seed = 0; seed < triangle_count; ++seed) {
-    if (chart_of[seed] != kUnassigned) continue;
-    const uint32_t id = static_cast<uint32_t>(charts.size());
-    ChartBuild chart;
-    chart.mesh = tris[seed].mesh;
-    chart_of[seed] = id;
-    tried[seed] = id;
-    chart.triangles.push_back(seed);
-    if (tris[seed].degenerate) {
-      chart.point_like = true;
-      charts.push_back(std::move(chart));
-      continue;
-    }
-    chart.origin = tris[seed].p[0];
-    frame_from_normal(chart, tris[seed].normal);
-    auto project_triangle = [&](uint32_t t) {
-      return std::array<glm::dvec2, 3>{chart.project(tris[t].p[0]), chart.project(tris[t].p[1]), chart.project(tris[t].p[2])};
-    };
-    chart.projected.push_back(project_triangle(seed));
-    chart.boxes.push_back(box_of(chart.projected.back()));
-    queue.assign(1, seed);
-    for (size_t head = 0; head < queue.size() && chart.triangles.size() < settings.max_chart_triangles; ++head) {
-      for (uint32_t t : neighbours[queue[head]]) {
-        if (chart.triangles.size() >= settings.max_chart_triangles) break;
-        if (chart_of[t] != kUnassigned || tried[t] == id) continue;
-        tried[t] = id;
-        const GlobalTriangle& g = tris[t];
-        if (g.degenerate || glm::dot(g.normal, chart.normal) < cos_max) continue;
-        const auto proj = project_triangle(t);
-        const double area2 = orient(proj[0], proj[1], proj[2]);
-        if (!(area2 > kMinProjectedArea * 2.0 * g.area)) continue;
-        const Box2 box = box_of(proj);
-        bool overlap = false;
-        for (size_t k = 0; k < chart.projected.size() && !overlap; ++k)
-          overlap = boxes_overlap(box, chart.boxes[k]) && interiors_overlap(proj, chart.projected[k]);
-        if (overlap) continue;
-        chart_of[t] = id;
-        chart.triangles.push_back(t);
-        chart.projected.push_back(proj);
-        chart.boxes.push_back(box);
-        queue.push_back(t);
-      }
-    }
-    // Ascending ids (the seed, the lowest, first): the triangle index's tie rule relies on it.
-    std::vector<uint32_t> by_id(chart.triangles.size());
-    std::iota(by_id.begin(), by_id.end(), 0u);
-    std::sort(by_id.begin(), by_id.end(), [&](uint32_t a, uint32_t b) { return chart.triangles[a] < chart.triangles[b]; });
-    ChartBuild sorted = chart;
-    for (size_t k = 0; k < by_id.size(); ++k) {
-      sorted.triangles[k] = chart.triangles[by_id[k]];
-      sorted.projected[k] = chart.projected[by_id[k]];
-      sorted.boxes[k] = chart.boxes[by_id[k]];
-    }
-    charts.push_back(std::move(sorted));
-  }
+  std::vector<charts::PlanarChart> planar = charts::grow_planar_charts(scene, tris, settings.max_chart_triangles, settings.max_normal_angle_deg);
 
-  // ---- Chart frames: minimum-area bounding rectangle of the hull, axis-aligned, landscape ----
+  // Chart-local uv: level-0 texels, the rectangle's lower corner at 0.
   TexelAtlas atlas;
   atlas.levels = levels;
   atlas.texels_per_unit = rho;
-  atlas.chart_of_triangle = chart_of;
+  atlas.chart_of_triangle.assign(triangle_count, kNoTriangle);
   atlas.corner_uv.assign(triangle_count, {});
-  atlas.charts.resize(charts.size());
-  std::vector<std::array<glm::dvec2, 3>> local_uv(triangle_count);  // chart-local, level-0 texels, min corner at 0
-  for (size_t c = 0; c < charts.size(); ++c) {
-    ChartBuild& chart = charts[c];
-    if (chart.point_like) {
-      chart.content = glm::dvec2(0.0);
-      local_uv[chart.triangles[0]] = {glm::dvec2(0.0), glm::dvec2(0.0), glm::dvec2(0.0)};
-      continue;
-    }
-    std::vector<glm::dvec2> points;
-    points.reserve(3 * chart.projected.size());
-    for (const auto& p : chart.projected) points.insert(points.end(), p.begin(), p.end());
-    const std::vector<glm::dvec2> hull = convex_hull(points);
-    glm::dvec2 axis(1.0, 0.0);
-    double best = std::numeric_limits<double>::infinity();
-    glm::dvec2 best_extent(0.0);
-    for (size_t k = 0; k < hull.size(); ++k) {
-      const glm::dvec2 edge = hull[(k + 1) % hull.size()] - hull[k];
-      const double len = glm::length(edge);
-      if (!(len > 0.0)) continue;
-      const glm::dvec2 d = edge / len, perp(-d.y, d.x);
-      glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-      for (const glm::dvec2& p : hull) {
-        const glm::dvec2 q(glm::dot(p, d), glm::dot(p, perp));
-        lo = glm::min(lo, q);
-        hi = glm::max(hi, q);
-      }
-      const glm::dvec2 extent = hi - lo;
-      if (extent.x * extent.y < best) {
-        best = extent.x * extent.y;
-        axis = d;
-        best_extent = extent;
-      }
-    }
-    // Landscape: turn a quarter (a rotation, so orientation is kept) when taller than wide.
-    if (best_extent.y > best_extent.x) axis = glm::dvec2(-axis.y, axis.x);
-    const glm::dvec2 perp(-axis.y, axis.x);
-    glm::dvec2 lo(std::numeric_limits<double>::infinity());
-    glm::dvec2 hi(-std::numeric_limits<double>::infinity());
-    for (const glm::dvec2& p : points) {
-      const glm::dvec2 q(glm::dot(p, axis), glm::dot(p, perp));
-      lo = glm::min(lo, q);
-      hi = glm::max(hi, q);
-    }
-    chart.content = (hi - lo) * rho;
+  atlas.charts.resize(planar.size());
+  std::vector<std::array<glm::dvec2, 3>> local_uv(triangle_count);
+  for (size_t c = 0; c < planar.size(); ++c) {
+    const charts::PlanarChart& chart = planar[c];
     for (size_t k = 0; k < chart.triangles.size(); ++k) {
-      auto& uv = local_uv[chart.triangles[k]];
-      for (int v = 0; v < 3; ++v) {
-        const glm::dvec2& p = chart.projected[k][v];
-        uv[v] = (glm::dvec2(glm::dot(p, axis), glm::dot(p, perp)) - lo) * rho;
-      }
+      const uint32_t t = chart.triangles[k];
+      atlas.chart_of_triangle[t] = static_cast<uint32_t>(c);
+      for (int v = 0; v < 3; ++v) local_uv[t][v] = chart.corners[k][v] * rho;
     }
   }
 
@@ -437,11 +199,11 @@ TexelAtlas build_texel_atlas(const SurfaceScene& scene, const AtlasSettings& set
     return InputError(name, "texel atlas: " + what + " exceeds the largest side of " + std::to_string(settings.max_side) +
                                 " texels at " + fmt(rho) + " texels per unit; use a lower texel density");
   };
-  std::vector<Size64> padded(charts.size());
+  std::vector<Size64> padded(planar.size());
   uint64_t widest = 0;
   double total_padded = 0.0;
-  for (size_t c = 0; c < charts.size(); ++c) {
-    const glm::dvec2 content = charts[c].content;
+  for (size_t c = 0; c < planar.size(); ++c) {
+    const glm::dvec2 content = planar[c].extent * rho;
     if (!(content.x <= double(settings.max_side)) || !(content.y <= double(settings.max_side))) throw too_large("a chart");
     const uint64_t cw = std::max<uint64_t>(align, round_up(static_cast<uint64_t>(std::ceil(content.x)), align));
     const uint64_t ch = std::max<uint64_t>(align, round_up(static_cast<uint64_t>(std::ceil(content.y)), align));
@@ -452,14 +214,14 @@ TexelAtlas build_texel_atlas(const SurfaceScene& scene, const AtlasSettings& set
   if (widest > settings.max_side) throw too_large("a chart");
   const uint64_t width = std::max({side_align, round_up(static_cast<uint64_t>(std::ceil(std::sqrt(total_padded))), side_align), round_up(widest, side_align)});
   if (width > settings.max_side || width > std::numeric_limits<uint32_t>::max()) throw too_large("the atlas's width");
-  std::vector<uint32_t> order(charts.size());
+  std::vector<uint32_t> order(planar.size());
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     if (padded[a].y != padded[b].y) return padded[a].y > padded[b].y;
     if (padded[a].x != padded[b].x) return padded[a].x > padded[b].x;
     return a < b;
   });
-  std::vector<Size64> origin(charts.size());
+  std::vector<Size64> origin(planar.size());
   uint64_t x = 0, shelf_y = 0, shelf_h = 0;
   for (uint32_t c : order) {
     if (x + padded[c].x > width) {
@@ -477,10 +239,10 @@ TexelAtlas build_texel_atlas(const SurfaceScene& scene, const AtlasSettings& set
   atlas.width = static_cast<uint32_t>(width);
   atlas.height = static_cast<uint32_t>(height);
 
-  for (size_t c = 0; c < charts.size(); ++c) {
+  for (size_t c = 0; c < planar.size(); ++c) {
     Chart& out = atlas.charts[c];
-    out.mesh = charts[c].mesh;
-    out.triangles = std::move(charts[c].triangles);
+    out.mesh = planar[c].mesh;
+    out.triangles = std::move(planar[c].triangles);
     out.origin = glm::uvec2(static_cast<uint32_t>(origin[c].x), static_cast<uint32_t>(origin[c].y));
     out.size = glm::uvec2(static_cast<uint32_t>(padded[c].x), static_cast<uint32_t>(padded[c].y));
     const glm::dvec2 content_origin(double(origin[c].x + padding), double(origin[c].y + padding));
