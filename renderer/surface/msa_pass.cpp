@@ -150,6 +150,9 @@ MsaPass::MsaPass(const vk::Device& device, const msa::MeshletSet& meshlets, cons
   reset_atlas();
 }
 
+uint32_t MsaPass::atlas_width() const { return columns_ * PRISMOID_MSA_SUPERBLOCK; }
+uint32_t MsaPass::atlas_height() const { return rows_ * PRISMOID_MSA_SUPERBLOCK; }
+
 void MsaPass::set_settings(const MsaSettings& settings) {
   if (settings.superblocks != settings_.superblocks) throw std::invalid_argument("MsaPass: the atlas's size is fixed when the pass is made");
   settings_ = checked(device_, meshlets_, settings);

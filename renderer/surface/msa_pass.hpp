@@ -9,7 +9,7 @@
 //  - "block management" (compute, allocate.comp): each seen meshlet's block size (its chart's
 //    rectangle at that density, a texel of border per side, powers of two, scaled down by the
 //    shading budget when one is set); blocks of meshlets no longer seen or changing size are
-//    released; superblocks (512 x 512 texels, one block size each) are claimed from the pool for
+//    released; superblocks (256 x 256 texels, one block size each) are claimed from the pool for
 //    what the released slots cannot serve; new blocks allocated; the tiles of blocks to shade
 //    queued. Everything runs on the GPU, in parallel over meshlets or block sizes.
 //  - "shading": ONE ray-generation shader (shade.rgen; shade_unshadowed.rgen without shadows),
@@ -42,7 +42,7 @@
 namespace prismoid::surface {
 
 struct MsaSettings {
-  uint32_t superblocks = 16;      // the atlas: this many 512 x 512 superblocks (4 MiB of RGBA32F each)
+  uint32_t superblocks = 64;      // the atlas: this many 256 x 256 superblocks (1 MiB of RGBA32F each)
   bool shadows = true;
   uint32_t budget_texels = 0;     // shading budget per frame (block texels); 0: none
   // Temporal amortization n: every n-th frame shades every held block again; in between only new
@@ -98,8 +98,8 @@ class MsaPass {
   const MsaSettings& settings() const { return settings_; }
   void set_settings(const MsaSettings& settings);  // superblocks must stay the same
   const msa::MeshletSet& meshlets() const { return meshlets_; }
-  uint32_t atlas_width() const { return columns_ * 512; }
-  uint32_t atlas_height() const { return rows_ * 512; }
+  uint32_t atlas_width() const;
+  uint32_t atlas_height() const;
   const vk::Buffer& blocks() const { return blocks_; }
   const vk::Buffer& density() const { return density_; }
   const vk::Buffer& result() const { return result_; }

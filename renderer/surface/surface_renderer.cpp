@@ -166,8 +166,8 @@ void SurfaceRenderer::record_msa(VkCommandBuffer cmd, const Camera& camera, vk::
     meshlets_ = std::make_unique<msa::MeshletSet>(msa::build_meshlets(source_));
     MsaSettings settings;
     settings.shadows = shadows_;
-    // As many superblocks (4 MiB each) as one storage buffer holds, up to 64 (16 M texels).
-    settings.superblocks = uint32_t(std::clamp<uint64_t>(device_.capabilities().max_storage_buffer_range / (uint64_t(512) * 512 * 16), 1, 64));
+    // As many superblocks (1 MiB each) as one storage buffer holds, up to 256 (16 M texels).
+    settings.superblocks = uint32_t(std::clamp<uint64_t>(device_.capabilities().max_storage_buffer_range / (uint64_t(256) * 256 * 16), 1, 256));
     msa_ = std::make_unique<MsaPass>(device_, *meshlets_, settings);
   }
   if (!msa_targets_) msa_targets_ = std::make_unique<MsaTargets>(create_msa_targets(device_, extent_));

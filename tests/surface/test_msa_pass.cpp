@@ -206,8 +206,8 @@ TEST_F(MsaPassTest, EverySeenMeshletGetsADisjointBlockOfTheSizeItsPixelsAskFor) 
     held += uint64_t(size.x) * size.y;
     ASSERT_LE(o.x + size.x, rig.pass->atlas_width());
     ASSERT_LE(o.y + size.y, rig.pass->atlas_height());
-    EXPECT_EQ(o.x / 512, (o.x + size.x - 1) / 512);
-    EXPECT_EQ(o.y / 512, (o.y + size.y - 1) / 512);
+    EXPECT_EQ(o.x / PRISMOID_MSA_SUPERBLOCK, (o.x + size.x - 1) / PRISMOID_MSA_SUPERBLOCK);
+    EXPECT_EQ(o.y / PRISMOID_MSA_SUPERBLOCK, (o.y + size.y - 1) / PRISMOID_MSA_SUPERBLOCK);
     for (uint32_t y = o.y; y < o.y + size.y; ++y)
       for (uint32_t x = o.x; x < o.x + size.x; ++x) ASSERT_EQ(owner[size_t(y) * rig.pass->atlas_width() + x]++, 0) << "blocks overlap at " << x << "," << y;
   }
