@@ -107,9 +107,10 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
     if (!htex_targets_) htex_targets_ = std::make_unique<HtexTargets>(create_htex_targets(device_, extent_));
     last_reuse_ = plan_reuse(camera);
     if (last_reuse_.invalidate) htex_->invalidate_shading();
-    if (!htex_->settings().reuse_shading) {
+    if (!htex_->settings().reuse_shading || htex_->settings().lod_bias != lod_bias_) {
       HtexSettings settings = htex_->settings();
       settings.reuse_shading = true;
+      settings.lod_bias = lod_bias_;
       htex_->set_settings(settings);
     }
     htex_->record(cmd, scene_, accel_->tlas(), *htex_targets_, camera, timer);
@@ -131,6 +132,12 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   display_ = &forward_targets_->color;
 }
 
+void SurfaceRenderer::set_shading_rate(float lod_bias, uint32_t msa_budget) {
+  lod_bias_ = lod_bias;
+  msa_budget_ = msa_budget;
+  last_eye_.reset();  // shade afresh
+}
+
 ShadingReuse SurfaceRenderer::plan_reuse(const Camera& camera) const {
   ReuseInputs in;
   in.first_frame = !last_eye_;
@@ -149,6 +156,7 @@ void SurfaceRenderer::record_texel(VkCommandBuffer cmd, const Camera& camera, vk
   if (!texel_targets_) texel_targets_ = std::make_unique<TexelTargets>(create_texel_targets(device_, extent_));
   TexelSettings settings = texel_->settings();
   settings.shadows = shadows_;
+  settings.lod_bias = lod_bias_;
   // The planner's rule (plan_shading_reuse): a still eye reuses every tile shaded since the last
   // change, whatever its age; a moved eye shades again.
   last_reuse_ = plan_reuse(camera);
@@ -173,6 +181,7 @@ void SurfaceRenderer::record_msa(VkCommandBuffer cmd, const Camera& camera, vk::
   if (!msa_targets_) msa_targets_ = std::make_unique<MsaTargets>(create_msa_targets(device_, extent_));
   MsaSettings settings = msa_->settings();
   settings.shadows = shadows_;
+  settings.budget_texels = msa_budget_;
   msa_->set_settings(settings);
   // The planner's rule: a still eye reuses every block's shading; a moved eye shades them again.
   last_reuse_ = plan_reuse(camera);

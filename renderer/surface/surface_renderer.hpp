@@ -107,6 +107,10 @@ class SurfaceRenderer {
   // (the bench times each frame as a moving camera's).
   void forget_shading() { last_eye_.reset(); }
 
+  // Shading rate of the texture-space modes: a level-of-detail bias for htex and texel (+1 halves
+  // the texels per side), a block-texel budget per frame for msa (0: none). Shades afresh.
+  void set_shading_rate(float lod_bias, uint32_t msa_budget);
+
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
   const SurfaceScene& scene() const { return source_; }
 
@@ -138,6 +142,8 @@ class SurfaceRenderer {
   std::string last_mode_;
   std::optional<glm::dvec3> last_eye_;  // of the last htex, texel or msa frame
   bool last_shadows_ = false;
+  float lod_bias_ = 0.0f;
+  uint32_t msa_budget_ = 0;
   ShadingReuse last_reuse_;
   ShadingReuse plan_reuse(const Camera& camera) const;
   void record_texel(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer);
