@@ -55,6 +55,9 @@ const char* const kBenchHelp =
     "  --surfaces LIST      the surfaces sweep's scenes: cornell-box, furnace:A or surface files\n"
     "                       (default cornell-box); every surface mode the device draws, against the\n"
     "                       CPU reference of what the mode computes, 4x4 supersampled\n"
+    "  --surface-modes LIST the surfaces sweep's modes (default: every mode the device draws)\n"
+    "  --shading-budget N   also bench htex, texel and msa at about N shaded samples per frame\n"
+    "                       (equal terms; e.g. 2073600 for 1920x1080)\n"
     "  --max-cells N        the cell-count sweep's largest mesh (default 2000000; the sweep splits\n"
     "                       field:marschner-lobb into N^3 cubes, 6 cells each, N = 6, 12, 24, 48, 96, 128)\n"
     "  --no-peers           leave out VTK's mappers (vtkProjectedTetrahedraMapper,\n"
@@ -239,7 +242,7 @@ int replot(const std::filesystem::path& dir) {
 
 int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
-  std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces"};
+  std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -425,6 +428,8 @@ int cmd_bench(const std::vector<std::string>& args) {
   if (std::find(sweeps.begin(), sweeps.end(), "surfaces") != sweeps.end()) {
     bench::SurfaceBenchOptions so;
     if (a.has("surfaces")) so.scenes = split_list(a.values.at("surfaces"));
+    if (a.has("surface-modes")) so.modes = split_list(a.values.at("surface-modes"));
+    if (a.has("shading-budget")) so.shading_budget = parse_uint("shading-budget", a.values.at("shading-budget"));
     so.size = preset.size;
     so.frames = frames;
     for (auto& row : bench::bench_surfaces(device, so)) rows.push_back(std::move(row));

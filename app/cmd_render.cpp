@@ -68,6 +68,14 @@ const char* const kRenderHelp =
     "                                              where the device's buffers are smaller),\n"
     "                                              --texel-levels N (default 4), --mip-bias B (shading rate:\n"
     "                                              +1 shades a quarter); --size default 256x256\n"
+    "                       msa                    GPU meshlet shading atlas (the same FILEs): meshlets of\n"
+    "                                              up to 84 triangles with planar charts, a block per seen\n"
+    "                                              meshlet sized from its pixels, shaded with shadows\n"
+    "                                              (--no-shadows: without), displayed bilinearly;\n"
+    "                                              --meshlets normal-cone|meshoptimizer (default normal-\n"
+    "                                              cone), --msa-superblocks N (256x256 texels each,\n"
+    "                                              default 64), --shading-budget TEXELS (block texels per\n"
+    "                                              frame; default none); --size default 256x256\n"
     "                       (default: interval; interval-sorted for --quantity color)\n"
     "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
     "                       color: emission-absorption of a scalar field through a transfer function\n"
@@ -163,7 +171,7 @@ int cmd_render(const std::vector<std::string>& args) {
   if (wants_path_reference(args)) return cmd_render_path_reference(args);
   if (wants_forward(args)) return cmd_render_forward(args);
   if (wants_htex(args)) return cmd_render_htex(args);
-  if (wants_texel(args)) return cmd_render_texel(args);
+  if (wants_atlas_mode(args)) return cmd_render_atlas(args);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});

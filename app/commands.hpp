@@ -22,9 +22,10 @@ int cmd_render_forward(const std::vector<std::string>& args);
 // `render --mode htex`: a surface scene through the Htex object-space backend (app/cmd_render_htex.cpp).
 bool wants_htex(const std::vector<std::string>& args);
 int cmd_render_htex(const std::vector<std::string>& args);
-// `render --mode texel`: a surface scene through the texel shading backend (app/cmd_render_texel.cpp).
-bool wants_texel(const std::vector<std::string>& args);
-int cmd_render_texel(const std::vector<std::string>& args);
+// `render --mode texel|msa`: a surface scene through an atlas-based texture-space backend
+// (app/cmd_render_atlas.cpp).
+bool wants_atlas_mode(const std::vector<std::string>& args);
+int cmd_render_atlas(const std::vector<std::string>& args);
 
 struct ParsedArgs;
 // `info --plan`: prints the frame plan the volume options give (app/cmd_plan.cpp).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <map>
 
@@ -121,9 +122,21 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     surface::SurfaceRenderer renderer(device, scene);
     std::vector<bool> shadow_settings{false};
     if (renderer.can_shadow()) shadow_settings.push_back(true);
-    for (const bool shadows : shadow_settings)
+    std::vector<std::pair<std::string, uint32_t>> runs;  // mode, budget (0: the mode's own rate)
     for (const std::string& mode : renderer.modes()) {
+      if (!options.modes.empty() && std::find(options.modes.begin(), options.modes.end(), mode) == options.modes.end()) continue;
+      runs.emplace_back(mode, 0u);
+      if (options.shading_budget > 0 && (mode == "htex" || mode == "texel" || mode == "msa")) runs.emplace_back(mode, options.shading_budget);
+    }
+    std::map<std::string, uint64_t> unbiased_shaded;  // mode/shadows -> shaded samples at the mode's own rate
+    for (const bool shadows : shadow_settings)
+    for (const auto& [mode, budget] : runs) {
       renderer.set_shadows(shadows);
+      const std::string rate_key = mode + (shadows ? "/on" : "/off");
+      float lod_bias = 0.0f;
+      if (budget > 0 && mode != "msa" && unbiased_shaded.count(rate_key) && unbiased_shaded.at(rate_key) > budget)
+        lod_bias = float(0.5 * std::log2(double(unbiased_shaded.at(rate_key)) / double(budget)));
+      renderer.set_shading_rate(lod_bias, mode == "msa" ? budget : 0u);
       // The CPU reference of what the mode computes, once per shadow setting.
       if (gi_mode(mode) && !shadows) continue;  // GI's bounce rays see occlusion: only with shadows
       const std::string ref_key = gi_mode(mode) ? "path" : shadows ? "shadows" : "none";
@@ -158,6 +171,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.quantity = "color";
       m.mode = mode;
       m.settings = shadows ? "shadows=on" : "shadows=off";
+      if (budget > 0) m.settings += " budget=" + std::to_string(budget) + (mode == "msa" ? "" : " lod-bias=" + std::to_string(lod_bias));
       if (gi_mode(mode)) m.settings += " frames=" + std::to_string(renderer.gi_frames());
       m.ordering = "-";
       m.width = extent.width;
@@ -174,6 +188,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.mesh_bytes = renderer.gpu_scene().bytes;
       const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
       m.shaded = counts.shaded;
+      if (budget == 0) unbiased_shaded[rate_key] = counts.shaded;
       m.mode_bytes = counts.mode_bytes;
       m.error = reference::image_error(f.rgba, reference, peak, 4, 3);
       m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak, 4, 3);

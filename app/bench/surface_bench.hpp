@@ -22,6 +22,11 @@ struct SurfaceBenchOptions {
   uint32_t supersample = 4;  // the direct-light reference's samples per pixel side
   uint32_t path_spp = 64;    // the GI modes' reference: path tracer samples per pixel
   uint32_t gi_frames = 16;   // GI rows measure the frame after this many frames of a still camera
+  std::vector<std::string> modes;  // empty: every mode the device draws
+  // Equal terms: with a budget, the texture-space modes get a second row shading about this many
+  // samples per frame (htex, texel: a level-of-detail bias found from the unbiased row's count,
+  // log2 of the ratio halved; msa: its block budget). 0: no such rows.
+  uint32_t shading_budget = 0;
 };
 
 // Which CPU reference a mode is held to, in words (the report's notes say it).

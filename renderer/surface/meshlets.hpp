@@ -75,7 +75,7 @@ struct MeshletStats {
   double mean_normal_deviation_deg = 0.0;  // triangle normal vs its meshlet's chart normal, area-weighted
   double chart_fill = 0.0;                 // triangles' chart area / charts' rectangle area
   // Triangles' chart area scaled by min(texels_per_unit, msa_block_scale) (the density the block
-  // holds: lower only where the 512-texel side clamps) / blocks' area.
+  // holds: lower only where the 256-texel side clamps) / blocks' area.
   double block_fill = 0.0;
 };
 // InputError(scene.name, ...) when `set` is not one of the scene's or texels_per_unit is not
@@ -84,7 +84,7 @@ MeshletStats meshlet_stats(const SurfaceScene& scene, const MeshletSet& set, dou
 
 // Block-size arithmetic (the twins of shaders/surface/msa/msa.glsl; shaders/shared/msa.h): a
 // chart of `extent` at `density` texels per unit wants w x h texels, w the smallest power of two
-// >= ceil(extent.x * density) + 2 clamped to [8, 512], h likewise; its class is
+// >= ceil(extent.x * density) + 2 clamped to [8, 256], h likewise; its class is
 // log2(w / 8) * 7 + log2(h / 8). msa_block_scale: the texels per unit that fill a class's block
 // with the chart and a texel of border, min((w - 2) / extent.x, (h - 2) / extent.y) (1 for
 // extent 0).

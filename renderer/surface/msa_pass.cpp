@@ -48,7 +48,6 @@ const MsaSettings& checked(const vk::Device& device, const msa::MeshletSet& mesh
     throw InputError("--msa-superblocks", std::to_string(s.superblocks) + " superblocks (" + std::to_string(bytes) +
                                               " bytes) exceed the storage-buffer range of " + caps.name + " (" +
                                               std::to_string(caps.max_storage_buffer_range) + " bytes)");
-  if (s.shade_every == 0) throw InputError("--msa-shade-every", "shade at least every frame (n >= 1)");
   if (meshlets.meshlets.size() >= (1u << 20)) throw InputError("meshlets", "more than 2^20 meshlets");
   return s;
 }
@@ -151,6 +150,9 @@ MsaPass::MsaPass(const vk::Device& device, const msa::MeshletSet& meshlets, cons
   reset_atlas();
 }
 
+uint32_t MsaPass::atlas_width() const { return columns_ * PRISMOID_MSA_SUPERBLOCK; }
+uint32_t MsaPass::atlas_height() const { return rows_ * PRISMOID_MSA_SUPERBLOCK; }
+
 void MsaPass::set_settings(const MsaSettings& settings) {
   if (settings.superblocks != settings_.superblocks) throw std::invalid_argument("MsaPass: the atlas's size is fixed when the pass is made");
   settings_ = checked(device_, meshlets_, settings);
@@ -216,7 +218,8 @@ void MsaPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccele
   const gpu::SurfaceFrame frame = surface_frame(scene, camera, e, glm::dvec2(0.0));
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
   frame_stamp_ += 1;
-  const bool shade_all = std::exchange(invalidate_, false) || ++frames_since_shading_ >= settings_.shade_every;
+  const bool periodic = settings_.shade_every > 0 && ++frames_since_shading_ >= settings_.shade_every;
+  const bool shade_all = std::exchange(invalidate_, false) || periodic;
   if (shade_all) frames_since_shading_ = 0;
 
   gpu::MsaPush push{};

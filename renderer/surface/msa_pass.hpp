@@ -9,7 +9,7 @@
 //  - "block management" (compute, allocate.comp): each seen meshlet's block size (its chart's
 //    rectangle at that density, a texel of border per side, powers of two, scaled down by the
 //    shading budget when one is set); blocks of meshlets no longer seen or changing size are
-//    released; superblocks (512 x 512 texels, one block size each) are claimed from the pool for
+//    released; superblocks (256 x 256 texels, one block size each) are claimed from the pool for
 //    what the released slots cannot serve; new blocks allocated; the tiles of blocks to shade
 //    queued. Everything runs on the GPU, in parallel over meshlets or block sizes.
 //  - "shading": ONE ray-generation shader (shade.rgen; shade_unshadowed.rgen without shadows),
@@ -19,8 +19,8 @@
 //    bilinear by hand from the atlas.
 //
 // Shading is reused while a meshlet keeps its block: always for a still eye (the planner's
-// rule), and with temporal amortization (`shade_every` n > 1) blocks are shaded again only every
-// n-th frame (new blocks at once), the paper's 4.5 experiment.
+// rule), and with temporal amortization (`shade_every` n) held blocks are shaded again only every
+// n-th frame whatever the camera does (new blocks at once), the paper's 4.5 experiment.
 //
 // Deviations from the paper: planar charts rather than LSCM; one block size (not one width)
 // per superblock, and superblocks go back to the pool only when the atlas is reset (after it
@@ -42,10 +42,13 @@
 namespace prismoid::surface {
 
 struct MsaSettings {
-  uint32_t superblocks = 16;      // the atlas: this many 512 x 512 superblocks (4 MiB of RGBA32F each)
+  uint32_t superblocks = 64;      // the atlas: this many 256 x 256 superblocks (1 MiB of RGBA32F each)
   bool shadows = true;
   uint32_t budget_texels = 0;     // shading budget per frame (block texels); 0: none
-  uint32_t shade_every = 1;       // temporal amortization n: shade held blocks every n-th frame
+  // Temporal amortization n: every n-th frame shades every held block again; in between only new
+  // blocks are shaded. 0: held blocks are shaded again only after invalidate_shading() (the
+  // caller's rule: a moved eye), which keeps the image exact.
+  uint32_t shade_every = 0;
 };
 
 std::string msa_device_problem(const vk::Device& device);
@@ -95,8 +98,8 @@ class MsaPass {
   const MsaSettings& settings() const { return settings_; }
   void set_settings(const MsaSettings& settings);  // superblocks must stay the same
   const msa::MeshletSet& meshlets() const { return meshlets_; }
-  uint32_t atlas_width() const { return columns_ * 512; }
-  uint32_t atlas_height() const { return rows_ * 512; }
+  uint32_t atlas_width() const;
+  uint32_t atlas_height() const;
   const vk::Buffer& blocks() const { return blocks_; }
   const vk::Buffer& density() const { return density_; }
   const vk::Buffer& result() const { return result_; }

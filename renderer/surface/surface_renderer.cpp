@@ -19,6 +19,7 @@ std::vector<std::string> surface_modes(const vk::Device& device) {
   if (htex_device_problem(device).empty())
     for (const char* m : {"htex", "htex-gi", "htex-gi-unbiased", "htex-pt"}) modes.push_back(m);
   if (texel_device_problem(device).empty()) modes.push_back("texel");
+  if (msa_device_problem(device).empty()) modes.push_back("msa");
   return modes;
 }
 
@@ -73,6 +74,7 @@ void SurfaceRenderer::resize(VkExtent2D extent) {
   shadowed_targets_.reset();
   htex_targets_.reset();
   texel_targets_.reset();
+  msa_targets_.reset();
   display_ = nullptr;
 }
 
@@ -81,7 +83,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   if (mode != last_mode_) last_eye_.reset();  // another mode drew in between: shade afresh
   last_mode_ = mode;
   const bool htex_mode = mode.rfind("htex", 0) == 0;
-  if ((shadows_ || htex_mode || mode == "texel") && !accel_)
+  if ((shadows_ || htex_mode || mode == "texel" || mode == "msa") && !accel_)
     accel_ = std::make_unique<rt::SceneAccel>(device_, source_);  // origin: the bounds centre, as scene_.origin
   if (htex_mode && mode != "htex") {
     record_htex_gi(cmd, camera, mode, timer);
@@ -89,6 +91,10 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   }
   if (mode == "texel") {
     record_texel(cmd, camera, timer);
+    return;
+  }
+  if (mode == "msa") {
+    record_msa(cmd, camera, timer);
     return;
   }
   if (mode == "htex") {
@@ -101,9 +107,10 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
     if (!htex_targets_) htex_targets_ = std::make_unique<HtexTargets>(create_htex_targets(device_, extent_));
     last_reuse_ = plan_reuse(camera);
     if (last_reuse_.invalidate) htex_->invalidate_shading();
-    if (!htex_->settings().reuse_shading) {
+    if (!htex_->settings().reuse_shading || htex_->settings().lod_bias != lod_bias_) {
       HtexSettings settings = htex_->settings();
       settings.reuse_shading = true;
+      settings.lod_bias = lod_bias_;
       htex_->set_settings(settings);
     }
     htex_->record(cmd, scene_, accel_->tlas(), *htex_targets_, camera, timer);
@@ -125,6 +132,12 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const Camera& camera, const st
   display_ = &forward_targets_->color;
 }
 
+void SurfaceRenderer::set_shading_rate(float lod_bias, uint32_t msa_budget) {
+  lod_bias_ = lod_bias;
+  msa_budget_ = msa_budget;
+  last_eye_.reset();  // shade afresh
+}
+
 ShadingReuse SurfaceRenderer::plan_reuse(const Camera& camera) const {
   ReuseInputs in;
   in.first_frame = !last_eye_;
@@ -143,6 +156,7 @@ void SurfaceRenderer::record_texel(VkCommandBuffer cmd, const Camera& camera, vk
   if (!texel_targets_) texel_targets_ = std::make_unique<TexelTargets>(create_texel_targets(device_, extent_));
   TexelSettings settings = texel_->settings();
   settings.shadows = shadows_;
+  settings.lod_bias = lod_bias_;
   // The planner's rule (plan_shading_reuse): a still eye reuses every tile shaded since the last
   // change, whatever its age; a moved eye shades again.
   last_reuse_ = plan_reuse(camera);
@@ -153,6 +167,29 @@ void SurfaceRenderer::record_texel(VkCommandBuffer cmd, const Camera& camera, vk
   last_eye_ = camera.eye;
   last_shadows_ = shadows_;
   display_ = &texel_targets_->color;
+}
+
+void SurfaceRenderer::record_msa(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer) {
+  if (!msa_) {
+    meshlets_ = std::make_unique<msa::MeshletSet>(msa::build_meshlets(source_));
+    MsaSettings settings;
+    settings.shadows = shadows_;
+    // As many superblocks (1 MiB each) as one storage buffer holds, up to 256 (16 M texels).
+    settings.superblocks = uint32_t(std::clamp<uint64_t>(device_.capabilities().max_storage_buffer_range / (uint64_t(256) * 256 * 16), 1, 256));
+    msa_ = std::make_unique<MsaPass>(device_, *meshlets_, settings);
+  }
+  if (!msa_targets_) msa_targets_ = std::make_unique<MsaTargets>(create_msa_targets(device_, extent_));
+  MsaSettings settings = msa_->settings();
+  settings.shadows = shadows_;
+  settings.budget_texels = msa_budget_;
+  msa_->set_settings(settings);
+  // The planner's rule: a still eye reuses every block's shading; a moved eye shades them again.
+  last_reuse_ = plan_reuse(camera);
+  if (last_reuse_.invalidate) msa_->invalidate_shading();
+  msa_->record(cmd, scene_, accel_->tlas(), *msa_targets_, camera, timer);
+  last_eye_ = camera.eye;
+  last_shadows_ = shadows_;
+  display_ = &msa_targets_->color;
 }
 
 RestirGiSettings SurfaceRenderer::gi_settings(const std::string& mode) {
@@ -213,6 +250,14 @@ SurfaceRenderer::FrameCounts SurfaceRenderer::read_counts() const {
     c.detail = std::to_string(t.queued_tiles) + " tiles shaded (" + last_reuse_.reason + "); atlas " + std::to_string(texel_atlas_->width) +
                " x " + std::to_string(texel_atlas_->height) + ", " + std::to_string(texel_atlas_->levels) + " levels, " +
                std::to_string(texel_atlas_->charts.size()) + " charts" + (t.hole_pixels ? ", HOLES " + std::to_string(t.hole_pixels) : "");
+  } else if (last_mode_ == "msa" && msa_) {
+    const MsaCounters m = msa_->read_counters();
+    c.shaded = m.shaded_texels;
+    c.mode_bytes = m.atlas_bytes;
+    c.detail = std::to_string(m.seen_meshlets) + " of " + std::to_string(meshlets_->meshlets.size()) + " meshlets seen, " +
+               std::to_string(m.shaded_blocks) + " blocks shaded (" + last_reuse_.reason + "), " + std::to_string(m.allocated_blocks) +
+               " allocated, " + std::to_string(m.released_blocks) + " released; " + std::to_string(m.free_superblocks) + " superblocks free" +
+               (m.hole_pixels ? ", ATLAS FULL: " + std::to_string(m.hole_pixels) + " pixels unshaded" : "");
   } else if (last_mode_ == "forward" && shadows_ && shadowed_) {
     c.shaded = shadowed_->read_shading_invocations();
   } else if (last_mode_ == "forward" && forward_) {

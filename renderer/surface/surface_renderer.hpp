@@ -14,6 +14,7 @@
 #include "renderer/surface/htex_pass.hpp"
 #include "renderer/surface/htex_gi.hpp"
 #include "renderer/surface/htex_tables.hpp"
+#include "renderer/surface/msa_pass.hpp"
 #include "renderer/surface/texel_pass.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
@@ -56,7 +57,8 @@ ShadingReuse plan_shading_reuse(const ReuseInputs& in);
 // htex_gi): htex-gi (ReSTIR GI as the paper ships it, biased), htex-gi-unbiased (the
 // bias-corrected combination) and htex-pt (one bounce sample per texel and frame, no reuse: plain
 // path tracing in object space, the baseline ReSTIR is measured against), then texel (texel
-// shading over a static atlas, renderer/surface/texel_pass).
+// shading over a static atlas, renderer/surface/texel_pass) and msa (the meshlet shading atlas,
+// renderer/surface/msa_pass).
 std::vector<std::string> surface_modes(const vk::Device& device);
 
 class SurfaceRenderer {
@@ -105,6 +107,10 @@ class SurfaceRenderer {
   // (the bench times each frame as a moving camera's).
   void forget_shading() { last_eye_.reset(); }
 
+  // Shading rate of the texture-space modes: a level-of-detail bias for htex and texel (+1 halves
+  // the texels per side), a block-texel budget per frame for msa (0: none). Shades afresh.
+  void set_shading_rate(float lod_bias, uint32_t msa_budget);
+
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
   const SurfaceScene& scene() const { return source_; }
 
@@ -126,16 +132,22 @@ class SurfaceRenderer {
   std::unique_ptr<texel::TexelAtlas> texel_atlas_;
   std::unique_ptr<TexelPass> texel_;
   std::unique_ptr<TexelTargets> texel_targets_;
+  std::unique_ptr<msa::MeshletSet> meshlets_;
+  std::unique_ptr<MsaPass> msa_;
+  std::unique_ptr<MsaTargets> msa_targets_;
   std::unique_ptr<HtexPass> gi_pass_;  // indirect buffer on, sky ambient off, its own pool
   std::unique_ptr<HtexGi> gi_;
   uint32_t gi_frame_ = 0;
   const vk::Image* display_ = nullptr;  // the last recorded frame's colour
   std::string last_mode_;
-  std::optional<glm::dvec3> last_eye_;  // of the last htex or texel frame
+  std::optional<glm::dvec3> last_eye_;  // of the last htex, texel or msa frame
   bool last_shadows_ = false;
+  float lod_bias_ = 0.0f;
+  uint32_t msa_budget_ = 0;
   ShadingReuse last_reuse_;
   ShadingReuse plan_reuse(const Camera& camera) const;
   void record_texel(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer);
+  void record_msa(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer);
   void record_htex_gi(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer);
 };
 

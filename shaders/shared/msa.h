@@ -3,7 +3,7 @@
 //
 // Atlas: a grid of superblocks of PRISMOID_MSA_SUPERBLOCK^2 texels (atlas texel (x, y) at
 // y * width + x of the result buffer). A superblock belongs to one block size class at a time:
-// class c = log2(w / 8) * 7 + log2(h / 8) for blocks of w x h texels (w, h in 8 .. 512). Its
+// class c = log2(w / 8) * 6 + log2(h / 8) for blocks of w x h texels (w, h in 8 .. 256). Its
 // blocks fill it in columns of width w and rows of height h: slot k of the superblock sits at
 // ((k % (S / w)) w, (k / (S / w)) h). A class's slot id is its superblock's index in the class's
 // list times the slots per superblock plus the slot within it.
@@ -18,10 +18,10 @@
 
 PRISMOID_SHARED_BEGIN
 
-#define PRISMOID_MSA_SUPERBLOCK 512u
+#define PRISMOID_MSA_SUPERBLOCK 256u
 #define PRISMOID_MSA_MIN_BLOCK 8u
-#define PRISMOID_MSA_SIZES 7u      // 8, 16, ..., 512 per side
-#define PRISMOID_MSA_CLASSES 49u
+#define PRISMOID_MSA_SIZES 6u      // 8, 16, ..., 256 per side
+#define PRISMOID_MSA_CLASSES 36u
 #define PRISMOID_MSA_NONE 0xffffffffu
 
 // Descriptor bindings of set 0, from PRISMOID_SURFACE_BINDING_BACKEND on.

@@ -56,49 +56,69 @@ TEST(CliHtex, RendersTheCornellBoxWithStats) {
   EXPECT_EQ(js.find("\"marked_shadels\": 0,"), std::string::npos) << js;
 }
 
-// `--mode texel` on the Cornell box without shadows, end to end: the same whole-image check
-// against the CPU direct light as Htex above (texels interpolated over about a pixel; the GPU
-// tests bound them per texel and per pixel), no pixel reading an unshaded texel, and a mip bias
-// of 1 shading fewer texels.
-TEST(CliTexel, RendersTheCornellBoxWithStats) {
+// An atlas-based mode (texel, msa) on the Cornell box without shadows, end to end: the same
+// whole-image check against the CPU direct light as Htex above (texels interpolated over about a
+// pixel; the GPU tests bound them per texel and per pixel), every covered pixel shaded, and the
+// stats' keys; returns the shaded texels.
+size_t check_atlas_cornell(const std::string& mode, const std::string& options, const std::vector<std::string>& keys, bool check_mean) {
   const SurfaceScene scene = make_cornell_box();
   const auto ref = reference::direct_light_image(scene, scene.camera, 48, 32);
-  size_t shaded[2] = {0, 0};
-  for (int bias = 0; bias < 2; ++bias) {
-    const fs::path pfm = work_dir() / "texel_cornell.pfm", stats = work_dir() / "texel_cornell.json";
-    const CliRun r = run("render cornell-box --mode texel --no-shadows --size 48x32 --texel-density 0.1 --mip-bias " + std::to_string(bias) +
-                         " --validate --output " + pfm.string() + " --stats " + stats.string());
-    ASSERT_EQ(r.code, 0) << r.err;
-    const io::FloatImage img = io::read_pfm(pfm.string());
-    ASSERT_EQ(img.width, 48u);
-    ASSERT_EQ(img.height, 32u);
-    double sum = 0.0, ref_sum = 0.0;
-    size_t hits = 0;
-    for (size_t i = 0; i < ref.pixels.size(); ++i) {
-      hits += ref.pixels[i].hit;
-      for (int c = 0; c < 3; ++c) {
-        EXPECT_TRUE(std::isfinite(img.pixels[3 * i + size_t(c)]));
-        sum += double(img.pixels[3 * i + size_t(c)]);
-        ref_sum += ref.pixels[i].radiance[c];
-      }
+  const fs::path pfm = work_dir() / (mode + "_cornell.pfm"), stats = work_dir() / (mode + "_cornell.json");
+  const CliRun r = run("render cornell-box --mode " + mode + " --no-shadows --size 48x32 " + options + " --validate --output " + pfm.string() +
+                       " --stats " + stats.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  if (r.code != 0) return 0;
+  const io::FloatImage img = io::read_pfm(pfm.string());
+  EXPECT_EQ(img.width, 48u);
+  EXPECT_EQ(img.height, 32u);
+  double sum = 0.0, ref_sum = 0.0;
+  size_t hits = 0;
+  for (size_t i = 0; i < ref.pixels.size(); ++i) {
+    hits += ref.pixels[i].hit;
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_TRUE(std::isfinite(img.pixels[3 * i + size_t(c)]));
+      sum += double(img.pixels[3 * i + size_t(c)]);
+      ref_sum += ref.pixels[i].radiance[c];
     }
-    if (bias == 0) {
-      EXPECT_NEAR(sum / ref_sum, 1.0, 0.02);
-    }
-    const std::string js = slurp(stats);
-    for (const char* key : {"\"mode\": \"texel\"", "\"name\": \"pre-z + queue\"", "\"name\": \"shading\"", "\"name\": \"gather\"",
-                            "\"hole_pixels\": 0", "\"shadows\": false", "\"validation_messages\": 0"})
-      EXPECT_NE(js.find(key), std::string::npos) << key << " in " << js;
-    EXPECT_NE(js.find("\"covered_pixels\": " + std::to_string(hits) + ","), std::string::npos) << hits << " in " << js;
-    const size_t at = js.find("\"shaded_texels\": ");
-    ASSERT_NE(at, std::string::npos);
-    shaded[bias] = std::stoull(js.substr(at + 17));
   }
-  EXPECT_GT(shaded[0], 0u);
-  EXPECT_LT(shaded[1], shaded[0]);
+  if (check_mean) {
+    EXPECT_NEAR(sum / ref_sum, 1.0, 0.02) << mode << " " << options;
+  }
+  const std::string js = slurp(stats);
+  std::vector<std::string> all = keys;
+  for (const char* k : {"\"hole_pixels\": 0", "\"shadows\": false", "\"validation_messages\": 0", "\"name\": \"shading\""}) all.push_back(k);
+  all.push_back("\"mode\": \"" + mode + "\"");
+  for (const std::string& key : all) EXPECT_NE(js.find(key), std::string::npos) << key << " in " << js;
+  EXPECT_NE(js.find("\"covered_pixels\": " + std::to_string(hits) + ","), std::string::npos) << hits << " in " << js;
+  const size_t at = js.find("\"shaded_texels\": ");
+  EXPECT_NE(at, std::string::npos);
+  return at == std::string::npos ? 0 : std::stoull(js.substr(at + 17));
+}
+
+// Texel shading; a mip bias of 1 shades fewer texels; bad levels are refused.
+TEST(CliTexel, RendersTheCornellBoxWithStats) {
+  const std::vector<std::string> keys = {"\"name\": \"pre-z + queue\"", "\"name\": \"gather\""};
+  const size_t plain = check_atlas_cornell("texel", "--texel-density 0.1 --mip-bias 0", keys, true);
+  const size_t biased = check_atlas_cornell("texel", "--texel-density 0.1 --mip-bias 1", keys, false);
+  EXPECT_GT(plain, 0u);
+  EXPECT_LT(biased, plain);
   const CliRun bad = run("render cornell-box --mode texel --texel-levels 0 --output " + (work_dir() / "x.pfm").string());
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("level"), std::string::npos) << bad.err;
+}
+
+// The meshlet shading atlas; a shading budget of a quarter shades fewer texels; another mode's
+// options are refused.
+TEST(CliMsa, RendersTheCornellBoxWithStats) {
+  const std::vector<std::string> keys = {"\"name\": \"pre-z + visibility\"", "\"name\": \"block management\"", "\"name\": \"display\"",
+                                         "\"clustering\": \"normal-cone\""};
+  const size_t plain = check_atlas_cornell("msa", "", keys, true);
+  const size_t budgeted = check_atlas_cornell("msa", "--shading-budget " + std::to_string(std::max<size_t>(1, plain / 4)), keys, false);
+  EXPECT_GT(plain, 0u);
+  EXPECT_LT(budgeted, plain);
+  const CliRun bad = run("render cornell-box --mode msa --texel-levels 2 --output " + (work_dir() / "x.pfm").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--mode texel"), std::string::npos) << bad.err;
 }
 
 // A lit cube in front of the sky: finite everywhere, and the covered pixels (alpha) are the

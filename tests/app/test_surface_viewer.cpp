@@ -54,14 +54,15 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   options.script = app::parse_script("frame 2\nui off\nshadows off\nframe 3\nscreenshot " + (dir / "plain.png").string() + "\nrender 160 120 " +
                                          (dir / "render.pfm").string() + "\nrender 160 120 " + (dir / "render.png").string() +
                                          "\nframe 4\nshadows on\nrender 160 120 " + (dir / "shadowed.pfm").string() +
-                                         "\nmode htex\nrender 160 120 " + (dir / "htex.pfm").string() + "\nmode forward" +
+                                         "\nmode htex\nrender 160 120 " + (dir / "htex.pfm").string() + "\nmode texel\nrender 160 120 " +
+                                         (dir / "texel.pfm").string() + "\nmode msa\nrender 160 120 " + (dir / "msa.pfm").string() + "\nmode forward" +
                                          "\nmode no-such-mode\nkey M\nframe 5\nui on\nscreenshot " + (dir / "ui.png").string() +
                                          "\nframe 6\nmode htex-gi\nrotate 40 0\nzoom 1\nprint-camera\ntetlet-size 4\nframe 8\nclose\n",
                                      "test script");
   const app::ViewerReport report = app::run_surface_viewer(scene, options);
   EXPECT_EQ(report.validation_messages, 0u);
   EXPECT_EQ(report.mode, "htex-gi");  // M cycled from forward to htex; the script then chose GI
-  ASSERT_EQ(report.files_written.size(), 6u);
+  ASSERT_EQ(report.files_written.size(), 8u);
 
   // Refused: an unknown mode, and a volume verb; each named in a message.
   ASSERT_EQ(report.messages.size(), 2u);
@@ -119,6 +120,25 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
     EXPECT_LE(htex_worst, 1e-6);
     EXPECT_GT(against_forward, 0.0);  // a different backend: not the forward image again
     EXPECT_EQ(htex.counters.hole_pixels, 0u);
+    // texel and msa likewise: the window's renders are their backends' images (tests/surface
+    // holds those to the CPU lookups of CPU-shaded texels).
+    const texel::TexelAtlas atlas = surface::build_texel_atlas_for(device, lit);
+    surface::TexelPass texel_pass(device, atlas, {});
+    const surface::TexelImage texel = surface::render_texel(device, texel_pass, gpu, accel.tlas(), scene.camera, {160, 120});
+    const msa::MeshletSet meshlets = msa::build_meshlets(lit);
+    surface::MsaPass msa_pass(device, meshlets, {});
+    const surface::MsaImage msa = surface::render_msa(device, msa_pass, gpu, accel.tlas(), scene.camera, {160, 120});
+    const io::FloatImage texel_render = io::read_pfm((dir / "texel.pfm").string()), msa_render = io::read_pfm((dir / "msa.pfm").string());
+    double texel_worst = 0.0, msa_worst = 0.0;
+    for (size_t p = 0; p < size_t(160) * 120; ++p)
+      for (int c = 0; c < 3; ++c) {
+        texel_worst = std::max(texel_worst, std::abs(double(texel_render.pixels[3 * p + c]) - double(texel.rgba[4 * p + c])));
+        msa_worst = std::max(msa_worst, std::abs(double(msa_render.pixels[3 * p + c]) - double(msa.rgba[4 * p + c])));
+      }
+    EXPECT_LE(texel_worst, 1e-6);
+    EXPECT_LE(msa_worst, 1e-6);
+    EXPECT_EQ(texel.counters.hole_pixels, 0u);
+    EXPECT_EQ(msa.counters.hole_pixels, 0u);
   }
   // The panel's count of what the last frame shaded.
   EXPECT_TRUE(report.last_frame.counted);

@@ -380,19 +380,19 @@ TEST(Meshlets, FlatRectangleIsItsOwnChart) {
     EXPECT_EQ(st.meshlets, 1u);
     EXPECT_EQ(st.max_triangles, 2u);
     EXPECT_NEAR(st.mean_normal_deviation_deg, 0.0, 1e-6);
-    // At 1000 texels per unit the 512-texel side clamps: the block holds 510 / 3 texels per unit.
+    // At 1000 texels per unit the 256-texel side clamps: the block holds 254 / 3 texels per unit.
     const MeshletStats big = meshlet_stats(scene, set, 1000.0);
-    EXPECT_NEAR(big.block_fill, 3.0 * (510.0 / 3.0) * (510.0 / 3.0) / (512.0 * 512.0), 1e-12);
+    EXPECT_NEAR(big.block_fill, 3.0 * (254.0 / 3.0) * (254.0 / 3.0) / (256.0 * 256.0), 1e-12);
   }
 }
 
 TEST(Meshlets, BlockClassesFollowTheRule) {
-  // w = smallest power of two >= ceil(extent.x * density) + 2, in [8, 512].
+  // w = smallest power of two >= ceil(extent.x * density) + 2, in [8, 256].
   EXPECT_EQ(msa_class_size(msa_class_for({0.0, 0.0}, 5.0)), glm::uvec2(8, 8));
   EXPECT_EQ(msa_class_size(msa_class_for({3.0, 1.0}, 10.0)), glm::uvec2(32, 16));
   EXPECT_EQ(msa_class_size(msa_class_for({3.0, 1.0}, 10.1)), glm::uvec2(64, 16));  // ceil(30.3) + 2 = 33
-  EXPECT_EQ(msa_class_size(msa_class_for({1e6, 1e6}, 1.0)), glm::uvec2(512, 512));
-  EXPECT_EQ(msa_class_for({1.0, 0.1}, 60.0), 3u * 7u + 0u);  // 62 -> 64, 8 -> 8
+  EXPECT_EQ(msa_class_size(msa_class_for({1e6, 1e6}, 1.0)), glm::uvec2(256, 256));
+  EXPECT_EQ(msa_class_for({1.0, 0.1}, 60.0), 3u * 6u + 0u);  // 62 -> 64, 8 -> 8
   EXPECT_NEAR(msa_block_scale({3.0, 1.0}, msa_class_for({3.0, 1.0}, 10.0)), 10.0, 1e-12);  // min(30 / 3, 14 / 1)
   EXPECT_EQ(msa_block_scale({0.0, 0.0}, 0), 1.0);
 }

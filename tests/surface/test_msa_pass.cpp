@@ -1,0 +1,429 @@
+// The meshlet shading atlas's passes on the GPU (lavapipe, validation on) against the CPU side:
+// every seen meshlet gets a block of the size its density asks for (renderer/surface/msa_pass's
+// msa_class_for from the GPU's densities, which are the CPU's from the pixel rays), blocks never
+// overlap, every shaded texel is the direct-light reference at its chart point's surface point,
+// every displayed pixel the bilinear lookup of its block, a still camera shades nothing new, the
+// amortization period and the budget do what they say, and where shading is constant per face the
+// image is the forward backend's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/reference/direct_light.hpp"
+#include "renderer/reference/tet_ray.hpp"
+#include "renderer/rt/acceleration_structure.hpp"
+#include "renderer/surface/forward_pass.hpp"
+#include "renderer/surface/msa_pass.hpp"
+#include "shaders/shared/msa.h"
+#include "support/gpu_fixture.hpp"
+#include "surface/forward_comparison.hpp"
+#include "surface/htex_fixture.hpp"
+#include "surface/surface_test_scenes.hpp"
+
+namespace prismoid::test {
+namespace {
+
+constexpr double kU = 0x1p-24;
+constexpr uint32_t kW = 96, kH = 72;
+
+surface::MsaSettings unshadowed() {
+  surface::MsaSettings s;
+  s.shadows = false;
+  s.superblocks = 8;
+  return s;
+}
+
+struct MsaRig {
+  MsaRig(const vk::Device& device, SurfaceScene s, const surface::MsaSettings& settings, msa::Clustering clustering = msa::Clustering::NormalCone)
+      : scene(std::move(s)),
+        gpu(surface::upload(device, scene)),
+        accel(device, scene),
+        meshlets(msa::build_meshlets(scene, {.clustering = clustering})),
+        pass(std::make_unique<surface::MsaPass>(device, meshlets, settings)) {
+    for (const SceneMesh& m : scene.meshes) {
+      first_triangle.push_back(total);
+      total += uint32_t(m.triangles.size());
+    }
+  }
+  surface::MsaImage render(const vk::Device& device, const Camera& camera) { return surface::render_msa(device, *pass, gpu, accel.tlas(), camera, {kW, kH}); }
+  template <typename T>
+  std::vector<T> read(const vk::Buffer& buffer) const {
+    const std::vector<std::byte> bytes = pass->read_buffer(buffer);
+    std::vector<T> out(bytes.size() / sizeof(T));
+    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+    return out;
+  }
+  std::pair<uint32_t, uint32_t> local_triangle(uint32_t global) const {
+    uint32_t mesh = 0;
+    while (mesh + 1 < first_triangle.size() && first_triangle[mesh + 1] <= global) ++mesh;
+    return {mesh, global - first_triangle[mesh]};
+  }
+  glm::dvec2 chart_point(uint32_t triangle, const glm::dvec3& b) const {
+    const auto& c = meshlets.corner_chart[triangle];
+    return b.x * c[0] + b.y * c[1] + b.z * c[2];
+  }
+
+  SurfaceScene scene;
+  surface::GpuSurfaceScene gpu;
+  rt::SceneAccel accel;
+  msa::MeshletSet meshlets;
+  std::unique_ptr<surface::MsaPass> pass;
+  std::vector<uint32_t> first_triangle;
+  uint32_t total = 0;
+};
+
+float as_float(uint32_t bits) {
+  float f;
+  std::memcpy(&f, &bits, 4);
+  return f;
+}
+
+// Barycentric weights of the point where the ray through image point (x, y) meets the
+// triangle's plane (double).
+glm::dvec3 ray_plane_barycentric(const MsaRig& rig, const Camera& camera, uint32_t triangle, double x, double y) {
+  const auto [mesh, local] = rig.local_triangle(triangle);
+  const SceneMesh& m = rig.scene.meshes[mesh];
+  const auto& t = m.triangles[local];
+  const glm::dvec3 p0 = m.positions[t[0]], e1 = m.positions[t[1]] - p0, e2 = m.positions[t[2]] - p0;
+  const glm::dvec3 d = reference::ray_direction(camera, kW, kH, x, y);
+  const glm::dvec3 pv = glm::cross(d, e2);
+  const double det = glm::dot(e1, pv);
+  const glm::dvec3 tv = camera.eye - p0;
+  const double b1 = glm::dot(tv, pv) / det, b2 = glm::dot(d, glm::cross(tv, e1)) / det;
+  return {1.0 - b1 - b2, b1, b2};
+}
+
+// The CPU's rule for a block texel: its chart point's triangle (the first in id order that
+// contains it), else the nearest within sqrt(2) texels. `ambiguous` when float rounding could
+// choose differently (a containment margin or distance tie within 1e-4 texel).
+struct TexelChoice {
+  uint32_t triangle = PRISMOID_MSA_NONE;
+  glm::dvec3 bary{0.0};
+  bool ambiguous = false;
+};
+double segment_distance(const glm::dvec2& q, const glm::dvec2& a, const glm::dvec2& b) {
+  const glm::dvec2 ab = b - a;
+  const double l = glm::dot(ab, ab);
+  const double t = l > 0.0 ? std::clamp(glm::dot(q - a, ab) / l, 0.0, 1.0) : 0.0;
+  return glm::length(q - (a + t * ab));
+}
+TexelChoice choose(const MsaRig& rig, uint32_t meshlet, const glm::dvec2& q, double s) {
+  std::vector<uint32_t> tris = rig.meshlets.meshlets[meshlet].triangles;
+  std::sort(tris.begin(), tris.end());
+  TexelChoice c;
+  const double reach = std::sqrt(2.0) / s, margin = 1e-4 / s;
+  double best = 1e300, second = 1e300;
+  uint32_t nearest = PRISMOID_MSA_NONE;
+  glm::dvec3 nearest_bary(0.0);
+  for (uint32_t t : tris) {
+    const auto& k = rig.meshlets.corner_chart[t];
+    const glm::dvec2 d1 = k[1] - k[0], d2 = k[2] - k[0], r = q - k[0];
+    const double det = d1.x * d2.y - d1.y * d2.x;
+    if (det == 0.0) continue;
+    const double b1 = (r.x * d2.y - r.y * d2.x) / det, b2 = (d1.x * r.y - d1.y * r.x) / det;
+    const glm::dvec3 w(1.0 - b1 - b2, b1, b2);
+    const bool inside = std::min({w.x, w.y, w.z}) >= 0.0;
+    const double dist = inside ? 0.0 : std::min({segment_distance(q, k[0], k[1]), segment_distance(q, k[1], k[2]), segment_distance(q, k[2], k[0])});
+    const double edge = std::min({segment_distance(q, k[0], k[1]), segment_distance(q, k[1], k[2]), segment_distance(q, k[2], k[0])});
+    if (inside && c.triangle == PRISMOID_MSA_NONE) {
+      c.triangle = t;  // the first containing one in id order
+      c.bary = w;
+    }
+    if (edge < margin && c.triangle != t) c.ambiguous = c.ambiguous || !inside || c.triangle != PRISMOID_MSA_NONE;  // on an edge: rounding decides
+    if (dist < best) {
+      second = best;
+      best = dist;
+      nearest = t;
+      nearest_bary = w;
+    } else {
+      second = std::min(second, dist);
+    }
+  }
+  if (c.triangle != PRISMOID_MSA_NONE) return c;
+  if (std::abs(best - reach) < margin) c.ambiguous = true;  // at the dilation's reach
+  if (best <= reach) {
+    c.triangle = nearest;
+    c.bary = nearest_bary;
+    if (second - best < margin) c.ambiguous = true;  // two triangles equally near
+  }
+  return c;
+}
+
+class MsaPassTest : public GpuTest {};
+
+TEST_F(MsaPassTest, EverySeenMeshletGetsADisjointBlockOfTheSizeItsPixelsAskFor) {
+  MsaRig rig(device(), sphere_scene({}), unshadowed());
+  const Camera camera = rig.scene.camera;
+  const surface::MsaImage img = rig.render(device(), camera);
+  const auto blocks = rig.read<gpu::MsaBlockGpu>(rig.pass->blocks());
+  const auto density = rig.read<uint32_t>(rig.pass->density());
+  const surface::MsaCounters& c = img.counters;
+  EXPECT_FALSE(c.out_of_superblocks);
+  EXPECT_EQ(c.meshlets_without_block, 0u);
+  EXPECT_EQ(c.hole_pixels, 0u);
+  EXPECT_FLOAT_EQ(c.budget_factor, 1.0f);
+  // The densities: the CPU's from the pixel rays in double, within float rounding (1e-3 relative).
+  std::vector<double> want(rig.meshlets.meshlets.size(), 0.0);
+  for (size_t i = 0; i < img.visibility.size(); ++i) {
+    if (img.visibility[i].x == 0) continue;
+    const uint32_t t = img.visibility[i].x - 1;
+    const double x = double(i % kW) + 0.5, y = double(i / kW) + 0.5;
+    const glm::dvec2 p = rig.chart_point(t, ray_plane_barycentric(rig, camera, t, x, y));
+    const double fx = glm::length(rig.chart_point(t, ray_plane_barycentric(rig, camera, t, x + 1.0, y)) - p);
+    const double fy = glm::length(rig.chart_point(t, ray_plane_barycentric(rig, camera, t, x, y + 1.0)) - p);
+    const uint32_t m = rig.meshlets.meshlet_of_triangle[t];
+    want[m] = std::max(want[m], 1.0 / std::max(fx, fy));
+  }
+  size_t seen = 0, class_checked = 0;
+  for (size_t m = 0; m < want.size(); ++m) {
+    const double gpu_density = as_float(density[m]);
+    ASSERT_EQ(want[m] > 0.0, density[m] != 0u) << "meshlet " << m;
+    if (want[m] == 0.0) {
+      EXPECT_EQ(blocks[m].block.z, PRISMOID_MSA_NONE) << "an unseen meshlet holds a block";
+      continue;
+    }
+    ++seen;
+    EXPECT_NEAR(gpu_density, want[m], 1e-3 * want[m]) << "meshlet " << m;
+    const glm::dvec2 extent = rig.meshlets.meshlets[m].extent;
+    const uint32_t lo = surface::msa_class_for(extent, gpu_density * (1.0 - 1e-6)), hi = surface::msa_class_for(extent, gpu_density * (1.0 + 1e-6));
+    ASSERT_NE(blocks[m].block.z, PRISMOID_MSA_NONE) << "meshlet " << m;
+    EXPECT_TRUE(blocks[m].block.z == lo || blocks[m].block.z == hi) << "meshlet " << m << " class " << blocks[m].block.z << " wanted " << lo;
+    class_checked += lo == hi;
+  }
+  EXPECT_EQ(seen, c.seen_meshlets);
+  EXPECT_GT(class_checked, seen / 2);
+  // Disjoint blocks inside the atlas, each inside one superblock.
+  std::vector<uint8_t> owner(size_t(rig.pass->atlas_width()) * rig.pass->atlas_height(), 0);
+  uint64_t held = 0;
+  for (size_t m = 0; m < blocks.size(); ++m) {
+    if (blocks[m].block.z == PRISMOID_MSA_NONE) continue;
+    const glm::uvec2 size = surface::msa_class_size(blocks[m].block.z), o(blocks[m].block.x, blocks[m].block.y);
+    held += uint64_t(size.x) * size.y;
+    ASSERT_LE(o.x + size.x, rig.pass->atlas_width());
+    ASSERT_LE(o.y + size.y, rig.pass->atlas_height());
+    EXPECT_EQ(o.x / PRISMOID_MSA_SUPERBLOCK, (o.x + size.x - 1) / PRISMOID_MSA_SUPERBLOCK);
+    EXPECT_EQ(o.y / PRISMOID_MSA_SUPERBLOCK, (o.y + size.y - 1) / PRISMOID_MSA_SUPERBLOCK);
+    for (uint32_t y = o.y; y < o.y + size.y; ++y)
+      for (uint32_t x = o.x; x < o.x + size.x; ++x) ASSERT_EQ(owner[size_t(y) * rig.pass->atlas_width() + x]++, 0) << "blocks overlap at " << x << "," << y;
+  }
+  EXPECT_EQ(held, c.held_texels);
+  std::printf("%zu meshlets (%zu seen), %u blocks, %llu block texels for %zu pixels; %u superblocks free\n", want.size(), seen, c.allocated_blocks,
+              static_cast<unsigned long long>(held), img.visibility.size(), c.free_superblocks);
+}
+
+TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
+  for (const bool ggx : {false, true}) {
+    SphereSceneOptions o;
+    o.ggx = ggx;
+    o.sky = true;
+    MsaRig rig(device(), sphere_scene(o), unshadowed());
+    const Camera camera = rig.scene.camera;
+    const surface::MsaImage img = rig.render(device(), camera);
+    const auto blocks = rig.read<gpu::MsaBlockGpu>(rig.pass->blocks());
+    const auto tasks = rig.read<uint32_t>(rig.pass->tasks());
+    const auto result = rig.read<glm::vec4>(rig.pass->result());
+    const uint32_t width = rig.pass->atlas_width();
+    ASSERT_GT(img.counters.shaded_tiles, 0u);
+    std::vector<reference::ShadingPointQuery> queries;
+    std::vector<size_t> slots;
+    size_t ambiguous = 0, empty = 0, wrong_empty = 0;
+    for (uint32_t k = 0; k < img.counters.shaded_tiles; ++k) {
+      const uint32_t m = tasks[k] >> 12, tile = tasks[k] & 0xfff;
+      const glm::uvec2 size = surface::msa_class_size(blocks[m].block.z);
+      const double s = surface::msa_block_scale(rig.meshlets.meshlets[m].extent, blocks[m].block.z);
+      for (uint32_t q = 0; q < 64; ++q) {
+        const glm::uvec2 local((tile % (size.x / 8)) * 8 + q % 8, (tile / (size.x / 8)) * 8 + q / 8);
+        const size_t slot = size_t(blocks[m].block.y + local.y) * width + blocks[m].block.x + local.x;
+        const TexelChoice ch = choose(rig, m, (glm::dvec2(local) + 0.5 - 1.0) / s, s);
+        if (ch.ambiguous) {
+          ++ambiguous;
+          continue;
+        }
+        if (ch.triangle == PRISMOID_MSA_NONE) {
+          ++empty;
+          wrong_empty += result[slot].w != 0.0f;
+          continue;
+        }
+        const auto [mesh, local_tri] = rig.local_triangle(ch.triangle);
+        queries.push_back({mesh, local_tri, ch.bary, camera.eye});
+        slots.push_back(slot);
+      }
+    }
+    EXPECT_EQ(wrong_empty, 0u) << "texels outside every meshlet triangle must stay empty";
+    EXPECT_LT(double(ambiguous), 0.01 * double(queries.size()));
+    std::vector<reference::ShadingPointQuery> probes;
+    for (const auto& q : queries)
+      for (int k = 0; k < 3; ++k) {
+        reference::ShadingPointQuery p = q;
+        p.bary[k] += 2e-6;
+        p.bary[(k + 1) % 3] -= 2e-6;
+        probes.push_back(p);
+      }
+    const auto ref = reference::direct_light_at(rig.scene, queries);
+    const auto probed = reference::direct_light_at(rig.scene, probes);
+    size_t failures = 0;
+    double worst = 0.0;
+    for (size_t k = 0; k < queries.size(); ++k) {
+      const glm::vec4 g = result[slots[k]];
+      double variation = 0.0;
+      for (int p = 0; p < 3; ++p)
+        for (int ch = 0; ch < 3; ++ch) variation = std::max(variation, std::abs(probed[3 * k + p].radiance[ch] - ref[k].radiance[ch]));
+      const double tol = variation + kU * (kUlpBudget + ref[k].terms) * ref[k].rounding_scale;
+      bool ok = g.w == 1.0f;
+      for (int ch = 0; ch < 3; ++ch) {
+        const double e = std::abs(double(g[ch]) - ref[k].radiance[ch]);
+        if (tol > 0.0) worst = std::max(worst, e / tol);
+        ok = ok && e <= tol;
+      }
+      if (!ok && failures++ < 5)
+        ADD_FAILURE() << "texel " << slots[k] << " (triangle " << queries[k].triangle << "): GPU " << g.x << " " << g.w << ", reference "
+                      << ref[k].radiance.x << ", tolerance " << tol;
+    }
+    EXPECT_EQ(failures, 0u);
+    // Display: the GPU's tap position is within 1e-4 texel of the double one (chart coordinates
+    // below 10^2 units times s in float), each weight within 2e-4; the blend within
+    // 4 * 4 * 2e-4 max|texel| (renormalized over at least a quarter) plus the float sum.
+    size_t display_failures = 0, pixels = 0;
+    double worst_display = 0.0;
+    for (size_t i = 0; i < img.visibility.size(); ++i) {
+      if (img.visibility[i].x == 0) continue;
+      ++pixels;
+      const uint32_t t = img.visibility[i].x - 1, m = rig.meshlets.meshlet_of_triangle[t];
+      const glm::uvec2 size = surface::msa_class_size(blocks[m].block.z);
+      const double s = surface::msa_block_scale(rig.meshlets.meshlets[m].extent, blocks[m].block.z);
+      const glm::dvec2 f = 1.0 + rig.chart_point(t, stored_barycentrics(img.visibility[i])) * s - 0.5;
+      const glm::dvec2 fl = glm::floor(f), a = f - fl;
+      const double w[4] = {(1 - a.x) * (1 - a.y), a.x * (1 - a.y), (1 - a.x) * a.y, a.x * a.y};
+      glm::dvec3 sum(0.0);
+      double weight = 0.0, maxv = 0.0;
+      for (uint32_t k = 0; k < 4; ++k) {
+        const glm::ivec2 tap = glm::clamp(glm::ivec2(fl) + glm::ivec2(k & 1, k >> 1), glm::ivec2(0), glm::ivec2(size) - 1);
+        const glm::vec4 g = result[size_t(blocks[m].block.y + uint32_t(tap.y)) * width + blocks[m].block.x + uint32_t(tap.x)];
+        if (g.w == 0.0f) continue;
+        sum += w[k] * glm::dvec3(g);
+        weight += w[k];
+        maxv = std::max(maxv, double(std::max({g.x, g.y, g.z})));
+      }
+      ASSERT_GT(weight, 0.0) << "pixel " << i;
+      const glm::dvec3 expect = sum / weight;
+      const double tol = maxv * (4.0 * 4.0 * 2e-4 + 16.0 * kU) + 1e-30;
+      bool ok = img.rgba[4 * i + 3] == 1.0f;
+      for (int ch = 0; ch < 3; ++ch) {
+        const double e = std::abs(double(img.rgba[4 * i + size_t(ch)]) - expect[ch]);
+        worst_display = std::max(worst_display, e / tol);
+        ok = ok && e <= tol;
+      }
+      if (!ok && display_failures++ < 5) ADD_FAILURE() << "pixel " << i << ": GPU " << img.rgba[4 * i] << ", lookup " << expect.x << ", tolerance " << tol;
+    }
+    EXPECT_EQ(display_failures, 0u);
+    EXPECT_EQ(img.counters.hole_pixels, 0u);
+    std::printf("[ %s ] %zu texels of %u tiles checked (%zu empty, %zu ambiguous): worst %.3g of tolerance; display %zu pixels, worst %.3g of "
+                "tolerance; %zu meshlets\n",
+                ggx ? "GGX" : "diffuse", queries.size(), img.counters.shaded_tiles, empty, ambiguous, worst, pixels, worst_display,
+                rig.meshlets.meshlets.size());
+  }
+}
+
+TEST_F(MsaPassTest, FlatShadedCubeEqualsTheForwardImage) {
+  SurfaceScene scene = sphere_scene({});
+  scene.meshes.clear();
+  SceneMesh cube;
+  const glm::dvec3 c[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
+  for (const auto& p : c) cube.positions.push_back(p * 0.8);
+  cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4}, {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+  scene.meshes.push_back(cube);
+  scene.point_lights.clear();
+  scene.directional_lights = {{glm::dvec3(-0.3, -0.5, -0.8), glm::dvec3(2.0)}};
+  Camera camera = scene.camera;
+  camera.eye = {2.2, 1.7, 3.1};
+  MsaRig rig(device(), scene, unshadowed());
+  const surface::MsaImage img = rig.render(device(), camera);
+  surface::ForwardPass forward(device());
+  const std::vector<float> fwd = surface::render_forward(device(), forward, rig.gpu, camera, {kW, kH}).rgba;
+  size_t compared = 0, failures = 0;
+  for (size_t i = 0; i < img.visibility.size(); ++i) {
+    if (img.visibility[i].x == 0 || fwd[4 * i + 3] != 1.0f) continue;
+    ++compared;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double f = fwd[4 * i + size_t(ch)], t = img.rgba[4 * i + size_t(ch)];
+      if (std::abs(f - t) > 1e-5 * std::max(1.0, std::abs(f)) && failures++ < 5)
+        ADD_FAILURE() << "pixel " << i << " channel " << ch << ": msa " << t << ", forward " << f;
+    }
+  }
+  EXPECT_EQ(failures, 0u);
+  EXPECT_GT(compared, size_t(kW * kH / 5));
+}
+
+// A still camera: the second frame keeps every block and shades nothing, drawing the same image;
+// invalidate_shading() shades every block again; with an amortization period of 3 the blocks are
+// shaded again on the third frame after the last shading, and not before.
+TEST_F(MsaPassTest, StillCameraReusesBlocksAndAmortizationShadesEveryNthFrame) {
+  MsaRig rig(device(), sphere_scene({}), unshadowed());
+  const Camera camera = rig.scene.camera;
+  const surface::MsaImage first = rig.render(device(), camera);
+  ASSERT_GT(first.counters.shaded_tiles, 0u);
+  const surface::MsaImage second = rig.render(device(), camera);
+  EXPECT_EQ(second.counters.allocated_blocks, 0u);
+  EXPECT_EQ(second.counters.released_blocks, 0u);
+  EXPECT_EQ(second.counters.shaded_tiles, 0u);
+  EXPECT_EQ(second.rgba, first.rgba);
+  rig.pass->invalidate_shading();
+  EXPECT_EQ(rig.render(device(), camera).counters.shaded_tiles, first.counters.shaded_tiles);
+  surface::MsaSettings s = unshadowed();
+  s.shade_every = 3;
+  rig.pass->set_settings(s);
+  std::vector<uint32_t> shaded;
+  for (int f = 0; f < 6; ++f) shaded.push_back(rig.render(device(), camera).counters.shaded_tiles);
+  uint32_t full = 0;
+  for (uint32_t n : shaded) {
+    EXPECT_TRUE(n == 0u || n == first.counters.shaded_tiles) << n;
+    full += n == first.counters.shaded_tiles;
+  }
+  EXPECT_EQ(full, 2u);  // 6 frames, every 3rd
+}
+
+// The budget: block texels wanted beyond it scale every meshlet's density by sqrt(budget /
+// demand), the GPU's factor is that, and the blocks held shrink.
+TEST_F(MsaPassTest, ShadingBudgetScalesTheBlocksDown) {
+  MsaRig rig(device(), sphere_scene({}), unshadowed());
+  const Camera camera = rig.scene.camera;
+  const surface::MsaImage free_run = rig.render(device(), camera);
+  surface::MsaSettings s = unshadowed();
+  s.budget_texels = uint32_t(free_run.counters.demand_texels / 4);
+  rig.pass->set_settings(s);
+  rig.pass->invalidate_shading();
+  const surface::MsaImage budgeted = rig.render(device(), camera);
+  EXPECT_EQ(budgeted.counters.demand_texels, free_run.counters.demand_texels);
+  EXPECT_NEAR(budgeted.counters.budget_factor, std::sqrt(double(s.budget_texels) / double(free_run.counters.demand_texels)), 1e-6);
+  EXPECT_LT(budgeted.counters.held_texels, free_run.counters.held_texels / 2);
+  EXPECT_EQ(budgeted.counters.hole_pixels, 0u);
+  std::printf("no budget: %llu block texels (%u texels shaded); budget %u: factor %.3f, %llu block texels (%u shaded)\n",
+              static_cast<unsigned long long>(free_run.counters.held_texels), free_run.counters.shaded_texels, s.budget_texels,
+              double(budgeted.counters.budget_factor), static_cast<unsigned long long>(budgeted.counters.held_texels), budgeted.counters.shaded_texels);
+}
+
+// One superblock is too small for the view: the frame says so and counts the pixels it could
+// not draw; the next frame starts from an empty atlas.
+TEST_F(MsaPassTest, AnAtlasTooSmallIsReportedAndReset) {
+  surface::MsaSettings s = unshadowed();
+  s.superblocks = 1;
+  MsaRig rig(device(), sphere_scene({}), s);
+  Camera camera = rig.scene.camera;
+  camera.fovy_degrees = 0.5;  // magnified: every seen meshlet wants the largest block, a superblock each
+  const surface::MsaImage img = rig.render(device(), camera);
+  const bool short_of_space = img.counters.out_of_superblocks || img.counters.meshlets_without_block > 0;
+  ASSERT_TRUE(short_of_space) << "the test needs a view that one superblock cannot hold";
+  EXPECT_GT(img.counters.meshlets_without_block, 0u);
+  EXPECT_GT(img.counters.hole_pixels, 0u);
+  for (float v : img.rgba) ASSERT_TRUE(std::isfinite(v));
+  const surface::MsaImage next = rig.render(device(), camera);
+  EXPECT_GT(next.counters.allocated_blocks, 0u);  // allocated afresh after the reset
+}
+
+}  // namespace
+}  // namespace prismoid::test
