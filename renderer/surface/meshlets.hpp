@@ -85,9 +85,9 @@ MeshletStats meshlet_stats(const SurfaceScene& scene, const MeshletSet& set, dou
 // Block-size arithmetic (the twins of shaders/surface/msa/msa.glsl; shaders/shared/msa.h): a
 // chart of `extent` at `density` texels per unit wants w x h texels, w the smallest power of two
 // >= ceil(extent.x * density) + 2 clamped to [8, 256], h likewise; its class is
-// log2(w / 8) * 7 + log2(h / 8). msa_block_scale: the texels per unit that fill a class's block
-// with the chart and a texel of border, min((w - 2) / extent.x, (h - 2) / extent.y) (1 for
-// extent 0).
+// log2(w / 8) * 6 + log2(h / 8) (6 = PRISMOID_MSA_SIZES). msa_block_scale: the texels per unit
+// that fill a class's block with the chart and a texel of border,
+// min((w - 2) / extent.x, (h - 2) / extent.y) (1 for extent 0).
 uint32_t msa_class_for(const glm::dvec2& extent, double density);
 glm::uvec2 msa_class_size(uint32_t size_class);
 double msa_block_scale(const glm::dvec2& extent, uint32_t size_class);
