@@ -57,7 +57,7 @@ const char* const kBenchHelp =
     "                       CPU reference of what the mode computes, 4x4 supersampled\n"
     "  --surface-modes LIST the surfaces sweep's modes (default: every mode the device draws)\n"
     "  --shading-budget N   also bench htex, texel and msa at about N shaded samples per frame\n"
-    "                       (equal terms; e.g. 2073600 for 1920x1080)\n"
+    "                       (equal terms), or at the scene's covered pixels with 'covered'\n"
     "  --max-cells N        the cell-count sweep's largest mesh (default 2000000; the sweep splits\n"
     "                       field:marschner-lobb into N^3 cubes, 6 cells each, N = 6, 12, 24, 48, 96, 128)\n"
     "  --no-peers           leave out VTK's mappers (vtkProjectedTetrahedraMapper,\n"
@@ -429,7 +429,9 @@ int cmd_bench(const std::vector<std::string>& args) {
     bench::SurfaceBenchOptions so;
     if (a.has("surfaces")) so.scenes = split_list(a.values.at("surfaces"));
     if (a.has("surface-modes")) so.modes = split_list(a.values.at("surface-modes"));
-    if (a.has("shading-budget")) so.shading_budget = parse_uint("shading-budget", a.values.at("shading-budget"));
+    if (a.has("shading-budget"))
+      so.shading_budget = a.values.at("shading-budget") == "covered" ? bench::SurfaceBenchOptions::kBudgetCoveredPixels
+                                                                      : parse_uint("shading-budget", a.values.at("shading-budget"));
     so.size = preset.size;
     so.frames = frames;
     for (auto& row : bench::bench_surfaces(device, so)) rows.push_back(std::move(row));

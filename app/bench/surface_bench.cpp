@@ -129,8 +129,10 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (options.shading_budget > 0 && (mode == "htex" || mode == "texel" || mode == "msa")) runs.emplace_back(mode, options.shading_budget);
     }
     std::map<std::string, uint64_t> unbiased_shaded;  // mode/shadows -> shaded samples at the mode's own rate
+    uint32_t covered_pixels = 0;                      // of the scene's first frame
     for (const bool shadows : shadow_settings)
-    for (const auto& [mode, budget] : runs) {
+    for (auto [mode, budget] : runs) {
+      if (budget == SurfaceBenchOptions::kBudgetCoveredPixels) budget = std::max(1u, covered_pixels);
       renderer.set_shadows(shadows);
       const std::string rate_key = mode + (shadows ? "/on" : "/off");
       float lod_bias = 0.0f;
@@ -146,7 +148,9 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       const ReferenceImage& ref = references.at(ref_key);
       const std::vector<float>& reference = ref.rgba;
       const double peak = ref.peak, reference_ms = ref.ms;
-      render(device, renderer, camera, mode, extent);  // warm-up: pipelines, first-use work
+      const Frame warm = render(device, renderer, camera, mode, extent);  // warm-up: pipelines, first-use work
+      if (covered_pixels == 0)
+        for (size_t p = 3; p < warm.rgba.size(); p += 4) covered_pixels += warm.rgba[p] == 1.0f;
       // GI modes: the reservoirs accumulate over a still camera's frames, as in the window; the
       // row measures the frame after options.gi_frames of them.
       if (gi_mode(mode)) {

@@ -25,7 +25,9 @@ struct SurfaceBenchOptions {
   std::vector<std::string> modes;  // empty: every mode the device draws
   // Equal terms: with a budget, the texture-space modes get a second row shading about this many
   // samples per frame (htex, texel: a level-of-detail bias found from the unbiased row's count,
-  // log2 of the ratio halved; msa: its block budget). 0: no such rows.
+  // log2 of the ratio halved; msa: its block budget). 0: no such rows; kBudgetCoveredPixels: the
+  // scene's covered pixels (one sample per visible pixel, the papers' equal terms).
+  static constexpr uint32_t kBudgetCoveredPixels = 0xffffffffu;
   uint32_t shading_budget = 0;
 };
 
