@@ -77,27 +77,7 @@ vk::UniquePipelineLayout make_layout(const vk::Device& device, VkDescriptorSetLa
 
 }  // namespace
 
-std::string htex_device_problem(const vk::Device& device) {
-  const auto& caps = device.capabilities();
-  if (!caps.geometry_shader) return caps.name + " cannot read gl_PrimitiveID in fragment shaders (no geometryShader feature)";
-  if (!caps.fragment_stores) return caps.name + " cannot write storage buffers from fragment shaders";
-  if (!device.ray_tracing_enabled()) return caps.name + " has no ray tracing enabled (the Htex shading pass is a ray-generation shader)";
-  if (!device.cmd_trace_rays_indirect)
-    return caps.name + " cannot trace rays with GPU-written launch sizes (rayTracingPipelineTraceRaysIndirect)";
-  if (!(device.format_properties(kColorFormat).optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
-    return caps.name + " cannot render to R32G32B32A32_SFLOAT images";
-  return {};
-}
-
-HtexTargets create_htex_targets(const vk::Device& device, VkExtent2D extent) {
-  if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
-  HtexTargets t;
-  t.extent = extent;
-  t.color = vk::Image(device, extent, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  t.depth = vk::Image(device, extent, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
-  t.visibility = vk::Buffer(device, VkDeviceSize(extent.width) * extent.height * 16, kStorage, vk::MemoryUse::DeviceLocal);
-  return t;
-}
+std::string htex_device_problem(const vk::Device& device) { return texture_space_device_problem(device, "the Htex backend"); }
 
 HtexPass::HtexPass(const vk::Device& device, const HtexGeometry& geometry, const HtexSettings& settings)
     : device_(device),
@@ -177,18 +157,7 @@ void HtexPass::reset_residency() {
 void HtexPass::bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const HtexTargets& targets) {
   if (scene.triangle_count != geometry_.triangle_count)
     throw std::invalid_argument("HtexPass: the GPU scene is not the one the Htex geometry was built from");
-  if (bound_scene_ != &scene) {
-    write_scene_descriptors(device_, set_.set, scene, true);
-    bound_scene_ = &scene;
-  }
-  if (bound_tlas_ != tlas) {
-    rt::write_tlas_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_TLAS, tlas);
-    bound_tlas_ = tlas;
-  }
-  if (bound_visibility_ != targets.visibility.get()) {
-    vk::write_buffer_descriptor(device_, set_.set, PRISMOID_HTEX_BINDING_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, targets.visibility.get());
-    bound_visibility_ = targets.visibility.get();
-  }
+  bound_.update(device_, set_.set, scene, tlas, targets.visibility.get(), PRISMOID_HTEX_BINDING_VISIBILITY);
 }
 
 void HtexPass::dispatch_step(VkCommandBuffer cmd, uint32_t step, uint32_t invocations) {
@@ -284,11 +253,7 @@ void HtexPass::record_gather(VkCommandBuffer cmd, HtexTargets& targets, vk::GpuT
     push.image = glm::uvec4(e.width, e.height, flags_, 0u);
     record_fullscreen(cmd, targets.color, e, gather_pipeline_.get(), pass_binding(layout_.get(), set_.set, push));
   }
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-  const VkBufferCopy copy{0, 0, sizeof(gpu::HtexStateGpu)};
-  vkCmdCopyBuffer(cmd, state_.get(), readback_.get(), 1, &copy);
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+  record_state_readback(cmd, state_, readback_, sizeof(gpu::HtexStateGpu));
 }
 
 void HtexPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, HtexTargets& targets,
@@ -323,13 +288,6 @@ HtexCounters HtexPass::read_counters() const {
 
 std::vector<std::byte> HtexPass::read_buffer(const vk::Buffer& buffer) const { return read_device_buffer(device_, buffer); }
 
-std::vector<float> HtexImage::rgb() const {
-  std::vector<float> out;
-  out.reserve(size_t(width) * height * 3);
-  for (size_t i = 0; i + 4 <= rgba.size(); i += 4) out.insert(out.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
-  return out;
-}
-
 HtexImage render_htex(const vk::Device& device, HtexPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
                       const Camera& camera, VkExtent2D extent) {
   HtexTargets targets = create_htex_targets(device, extent);
@@ -339,15 +297,7 @@ HtexImage render_htex(const vk::Device& device, HtexPass& pass, const GpuSurface
     pass.record(cmd, scene, tlas, targets, camera, timer);
   });
   HtexImage image;
-  image.width = extent.width;
-  image.height = extent.height;
-  const size_t pixels = size_t(extent.width) * extent.height;
-  image.rgba.resize(pixels * 4);
-  vk::read_image(device, targets.color, sizeof(float) * 4, std::as_writable_bytes(std::span(image.rgba)));
-  const std::vector<std::byte> vis = pass.read_buffer(targets.visibility);
-  image.visibility.resize(pixels);
-  std::memcpy(image.visibility.data(), vis.data(), pixels * sizeof(glm::uvec4));
-  image.passes = timer.read();
+  read_texture_space_image(device, targets, timer, image);
   image.counters = pass.read_counters();
   return image;
 }

@@ -44,6 +44,7 @@
 #include "renderer/rt/rt_pipeline.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
 #include "renderer/surface/htex_tables.hpp"
+#include "renderer/surface/texture_space_passes.hpp"
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "renderer/vk/timer.hpp"
@@ -68,13 +69,9 @@ struct HtexSettings {
 // Empty when the device can run the Htex backend, else why not (what HtexPass would throw).
 std::string htex_device_problem(const vk::Device& device);
 
-struct HtexTargets {
-  vk::Image color;       // RGBA32F linear radiance; alpha = coverage
-  vk::Image depth;       // D32, reversed z
-  vk::Buffer visibility; // uvec4 per pixel: triangle + 1 (0: sky), level, b1 and b2 as float bits
-  VkExtent2D extent{};
-};
-HtexTargets create_htex_targets(const vk::Device& device, VkExtent2D extent);
+// Visibility per pixel: triangle + 1 (0: sky), level, b1 and b2 as float bits.
+using HtexTargets = TextureSpaceTargets;
+inline HtexTargets create_htex_targets(const vk::Device& device, VkExtent2D extent) { return create_texture_space_targets(device, extent); }
 
 // What one frame did (read back after the submission).
 struct HtexCounters {
@@ -154,21 +151,14 @@ class HtexPass {
   vk::Buffer occupancy_, page_table_, free_list_, state_, tasks_, pool_, indirect_, shaded_;
   bool invalidate_ = false;
   vk::Buffer readback_;  // host-visible copy of the state after each frame
-  const GpuSurfaceScene* bound_scene_ = nullptr;
-  VkAccelerationStructureKHR bound_tlas_ = VK_NULL_HANDLE;
-  VkBuffer bound_visibility_ = VK_NULL_HANDLE;
+  SceneSetBinding bound_;
   VkExtent2D extent_{};
   uint32_t flags_ = 0;
 };
 
 // One frame rendered and read back: what the CLI and the tests use.
-struct HtexImage {
-  uint32_t width = 0, height = 0;
-  std::vector<float> rgba;              // row-major, row 0 at the top
-  std::vector<glm::uvec4> visibility;   // per pixel: triangle + 1, level, b1, b2 bits
-  std::vector<vk::PassTiming> passes;
+struct HtexImage : TextureSpaceImage {
   HtexCounters counters;
-  std::vector<float> rgb() const;
 };
 HtexImage render_htex(const vk::Device& device, HtexPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
                       const Camera& camera, VkExtent2D extent);

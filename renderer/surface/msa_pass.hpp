@@ -34,6 +34,7 @@
 #include "renderer/rt/rt_pipeline.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
 #include "renderer/surface/meshlets.hpp"
+#include "renderer/surface/texture_space_passes.hpp"
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "renderer/vk/timer.hpp"
@@ -53,13 +54,9 @@ struct MsaSettings {
 
 std::string msa_device_problem(const vk::Device& device);
 
-struct MsaTargets {
-  vk::Image color;
-  vk::Image depth;
-  vk::Buffer visibility;  // uvec4 per pixel: triangle + 1 (0: sky), 0, b1, b2 bits
-  VkExtent2D extent{};
-};
-MsaTargets create_msa_targets(const vk::Device& device, VkExtent2D extent);
+// Visibility per pixel: triangle + 1 (0: sky), 0, b1 and b2 as float bits.
+using MsaTargets = TextureSpaceTargets;
+inline MsaTargets create_msa_targets(const vk::Device& device, VkExtent2D extent) { return create_texture_space_targets(device, extent); }
 
 struct MsaCounters {
   uint32_t seen_meshlets = 0;
@@ -123,16 +120,10 @@ class MsaPass {
   uint32_t frame_stamp_ = 0;
   uint32_t frames_since_shading_ = 0;
   bool invalidate_ = false;
-  const GpuSurfaceScene* bound_scene_ = nullptr;
-  VkAccelerationStructureKHR bound_tlas_ = VK_NULL_HANDLE;
-  VkBuffer bound_visibility_ = VK_NULL_HANDLE;
+  SceneSetBinding bound_;
 };
 
-struct MsaImage {
-  uint32_t width = 0, height = 0;
-  std::vector<float> rgba;
-  std::vector<glm::uvec4> visibility;
-  std::vector<vk::PassTiming> passes;
+struct MsaImage : TextureSpaceImage {
   MsaCounters counters;
 };
 MsaImage render_msa(const vk::Device& device, MsaPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const Camera& camera,

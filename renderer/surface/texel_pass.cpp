@@ -83,17 +83,7 @@ std::vector<uint32_t> index_texture(const texel::TexelAtlas& atlas) {
 
 }  // namespace
 
-std::string texel_device_problem(const vk::Device& device) {
-  const auto& caps = device.capabilities();
-  if (!caps.geometry_shader) return caps.name + " cannot read gl_PrimitiveID in fragment shaders (no geometryShader feature)";
-  if (!caps.fragment_stores) return caps.name + " cannot write storage buffers from fragment shaders";
-  if (!device.ray_tracing_enabled()) return caps.name + " has no ray tracing enabled (the texel shading pass is a ray-generation shader)";
-  if (!device.cmd_trace_rays_indirect)
-    return caps.name + " cannot trace rays with GPU-written launch sizes (rayTracingPipelineTraceRaysIndirect)";
-  if (!(device.format_properties(kTextureSpaceColorFormat).optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
-    return caps.name + " cannot render to R32G32B32A32_SFLOAT images";
-  return {};
-}
+std::string texel_device_problem(const vk::Device& device) { return texture_space_device_problem(device, "texel shading"); }
 
 texel::TexelAtlas build_texel_atlas_for(const vk::Device& device, const SurfaceScene& scene, texel::AtlasSettings settings) {
   const uint64_t range = device.capabilities().max_storage_buffer_range;
@@ -102,16 +92,6 @@ texel::TexelAtlas build_texel_atlas_for(const vk::Device& device, const SurfaceS
     if (settings.texels_per_unit > 0.0 || atlas.texel_count() * 16 <= range || settings.target_texels < 1024.0) return atlas;
     settings.target_texels *= 0.5;
   }
-}
-
-TexelTargets create_texel_targets(const vk::Device& device, VkExtent2D extent) {
-  if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
-  TexelTargets t;
-  t.extent = extent;
-  t.color = vk::Image(device, extent, kTextureSpaceColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  t.depth = vk::Image(device, extent, kTextureSpaceDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
-  t.visibility = vk::Buffer(device, VkDeviceSize(extent.width) * extent.height * 16, kStorage, vk::MemoryUse::DeviceLocal);
-  return t;
 }
 
 TexelPass::TexelPass(const vk::Device& device, const texel::TexelAtlas& atlas, const TexelSettings& settings)
@@ -160,18 +140,7 @@ void TexelPass::set_settings(const TexelSettings& settings) {
 void TexelPass::bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const TexelTargets& targets) {
   if (scene.triangle_count != atlas_.corner_uv.size())
     throw std::invalid_argument("TexelPass: the GPU scene is not the one the texel atlas was built from");
-  if (bound_scene_ != &scene) {
-    write_scene_descriptors(device_, set_.set, scene, true);
-    bound_scene_ = &scene;
-  }
-  if (bound_tlas_ != tlas) {
-    rt::write_tlas_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_TLAS, tlas);
-    bound_tlas_ = tlas;
-  }
-  if (bound_visibility_ != targets.visibility.get()) {
-    vk::write_buffer_descriptor(device_, set_.set, PRISMOID_TEXEL_BINDING_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, targets.visibility.get());
-    bound_visibility_ = targets.visibility.get();
-  }
+  bound_.update(device_, set_.set, scene, tlas, targets.visibility.get(), PRISMOID_TEXEL_BINDING_VISIBILITY);
 }
 
 void TexelPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, TexelTargets& targets,
@@ -225,11 +194,7 @@ void TexelPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAcce
     vk::ScopedPass pass(timer, cmd, "gather");
     record_fullscreen(cmd, targets.color, e, gather_pipeline_.get(), binding);
   }
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-  const VkBufferCopy copy{0, 0, sizeof(gpu::TexelStateGpu)};
-  vkCmdCopyBuffer(cmd, state_.get(), readback_.get(), 1, &copy);
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+  record_state_readback(cmd, state_, readback_, sizeof(gpu::TexelStateGpu));
 }
 
 TexelCounters TexelPass::read_counters() const {
@@ -254,15 +219,7 @@ TexelImage render_texel(const vk::Device& device, TexelPass& pass, const GpuSurf
     pass.record(cmd, scene, tlas, targets, camera, timer);
   });
   TexelImage image;
-  image.width = extent.width;
-  image.height = extent.height;
-  const size_t pixels = size_t(extent.width) * extent.height;
-  image.rgba.resize(pixels * 4);
-  vk::read_image(device, targets.color, sizeof(float) * 4, std::as_writable_bytes(std::span(image.rgba)));
-  const std::vector<std::byte> vis = pass.read_buffer(targets.visibility);
-  image.visibility.resize(pixels);
-  std::memcpy(image.visibility.data(), vis.data(), pixels * sizeof(glm::uvec4));
-  image.passes = timer.read();
+  read_texture_space_image(device, targets, timer, image);
   image.counters = pass.read_counters();
   return image;
 }

@@ -29,6 +29,7 @@
 #include "renderer/rt/rt_pipeline.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
 #include "renderer/surface/texel_atlas.hpp"
+#include "renderer/surface/texture_space_passes.hpp"
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "renderer/vk/timer.hpp"
@@ -50,13 +51,9 @@ std::string texel_device_problem(const vk::Device& device);
 // storage-buffer range (lavapipe's is 128 MiB).
 texel::TexelAtlas build_texel_atlas_for(const vk::Device& device, const SurfaceScene& scene, texel::AtlasSettings settings = {});
 
-struct TexelTargets {
-  vk::Image color;       // RGBA32F linear radiance; alpha = coverage
-  vk::Image depth;       // D32, reversed z
-  vk::Buffer visibility; // uvec4 per pixel: triangle + 1 (0: sky), level, b1 and b2 as float bits
-  VkExtent2D extent{};
-};
-TexelTargets create_texel_targets(const vk::Device& device, VkExtent2D extent);
+// Visibility per pixel: triangle + 1 (0: sky), level, b1 and b2 as float bits.
+using TexelTargets = TextureSpaceTargets;
+inline TexelTargets create_texel_targets(const vk::Device& device, VkExtent2D extent) { return create_texture_space_targets(device, extent); }
 
 struct TexelCounters {
   uint32_t queued_tiles = 0;   // tiles shaded this frame
@@ -101,17 +98,11 @@ class TexelPass {
   vk::Buffer frame_uniforms_, triangles_, triangle_index_, cache_, tasks_, result_, state_, readback_;
   uint32_t frame_stamp_ = 0;
   bool invalidate_ = false;
-  const GpuSurfaceScene* bound_scene_ = nullptr;
-  VkAccelerationStructureKHR bound_tlas_ = VK_NULL_HANDLE;
-  VkBuffer bound_visibility_ = VK_NULL_HANDLE;
+  SceneSetBinding bound_;
 };
 
 // One frame rendered and read back: what the CLI and the tests use.
-struct TexelImage {
-  uint32_t width = 0, height = 0;
-  std::vector<float> rgba;              // row-major, row 0 at the top
-  std::vector<glm::uvec4> visibility;   // per pixel: triangle + 1, level, b1, b2 bits
-  std::vector<vk::PassTiming> passes;
+struct TexelImage : TextureSpaceImage {
   TexelCounters counters;
 };
 TexelImage render_texel(const vk::Device& device, TexelPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,

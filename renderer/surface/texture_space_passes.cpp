@@ -2,9 +2,12 @@
 
 #include <cstring>
 
+#include "renderer/rt/acceleration_structure.hpp"
+#include "renderer/surface/scene_descriptors.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/graphics_pipeline.hpp"
 #include "renderer/vk/pipeline.hpp"
+#include "scene/input_error.hpp"
 #include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
@@ -25,6 +28,73 @@ void set_viewport(VkCommandBuffer cmd, VkExtent2D e) {
 }
 
 }  // namespace
+
+std::string texture_space_device_problem(const vk::Device& device, const std::string& backend) {
+  const auto& caps = device.capabilities();
+  if (!caps.geometry_shader) return caps.name + " cannot read gl_PrimitiveID in fragment shaders (no geometryShader feature)";
+  if (!caps.fragment_stores) return caps.name + " cannot write storage buffers from fragment shaders";
+  if (!device.ray_tracing_enabled()) return caps.name + " has no ray tracing enabled (" + backend + "'s shading pass is a ray-generation shader)";
+  if (!device.cmd_trace_rays_indirect)
+    return caps.name + " cannot trace rays with GPU-written launch sizes (rayTracingPipelineTraceRaysIndirect)";
+  if (!(device.format_properties(kTextureSpaceColorFormat).optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
+    return caps.name + " cannot render to R32G32B32A32_SFLOAT images";
+  return {};
+}
+
+TextureSpaceTargets create_texture_space_targets(const vk::Device& device, VkExtent2D extent) {
+  if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
+  TextureSpaceTargets t;
+  t.extent = extent;
+  t.color = vk::Image(device, extent, kTextureSpaceColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  t.depth = vk::Image(device, extent, kTextureSpaceDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+  t.visibility = vk::Buffer(device, VkDeviceSize(extent.width) * extent.height * 16,
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                            vk::MemoryUse::DeviceLocal);
+  return t;
+}
+
+std::vector<float> TextureSpaceImage::rgb() const {
+  std::vector<float> out;
+  out.reserve(size_t(width) * height * 3);
+  for (size_t i = 0; i + 4 <= rgba.size(); i += 4) out.insert(out.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+  return out;
+}
+
+void read_texture_space_image(const vk::Device& device, const TextureSpaceTargets& targets, vk::GpuTimer& timer, TextureSpaceImage& image) {
+  image.width = targets.extent.width;
+  image.height = targets.extent.height;
+  const size_t pixels = size_t(image.width) * image.height;
+  image.rgba.resize(pixels * 4);
+  vk::read_image(device, targets.color, sizeof(float) * 4, std::as_writable_bytes(std::span(image.rgba)));
+  const std::vector<std::byte> vis = read_device_buffer(device, targets.visibility);
+  image.visibility.resize(pixels);
+  std::memcpy(image.visibility.data(), vis.data(), pixels * sizeof(glm::uvec4));
+  image.passes = timer.read();
+}
+
+void SceneSetBinding::update(const vk::Device& device, VkDescriptorSet set, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
+                             VkBuffer visibility, uint32_t visibility_binding) {
+  if (scene_ != &scene) {
+    write_scene_descriptors(device, set, scene, true);
+    scene_ = &scene;
+  }
+  if (tlas_ != tlas) {
+    rt::write_tlas_descriptor(device, set, PRISMOID_SURFACE_BINDING_TLAS, tlas);
+    tlas_ = tlas;
+  }
+  if (visibility_ != visibility) {
+    vk::write_buffer_descriptor(device, set, visibility_binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility);
+    visibility_ = visibility;
+  }
+}
+
+void record_state_readback(VkCommandBuffer cmd, const vk::Buffer& state, const vk::Buffer& readback, VkDeviceSize bytes) {
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  const VkBufferCopy copy{0, 0, bytes};
+  vkCmdCopyBuffer(cmd, state.get(), readback.get(), 1, &copy);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+}
 
 void record_depth_then_visible(VkCommandBuffer cmd, const GpuSurfaceScene& scene, const vk::Image& depth_image, VkExtent2D e,
                                VkPipeline depth_pipeline, VkPipeline visible_pipeline, const PassBinding& binding) {

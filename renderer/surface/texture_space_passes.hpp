@@ -5,13 +5,17 @@
 // back. Each backend keeps its own pipelines, descriptor set and push constants.
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
+
+#include <glm/vec4.hpp>
 
 #include <vulkan/vulkan.h>
 
 #include "renderer/surface/gpu_surface_scene.hpp"
 #include "renderer/vk/handle.hpp"
 #include "renderer/vk/memory.hpp"
+#include "renderer/vk/timer.hpp"
 
 namespace prismoid::surface {
 
@@ -25,6 +29,49 @@ struct PassBinding {
   VkShaderStageFlags push_stages = 0;
   std::span<const std::byte> push;
 };
+
+// Empty when the device can run a texture-space backend (gl_PrimitiveID and storage writes in
+// fragment shaders, a ray-generation shading pass launched indirectly, RGBA32F targets), else
+// why not; `backend` names it in the message.
+std::string texture_space_device_problem(const vk::Device& device, const std::string& backend);
+
+// What a texture-space backend draws into: linear RGBA32F radiance (alpha = coverage), a D32
+// depth (reversed z) and a visibility buffer (uvec4 per pixel: triangle + 1, 0 for the sky, a
+// backend value such as a level, then two barycentric weights as float bits).
+struct TextureSpaceTargets {
+  vk::Image color;
+  vk::Image depth;
+  vk::Buffer visibility;
+  VkExtent2D extent{};
+};
+TextureSpaceTargets create_texture_space_targets(const vk::Device& device, VkExtent2D extent);
+
+// One frame read back: what the CLI and the tests use (each backend adds its counters).
+struct TextureSpaceImage {
+  uint32_t width = 0, height = 0;
+  std::vector<float> rgba;             // row-major, row 0 at the top
+  std::vector<glm::uvec4> visibility;  // per pixel, as TextureSpaceTargets::visibility
+  std::vector<vk::PassTiming> passes;
+  std::vector<float> rgb() const;      // 3 floats per pixel
+};
+// Reads the colour, the visibility buffer and the timer after a submission completed.
+void read_texture_space_image(const vk::Device& device, const TextureSpaceTargets& targets, vk::GpuTimer& timer, TextureSpaceImage& image);
+
+// Writes the scene's descriptors, the TLAS and the visibility buffer into a backend's set, each
+// only when it changed since the last call.
+class SceneSetBinding {
+ public:
+  void update(const vk::Device& device, VkDescriptorSet set, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, VkBuffer visibility,
+              uint32_t visibility_binding);
+
+ private:
+  const GpuSurfaceScene* scene_ = nullptr;
+  VkAccelerationStructureKHR tlas_ = VK_NULL_HANDLE;
+  VkBuffer visibility_ = VK_NULL_HANDLE;
+};
+
+// Copies a backend's state buffer to its host-visible read-back buffer at the end of a frame.
+void record_state_readback(VkCommandBuffer cmd, const vk::Buffer& state, const vk::Buffer& readback, VkDeviceSize bytes);
 
 // Clears `depth` and draws the scene's triangles twice: with `depth_pipeline` (writes depth),
 // then with `visible_pipeline` (EQUAL test, no depth writes).

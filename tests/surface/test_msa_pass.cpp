@@ -24,11 +24,11 @@
 #include "surface/forward_comparison.hpp"
 #include "surface/htex_fixture.hpp"
 #include "surface/surface_test_scenes.hpp"
+#include "surface/texture_space_checks.hpp"
 
 namespace prismoid::test {
 namespace {
 
-constexpr double kU = 0x1p-24;
 constexpr uint32_t kW = 96, kH = 72;
 
 surface::MsaSettings unshadowed() {
@@ -44,25 +44,14 @@ struct MsaRig {
         gpu(surface::upload(device, scene)),
         accel(device, scene),
         meshlets(msa::build_meshlets(scene, {.clustering = clustering})),
-        pass(std::make_unique<surface::MsaPass>(device, meshlets, settings)) {
-    for (const SceneMesh& m : scene.meshes) {
-      first_triangle.push_back(total);
-      total += uint32_t(m.triangles.size());
-    }
-  }
+        pass(std::make_unique<surface::MsaPass>(device, meshlets, settings)),
+        triangles(scene) {}
   surface::MsaImage render(const vk::Device& device, const Camera& camera) { return surface::render_msa(device, *pass, gpu, accel.tlas(), camera, {kW, kH}); }
   template <typename T>
   std::vector<T> read(const vk::Buffer& buffer) const {
-    const std::vector<std::byte> bytes = pass->read_buffer(buffer);
-    std::vector<T> out(bytes.size() / sizeof(T));
-    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
-    return out;
+    return read_as<T>(*pass, buffer);
   }
-  std::pair<uint32_t, uint32_t> local_triangle(uint32_t global) const {
-    uint32_t mesh = 0;
-    while (mesh + 1 < first_triangle.size() && first_triangle[mesh + 1] <= global) ++mesh;
-    return {mesh, global - first_triangle[mesh]};
-  }
+  std::pair<uint32_t, uint32_t> local_triangle(uint32_t global) const { return triangles.local(global); }
   glm::dvec2 chart_point(uint32_t triangle, const glm::dvec3& b) const {
     const auto& c = meshlets.corner_chart[triangle];
     return b.x * c[0] + b.y * c[1] + b.z * c[2];
@@ -73,8 +62,7 @@ struct MsaRig {
   rt::SceneAccel accel;
   msa::MeshletSet meshlets;
   std::unique_ptr<surface::MsaPass> pass;
-  std::vector<uint32_t> first_triangle;
-  uint32_t total = 0;
+  TriangleIndex triangles;
 };
 
 float as_float(uint32_t bits) {
@@ -256,38 +244,11 @@ TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
     }
     EXPECT_EQ(wrong_empty, 0u) << "texels outside every meshlet triangle must stay empty";
     EXPECT_LT(double(ambiguous), 0.01 * double(queries.size()));
-    std::vector<reference::ShadingPointQuery> probes;
-    for (const auto& q : queries)
-      for (int k = 0; k < 3; ++k) {
-        reference::ShadingPointQuery p = q;
-        p.bary[k] += 2e-6;
-        p.bary[(k + 1) % 3] -= 2e-6;
-        probes.push_back(p);
-      }
-    const auto ref = reference::direct_light_at(rig.scene, queries);
-    const auto probed = reference::direct_light_at(rig.scene, probes);
-    size_t failures = 0;
-    double worst = 0.0;
-    for (size_t k = 0; k < queries.size(); ++k) {
-      const glm::vec4 g = result[slots[k]];
-      double variation = 0.0;
-      for (int p = 0; p < 3; ++p)
-        for (int ch = 0; ch < 3; ++ch) variation = std::max(variation, std::abs(probed[3 * k + p].radiance[ch] - ref[k].radiance[ch]));
-      const double tol = variation + kU * (kUlpBudget + ref[k].terms) * ref[k].rounding_scale;
-      bool ok = g.w == 1.0f;
-      for (int ch = 0; ch < 3; ++ch) {
-        const double e = std::abs(double(g[ch]) - ref[k].radiance[ch]);
-        if (tol > 0.0) worst = std::max(worst, e / tol);
-        ok = ok && e <= tol;
-      }
-      if (!ok && failures++ < 5)
-        ADD_FAILURE() << "texel " << slots[k] << " (triangle " << queries[k].triangle << "): GPU " << g.x << " " << g.w << ", reference "
-                      << ref[k].radiance.x << ", tolerance " << tol;
-    }
-    EXPECT_EQ(failures, 0u);
-    // Display: the GPU's tap position is within 1e-4 texel of the double one (chart coordinates
-    // below 10^2 units times s in float), each weight within 2e-4; the blend within
-    // 4 * 4 * 2e-4 max|texel| (renormalized over at least a quarter) plus the float sum.
+    std::vector<glm::vec4> gpu_values;
+    for (size_t k : slots) gpu_values.push_back(result[k]);
+    const SampleCheck shading = check_shaded_samples(rig.scene, queries, gpu_values);
+    EXPECT_EQ(shading.failures, 0u);
+    // Display: the blend of the GPU's texels at the CPU's taps (bilinear_pixel_error).
     size_t display_failures = 0, pixels = 0;
     double worst_display = 0.0;
     for (size_t i = 0; i < img.visibility.size(); ++i) {
@@ -299,64 +260,29 @@ TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
       const glm::dvec2 f = 1.0 + rig.chart_point(t, stored_barycentrics(img.visibility[i])) * s - 0.5;
       const glm::dvec2 fl = glm::floor(f), a = f - fl;
       const double w[4] = {(1 - a.x) * (1 - a.y), a.x * (1 - a.y), (1 - a.x) * a.y, a.x * a.y};
-      glm::dvec3 sum(0.0);
-      double weight = 0.0, maxv = 0.0;
+      std::vector<std::pair<glm::vec4, double>> taps;
       for (uint32_t k = 0; k < 4; ++k) {
         const glm::ivec2 tap = glm::clamp(glm::ivec2(fl) + glm::ivec2(k & 1, k >> 1), glm::ivec2(0), glm::ivec2(size) - 1);
         const glm::vec4 g = result[size_t(blocks[m].block.y + uint32_t(tap.y)) * width + blocks[m].block.x + uint32_t(tap.x)];
-        if (g.w == 0.0f) continue;
-        sum += w[k] * glm::dvec3(g);
-        weight += w[k];
-        maxv = std::max(maxv, double(std::max({g.x, g.y, g.z})));
+        if (g.w != 0.0f) taps.emplace_back(g, w[k]);
       }
-      ASSERT_GT(weight, 0.0) << "pixel " << i;
-      const glm::dvec3 expect = sum / weight;
-      const double tol = maxv * (4.0 * 4.0 * 2e-4 + 16.0 * kU) + 1e-30;
-      bool ok = img.rgba[4 * i + 3] == 1.0f;
-      for (int ch = 0; ch < 3; ++ch) {
-        const double e = std::abs(double(img.rgba[4 * i + size_t(ch)]) - expect[ch]);
-        worst_display = std::max(worst_display, e / tol);
-        ok = ok && e <= tol;
-      }
-      if (!ok && display_failures++ < 5) ADD_FAILURE() << "pixel " << i << ": GPU " << img.rgba[4 * i] << ", lookup " << expect.x << ", tolerance " << tol;
+      const double e = bilinear_pixel_error(&img.rgba[4 * i], taps);
+      worst_display = std::max(worst_display, e);
+      if (e > 1.0 && display_failures++ < 5) ADD_FAILURE() << "pixel " << i << ": " << e << " of the tolerance";
     }
     EXPECT_EQ(display_failures, 0u);
     EXPECT_EQ(img.counters.hole_pixels, 0u);
     std::printf("[ %s ] %zu texels of %u tiles checked (%zu empty, %zu ambiguous): worst %.3g of tolerance; display %zu pixels, worst %.3g of "
                 "tolerance; %zu meshlets\n",
-                ggx ? "GGX" : "diffuse", queries.size(), img.counters.shaded_tiles, empty, ambiguous, worst, pixels, worst_display,
+                ggx ? "GGX" : "diffuse", queries.size(), img.counters.shaded_tiles, empty, ambiguous, shading.worst, pixels, worst_display,
                 rig.meshlets.meshlets.size());
   }
 }
 
 TEST_F(MsaPassTest, FlatShadedCubeEqualsTheForwardImage) {
-  SurfaceScene scene = sphere_scene({});
-  scene.meshes.clear();
-  SceneMesh cube;
-  const glm::dvec3 c[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
-  for (const auto& p : c) cube.positions.push_back(p * 0.8);
-  cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4}, {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
-  scene.meshes.push_back(cube);
-  scene.point_lights.clear();
-  scene.directional_lights = {{glm::dvec3(-0.3, -0.5, -0.8), glm::dvec3(2.0)}};
-  Camera camera = scene.camera;
-  camera.eye = {2.2, 1.7, 3.1};
-  MsaRig rig(device(), scene, unshadowed());
-  const surface::MsaImage img = rig.render(device(), camera);
-  surface::ForwardPass forward(device());
-  const std::vector<float> fwd = surface::render_forward(device(), forward, rig.gpu, camera, {kW, kH}).rgba;
-  size_t compared = 0, failures = 0;
-  for (size_t i = 0; i < img.visibility.size(); ++i) {
-    if (img.visibility[i].x == 0 || fwd[4 * i + 3] != 1.0f) continue;
-    ++compared;
-    for (int ch = 0; ch < 3; ++ch) {
-      const double f = fwd[4 * i + size_t(ch)], t = img.rgba[4 * i + size_t(ch)];
-      if (std::abs(f - t) > 1e-5 * std::max(1.0, std::abs(f)) && failures++ < 5)
-        ADD_FAILURE() << "pixel " << i << " channel " << ch << ": msa " << t << ", forward " << f;
-    }
-  }
-  EXPECT_EQ(failures, 0u);
-  EXPECT_GT(compared, size_t(kW * kH / 5));
+  MsaRig rig(device(), flat_cube_scene(), unshadowed());
+  const surface::MsaImage img = rig.render(device(), rig.scene.camera);
+  EXPECT_GT(expect_equals_forward(device(), rig.gpu, rig.scene.camera, kW, kH, img.rgba, img.visibility), size_t(kW * kH / 5));
 }
 
 // A still camera: the second frame keeps every block and shades nothing, drawing the same image;

@@ -25,11 +25,11 @@
 #include "surface/forward_comparison.hpp"
 #include "surface/htex_fixture.hpp"
 #include "surface/surface_test_scenes.hpp"
+#include "surface/texture_space_checks.hpp"
 
 namespace prismoid::test {
 namespace {
 
-constexpr double kU = 0x1p-24;
 constexpr uint32_t kW = 96, kH = 72;
 
 texel::AtlasSettings density(double texels_per_unit, uint32_t levels = 4) {
@@ -51,27 +51,16 @@ struct TexelRig {
         gpu(surface::upload(device, scene)),
         accel(device, scene),
         atlas(texel::build_texel_atlas(scene, a)),
-        pass(std::make_unique<surface::TexelPass>(device, atlas, settings)) {
-    for (const SceneMesh& m : scene.meshes) {
-      first_triangle.push_back(total);
-      total += uint32_t(m.triangles.size());
-    }
-  }
+        pass(std::make_unique<surface::TexelPass>(device, atlas, settings)),
+        triangles(scene) {}
   surface::TexelImage render(const vk::Device& device, const Camera& camera, uint32_t w = kW, uint32_t h = kH) {
     return surface::render_texel(device, *pass, gpu, accel.tlas(), camera, {w, h});
   }
   template <typename T>
   std::vector<T> read(const vk::Buffer& buffer) const {
-    const std::vector<std::byte> bytes = pass->read_buffer(buffer);
-    std::vector<T> out(bytes.size() / sizeof(T));
-    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
-    return out;
+    return read_as<T>(*pass, buffer);
   }
-  std::pair<uint32_t, uint32_t> local_triangle(uint32_t global) const {
-    uint32_t mesh = 0;
-    while (mesh + 1 < first_triangle.size() && first_triangle[mesh + 1] <= global) ++mesh;
-    return {mesh, global - first_triangle[mesh]};
-  }
+  std::pair<uint32_t, uint32_t> local_triangle(uint32_t global) const { return triangles.local(global); }
   uint32_t tile_of(uint32_t level, glm::uvec2 t) const {
     return uint32_t(atlas.tile_offset(level)) + (t.y / 8) * (atlas.level_width(level) / 8) + t.x / 8;
   }
@@ -82,8 +71,7 @@ struct TexelRig {
   rt::SceneAccel accel;
   texel::TexelAtlas atlas;
   std::unique_ptr<surface::TexelPass> pass;
-  std::vector<uint32_t> first_triangle;
-  uint32_t total = 0;
+  TriangleIndex triangles;
 };
 
 struct PixelPoint {
@@ -182,111 +170,41 @@ TEST_F(TexelPassTest, ShadesEveryQueuedTexelAndGathersTheBilinearLookup) {
       }
     }
     EXPECT_EQ(queries.size(), img.counters.shaded_texels);
-    // Tolerance: the float point's rounding (probes 2e-6 of the triangle away, as the Htex test)
-    // plus the float shading's rounding.
-    std::vector<reference::ShadingPointQuery> probes;
-    for (const auto& q : queries)
-      for (int k = 0; k < 3; ++k) {
-        reference::ShadingPointQuery p = q;
-        p.bary[k] += 2e-6;
-        p.bary[(k + 1) % 3] -= 2e-6;
-        probes.push_back(p);
-      }
-    const auto ref = reference::direct_light_at(rig.scene, queries);
-    const auto probed = reference::direct_light_at(rig.scene, probes);
-    size_t failures = 0;
-    double worst = 0.0, peak = 0.0;
-    for (size_t k = 0; k < queries.size(); ++k) {
-      const glm::vec4 g = result[slots[k]];
-      double variation = 0.0;
-      for (int p = 0; p < 3; ++p)
-        for (int ch = 0; ch < 3; ++ch) variation = std::max(variation, std::abs(probed[3 * k + p].radiance[ch] - ref[k].radiance[ch]));
-      const double tol = variation + kU * (kUlpBudget + ref[k].terms) * ref[k].rounding_scale;
-      bool ok = g.w == 1.0f;
-      for (int ch = 0; ch < 3; ++ch) {
-        const double e = std::abs(double(g[ch]) - ref[k].radiance[ch]);
-        if (tol > 0.0) worst = std::max(worst, e / tol);
-        ok = ok && e <= tol;
-        peak = std::max(peak, ref[k].radiance[ch]);
-      }
-      if (!ok && failures++ < 5)
-        ADD_FAILURE() << "texel slot " << slots[k] << " (triangle " << queries[k].triangle << ", bary " << queries[k].bary.x << " "
-                      << queries[k].bary.y << " " << queries[k].bary.z << "): GPU " << g.x << " " << g.y << " " << g.z << " " << g.w
-                      << ", reference " << ref[k].radiance.x << " " << ref[k].radiance.y << " " << ref[k].radiance.z << ", tolerance " << tol;
-    }
-    EXPECT_EQ(failures, 0u);
-    EXPECT_GT(peak, 0.1);
+    std::vector<glm::vec4> gpu_values;
+    for (size_t k : slots) gpu_values.push_back(result[k]);
+    const SampleCheck shading = check_shaded_samples(rig.scene, queries, gpu_values);
+    EXPECT_EQ(shading.failures, 0u);
+    EXPECT_GT(shading.peak, 0.1);
 
-    // Gather: the bilinear blend of the GPU's texels at the CPU's taps. The GPU's tap position is
-    // within 1e-4 texel of the double one (relative uv in float: a few ulp of coordinates below
-    // 2^10 texels), so each weight moves by at most 2e-4; the blend by 4 * 2e-4 * max|texel|
-    // (renormalized over at least a quarter of the weight: x4), plus the float sum.
+    // Gather: the bilinear blend of the GPU's texels at the CPU's taps (bilinear_pixel_error).
     size_t gather_failures = 0;
     double worst_gather = 0.0;
     const auto points = pixel_points(img);
     for (const PixelPoint& p : points) {
-      const auto taps = texel::bilinear_taps(rig.atlas, texel::atlas_uv(rig.atlas, p.triangle, p.bary), p.level);
-      glm::dvec3 sum(0.0);
-      double weight = 0.0, maxv = 0.0;
-      for (const texel::Tap& t : taps) {
+      std::vector<std::pair<glm::vec4, double>> taps;
+      for (const texel::Tap& t : texel::bilinear_taps(rig.atlas, texel::atlas_uv(rig.atlas, p.triangle, p.bary), p.level)) {
         if (rig.atlas.triangle_at(p.level, t.texel.x, t.texel.y) == texel::kNoTriangle) continue;
-        const glm::vec4 g = result[rig.texel_of(p.level, t.texel)];
-        ASSERT_EQ(g.w, 1.0f) << "pixel " << p.pixel << " reads a texel never shaded";
-        sum += t.weight * glm::dvec3(g);
-        weight += t.weight;
-        maxv = std::max(maxv, double(std::max({g.x, g.y, g.z})));
+        taps.emplace_back(result[rig.texel_of(p.level, t.texel)], t.weight);
+        ASSERT_EQ(taps.back().first.w, 1.0f) << "pixel " << p.pixel << " reads a texel never shaded";
       }
-      ASSERT_GT(weight, 0.0);
-      const glm::dvec3 expect = sum / weight;
-      const double tol = maxv * (4.0 * 4.0 * 2e-4 + 16.0 * kU) + 1e-30;
-      bool ok = img.rgba[4 * p.pixel + 3] == 1.0f;
-      for (int ch = 0; ch < 3; ++ch) {
-        const double e = std::abs(double(img.rgba[4 * p.pixel + size_t(ch)]) - expect[ch]);
-        worst_gather = std::max(worst_gather, e / tol);
-        ok = ok && e <= tol;
-      }
-      if (!ok && gather_failures++ < 5)
-        ADD_FAILURE() << "pixel " << p.pixel << ": GPU " << img.rgba[4 * p.pixel] << ", lookup " << expect.x << ", tolerance " << tol;
+      const double e = bilinear_pixel_error(&img.rgba[4 * p.pixel], taps);
+      worst_gather = std::max(worst_gather, e);
+      if (e > 1.0 && gather_failures++ < 5) ADD_FAILURE() << "pixel " << p.pixel << ": " << e << " of the tolerance";
     }
     EXPECT_EQ(gather_failures, 0u);
     EXPECT_EQ(img.counters.hole_pixels, 0u);
     std::printf("[ shading %s ] %zu texels of %u tiles: worst error %.3g of tolerance (peak %.3g); gather: %zu pixels, worst %.3g of "
                 "tolerance; atlas %u x %u, %zu charts, %llu bytes\n",
-                ggx ? "GGX" : "diffuse", queries.size(), img.counters.queued_tiles, worst, peak, points.size(), worst_gather, rig.atlas.width,
+                ggx ? "GGX" : "diffuse", queries.size(), img.counters.queued_tiles, shading.worst, shading.peak, points.size(), worst_gather, rig.atlas.width,
                 rig.atlas.height, rig.atlas.charts.size(), static_cast<unsigned long long>(img.counters.atlas_bytes));
   }
 }
 
-// A cube of flat faces under a directional light, diffuse: the shading is constant on each
-// face, so whatever the taps, a correct atlas reproduces the forward image within rounding; a tap
-// from another face's chart, an unshaded texel or a wrong triangle would not.
+// The flat-shaded cube (texture_space_checks.hpp) equals the forward image.
 TEST_F(TexelPassTest, FlatShadedCubeEqualsTheForwardImage) {
-  SurfaceScene scene = sphere_scene({});
-  scene.meshes.clear();
-  SceneMesh cube;
-  const glm::dvec3 c[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
-  for (const auto& p : c) cube.positions.push_back(p * 0.8);
-  cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4}, {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
-  scene.meshes.push_back(cube);
-  scene.point_lights.clear();
-  scene.directional_lights = {{glm::dvec3(-0.3, -0.5, -0.8), glm::dvec3(2.0)}};
-  Camera camera = scene.camera;
-  camera.eye = {2.2, 1.7, 3.1};
-  TexelRig rig(device(), scene, density(20.0), unshadowed());
-  const surface::TexelImage img = rig.render(device(), camera);
-  surface::ForwardPass forward(device());
-  const std::vector<float> fwd = surface::render_forward(device(), forward, rig.gpu, camera, {kW, kH}).rgba;
-  size_t compared = 0, failures = 0;
-  for (size_t i = 0; i < img.visibility.size(); ++i) {
-    if (img.visibility[i].x == 0 || fwd[4 * i + 3] != 1.0f) continue;
-    ++compared;
-    for (int ch = 0; ch < 3; ++ch) {
-      const double f = fwd[4 * i + size_t(ch)], t = img.rgba[4 * i + size_t(ch)];
-      if (std::abs(f - t) > 1e-5 * std::max(1.0, std::abs(f)) && failures++ < 5)
-        ADD_FAILURE() << "pixel " << i << " channel " << ch << ": texel " << t << ", forward " << f;
-    }
-  }
-  EXPECT_EQ(failures, 0u);
+  TexelRig rig(device(), flat_cube_scene(), density(20.0), unshadowed());
+  const surface::TexelImage img = rig.render(device(), rig.scene.camera);
+  const size_t compared = expect_equals_forward(device(), rig.gpu, rig.scene.camera, kW, kH, img.rgba, img.visibility);
   EXPECT_GT(compared, size_t(kW * kH / 5));
   std::printf("%zu pixels equal to the forward image; %zu charts\n", compared, rig.atlas.charts.size());
 }
