@@ -232,17 +232,9 @@ void HtexPass::record_allocation(VkCommandBuffer cmd, const HtexTargets& targets
 }
 
 void HtexPass::record_shading(VkCommandBuffer cmd, const HtexTargets&, vk::GpuTimer& timer) {
-  vk::ScopedPass pass(timer, cmd, "shading");
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, shade_pipeline_.get());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, layout_.get(), 0, 1, &set_.set, 0, nullptr);
   gpu::HtexPush push{};
   push.image = glm::uvec4(extent_.width, extent_.height, flags_, 0u);
-  vkCmdPushConstants(cmd, layout_.get(), kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(push), &push);
-  shade_pipeline_.trace_indirect(cmd, settings_.shadows ? 0 : 1, state_.device_address());
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                     VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
-                         VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
-                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  record_indirect_shading(cmd, timer, shade_pipeline_, settings_.shadows ? 0 : 1, pass_binding(layout_.get(), set_.set, push), state_.device_address());
 }
 
 void HtexPass::record_gather(VkCommandBuffer cmd, HtexTargets& targets, vk::GpuTimer& timer) {
@@ -290,16 +282,7 @@ std::vector<std::byte> HtexPass::read_buffer(const vk::Buffer& buffer) const { r
 
 HtexImage render_htex(const vk::Device& device, HtexPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
                       const Camera& camera, VkExtent2D extent) {
-  HtexTargets targets = create_htex_targets(device, extent);
-  vk::GpuTimer timer(device, 4);
-  device.submit_and_wait([&](VkCommandBuffer cmd) {
-    timer.reset(cmd);
-    pass.record(cmd, scene, tlas, targets, camera, timer);
-  });
-  HtexImage image;
-  read_texture_space_image(device, targets, timer, image);
-  image.counters = pass.read_counters();
-  return image;
+  return render_texture_space_frame<HtexImage>(device, pass, scene, tlas, camera, extent);
 }
 
 }  // namespace prismoid::surface

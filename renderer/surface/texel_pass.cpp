@@ -178,18 +178,7 @@ void TexelPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAcce
     vk::ScopedPass pass(timer, cmd, "pre-z + queue");
     record_depth_then_visible(cmd, scene, targets.depth, e, depth_pipeline_.get(), queue_pipeline_.get(), binding);
   }
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                     VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                     VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  {
-    vk::ScopedPass pass(timer, cmd, "shading");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, shade_pipeline_.get());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, layout_.get(), 0, 1, &set_.set, 0, nullptr);
-    vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
-    shade_pipeline_.trace_indirect(cmd, settings_.shadows ? 0 : 1, state_.device_address());
-  }
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  record_indirect_shading(cmd, timer, shade_pipeline_, settings_.shadows ? 0 : 1, binding, state_.device_address());
   {
     vk::ScopedPass pass(timer, cmd, "gather");
     record_fullscreen(cmd, targets.color, e, gather_pipeline_.get(), binding);
@@ -212,16 +201,7 @@ std::vector<std::byte> TexelPass::read_buffer(const vk::Buffer& buffer) const { 
 
 TexelImage render_texel(const vk::Device& device, TexelPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
                         const Camera& camera, VkExtent2D extent) {
-  TexelTargets targets = create_texel_targets(device, extent);
-  vk::GpuTimer timer(device, 3);
-  device.submit_and_wait([&](VkCommandBuffer cmd) {
-    timer.reset(cmd);
-    pass.record(cmd, scene, tlas, targets, camera, timer);
-  });
-  TexelImage image;
-  read_texture_space_image(device, targets, timer, image);
-  image.counters = pass.read_counters();
-  return image;
+  return render_texture_space_frame<TexelImage>(device, pass, scene, tlas, camera, extent);
 }
 
 }  // namespace prismoid::surface

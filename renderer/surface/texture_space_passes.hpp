@@ -12,10 +12,13 @@
 
 #include <vulkan/vulkan.h>
 
+#include "renderer/rt/rt_pipeline.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/vk/device.hpp"
 #include "renderer/vk/handle.hpp"
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/timer.hpp"
+#include "scene/camera.hpp"
 
 namespace prismoid::surface {
 
@@ -69,6 +72,29 @@ class SceneSetBinding {
   VkAccelerationStructureKHR tlas_ = VK_NULL_HANDLE;
   VkBuffer visibility_ = VK_NULL_HANDLE;
 };
+
+// The shading pass ("shading" in the timer): after the pass that wrote the task list and the
+// launch size (fragment or compute), raygen `raygen` of `pipeline` launched indirectly from
+// `launch`; then a barrier for the gather's reads.
+void record_indirect_shading(VkCommandBuffer cmd, vk::GpuTimer& timer, const rt::RayTracingPipeline& pipeline, uint32_t raygen,
+                             const PassBinding& binding, VkDeviceAddress launch);
+
+// One frame of a backend rendered and read back (Image: the backend's TextureSpaceImage with
+// its counters; Pass: record(cmd, scene, tlas, targets, camera, timer) and read_counters()).
+template <typename Image, typename Pass>
+Image render_texture_space_frame(const vk::Device& device, Pass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
+                                 const Camera& camera, VkExtent2D extent) {
+  TextureSpaceTargets targets = create_texture_space_targets(device, extent);
+  vk::GpuTimer timer(device, 8);
+  device.submit_and_wait([&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    pass.record(cmd, scene, tlas, targets, camera, timer);
+  });
+  Image image;
+  read_texture_space_image(device, targets, timer, image);
+  image.counters = pass.read_counters();
+  return image;
+}
 
 // Copies a backend's state buffer to its host-visible read-back buffer at the end of a frame.
 void record_state_readback(VkCommandBuffer cmd, const vk::Buffer& state, const vk::Buffer& readback, VkDeviceSize bytes);
