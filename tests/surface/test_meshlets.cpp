@@ -24,6 +24,7 @@
 #include "io/surface_io.hpp"
 #include "renderer/surface/planar_charts.hpp"
 #include "scene/generators.hpp"
+#include "surface/chart_test_scenes.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
 #include "surface/surface_test_scenes.hpp"
@@ -31,33 +32,16 @@
 namespace prismoid::msa {
 namespace {
 
-using Tri2 = std::array<glm::dvec2, 3>;
+using test::Tri2;
+using test::area2;
+using test::orient;
+using test::scene_mesh;
+using test::scene_of;
 using Tri3 = std::array<glm::dvec3, 3>;
 
 constexpr double kPi = 3.14159265358979323846;
 
-double orient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& p) {
-  const glm::dvec2 u = b - a, v = p - a;
-  return u.x * v.y - u.y * v.x;
-}
-double area2(const Tri2& t) { return orient(t[0], t[1], t[2]); }
 bool finite2(const glm::dvec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
-
-SceneMesh scene_mesh(const SurfaceMesh& s, const std::string& name) {
-  SceneMesh m;
-  m.name = name;
-  m.positions = s.points;
-  m.triangles = s.triangles;
-  return m;
-}
-
-SurfaceScene scene_of(std::string name, std::vector<SceneMesh> meshes) {
-  SurfaceScene scene;
-  scene.name = std::move(name);
-  scene.meshes = std::move(meshes);
-  scene.materials.push_back({});
-  return scene;
-}
 
 // A height field over [-1, 1]^2 (n x n quads, alternating diagonals): smooth hills of amplitude
 // `hills` plus uniform noise of amplitude `noise` at the inner points.

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/generators.hpp"
+#include "surface/chart_test_scenes.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
 #include "support/test_meshes.hpp"
@@ -24,27 +25,12 @@
 namespace prismoid::texel {
 namespace {
 
-using Tri2 = std::array<glm::dvec2, 3>;
+using test::Tri2;
+using test::area2;
+using test::orient;
+using test::scene_mesh;
+using test::scene_of;
 
-double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
-double orient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& p) { return cross2(b - a, p - a); }
-double area2(const Tri2& t) { return orient(t[0], t[1], t[2]); }
-
-SceneMesh scene_mesh(const SurfaceMesh& s, const std::string& name) {
-  SceneMesh m;
-  m.name = name;
-  m.positions = s.points;
-  m.triangles = s.triangles;
-  return m;
-}
-
-SurfaceScene scene_of(std::string name, std::vector<SceneMesh> meshes) {
-  SurfaceScene scene;
-  scene.name = std::move(name);
-  scene.meshes = std::move(meshes);
-  scene.materials.push_back({});
-  return scene;
-}
 
 // A helicoid strip (radius 0.3 .. 1, `turns` turns, rising `pitch` per turn): its projection onto
 // any plane near z = const wraps around itself, so chart growing has to refuse overlaps.

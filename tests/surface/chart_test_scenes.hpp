@@ -1,0 +1,40 @@
+#pragma once
+// Small helpers the chart tests share (test_texel_atlas, test_meshlets): 2D orientation of
+// chart triangles and scenes assembled from meshes.
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "scene/surface_mesh.hpp"
+#include "scene/surface_scene.hpp"
+
+namespace prismoid::test {
+
+using Tri2 = std::array<glm::dvec2, 3>;
+
+inline double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
+// Twice the signed area of (a, b, p): positive when counter-clockwise.
+inline double orient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& p) { return cross2(b - a, p - a); }
+inline double area2(const Tri2& t) { return orient(t[0], t[1], t[2]); }
+
+inline SceneMesh scene_mesh(const SurfaceMesh& s, const std::string& name) {
+  SceneMesh m;
+  m.name = name;
+  m.positions = s.points;
+  m.triangles = s.triangles;
+  return m;
+}
+
+// A scene of `meshes` with one default material.
+inline SurfaceScene scene_of(std::string name, std::vector<SceneMesh> meshes) {
+  SurfaceScene scene;
+  scene.name = std::move(name);
+  scene.meshes = std::move(meshes);
+  scene.materials.push_back({});
+  return scene;
+}
+
+}  // namespace prismoid::test
