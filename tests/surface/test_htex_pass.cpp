@@ -19,6 +19,7 @@
 #include "surface/forward_comparison.hpp"
 #include "surface/htex_fixture.hpp"
 #include "surface/surface_test_scenes.hpp"
+#include "surface/texture_space_checks.hpp"
 
 namespace prismoid::test {
 namespace {
@@ -211,43 +212,15 @@ TEST_F(HtexPassTest, ShadesEveryTaskTexelAndGathersTheHtexLookup) {
       }
     }
     EXPECT_EQ(queries.size(), c.shaded_texels);
-    // Probes: the point moved by 2e-6 of the triangle (above a float position's rounding).
-    std::vector<reference::ShadingPointQuery> probes;
-    for (const auto& q : queries)
-      for (int k = 0; k < 3; ++k) {
-        reference::ShadingPointQuery p = q;
-        p.bary[k] += 2e-6;
-        p.bary[(k + 1) % 3] -= 2e-6;
-        probes.push_back(p);
-      }
-    const auto ref = reference::direct_light_at(rig.scene, queries);
-    const auto probed = reference::direct_light_at(rig.scene, probes);
-    size_t failures = 0;
-    double worst = 0.0, peak = 0.0;
+    // Each texel against the CPU direct light at its point (texture_space_checks.hpp).
+    std::vector<glm::vec4> gpu_values;
+    for (size_t k : slots) gpu_values.push_back(pool[k]);
+    const SampleCheck shading = check_shaded_samples(rig.scene, queries, gpu_values);
+    EXPECT_EQ(shading.failures, 0u);
+    EXPECT_GT(shading.peak, 0.1);
     reference::HtexTexture texture(layout, 3);
-    for (size_t k = 0; k < queries.size(); ++k) {
-      const glm::vec4 g = pool[slots[k]];
-      double variation = 0.0;
-      for (int p = 0; p < 3; ++p)
-        for (int ch = 0; ch < 3; ++ch) variation = std::max(variation, std::abs(probed[3 * k + p].radiance[ch] - ref[k].radiance[ch]));
-      const double tol = variation + kU * (kUlpBudget + ref[k].terms) * ref[k].rounding_scale;
-      bool ok = g.w == 1.0f;
-      for (int ch = 0; ch < 3; ++ch) {
-        const double e = std::abs(double(g[ch]) - ref[k].radiance[ch]);
-        if (tol > 0.0) worst = std::max(worst, e / tol);
-        ok = ok && e <= tol;
-        peak = std::max(peak, ref[k].radiance[ch]);
-      }
-      if (!ok && failures++ < 5)
-        ADD_FAILURE() << "texel " << k << " (quad " << addresses[k].quad << " level " << addresses[k].level << " i " << addresses[k].i
-                      << " j " << addresses[k].j << ", triangle " << queries[k].triangle << ", bary " << queries[k].bary.x << " "
-                      << queries[k].bary.y << " " << queries[k].bary.z << "): GPU " << g.x << " " << g.y << " " << g.z << " " << g.w
-                      << ", reference " << ref[k].radiance.x << " " << ref[k].radiance.y << " " << ref[k].radiance.z
-                      << ", tolerance " << tol;
-      texture.set(addresses[k], glm::dvec4(double(g.x), double(g.y), double(g.z), 0.0));
-    }
-    EXPECT_EQ(failures, 0u);
-    EXPECT_GT(peak, 0.1);
+    for (size_t k = 0; k < queries.size(); ++k)
+      texture.set(addresses[k], glm::dvec4(double(pool[slots[k]].x), double(pool[slots[k]].y), double(pool[slots[k]].z), 0.0));
 
     // Gather. The float lookup's quad coordinates are off by at most 4 u (two subtractions from
     // the stored weights), so s = x n - 1/2 by 6 n u, each bilinear weight by 12 n u; with at
@@ -285,7 +258,7 @@ TEST_F(HtexPassTest, ShadesEveryTaskTexelAndGathersTheHtexLookup) {
     EXPECT_GT(sky, size_t(kW * kH / 5));
     std::printf("[ shading %s ] %zu texels of %u shadels: worst error %.3g of tolerance (peak %.3g); gather: %zu pixels, worst %.3g of "
                 "tolerance; %zu sky pixels; pool %llu bytes, %u resident groups\n",
-                ggx ? "GGX" : "diffuse", queries.size(), c.shaded_shadels, worst, peak, covered, worst_gather, sky,
+                ggx ? "GGX" : "diffuse", queries.size(), c.shaded_shadels, shading.worst, shading.peak, covered, worst_gather, sky,
                 static_cast<unsigned long long>(c.pool_bytes), c.resident_groups);
   }
 }
