@@ -58,6 +58,10 @@ const char* const kBenchHelp =
     "  --surface-modes LIST the surfaces sweep's modes (default: every mode the device draws)\n"
     "  --shading-budget N   also bench htex, texel and msa at about N shaded samples per frame\n"
     "                       (equal terms), or at the scene's covered pixels with 'covered'\n"
+    "  --surface-lights N   replace the surface scenes' lights by N shadow-casting point lights\n"
+    "                       around them (shading load; texel shading's paper uses 30); the CPU\n"
+    "                       reference is then not supersampled\n"
+    "  --surface-still      also bench htex, texel and msa frames that reuse a still camera's shading\n"
     "  --max-cells N        the cell-count sweep's largest mesh (default 2000000; the sweep splits\n"
     "                       field:marschner-lobb into N^3 cubes, 6 cells each, N = 6, 12, 24, 48, 96, 128)\n"
     "  --no-peers           leave out VTK's mappers (vtkProjectedTetrahedraMapper,\n"
@@ -242,9 +246,10 @@ int replot(const std::filesystem::path& dir) {
 
 int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
-  std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget"};
+  std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget",
+                                            "surface-lights"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
-  const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots"});
+  const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
   if (a.has("replot")) {
     if (!a.files.empty() || a.values.size() > 1) throw InputError("--replot", "takes only the folder of an earlier run");
@@ -429,6 +434,9 @@ int cmd_bench(const std::vector<std::string>& args) {
     bench::SurfaceBenchOptions so;
     if (a.has("surfaces")) so.scenes = split_list(a.values.at("surfaces"));
     if (a.has("surface-modes")) so.modes = split_list(a.values.at("surface-modes"));
+    if (a.has("surface-lights")) so.extra_lights = parse_uint("surface-lights", a.values.at("surface-lights"));
+    so.still_rows = a.flags.count("surface-still") > 0;
+    if (so.extra_lights > 0) so.supersample = 1;  // the CPU reference's cost grows with the lights: one sample per pixel
     if (a.has("shading-budget"))
       so.shading_budget = a.values.at("shading-budget") == "covered" ? bench::SurfaceBenchOptions::kBudgetCoveredPixels
                                                                       : parse_uint("shading-budget", a.values.at("shading-budget"));

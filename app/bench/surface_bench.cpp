@@ -102,6 +102,25 @@ ReferenceImage path_reference(const SurfaceScene& scene, VkExtent2D extent, uint
   return r;
 }
 
+// `n` point lights on a Fibonacci sphere of 1.5 half-diagonals around the scene's centre, white,
+// together giving about the irradiance of the default headlight where half of them are seen.
+SurfaceScene with_point_lights(SurfaceScene scene, uint32_t n) {
+  const Bounds b = bounds_of(scene);
+  const glm::dvec3 centre = 0.5 * (b.min + b.max);
+  const double r = 0.75 * glm::length(b.max - b.min);
+  scene.point_lights.clear();
+  scene.directional_lights.clear();
+  const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
+  for (uint32_t i = 0; i < n; ++i) {
+    const double y = 1.0 - 2.0 * (i + 0.5) / n, ring = std::sqrt(std::max(0.0, 1.0 - y * y)), phi = golden * i;
+    PointLight light;
+    light.position = centre + r * glm::dvec3(ring * std::cos(phi), y, ring * std::sin(phi));
+    light.intensity = glm::dvec3(2.0 * 3.14159265358979323846 * kHeadlightScale * r * r / n);
+    scene.point_lights.push_back(light);
+  }
+  return scene;
+}
+
 bool gi_mode(const std::string& mode) { return mode == "htex-gi" || mode == "htex-gi-unbiased" || mode == "htex-pt"; }
 
 }  // namespace
@@ -115,23 +134,33 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
   std::vector<BenchRow> rows;
   const VkExtent2D extent{options.size.width, options.size.height};
   for (const std::string& name : options.scenes) {
-    const SurfaceScene raw = load_scene(name);
+    SurfaceScene raw = load_scene(name);
+    if (options.extra_lights > 0) raw = with_point_lights(std::move(raw), options.extra_lights);
     const SurfaceScene scene = with_default_lighting(raw, raw.camera);
     const Camera& camera = scene.camera;
     std::map<std::string, ReferenceImage> references;
     surface::SurfaceRenderer renderer(device, scene);
     std::vector<bool> shadow_settings{false};
     if (renderer.can_shadow()) shadow_settings.push_back(true);
-    std::vector<std::pair<std::string, uint32_t>> runs;  // mode, budget (0: the mode's own rate)
+    struct Run {
+      std::string mode;
+      uint32_t budget = 0;  // 0: the mode's own rate
+      bool still = false;   // frames reuse a still camera's shading
+    };
+    std::vector<Run> runs;
     for (const std::string& mode : renderer.modes()) {
       if (!options.modes.empty() && std::find(options.modes.begin(), options.modes.end(), mode) == options.modes.end()) continue;
-      runs.emplace_back(mode, 0u);
-      if (options.shading_budget > 0 && (mode == "htex" || mode == "texel" || mode == "msa")) runs.emplace_back(mode, options.shading_budget);
+      const bool texture_space = mode == "htex" || mode == "texel" || mode == "msa";
+      runs.push_back({mode, 0u, false});
+      if (options.shading_budget > 0 && texture_space) runs.push_back({mode, options.shading_budget, false});
+      if (options.still_rows && texture_space) runs.push_back({mode, 0u, true});
     }
     std::map<std::string, uint64_t> unbiased_shaded;  // mode/shadows -> shaded samples at the mode's own rate
     uint32_t covered_pixels = 0;                      // of the scene's first frame
     for (const bool shadows : shadow_settings)
-    for (auto [mode, budget] : runs) {
+    for (const Run& run : runs) {
+      const std::string& mode = run.mode;
+      uint32_t budget = run.budget;
       if (budget == SurfaceBenchOptions::kBudgetCoveredPixels) budget = std::max(1u, covered_pixels);
       renderer.set_shadows(shadows);
       const std::string rate_key = mode + (shadows ? "/on" : "/off");
@@ -161,7 +190,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       std::vector<std::vector<vk::PassTiming>> timings;
       Frame f;
       for (uint32_t i = 0; i < options.frames; ++i) {
-        if (!gi_mode(mode)) renderer.forget_shading();  // each frame costs what a moving camera's does
+        if (!gi_mode(mode) && !run.still) renderer.forget_shading();  // each frame costs what a moving camera's does
         f = render(device, renderer, camera, mode, extent);
         double total = 0.0;
         for (const auto& p : f.passes) total += p.gpu_ms;
@@ -175,6 +204,8 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.quantity = "color";
       m.mode = mode;
       m.settings = shadows ? "shadows=on" : "shadows=off";
+      if (options.extra_lights > 0) m.settings += " lights=" + std::to_string(options.extra_lights);
+      if (run.still) m.settings += " camera=still";
       if (budget > 0) m.settings += " budget=" + std::to_string(budget) + (mode == "msa" ? "" : " lod-bias=" + std::to_string(lod_bias));
       if (gi_mode(mode)) m.settings += " frames=" + std::to_string(renderer.gi_frames());
       m.ordering = "-";
@@ -192,7 +223,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.mesh_bytes = renderer.gpu_scene().bytes;
       const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
       m.shaded = counts.shaded;
-      if (budget == 0) unbiased_shaded[rate_key] = counts.shaded;
+      if (budget == 0 && !run.still) unbiased_shaded[rate_key] = counts.shaded;
       m.mode_bytes = counts.mode_bytes;
       m.error = reference::image_error(f.rgba, reference, peak, 4, 3);
       m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak, 4, 3);

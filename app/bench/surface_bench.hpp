@@ -29,6 +29,12 @@ struct SurfaceBenchOptions {
   // scene's covered pixels (one sample per visible pixel, the papers' equal terms).
   static constexpr uint32_t kBudgetCoveredPixels = 0xffffffffu;
   uint32_t shading_budget = 0;
+  // Shading load: N point lights (on a sphere around the scene, each casting shadows) replace the
+  // scene's own, as Hillesland & Yang scale their lights (they report 30). 0: the scene's lights.
+  uint32_t extra_lights = 0;
+  // A third row for htex, texel and msa whose frames reuse the shading of a still camera (the
+  // planner's rule): what a frame costs when nothing has to be shaded again.
+  bool still_rows = false;
 };
 
 // Which CPU reference a mode is held to, in words (the report's notes say it).
