@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -117,6 +118,38 @@ std::string json_number(double v) {
   s.precision(9);
   s << v;
   return s.str();
+}
+
+double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& passes) {
+  double total = 0.0;
+  for (const auto& p : passes) {
+    out << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << " GPU\n";
+    total += p.gpu_ms;
+  }
+  return total;
+}
+
+void write_stats_json(const std::string& path, const std::string& fields, const std::vector<vk::PassTiming>& passes, size_t validation_messages) {
+  std::ostringstream js;
+  double total = 0.0;
+  js << "{" << (fields.rfind(",", 0) == 0 ? fields.substr(1) : fields) << ",\n  \"passes\": [";
+  for (size_t i = 0; i < passes.size(); ++i) {
+    js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(passes[i].name) << "\", \"gpu_ms\": " << json_number(passes[i].gpu_ms) << "}";
+    total += passes[i].gpu_ms;
+  }
+  js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": " << validation_messages << "\n}\n";
+  const std::string temporary = path + ".partial";
+  {
+    std::ofstream out(temporary);
+    if (!out || !(out << js.str()) || !out.flush()) {
+      std::remove(temporary.c_str());
+      throw InputError(path, "cannot write the stats file");
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    throw InputError(path, "cannot write the stats file");
+  }
 }
 
 int validation_exit(const vk::Instance& instance) {

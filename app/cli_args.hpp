@@ -3,6 +3,7 @@
 // numbers, vectors, sizes, the camera options, and JSON output helpers. Parse errors throw
 // InputError naming the option.
 #include <cstdint>
+#include <iosfwd>
 #include <map>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 #include <vulkan/vulkan.h>
 
 #include "renderer/vk/instance.hpp"
+#include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -45,5 +47,13 @@ std::string json_number(double v);  // null for NaN and infinities
 
 // kValidationMessages (with a line on stderr) when the validation layer reported anything.
 int validation_exit(const vk::Instance& instance);
+
+// Prints each pass's GPU time ("  NAME: X ms GPU", or "no timestamps") and returns their sum.
+double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& passes);
+// A render's stats JSON: `fields` (the object's leading ",\n  \"key\": value" lines, without
+// the opening brace) followed by the passes, their total and the validation log's count; written
+// whole to a temporary file and renamed over `path`, so a failed write leaves nothing behind
+// (InputError naming the file).
+void write_stats_json(const std::string& path, const std::string& fields, const std::vector<vk::PassTiming>& passes, size_t validation_messages);
 
 }  // namespace prismoid::app

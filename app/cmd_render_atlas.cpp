@@ -148,25 +148,18 @@ int cmd_render_atlas(const std::vector<std::string>& args) {
 
   size_t covered = 0;
   for (size_t i = 3; i < f.rgba.size(); i += 4) covered += f.rgba[i] == 1.0f;
-  double total = 0.0;
-  for (const auto& p : f.passes) total += p.gpu_ms;
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count << " triangles, "
             << f.atlas << ") on " << caps.name << "\n";
-  for (const auto& p : f.passes)
-    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << " GPU\n";
+  const double total = print_pass_times(std::cout, f.passes);
   std::cout << "  total: " << json_number(total) << " ms GPU\n  covered: " << covered << " pixels; " << f.summary << "\n";
   if (lit.directional_lights.size() != scene.directional_lights.size()) std::cout << "  no lights in the scene: default headlight and sky\n";
 
   if (a.has("stats")) {
     std::ostringstream js;
-    js << "{\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"dataset\": \"" << json_escape(scene.name) << "\",\n  \"mode\": \"" << mode
+    js << ",\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"dataset\": \"" << json_escape(scene.name) << "\",\n  \"mode\": \"" << mode
        << "\",\n  \"width\": " << size.width << ",\n  \"height\": " << size.height << ",\n  \"triangles\": " << gpu.triangle_count
-       << ",\n  \"covered_pixels\": " << covered << ",\n  \"shadows\": " << (shadows ? "true" : "false") << f.json << ",\n  \"passes\": [";
-    for (size_t i = 0; i < f.passes.size(); ++i)
-      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(f.passes[i].name) << "\", \"gpu_ms\": " << json_number(f.passes[i].gpu_ms) << "}";
-    js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": " << instance.validation_log().count() << "\n}\n";
-    std::ofstream file(a.values.at("stats"));
-    if (!file || !(file << js.str())) throw InputError(a.values.at("stats"), "cannot write the stats file");
+       << ",\n  \"covered_pixels\": " << covered << ",\n  \"shadows\": " << (shadows ? "true" : "false") << f.json;
+    write_stats_json(a.values.at("stats"), js.str(), f.passes, instance.validation_log().count());
   }
   return validation_exit(instance);
 }

@@ -116,14 +116,10 @@ int cmd_render_forward(const std::vector<std::string>& args) {
 
   size_t covered = 0;
   for (size_t i = 3; i < image.rgba.size(); i += 4) covered += image.rgba[i] == 1.0f;
-  double total = 0.0;
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count
             << " triangles, " << gpu.emitter_count << " emissive" << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "")
             << ") on " << caps.name << "\n";
-  for (const auto& p : image.passes) {
-    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << " GPU\n";
-    total += p.gpu_ms;
-  }
+  const double total = print_pass_times(std::cout, image.passes);
   std::cout << "  total: " << json_number(total) << " ms GPU" << (frames > 1 ? " (median of " + std::to_string(frames) + " frames)" : "") << "\n";
   if (k == 1 && shadows) std::cout << "  covered: " << covered << " pixels, " << image.shading_invocations << " shading invocations\n";
   else if (k == 1) std::cout << "  covered: " << covered << " pixels" << (image.statistics ? ", " + std::to_string(image.fragment_invocations) + " shading invocations" : "") << "\n";
@@ -136,7 +132,7 @@ int cmd_render_forward(const std::vector<std::string>& args) {
 
   if (a.has("stats")) {
     std::ostringstream js;
-    js << "{\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"driver\": \"" << json_escape(caps.driver_info)
+    js << ",\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"driver\": \"" << json_escape(caps.driver_info)
        << "\",\n  \"dataset\": \"" << json_escape(scene.name) << "\",\n  \"mode\": \"forward\",\n  \"quantity\": \"color\",\n  \"width\": "
        << size.width << ",\n  \"height\": " << size.height << ",\n  \"supersample\": " << k << ",\n  \"triangles\": " << gpu.triangle_count
        << ",\n  \"emitters\": " << gpu.emitter_count << ",\n  \"gpu_scene_bytes\": " << gpu.bytes << ",\n  \"covered_pixels\": " << covered
@@ -144,12 +140,8 @@ int cmd_render_forward(const std::vector<std::string>& args) {
     js << ",\n  \"shadows\": " << (shadows ? "true" : "false");
     if (image.statistics) js << ",\n  \"fragments\": " << image.fragment_invocations;
     if (shadows) js << ",\n  \"shading_invocations\": " << image.shading_invocations;
-    js << ",\n  \"frames\": " << frames << ",\n  \"passes\": [";
-    for (size_t i = 0; i < image.passes.size(); ++i)
-      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(image.passes[i].name) << "\", \"gpu_ms\": " << json_number(image.passes[i].gpu_ms) << "}";
-    js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": " << instance.validation_log().count() << "\n}\n";
-    std::ofstream out(a.values.at("stats"));
-    if (!out || !(out << js.str())) throw InputError(a.values.at("stats"), "cannot write the stats file");
+    js << ",\n  \"frames\": " << frames;
+    write_stats_json(a.values.at("stats"), js.str(), image.passes, instance.validation_log().count());
   }
   return validation_exit(instance);
 }

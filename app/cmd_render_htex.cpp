@@ -104,13 +104,9 @@ int cmd_render_htex(const std::vector<std::string>& args) {
   const surface::HtexCounters& c = image.counters;
   size_t covered = 0;
   for (size_t i = 3; i < image.rgba.size(); i += 4) covered += image.rgba[i] == 1.0f;
-  double total = 0.0;
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count
             << " triangles, htex atlas " << geometry.layout.width() << "x" << geometry.layout.height() << " texels) on " << caps.name << "\n";
-  for (const auto& p : image.passes) {
-    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << " GPU\n";
-    total += p.gpu_ms;
-  }
+  const double total = print_pass_times(std::cout, image.passes);
   std::cout << "  total: " << json_number(total) << " ms GPU\n  covered: " << covered << " pixels; marked " << c.marked_shadels
             << " shadels in " << c.marked_groups << " groups; shaded " << c.shaded_texels << " texels; pool " << settings.pool_pages
             << " pages (" << c.pool_bytes << " bytes)\n";
@@ -126,7 +122,7 @@ int cmd_render_htex(const std::vector<std::string>& args) {
 
   if (a.has("stats")) {
     std::ostringstream js;
-    js << "{\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"driver\": \"" << json_escape(caps.driver_info)
+    js << ",\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"driver\": \"" << json_escape(caps.driver_info)
        << "\",\n  \"dataset\": \"" << json_escape(scene.name) << "\",\n  \"mode\": \"htex\",\n  \"quantity\": \"color\",\n  \"width\": "
        << size.width << ",\n  \"height\": " << size.height << ",\n  \"triangles\": " << gpu.triangle_count << ",\n  \"emitters\": "
        << gpu.emitter_count << ",\n  \"gpu_scene_bytes\": " << gpu.bytes << ",\n  \"covered_pixels\": " << covered
@@ -143,13 +139,8 @@ int cmd_render_htex(const std::vector<std::string>& args) {
       js << ",\n  \"gi_frames\": " << gi_frames << ",\n  \"gi_neighbours\": " << gi_settings.spatial_neighbours
          << ",\n  \"gi_fallback\": " << (gi_settings.fallback ? "true" : "false") << ",\n  \"gi_reservoir_bytes\": " << gi->reservoir_bytes()
          << ",\n  \"gi_persistent_bytes\": " << gi->persistent_bytes() << ",\n  \"gi_persistent_texels\": " << gi->persistent_texels();
-    js << ",\n  \"default_lighting\": " << (lit.directional_lights.size() != scene.directional_lights.size() ? "true" : "false")
-       << ",\n  \"passes\": [";
-    for (size_t i = 0; i < image.passes.size(); ++i)
-      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(image.passes[i].name) << "\", \"gpu_ms\": " << json_number(image.passes[i].gpu_ms) << "}";
-    js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": " << instance.validation_log().count() << "\n}\n";
-    std::ofstream f(a.values.at("stats"));
-    if (!f || !(f << js.str())) throw InputError(a.values.at("stats"), "cannot write the stats file");
+    js << ",\n  \"default_lighting\": " << (lit.directional_lights.size() != scene.directional_lights.size() ? "true" : "false");
+    write_stats_json(a.values.at("stats"), js.str(), image.passes, instance.validation_log().count());
   }
   return validation_exit(instance);
 }

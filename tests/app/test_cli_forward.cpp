@@ -256,7 +256,7 @@ TEST(CliForward, ColoursBySurfaceArraysThroughTheTransferFunction) {
         if (!hit.hit || std::min({point.x, point.y, 1.0 - point.x, 1.0 - point.y}) < 0.03) continue;
         const size_t row = size_t(h - 1 - y) * w + x;  // PFM rows run bottom-up
         for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(img.pixels[3 * row + c], ref_rgb[3 * p + c], 1e-4 * std::abs(ref_rgb[3 * p + c]) + 1e-6) << coloring << " " << x << "," << y;
+          EXPECT_NEAR(double(img.pixels[3 * row + c]), double(ref_rgb[3 * p + c]), 1e-4 * std::abs(double(ref_rgb[3 * p + c])) + 1e-6) << coloring << " " << x << "," << y;
         ++compared;
       }
     EXPECT_GT(compared, w * h / 4) << coloring;
