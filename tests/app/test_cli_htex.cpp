@@ -119,6 +119,12 @@ TEST(CliMsa, RendersTheCornellBoxWithStats) {
   const CliRun bad = run("render cornell-box --mode msa --texel-levels 2 --output " + (work_dir() / "x.pfm").string());
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("--mode texel"), std::string::npos) << bad.err;
+  // A stats file that cannot be written: exit 2 naming it, and no partial file left.
+  const fs::path stats = work_dir() / "no-such-dir" / "s.json";
+  const CliRun unwritable = run("render cornell-box --mode msa --size 16x12 --output " + (work_dir() / "x.pfm").string() + " --stats " + stats.string());
+  EXPECT_EQ(unwritable.code, 2);
+  EXPECT_NE(unwritable.err.find(stats.string()), std::string::npos) << unwritable.err;
+  EXPECT_FALSE(fs::exists(stats.string() + ".partial"));
 }
 
 // A lit cube in front of the sky: finite everywhere, and the covered pixels (alpha) are the
