@@ -7,6 +7,8 @@
 
 #include "renderer/rt/acceleration_structure.hpp"
 #include "renderer/surface/htex_pass.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/pipeline.hpp"
 #include "scene/surface_scene.hpp"
 
 namespace prismoid::test {
@@ -42,6 +44,40 @@ struct HtexRig {
   surface::HtexGeometry geometry;
   std::unique_ptr<surface::HtexPass> pass;
 };
+
+// Runs one of the Htex GLSL-twin compute shaders (surface/htex/*_test.comp): the atlas tables at
+// their bindings, `queries` at binding 40, one Result per query at 41, the query count as the
+// push constant, one invocation per query. Returns the results.
+template <typename Result, typename Query>
+std::vector<Result> run_htex_twin_shader(const vk::Device& device, const surface::HtexTables& tables, const char* shader,
+                                         const std::vector<Query>& queries) {
+  std::vector<vk::DescriptorBinding> bindings = surface::htex_table_bindings(VK_SHADER_STAGE_COMPUTE_BIT);
+  bindings.push_back({40, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT});
+  bindings.push_back({41, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT});
+  auto set_layout = vk::create_descriptor_set_layout(device, bindings);
+  const VkDescriptorSetLayout sl = set_layout.get();
+  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 4};
+  auto layout = vk::create_pipeline_layout(device, std::span(&sl, 1), std::span(&push, 1));
+  auto pipeline = vk::create_compute_pipeline(device, shader, layout.get());
+  const vk::DescriptorSet set = vk::allocate_descriptor_set(device, sl, bindings);
+  surface::write_htex_table_descriptors(device, set.set, tables);
+  const vk::Buffer qbuf = vk::upload_buffer(device, std::as_bytes(std::span(queries)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const vk::Buffer rbuf(device, queries.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);
+  vk::write_buffer_descriptor(device, set.set, 40, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, qbuf.get());
+  vk::write_buffer_descriptor(device, set.set, 41, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rbuf.get());
+  const auto count = static_cast<uint32_t>(queries.size());
+  device.submit_and_wait([&](VkCommandBuffer cmd) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.get());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout.get(), 0, 1, &set.set, 0, nullptr);
+    vkCmdPushConstants(cmd, layout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, 4, &count);
+    vkCmdDispatch(cmd, (count + 63) / 64, 1, 1);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                       VK_ACCESS_2_HOST_READ_BIT);
+  });
+  std::vector<Result> results(queries.size());
+  std::memcpy(results.data(), rbuf.mapped(), results.size() * sizeof(Result));
+  return results;
+}
 
 // The weights the GPU stored for a pixel, widened as the gather rebuilds them (w0 = 1 - w1 - w2 in float).
 inline glm::dvec3 stored_barycentrics(const glm::uvec4& vis) {

@@ -17,6 +17,7 @@
 #include "renderer/surface/htex_tables.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/pipeline.hpp"
+#include "surface/htex_fixture.hpp"
 #include "scene/generators.hpp"
 #include "support/gpu_fixture.hpp"
 #include "surface/surface_test_scenes.hpp"
@@ -122,34 +123,7 @@ TEST_F(HtexTwinTest, GlslTwinsMatchTheDoublePrecisionHtex) {
   }
 
   // Run the twins.
-  const std::vector<vk::DescriptorBinding> bindings = [] {
-    auto b = surface::htex_table_bindings(VK_SHADER_STAGE_COMPUTE_BIT);
-    b.push_back({40, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT});
-    b.push_back({41, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT});
-    return b;
-  }();
-  auto set_layout = vk::create_descriptor_set_layout(device(), bindings);
-  const VkDescriptorSetLayout sl = set_layout.get();
-  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 4};
-  auto layout = vk::create_pipeline_layout(device(), std::span(&sl, 1), std::span(&push, 1));
-  auto pipeline = vk::create_compute_pipeline(device(), "surface/htex/twin_test.comp", layout.get());
-  const vk::DescriptorSet set = vk::allocate_descriptor_set(device(), sl, bindings);
-  surface::write_htex_table_descriptors(device(), set.set, tables);
-  const vk::Buffer qbuf = vk::upload_buffer(device(), std::as_bytes(std::span(queries)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  const vk::Buffer rbuf(device(), queries.size() * sizeof(TwinResult), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);
-  vk::write_buffer_descriptor(device(), set.set, 40, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, qbuf.get());
-  vk::write_buffer_descriptor(device(), set.set, 41, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rbuf.get());
-  const auto count = static_cast<uint32_t>(queries.size());
-  device().submit_and_wait([&](VkCommandBuffer cmd) {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.get());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout.get(), 0, 1, &set.set, 0, nullptr);
-    vkCmdPushConstants(cmd, layout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, 4, &count);
-    vkCmdDispatch(cmd, (count + 63) / 64, 1, 1);
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                       VK_ACCESS_2_HOST_READ_BIT);
-  });
-  std::vector<TwinResult> results(queries.size());
-  std::memcpy(results.data(), rbuf.mapped(), results.size() * sizeof(TwinResult));
+  const std::vector<TwinResult> results = run_htex_twin_shader<TwinResult>(device(), tables, "surface/htex/twin_test.comp", queries);
 
   size_t failures = 0, footprint_texels = 0, ghosts = 0, vertices = 0, set_differences = 0;
   double worst_uv = 0.0, worst_xy = 0.0, worst_weight_ratio = 0.0, worst_lod_ratio = 0.0, worst_tp = 0.0;
