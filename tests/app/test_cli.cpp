@@ -35,9 +35,8 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::slurp;
-fs::path work_dir() { return test::cli_work_dir(); }
-CliRun run(const std::string& args) { return test::run_cli(args); }
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new test::CliScratchCleanup);
+using test::cli::run;
+using test::cli::work_dir;
 
 // An aggregate check of a whole image written by the CLI against the CPU reference: RMSE
 // below 1e-3 of the peak. The per-pixel tolerances (sub-pixel snapping, float32) are derived

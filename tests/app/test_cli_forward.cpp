@@ -26,9 +26,8 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::slurp;
-fs::path work_dir() { return test::cli_work_dir(); }
-CliRun run(const std::string& args) { return test::run_cli(args); }
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new test::CliScratchCleanup);
+using test::cli::run;
+using test::cli::work_dir;
 
 // Seen from inside, the furnace's direct light is Le (1 + A) = 1.5 at every pixel. 3e-4 is the
 // float rounding bound tests/surface derives for this scene: 1279 area-light terms summed.

@@ -17,9 +17,8 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::slurp;
-fs::path work_dir() { return test::cli_work_dir(); }
-CliRun run(const std::string& args) { return test::run_cli(args); }
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new test::CliScratchCleanup);
+using test::cli::run;
+using test::cli::work_dir;
 
 // The Cornell box without shadows: what the CPU direct-light reference computes at each pixel,
 // but from texels that are interpolated over about a pixel (tests/surface bounds that per texel

@@ -13,14 +13,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new test::CliScratchCleanup);
+using test::cli::work_dir;  // (including test::cli registers the scratch clean-up)
 
 // The Cornell box with biased GI: exits 0, every pixel finite, the image brighter than the same
 // render without GI (the one bounce only adds light; the box's sky is black), stats with the GI
 // settings and the reservoir and persistent-layer bytes, validation clean.
 TEST(CliHtexGi, RendersTheCornellBoxWithBiasedGi) {
-  const fs::path off = test::cli_work_dir() / "htex_gi_off.pfm", on = test::cli_work_dir() / "htex_gi_on.pfm",
-                 stats = test::cli_work_dir() / "htex_gi.json";
+  const fs::path off = work_dir() / "htex_gi_off.pfm", on = work_dir() / "htex_gi_on.pfm",
+                 stats = work_dir() / "htex_gi.json";
   const test::CliRun a = test::run_cli("render cornell-box --mode htex --size 24x16 --pool-pages 16 --texels-per-unit 0.02 --validate --output " +
                                        off.string());
   ASSERT_EQ(a.code, 0) << a.err;
@@ -44,7 +44,7 @@ TEST(CliHtexGi, RendersTheCornellBoxWithBiasedGi) {
 }
 
 TEST(CliHtexGi, BadGiOptionsExitWithUsageErrors) {
-  const fs::path out = test::cli_work_dir() / "htex_gi_bad.pfm";
+  const fs::path out = work_dir() / "htex_gi_bad.pfm";
   for (const std::string opts : {"--gi sometimes", "--gi biased --gi-frames 0", "--gi biased --gi-neighbours 17", "--gi biased --gi-fallback maybe",
                                  "--gi-frames 4"}) {
     const test::CliRun r = test::run_cli("render cornell-box --mode htex --size 8x8 " + opts + " --output " + out.string());

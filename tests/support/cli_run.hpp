@@ -54,4 +54,12 @@ class CliScratchCleanup : public ::testing::Environment {
   }
 };
 
+// What a CLI test file uses (`using namespace prismoid::test::cli;`): the scratch folder, a
+// run of the executable, and the scratch clean-up registered once per test executable.
+namespace cli {
+inline std::filesystem::path work_dir() { return cli_work_dir(); }
+inline CliRun run(const std::string& args) { return run_cli(args); }
+inline const ::testing::Environment* const kCleanup = ::testing::AddGlobalTestEnvironment(new CliScratchCleanup);
+}  // namespace cli
+
 }  // namespace prismoid::test
