@@ -8,6 +8,9 @@
 
 #include <glm/vec2.hpp>
 
+#include <gtest/gtest.h>
+
+#include "scene/input_error.hpp"
 #include "scene/surface_mesh.hpp"
 #include "scene/surface_scene.hpp"
 
@@ -35,6 +38,18 @@ inline SurfaceScene scene_of(std::string name, std::vector<SceneMesh> meshes) {
   scene.meshes = std::move(meshes);
   scene.materials.push_back({});
   return scene;
+}
+
+// `build()` throws InputError from `source` with `words` in its message.
+template <typename Build>
+void expect_input_error(Build&& build, const std::string& source, const std::string& words) {
+  try {
+    build();
+    ADD_FAILURE() << "no error for " << words;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), source);
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace prismoid::test
