@@ -63,7 +63,12 @@ Polygon clip_to_hemisphere(const Polygon& polygon, const glm::dvec3& normal) {
     const glm::dvec3& b = polygon[(i + 1) % n];
     const double da = glm::dot(normal, a), db = glm::dot(normal, b);
     if (da >= 0.0) out.push_back(a);
-    if ((da >= 0.0) != (db >= 0.0)) out.push_back(a + (b - a) * (da / (da - db)));
+    if ((da >= 0.0) != (db >= 0.0)) {  // cut from the corner below: the same point either way along the edge
+      const glm::dvec3& below = da < 0.0 ? a : b;
+      const glm::dvec3& above = da < 0.0 ? b : a;
+      const double d_below = std::min(da, db), d_above = std::max(da, db);
+      out.push_back(below + (above - below) * (d_below / (d_below - d_above)));
+    }
   }
   return out;
 }
@@ -75,8 +80,8 @@ ProjectedSolidAngle projected_solid_angle(const Polygon& polygon, const glm::dve
   for (size_t i = 0; i < polygon.size(); ++i) {
     const glm::dvec3& a = polygon[i];
     const glm::dvec3& b = polygon[(i + 1) % polygon.size()];
-    // a x (b - a) = a x b, computed from the edge so that nearly parallel corners keep their digits.
-    const glm::dvec3 c = glm::cross(a, b - a);
+    // a x b, from the shorter corner and the edge (as shaders/surface/area_light.glsl).
+    const glm::dvec3 c = glm::dot(a, a) <= glm::dot(b, b) ? glm::cross(a, b - a) : glm::cross(a - b, b);
     const double len = glm::length(c);
     if (!(len > 0.0)) continue;  // corners along one ray (or a corner at the origin): no area
     const double theta = std::atan2(len, glm::dot(a, b));

@@ -6,8 +6,8 @@
 #define PRISMOID_SURFACE_GI_INITIAL_GLSL
 
 // Cosine-weighted direction about the unit normal n (Malley's method on a frame from Duff et
-// al. 2017), and its solid-angle pdf cos / pi.
-vec3 gi_cosine_direction(vec3 n, float u1, float u2, out float pdf) {
+// al. 2017).
+vec3 gi_cosine_direction(vec3 n, float u1, float u2) {
   float sign_z = n.z >= 0.0 ? 1.0 : -1.0;
   float a = -1.0 / (sign_z + n.z);
   float b = n.x * n.y * a;
@@ -15,7 +15,6 @@ vec3 gi_cosine_direction(vec3 n, float u1, float u2, out float pdf) {
   vec3 bt = vec3(b, sign_z + n.y * n.y * a, -n.y);
   float r = sqrt(u1), phi = 2.0 * PRISMOID_PI * u2;
   float z = sqrt(max(0.0, 1.0 - u1));
-  pdf = z * (1.0 / PRISMOID_PI);
   return normalize(r * cos(phi) * t + r * sin(phi) * bt + z * n);
 }
 
@@ -24,7 +23,12 @@ GiReservoir gi_new_candidate(GiPoint p, inout uint rng, out float pdf) {
   GiResampler empty = gi_resampler();
   GiReservoir c = empty.chosen;
   float u1 = gi_random(rng), u2 = gi_random(rng);
-  vec3 wi = gi_cosine_direction(p.sp.normal, u1, u2, pdf);
+  // The direction as the reservoir keeps it (octahedral, a few ulps from the sampled one) is the
+  // one traced, and its pdf cos / pi takes the cosine the target takes (reflected): in target /
+  // pdf the two cancel to rounding, where the sampled z would differ from it by ~1e-7 / z.
+  vec2 encoded = gi_oct_encode(gi_cosine_direction(p.sp.normal, u1, u2));
+  vec3 wi = gi_oct_decode(encoded);
+  pdf = dot(p.sp.normal, wi) * (1.0 / PRISMOID_PI);
   if (!(dot(wi, p.sp.geometric) > 0.0) || !(pdf > 0.0)) {
     pdf = 0.0;  // below the geometric surface: no reflection (the path tracer ends such paths too)
     return c;
@@ -35,7 +39,7 @@ GiReservoir gi_new_candidate(GiPoint p, inout uint rng, out float pdf) {
   traceRayEXT(scene_tlas, gl_RayFlagsOpaqueEXT, 0xFF, PRISMOID_SURFACE_HIT_GROUP, 0, PRISMOID_SURFACE_MISS_HIT, origin, 0.0, wi,
               uintBitsToFloat(0x7f7fffffu), PRISMOID_SURFACE_PAYLOAD_HIT);
   c.origin = vec4(p.sp.position, 0.0);  // the traced direction is kept for this x1 (gi_direction)
-  c.origin_bary.zw = gi_oct_encode(wi);
+  c.origin_bary.zw = encoded;
   if (gi_hit.id.y == 0u) {
     c.sample_point = vec4(wi, 0.0);
     c.radiance = vec4(gi_sky_radiance(wi), 0.0);

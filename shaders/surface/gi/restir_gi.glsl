@@ -249,8 +249,11 @@ GiReservoir gi_finish(GiResampler s, float Z, GiPoint p, uint sample_index) {
   r.sample_point.w = W;
   r.sample_normal.w = s.M;
   r.radiance.w = s.w_sum;
+  // A direction already kept for this x1 is kept as it is (encoding its decoding again would
+  // move it by an ulp, and the target with it).
+  vec2 direction = !reaches ? vec2(0.0) : r.origin.xyz == p.sp.position ? r.origin_bary.zw : gi_oct_encode(wi);
   r.origin = vec4(p.sp.position, some ? s.target : 0.0);
-  r.origin_bary = vec4(smp.position.w, smp.viewer.w, reaches ? gi_oct_encode(wi) : vec2(0.0));
+  r.origin_bary = vec4(smp.position.w, smp.viewer.w, direction);
   r.info.x = smp.id.x;
   return r;
 }
