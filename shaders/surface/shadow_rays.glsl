@@ -65,12 +65,21 @@ vec3 emitter_shadow_sample(uint k) {
 // it, each weighted by its unshadowed contribution (Heitz, Hill & McGuire 2018's ratio), each
 // seen along the segment from the offset origin to the point moved off the emitter towards its
 // front (the emitter's own triangle and its coplanar neighbours are then never hit).
+//
+// The weights are kept in an array and both sums are taken from it after all rays are traced.
+// Summing `seen` after each trace from a weight computed before it let the H200's ray-generation
+// code return ratios up to 1.05 (a value live across traceRayEXT came back different next to an
+// icosahedron corner: tests/surface/test_forward.cpp, FurnaceNextToACorner...); from one array
+// the ratio cannot exceed 1.
 float emitter_visibility(SurfacePoint sp, uint emitter) {
   EmitterGpu e = emitters[emitter];
   float offset = shadow_ray_offset(sp.position);
   vec3 origin = sp.position + sp.geometric * offset;
-  float seen = 0.0, total = 0.0;
+  float weights[PRISMOID_EMITTER_SHADOW_SAMPLES];
+  float visible[PRISMOID_EMITTER_SHADOW_SAMPLES];
   for (uint k = 0u; k < PRISMOID_EMITTER_SHADOW_SAMPLES; ++k) {
+    weights[k] = 0.0;
+    visible[k] = 0.0;
     vec3 b = emitter_shadow_sample(k);
     vec3 q = b.x * e.v0.xyz + b.y * e.v1.xyz + b.z * e.v2.xyz;
     vec3 to = q - sp.position;
@@ -80,15 +89,16 @@ float emitter_visibility(SurfacePoint sp, uint emitter) {
     // Below the geometric horizon the closed-form term has no light (clipped), so no weight.
     float weight = dot(w, sp.geometric) > 0.0 ? max(dot(w, sp.normal), 0.0) * max(-dot(w, e.normal.xyz), 0.0) / d2 : 0.0;
     if (!(weight > 0.0)) continue;
-    total += weight;
+    weights[k] = weight;
     vec3 end = q + e.normal.xyz * shadow_ray_offset(q);
     vec3 segment = end - origin;
     float length_ = length(segment);
-    if (!(length_ > 0.0)) {
-      seen += weight;
-      continue;
-    }
-    seen += weight * trace_shadow(origin, segment / length_, 0.0, length_);
+    visible[k] = length_ > 0.0 ? trace_shadow(origin, segment / length_, 0.0, length_) : 1.0;
+  }
+  float seen = 0.0, total = 0.0;
+  for (uint k = 0u; k < PRISMOID_EMITTER_SHADOW_SAMPLES; ++k) {
+    total += weights[k];
+    seen += weights[k] * visible[k];
   }
   return total > 0.0 ? seen / total : 1.0;
 }
