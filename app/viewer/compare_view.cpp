@@ -47,7 +47,7 @@ void CompareView::update(ViewerSession& s) {
   if (s.state.compare != CompareMode::Split && b_) {
     device_.wait_idle();
     b_.reset();
-    b_mesh_ = nullptr;
+    b_mesh_.reset();
     status_.b_passes.clear();
   }
   if (s.state.compare == CompareMode::Split) update_split(s);
@@ -63,11 +63,11 @@ void CompareView::update(ViewerSession& s) {
 
 void CompareView::update_split(ViewerSession& s) {
   const Dataset& d = s.state.dataset();
-  if (!b_ || b_mesh_ != d.mesh.get()) {
+  if (!b_ || b_mesh_ != d.mesh) {
     device_.wait_idle();
     b_.reset();
     b_ = std::make_unique<frame::FrameRenderer>(device_, *d.mesh);
-    b_mesh_ = d.mesh.get();
+    b_mesh_ = d.mesh;
   }
   b_->resize(s.swapchain.extent());
   b_settings_ = compare_frame_settings(s.state);

@@ -68,7 +68,7 @@ class CompareView {
   CompareStatus status_;
   // Split.
   std::unique_ptr<frame::FrameRenderer> b_;
-  const TetMesh* b_mesh_ = nullptr;  // the dataset B was made for
+  std::shared_ptr<const TetMesh> b_mesh_;  // the dataset B was made for (held: a freed mesh's address could be the next one's)
   vk::GpuTimer b_timer_;
   bool b_recorded_ = false;
   frame::FrameSettings b_settings_;

@@ -50,6 +50,7 @@ class AccelerationStructure {
   // An empty structure of `type` with room for `size` bytes.
   AccelerationStructure(const vk::Device& device, VkAccelerationStructureTypeKHR type, VkDeviceSize size);
   VkAccelerationStructureKHR get() const { return handle_.get(); }
+  uint64_t serial() const { return storage_.serial(); }  // its storage's (vk::Buffer::serial)
   VkDeviceAddress address() const { return address_; }
   VkDeviceSize size() const { return storage_.size(); }
 
@@ -92,6 +93,7 @@ class SceneAccel {
   // p - origin() in double, rounded to float: the frame every GPU-side coordinate is in.
   glm::vec3 to_local(const glm::dvec3& p) const;
   VkAccelerationStructureKHR tlas() const { return tlas_.get(); }
+  uint64_t tlas_serial() const { return tlas_.serial(); }
   uint32_t instance_count() const { return instance_count_; }
   size_t mesh_count() const { return meshes_.size(); }
   // Per mesh: positions as vec4 (xyz relative to origin(), w = 1) and three uint32 indices per

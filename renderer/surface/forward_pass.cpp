@@ -126,13 +126,13 @@ VkPipeline ForwardPass::shading_pipeline(bool counted) {
 }
 
 void ForwardPass::bind(const GpuSurfaceScene& scene, const ForwardTargets& targets) {
-  if (bound_scene_ != &scene) {
+  if (bound_scene_ != buffer_key(scene)) {
     write_scene_descriptors(device_, set_.set, scene, false);
-    bound_scene_ = &scene;
+    bound_scene_ = buffer_key(scene);
   }
-  if (bound_count_view_ != targets.shade_count.view()) {
+  if (bound_count_image_ != targets.shade_count.serial()) {
     vk::write_storage_image_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_SHADE_COUNT, targets.shade_count.view());
-    bound_count_view_ = targets.shade_count.view();
+    bound_count_image_ = targets.shade_count.serial();
   }
 }
 

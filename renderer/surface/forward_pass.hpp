@@ -69,8 +69,8 @@ class ForwardPass {
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_;
   vk::UniqueQueryPool statistics_;
-  const GpuSurfaceScene* bound_scene_ = nullptr;
-  VkImageView bound_count_view_ = VK_NULL_HANDLE;
+  SceneBufferKey bound_scene_{};  // what the descriptors name (serials: see vk::next_resource_serial)
+  uint64_t bound_count_image_ = 0;
   bool counted_ = false;
 };
 

@@ -141,4 +141,9 @@ GpuSurfaceScene upload(const vk::Device& device, const SurfaceScene& scene) {
   return gpu;
 }
 
+SceneBufferKey buffer_key(const GpuSurfaceScene& s) {
+  return {s.positions.serial(), s.attributes.serial(), s.indices.serial(), s.meshes.serial(), s.materials.serial(),
+          s.triangles.serial(), s.point_lights.serial(), s.directional_lights.serial(), s.emitters.serial()};
+}
+
 }  // namespace prismoid::surface

@@ -4,6 +4,7 @@
 // index), per-triangle data, materials and lights. Positions are float relative to `origin`
 // (the scene's bounds centre, kept in double), so a scene far from the world origin keeps its
 // precision. Every surface backend shades from these buffers.
+#include <array>
 #include <cstdint>
 
 #include <glm/vec3.hpp>
@@ -38,6 +39,10 @@ struct GpuSurfaceScene {
   Sky sky;
   uint64_t bytes = 0;             // GPU memory the buffers hold
 };
+
+// The serials of the scene's buffers (vk::Buffer::serial): equal keys, the same buffers.
+using SceneBufferKey = std::array<uint64_t, 9>;
+SceneBufferKey buffer_key(const GpuSurfaceScene& scene);
 
 // Throws InputError for an invalid scene (validate), or one whose triangle count does not fit
 // the device's storage-buffer range.

@@ -157,7 +157,7 @@ void HtexPass::reset_residency() {
 void HtexPass::bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const HtexTargets& targets) {
   if (scene.triangle_count != geometry_.triangle_count)
     throw std::invalid_argument("HtexPass: the GPU scene is not the one the Htex geometry was built from");
-  bound_.update(device_, set_.set, scene, tlas, targets.visibility.get(), PRISMOID_HTEX_BINDING_VISIBILITY);
+  bound_.update(device_, set_.set, scene, tlas, targets.visibility, PRISMOID_HTEX_BINDING_VISIBILITY);
 }
 
 void HtexPass::dispatch_step(VkCommandBuffer cmd, uint32_t step, uint32_t invocations) {

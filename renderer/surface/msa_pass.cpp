@@ -168,7 +168,7 @@ void MsaPass::reset_atlas() {
 void MsaPass::bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const MsaTargets& targets) {
   if (scene.triangle_count != meshlets_.corner_chart.size())
     throw std::invalid_argument("MsaPass: the GPU scene is not the one the meshlets were built from");
-  bound_.update(device_, set_.set, scene, tlas, targets.visibility.get(), PRISMOID_MSA_BINDING_VISIBILITY);
+  bound_.update(device_, set_.set, scene, tlas, targets.visibility, PRISMOID_MSA_BINDING_VISIBILITY);
 }
 
 void MsaPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, MsaTargets& targets,

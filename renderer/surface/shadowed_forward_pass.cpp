@@ -100,19 +100,19 @@ void ShadowedForwardPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& sce
   if (accel.origin() != scene.origin)
     throw std::invalid_argument("ShadowedForwardPass: the acceleration structure's origin differs from the surface scene's "
                                 "(build both from the same SurfaceScene)");
-  if (bound_scene_ != &scene) {
+  if (bound_scene_ != buffer_key(scene)) {
     write_scene_descriptors(device_, set_.set, scene, true);
-    bound_scene_ = &scene;
+    bound_scene_ = buffer_key(scene);
   }
-  if (bound_tlas_ != accel.tlas()) {
+  if (bound_tlas_ != accel.tlas_serial()) {
     rt::write_tlas_descriptor(device_, set_.set, PRISMOID_SURFACE_BINDING_TLAS, accel.tlas());
-    bound_tlas_ = accel.tlas();
+    bound_tlas_ = accel.tlas_serial();
   }
-  if (bound_triangle_view_ != targets.triangle.view() || bound_color_view_ != targets.color.view()) {
+  if (bound_triangle_image_ != targets.triangle.serial() || bound_color_image_ != targets.color.serial()) {
     vk::write_storage_image_descriptor(device_, set_.set, kBindingTriangle, targets.triangle.view());
     vk::write_storage_image_descriptor(device_, set_.set, kBindingColor, targets.color.view());
-    bound_triangle_view_ = targets.triangle.view();
-    bound_color_view_ = targets.color.view();
+    bound_triangle_image_ = targets.triangle.serial();
+    bound_color_image_ = targets.color.serial();
   }
   const VkExtent2D e = targets.extent;
   const gpu::SurfaceFrame frame = surface_frame(scene, camera, e, settings.subpixel);

@@ -52,9 +52,8 @@ class ShadowedForwardPass {
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_;
   vk::Buffer counter_;
-  const GpuSurfaceScene* bound_scene_ = nullptr;
-  VkAccelerationStructureKHR bound_tlas_ = VK_NULL_HANDLE;
-  VkImageView bound_triangle_view_ = VK_NULL_HANDLE, bound_color_view_ = VK_NULL_HANDLE;
+  SceneBufferKey bound_scene_{};  // what the descriptors name (serials: see vk::next_resource_serial)
+  uint64_t bound_tlas_ = 0, bound_triangle_image_ = 0, bound_color_image_ = 0;
 };
 
 ForwardImage render_forward_shadowed(const vk::Device& device, ShadowedForwardPass& pass, const GpuSurfaceScene& scene,

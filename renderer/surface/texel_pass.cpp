@@ -140,7 +140,7 @@ void TexelPass::set_settings(const TexelSettings& settings) {
 void TexelPass::bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const TexelTargets& targets) {
   if (scene.triangle_count != atlas_.corner_uv.size())
     throw std::invalid_argument("TexelPass: the GPU scene is not the one the texel atlas was built from");
-  bound_.update(device_, set_.set, scene, tlas, targets.visibility.get(), PRISMOID_TEXEL_BINDING_VISIBILITY);
+  bound_.update(device_, set_.set, scene, tlas, targets.visibility, PRISMOID_TEXEL_BINDING_VISIBILITY);
 }
 
 void TexelPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, TexelTargets& targets,

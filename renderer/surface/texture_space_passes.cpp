@@ -73,18 +73,19 @@ void read_texture_space_image(const vk::Device& device, const TextureSpaceTarget
 }
 
 void SceneSetBinding::update(const vk::Device& device, VkDescriptorSet set, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
-                             VkBuffer visibility, uint32_t visibility_binding) {
-  if (scene_ != &scene) {
+                             const vk::Buffer& visibility, uint32_t visibility_binding) {
+  const bool new_scene = scene_ != buffer_key(scene);
+  if (new_scene) {
     write_scene_descriptors(device, set, scene, true);
-    scene_ = &scene;
+    scene_ = buffer_key(scene);
   }
-  if (tlas_ != tlas) {
+  if (new_scene || tlas_ != tlas) {
     rt::write_tlas_descriptor(device, set, PRISMOID_SURFACE_BINDING_TLAS, tlas);
     tlas_ = tlas;
   }
-  if (visibility_ != visibility) {
-    vk::write_buffer_descriptor(device, set, visibility_binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility);
-    visibility_ = visibility;
+  if (visibility_ != visibility.serial()) {
+    vk::write_buffer_descriptor(device, set, visibility_binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility.get());
+    visibility_ = visibility.serial();
   }
 }
 

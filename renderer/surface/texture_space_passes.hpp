@@ -64,13 +64,16 @@ void read_texture_space_image(const vk::Device& device, const TextureSpaceTarget
 // only when it changed since the last call.
 class SceneSetBinding {
  public:
-  void update(const vk::Device& device, VkDescriptorSet set, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, VkBuffer visibility,
-              uint32_t visibility_binding);
+  void update(const vk::Device& device, VkDescriptorSet set, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
+              const vk::Buffer& visibility, uint32_t visibility_binding);
 
  private:
-  const GpuSurfaceScene* scene_ = nullptr;
+  // What the descriptors name: the scene's and the visibility buffer's serials
+  // (vk::next_resource_serial), and the TLAS, written again with every new scene too (its
+  // handle alone could be a destroyed one's).
+  SceneBufferKey scene_{};
   VkAccelerationStructureKHR tlas_ = VK_NULL_HANDLE;
-  VkBuffer visibility_ = VK_NULL_HANDLE;
+  uint64_t visibility_ = 0;
 };
 
 // The shading pass ("shading" in the timer): after the pass that wrote the task list and the

@@ -1,17 +1,22 @@
 #include "renderer/vk/memory.hpp"
 
-#include <vector>
-
+#include <atomic>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 
 namespace prismoid::vk {
 
+uint64_t next_resource_serial() {
+  static std::atomic<uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
 Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use)
-    : size_(size), device_(device.get()) {
+    : serial_(next_resource_serial()), size_(size), device_(device.get()) {
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size > 0 ? size : 16;  // zero-sized buffers are invalid; empty meshes get a stub
   info.usage = usage;
@@ -82,7 +87,7 @@ VkImageAspectFlags aspect_of(VkFormat format) {
 }
 
 Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage)
-    : format_(format), extent_(extent) {
+    : serial_(next_resource_serial()), format_(format), extent_(extent) {
   VkDevice d = device.get();
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.imageType = VK_IMAGE_TYPE_2D;

@@ -1,6 +1,7 @@
 #pragma once
 // Buffers and images with their own memory. Host-visible buffers stay mapped.
 #include <cstddef>
+#include <cstdint>
 #include <initializer_list>
 #include <span>
 #include <vulkan/vulkan.h>
@@ -12,6 +13,12 @@ namespace prismoid::vk {
 class Device;
 
 enum class MemoryUse { DeviceLocal, HostVisible };
+
+// A number no buffer or image made before in this process has had (0: none made). Descriptor
+// caches compare serials, not handles or addresses: once an object is destroyed, Vulkan may hand
+// its handle to the next one and the allocator its address to the next scene, and a cache keyed
+// by those would skip writing descriptors that still name the destroyed object.
+uint64_t next_resource_serial();
 
 class Buffer {
  public:
@@ -29,10 +36,12 @@ class Buffer {
   // Buffers made with VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT only (their memory is then
   // allocated with VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT): the buffer's GPU address.
   VkDeviceAddress device_address() const;
+  uint64_t serial() const { return serial_; }
 
  private:
   UniqueMemory memory_;  // declared first so the buffer is destroyed before its memory
   UniqueBuffer buffer_;
+  uint64_t serial_ = 0;
   VkDeviceSize size_ = 0;
   std::byte* mapped_ = nullptr;
   VkDevice device_ = VK_NULL_HANDLE;
@@ -53,8 +62,10 @@ class Image {
   VkImageView view() const { return view_.get(); }
   VkFormat format() const { return format_; }
   VkExtent2D extent() const { return extent_; }
+  uint64_t serial() const { return serial_; }
 
  private:
+  uint64_t serial_ = 0;
   UniqueMemory memory_;  // destroyed last: view, then image, then memory
   UniqueImage image_;
   UniqueImageView view_;

@@ -245,18 +245,20 @@ GpuTetlets upload_tetlets(const vk::Device& device, const TetMesh& mesh, uint32_
 }
 
 void IntervalShadingPass::bind_tetlets(const GpuTetlets* tetlets) {
-  if (!tetlets || tetlets == bound_tetlets_) return;
+  if (!tetlets) return;
+  const std::array<uint64_t, 3> key{tetlets->headers.serial(), tetlets->points.serial(), tetlets->cells.serial()};
+  if (key == bound_tetlets_) return;
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETLETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tetlets->headers.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETLET_POINTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tetlets->points.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETLET_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tetlets->cells.get());
-  bound_tetlets_ = tetlets;
+  bound_tetlets_ = key;
 }
 
 void IntervalShadingPass::bind_order(const vk::Buffer* order) {
-  const VkBuffer buffer = order ? order->get() : stub_.get();
-  if (buffer == bound_order_) return;
-  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_ORDER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer);
-  bound_order_ = buffer;
+  const vk::Buffer& buffer = order ? *order : stub_;
+  if (buffer.serial() == bound_order_) return;
+  vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_ORDER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer.get());
+  bound_order_ = buffer.serial();
 }
 
 void IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings& settings) {
@@ -337,24 +339,27 @@ void IntervalShadingPass::upload_grid(const std::shared_ptr<const SampledGrid>& 
 }
 
 void IntervalShadingPass::bind_mesh(const GpuTetMesh& mesh) {
-  if (bound_mesh_ == &mesh) return;
+  const std::array<uint64_t, 6> key{mesh.positions.serial(),  mesh.tets.serial(),        mesh.cell_sigma.serial(),
+                                    mesh.point_sigma.serial(), mesh.cell_scalar.serial(), mesh.point_scalar.serial()};
+  if (key == bound_mesh_) return;
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.positions.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.tets.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_CELL_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.cell_sigma.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POINT_SIGMA, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.point_sigma.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_CELL_SCALAR, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.cell_scalar.get());
   vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_POINT_SCALAR, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mesh.point_scalar.get());
-  bound_mesh_ = &mesh;
+  bound_mesh_ = key;
 }
 
 void IntervalShadingPass::bind_targets(const VolumeTargets& targets) {
-  if (bound_targets_ == &targets && bound_optical_depth_ == targets.optical_depth.get()) return;
+  const std::array<uint64_t, 4> key{targets.optical_depth.serial(), targets.display.serial(), targets.quantity.serial(),
+                                    targets.emission.serial()};
+  if (key == bound_targets_) return;
   vk::write_storage_image_descriptor(device_, resolve_set_.set, 0, targets.optical_depth.view());
   vk::write_storage_image_descriptor(device_, resolve_set_.set, 1, targets.display.view());
   vk::write_storage_image_descriptor(device_, resolve_set_.set, 2, targets.quantity.view());
   vk::write_storage_image_descriptor(device_, resolve_set_.set, 3, targets.emission.view());
-  bound_targets_ = &targets;
-  bound_optical_depth_ = targets.optical_depth.get();
+  bound_targets_ = key;
 }
 
 void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,

@@ -129,7 +129,8 @@ class IntervalShadingPass {
   vk::UniquePipelineLayout mesh_layout_;
   // (cells per workgroup, kind) -> pipeline, made on first use.
   std::map<std::tuple<uint32_t, PipelineKind, bool>, vk::UniquePipeline> pipelines_;
-  const GpuTetlets* bound_tetlets_ = nullptr;
+  // What the descriptors name, by serials (vk::next_resource_serial; 0: nothing yet).
+  std::array<uint64_t, 3> bound_tetlets_{};
   vk::DescriptorSet mesh_set_;
   vk::UniqueDescriptorSetLayout resolve_set_layout_;
   vk::UniquePipelineLayout resolve_layout_;
@@ -141,14 +142,13 @@ class IntervalShadingPass {
   std::vector<TfSample> table_tf_;  // the transfer function of tf_buffer_ and table_
   vk::Buffer tf_buffer_;
   vk::Buffer table_buffer_;
-  VkBuffer bound_order_ = VK_NULL_HANDLE;
+  uint64_t bound_order_ = 0;
   std::shared_ptr<const SampledGrid> grid_;  // the samples in grid_buffer_ (held, so the pointer stays unique)
   vk::Buffer grid_buffer_;                    // bound at PRISMOID_BINDING_FIELD_GRID; the stub until a grid is marched
   vk::UniqueQueryPool statistics_;  // empty where the device has no pipeline statistics
   bool counted_ = false;            // a draw was bracketed since the pool was made
-  const GpuTetMesh* bound_mesh_ = nullptr;
-  const VolumeTargets* bound_targets_ = nullptr;
-  VkImage bound_optical_depth_ = VK_NULL_HANDLE;
+  std::array<uint64_t, 6> bound_mesh_{};
+  std::array<uint64_t, 4> bound_targets_{};
   bool intervals_recorded_ = false;  // record_resolve() follows record_intervals()
 };
 

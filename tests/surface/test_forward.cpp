@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -172,6 +173,42 @@ TEST_F(ForwardTest, FurnaceNextToACornerStaysAtTheClosedForm) {
       EXPECT_GT(clear, size_t(kSize) * kSize / 2);
     }
     std::printf("\n");
+  }
+}
+
+// A pass outlives the scenes it draws: the viewer keeps its passes when a dataset is replaced,
+// and the next scene's buffers can land where the last one's were (the same address, handles
+// Vulkan hands out again). Each pass must still draw the scene it is given: what it draws equals
+// what a new pass draws, with no validation message (the descriptors of a destroyed scene).
+TEST_F(ForwardTest, APassDrawsTheSceneMadeWhereTheLastOneWas) {
+  SphereSceneOptions o;
+  o.lights = Lights::Area;
+  const SurfaceScene first = sphere_scene(o), second = make_cornell_box();
+  const VkExtent2D extent{24, 20};
+  surface::ForwardPass kept(device());
+  std::optional<surface::GpuSurfaceScene> slot;
+  slot.emplace(surface::upload(device(), first));
+  const surface::ForwardImage before = surface::render_forward(device(), kept, *slot, first.camera, extent, {});
+  slot.reset();
+  slot.emplace(surface::upload(device(), second));
+  const surface::ForwardImage after = surface::render_forward(device(), kept, *slot, second.camera, extent, {});
+  surface::ForwardPass fresh(device());
+  EXPECT_EQ(after.rgba, surface::render_forward(device(), fresh, *slot, second.camera, extent, {}).rgba);
+  EXPECT_NE(after.rgba, before.rgba);
+  if (device().ray_tracing_enabled()) {
+    surface::ShadowedForwardPass kept_shadowed(device());
+    std::optional<rt::SceneAccel> accel;
+    slot.reset();
+    slot.emplace(surface::upload(device(), first));
+    accel.emplace(device(), first);
+    surface::render_forward_shadowed(device(), kept_shadowed, *slot, *accel, first.camera, extent);
+    accel.reset();
+    slot.reset();
+    slot.emplace(surface::upload(device(), second));
+    accel.emplace(device(), second);
+    const auto shadowed = surface::render_forward_shadowed(device(), kept_shadowed, *slot, *accel, second.camera, extent);
+    surface::ShadowedForwardPass fresh_shadowed(device());
+    EXPECT_EQ(shadowed.rgba, surface::render_forward_shadowed(device(), fresh_shadowed, *slot, *accel, second.camera, extent).rgba);
   }
 }
 
