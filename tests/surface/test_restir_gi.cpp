@@ -185,8 +185,8 @@ TEST_F(RestirGiTest, FurnaceWithoutSpatialReuseIsOneBounce) {
         }
       std::printf("  highest sample: %+.2e of A^2 Le; its x2 (%.9g %.9g %.9g) %.1e from a corner, %.1e from an edge; "
                   "Lo there %+.2e of A Le; W p^ %.7f; M %.0f\n",
-                  highest / exact - 1.0, x2.x, x2.y, x2.z, corner, edge, highest_reservoir.radiance.y / (kA * kLe) - 1.0,
-                  highest_reservoir.sample_point.w * highest_reservoir.origin.w, highest_reservoir.sample_normal.w);
+                  highest / exact - 1.0, x2.x, x2.y, x2.z, corner, edge, double(highest_reservoir.radiance.y) / (kA * kLe) - 1.0,
+                  double(highest_reservoir.sample_point.w * highest_reservoir.origin.w), double(highest_reservoir.sample_normal.w));
     }
     std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
     const double median = errors[errors.size() / 2];
