@@ -62,6 +62,10 @@ const char* const kBenchHelp =
     "                       around them (shading load; texel shading's paper uses 30); the CPU\n"
     "                       reference is then not supersampled\n"
     "  --surface-still      also bench htex, texel and msa frames that reuse a still camera's shading\n"
+    "  --surface-motion DEG also bench forward, htex, texel and msa with a camera that orbits DEG\n"
+    "                       degrees per frame (ending at the scene's camera, where the error is taken)\n"
+    "  --msa-amortize LIST  with --surface-motion: msa rows that shade every n-th frame (e.g. 4,8,16),\n"
+    "                       showing from the atlas in between (the meshlet shading atlas's amortization)\n"
     "  --max-cells N        the cell-count sweep's largest mesh (default 2000000; the sweep splits\n"
     "                       field:marschner-lobb into N^3 cubes, 6 cells each, N = 6, 12, 24, 48, 96, 128)\n"
     "  --no-peers           leave out VTK's mappers (vtkProjectedTetrahedraMapper,\n"
@@ -247,7 +251,7 @@ int replot(const std::filesystem::path& dir) {
 int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
   std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget",
-                                            "surface-lights"};
+                                            "surface-lights", "surface-motion", "msa-amortize"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -436,6 +440,19 @@ int cmd_bench(const std::vector<std::string>& args) {
     if (a.has("surface-modes")) so.modes = split_list(a.values.at("surface-modes"));
     if (a.has("surface-lights")) so.extra_lights = parse_uint("surface-lights", a.values.at("surface-lights"));
     so.still_rows = a.flags.count("surface-still") > 0;
+    if (a.has("surface-motion")) {
+      so.motion_degrees = parse_double("surface-motion", a.values.at("surface-motion"));
+      if (!(so.motion_degrees > 0.0 && so.motion_degrees <= 45.0))
+        throw InputError("--surface-motion", "degrees per frame must lie in (0, 45]");
+    }
+    if (a.has("msa-amortize")) {
+      if (!a.has("surface-motion")) throw InputError("--msa-amortize", "needs --surface-motion (amortization matters while the camera moves)");
+      for (const std::string& n : split_list(a.values.at("msa-amortize"))) {
+        const uint32_t every = parse_uint("msa-amortize", n);
+        if (every < 2) throw InputError("--msa-amortize", "each n must be at least 2 (1 shades every frame: the moving msa row)");
+        so.msa_amortization.push_back(every);
+      }
+    }
     if (so.extra_lights > 0) so.supersample = 1;  // the CPU reference's cost grows with the lights: one sample per pixel
     if (a.has("shading-budget"))
       so.shading_budget = a.values.at("shading-budget") == "covered" ? bench::SurfaceBenchOptions::kBudgetCoveredPixels

@@ -23,7 +23,7 @@ struct BenchRow {
   double cpu_ms = 0;        // CPU stages the frame needed (median), e.g. the exact order
   std::string passes;       // name=median ms, in order
   uint64_t mesh_bytes = 0;  // the mesh's GPU buffers
-  uint64_t shaded = 0;      // surfaces: shading-code invocations of a frame (pixels or texels); 0: not counted
+  uint64_t shaded = 0;      // surfaces: shading-code invocations per measured frame, the mean (pixels or texels); 0: not counted
   uint64_t mode_bytes = 0;  // surfaces: the mode's own GPU memory beyond the scene (Htex: pool and tables)
   reference::ImageError error;
   double ssim = 0;          // mean structural similarity to the reference

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <map>
 
+#include "app/cli_args.hpp"
 #include "app/surface_args.hpp"
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/flip.hpp"
@@ -123,6 +124,17 @@ SurfaceScene with_point_lights(SurfaceScene scene, uint32_t n) {
 
 bool gi_mode(const std::string& mode) { return mode == "htex-gi" || mode == "htex-gi-unbiased" || mode == "htex-pt"; }
 
+// The camera turned about its target and up axis by `degrees`.
+Camera orbited(const Camera& camera, double degrees) {
+  Camera c = camera;
+  const glm::dvec3 axis = glm::normalize(camera.up);
+  const glm::dvec3 offset = camera.eye - camera.target;
+  const double a = glm::radians(degrees), cs = std::cos(a), sn = std::sin(a);
+  // Rodrigues' rotation of the offset about the axis.
+  c.eye = camera.target + offset * cs + glm::cross(axis, offset) * sn + axis * glm::dot(axis, offset) * (1.0 - cs);
+  return c;
+}
+
 }  // namespace
 
 std::string surface_reference_kind(const std::string& mode) {
@@ -146,6 +158,8 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       std::string mode;
       uint32_t budget = 0;  // 0: the mode's own rate
       bool still = false;   // frames reuse a still camera's shading
+      bool moving = false;  // the camera orbits (options.motion_degrees per frame)
+      uint32_t amortize = 0;  // msa: shade every n-th frame
     };
     std::vector<Run> runs;
     for (const std::string& mode : renderer.modes()) {
@@ -154,6 +168,9 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       runs.push_back({mode, 0u, false});
       if (options.shading_budget > 0 && texture_space) runs.push_back({mode, options.shading_budget, false});
       if (options.still_rows && texture_space) runs.push_back({mode, 0u, true});
+      if (options.motion_degrees > 0.0 && (texture_space || mode == "forward")) runs.push_back({mode, 0u, false, true});
+      if (options.motion_degrees > 0.0 && mode == "msa")
+        for (const uint32_t n : options.msa_amortization) runs.push_back({mode, 0u, false, true, n});
     }
     std::map<std::string, uint64_t> unbiased_shaded;  // mode/shadows -> shaded samples at the mode's own rate
     uint32_t covered_pixels = 0;                      // of the scene's first frame
@@ -168,6 +185,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (budget > 0 && mode != "msa" && unbiased_shaded.count(rate_key) && unbiased_shaded.at(rate_key) > budget)
         lod_bias = float(0.5 * std::log2(double(unbiased_shaded.at(rate_key)) / double(budget)));
       renderer.set_shading_rate(lod_bias, mode == "msa" ? budget : 0u);
+      renderer.set_msa_amortization(run.amortize);
       // The CPU reference of what the mode computes, once per shadow setting.
       if (gi_mode(mode) && !shadows) continue;  // GI's bounce rays see occlusion: only with shadows
       const std::string ref_key = gi_mode(mode) ? "path" : shadows ? "shadows" : "none";
@@ -186,12 +204,20 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
         renderer.reset_gi();
         for (uint32_t i = 0; i + options.frames < options.gi_frames; ++i) render(device, renderer, camera, mode, extent);
       }
+      // Moving rows: `frames` warm-up frames of the orbit first, then the measured ones, the last
+      // at the scene's camera.
+      const uint32_t orbit_frames = 2 * options.frames;
+      auto orbit_camera = [&](uint32_t i) { return orbited(camera, double(orbit_frames - 1 - i) * options.motion_degrees); };
+      if (run.moving)
+        for (uint32_t i = 0; i < options.frames; ++i) render(device, renderer, orbit_camera(i), mode, extent);
       std::vector<double> totals;
       std::vector<std::vector<vk::PassTiming>> timings;
       Frame f;
+      uint64_t shaded_sum = 0;
       for (uint32_t i = 0; i < options.frames; ++i) {
-        if (!gi_mode(mode) && !run.still) renderer.forget_shading();  // each frame costs what a moving camera's does
-        f = render(device, renderer, camera, mode, extent);
+        if (!gi_mode(mode) && !run.still && !run.moving) renderer.forget_shading();  // each frame costs what a moving camera's does
+        f = render(device, renderer, run.moving ? orbit_camera(options.frames + i) : camera, mode, extent);
+        shaded_sum += renderer.read_counts().shaded;
         double total = 0.0;
         for (const auto& p : f.passes) total += p.gpu_ms;
         totals.push_back(total);
@@ -206,6 +232,8 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.settings = shadows ? "shadows=on" : "shadows=off";
       if (options.extra_lights > 0) m.settings += " lights=" + std::to_string(options.extra_lights);
       if (run.still) m.settings += " camera=still";
+      if (run.moving) m.settings += " camera=moving(" + app::json_number(options.motion_degrees) + "deg/frame)";
+      if (run.amortize > 0) m.settings += " amortize=" + std::to_string(run.amortize);
       if (budget > 0) m.settings += " budget=" + std::to_string(budget) + (mode == "msa" ? "" : " lod-bias=" + std::to_string(lod_bias));
       if (gi_mode(mode)) m.settings += " frames=" + std::to_string(renderer.gi_frames());
       m.ordering = "-";
@@ -222,8 +250,8 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       }
       m.mesh_bytes = renderer.gpu_scene().bytes;
       const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
-      m.shaded = counts.shaded;
-      if (budget == 0 && !run.still) unbiased_shaded[rate_key] = counts.shaded;
+      m.shaded = (shaded_sum + options.frames / 2) / options.frames;  // the mean over the measured frames
+      if (budget == 0 && !run.still && !run.moving) unbiased_shaded[rate_key] = counts.shaded;
       m.mode_bytes = counts.mode_bytes;
       m.error = reference::image_error(f.rgba, reference, peak, 4, 3);
       m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak, 4, 3);

@@ -35,6 +35,13 @@ struct SurfaceBenchOptions {
   // A third row for htex, texel and msa whose frames reuse the shading of a still camera (the
   // planner's rule): what a frame costs when nothing has to be shaded again.
   bool still_rows = false;
+  // Moving rows (> 0): forward, htex, texel and msa with the camera orbiting its target about its
+  // up axis by this many degrees per frame, `frames` warm-up frames and then the measured ones,
+  // the last at the scene's camera (the reference's). Shading is kept or redone by each mode's
+  // own rule, as in the window.
+  double motion_degrees = 0.0;
+  // With motion: msa rows amortized over n frames each (SurfaceRenderer::set_msa_amortization).
+  std::vector<uint32_t> msa_amortization;
 };
 
 // Which CPU reference a mode is held to, in words (the report's notes say it).

@@ -26,6 +26,7 @@ std::vector<std::string> surface_modes(const vk::Device& device) {
 ShadingReuse plan_shading_reuse(const ReuseInputs& in) {
   if (in.first_frame) return {true, "shaded: the first frame of this mode"};
   if (in.settings_changed) return {true, "shaded again: the shadows setting changed"};
+  if (in.eye_moved && in.amortized) return {false, "reused while the eye moves: amortized (every n-th frame shades again)"};
   if (in.eye_moved) return {true, "shaded again: the eye moved (the shading depends on it)"};
   return {false, "reused: the eye did not move"};
 }
@@ -138,11 +139,17 @@ void SurfaceRenderer::set_shading_rate(float lod_bias, uint32_t msa_budget) {
   last_eye_.reset();  // shade afresh
 }
 
-ShadingReuse SurfaceRenderer::plan_reuse(const Camera& camera) const {
+void SurfaceRenderer::set_msa_amortization(uint32_t every_n_frames) {
+  msa_amortization_ = every_n_frames;
+  last_eye_.reset();  // shade afresh
+}
+
+ShadingReuse SurfaceRenderer::plan_reuse(const Camera& camera, bool amortized) const {
   ReuseInputs in;
   in.first_frame = !last_eye_;
   in.settings_changed = last_shadows_ != shadows_;
   in.eye_moved = last_eye_ && *last_eye_ != camera.eye;
+  in.amortized = amortized;
   return plan_shading_reuse(in);
 }
 
@@ -182,9 +189,11 @@ void SurfaceRenderer::record_msa(VkCommandBuffer cmd, const Camera& camera, vk::
   MsaSettings settings = msa_->settings();
   settings.shadows = shadows_;
   settings.budget_texels = msa_budget_;
+  settings.shade_every = msa_amortization_;
   msa_->set_settings(settings);
-  // The planner's rule: a still eye reuses every block's shading; a moved eye shades them again.
-  last_reuse_ = plan_reuse(camera);
+  // The planner's rule: a still eye reuses every block's shading; a moved eye shades them again,
+  // unless amortized (then only the first frame and changed settings do, and shade_every).
+  last_reuse_ = plan_reuse(camera, msa_amortization_ > 0);
   if (last_reuse_.invalidate) msa_->invalidate_shading();
   msa_->record(cmd, scene_, accel_->tlas(), *msa_targets_, camera, timer);
   last_eye_ = camera.eye;

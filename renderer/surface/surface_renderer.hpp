@@ -48,6 +48,7 @@ struct ReuseInputs {
   bool first_frame = true;        // no earlier frame of this mode
   bool settings_changed = false;  // the shadows setting changed since the last frame
   bool eye_moved = false;
+  bool amortized = false;  // the mode refreshes its shading on its own schedule (msa's shade_every)
 };
 ShadingReuse plan_shading_reuse(const ReuseInputs& in);
 
@@ -110,6 +111,10 @@ class SurfaceRenderer {
   // Shading rate of the texture-space modes: a level-of-detail bias for htex and texel (+1 halves
   // the texels per side), a block-texel budget per frame for msa (0: none). Shades afresh.
   void set_shading_rate(float lod_bias, uint32_t msa_budget);
+  // The meshlet shading atlas's temporal amortization (Neff et al. 2022): with n > 0 a moving
+  // eye no longer shades msa's blocks again; every n-th frame does (MsaSettings::shade_every),
+  // and in between only blocks new to the atlas are shaded. 0: every moved eye shades again.
+  void set_msa_amortization(uint32_t every_n_frames);
 
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
   const SurfaceScene& scene() const { return source_; }
@@ -144,8 +149,9 @@ class SurfaceRenderer {
   bool last_shadows_ = false;
   float lod_bias_ = 0.0f;
   uint32_t msa_budget_ = 0;
+  uint32_t msa_amortization_ = 0;
   ShadingReuse last_reuse_;
-  ShadingReuse plan_reuse(const Camera& camera) const;
+  ShadingReuse plan_reuse(const Camera& camera, bool amortized = false) const;
   void record_texel(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer);
   void record_msa(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer);
   void record_htex_gi(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer);

@@ -25,5 +25,19 @@ TEST(ShadingReusePlan, KeepsShadingOnlyWhileTheEyeAndTheSettingsStayPut) {
   EXPECT_NE(plan_shading_reuse(in).reason.find("shadows"), std::string::npos);
 }
 
+// Amortized (msa's shade_every): a moving eye keeps the shading; the first frame and a changed
+// setting still shade.
+TEST(ShadingReusePlan, AmortizedShadingIsKeptWhileTheEyeMoves) {
+  ReuseInputs in;
+  in.amortized = true;
+  EXPECT_TRUE(plan_shading_reuse(in).invalidate);
+  in.first_frame = false;
+  in.eye_moved = true;
+  EXPECT_FALSE(plan_shading_reuse(in).invalidate);
+  EXPECT_NE(plan_shading_reuse(in).reason.find("amortized"), std::string::npos);
+  in.settings_changed = true;
+  EXPECT_TRUE(plan_shading_reuse(in).invalidate);
+}
+
 }  // namespace
 }  // namespace prismoid::test
