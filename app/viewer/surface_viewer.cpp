@@ -67,6 +67,12 @@ struct SurfaceSession {
       message(e.what());
     }
   }
+  // T: msa shades every frame, or every 4th, 8th or 16th while the camera moves (the atlas's
+  // temporal amortization; the panel shows it).
+  void next_amortization() {
+    const uint32_t n = renderer.msa_amortization();
+    renderer.set_msa_amortization(n == 0 ? 4 : n >= 16 ? 0 : 2 * n);
+  }
   void next_mode() {
     const auto& modes = renderer.modes();
     const auto it = std::find(modes.begin(), modes.end(), mode);
@@ -103,6 +109,7 @@ struct SurfaceSession {
     if (camera_key(camera, key, aspect())) return;
     switch (key.key) {
       case GLFW_KEY_M: next_mode(); break;
+      case GLFW_KEY_T: next_amortization(); break;
       case GLFW_KEY_L: set_shadows(!renderer.shadows()); break;
       case GLFW_KEY_H: show_ui = !show_ui; break;
       case GLFW_KEY_C: copy_camera(); break;
@@ -148,6 +155,13 @@ void draw_surface_panel(SurfaceSession& s) {
     if (ImGui::Checkbox("ray-traced shadows (L)", &shadows)) s.set_shadows(shadows);
   } else {
     ImGui::TextDisabled("no shadows: the device has no ray tracing");
+  }
+  if (s.mode == "msa") {
+    const uint32_t n = s.renderer.msa_amortization();
+    if (n == 0)
+      ImGui::Text("msa shades every moved frame (T: amortize)");
+    else
+      ImGui::Text("msa shades every %u frames while moving (T)", n);
   }
   ImGui::Separator();
   double total = 0.0;
@@ -308,6 +322,7 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
   report.last_frame.fragments = s.counts.shaded;
   report.camera = s.camera.camera();
   report.mode = s.mode;
+  report.msa_amortization = s.renderer.msa_amortization();
   report.validation_messages = instance.validation_log().count();
   return report;
 }

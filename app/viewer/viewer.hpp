@@ -55,6 +55,7 @@ struct ViewerReport {
   FrameStats last_frame;                 // the HUD's numbers for the last finished frame
   Camera camera;                         // at the end
   std::string mode;                      // at the end
+  uint32_t msa_amortization = 0;         // surface window: msa shades every n-th frame (0: every frame), at the end
   volume::Quantity quantity{};           // at the end
   std::vector<std::string> files_written;  // screenshots and renders, in order
   std::vector<std::string> camera_lines;   // printed by C / print-camera

@@ -115,6 +115,7 @@ class SurfaceRenderer {
   // eye no longer shades msa's blocks again; every n-th frame does (MsaSettings::shade_every),
   // and in between only blocks new to the atlas are shaded. 0: every moved eye shades again.
   void set_msa_amortization(uint32_t every_n_frames);
+  uint32_t msa_amortization() const { return msa_amortization_; }
 
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
   const SurfaceScene& scene() const { return source_; }

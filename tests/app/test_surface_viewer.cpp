@@ -55,13 +55,14 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
                                          (dir / "render.pfm").string() + "\nrender 160 120 " + (dir / "render.png").string() +
                                          "\nframe 4\nshadows on\nrender 160 120 " + (dir / "shadowed.pfm").string() +
                                          "\nmode htex\nrender 160 120 " + (dir / "htex.pfm").string() + "\nmode texel\nrender 160 120 " +
-                                         (dir / "texel.pfm").string() + "\nmode msa\nrender 160 120 " + (dir / "msa.pfm").string() + "\nmode forward" +
+                                         (dir / "texel.pfm").string() + "\nmode msa\nrender 160 120 " + (dir / "msa.pfm").string() + "\nkey T\nkey T\nmode forward" +
                                          "\nmode no-such-mode\nkey M\nframe 5\nui on\nscreenshot " + (dir / "ui.png").string() +
                                          "\nframe 6\nmode htex-gi\nrotate 40 0\nzoom 1\nprint-camera\ntetlet-size 4\nframe 8\nclose\n",
                                      "test script");
   const app::ViewerReport report = app::run_surface_viewer(scene, options);
   EXPECT_EQ(report.validation_messages, 0u);
   EXPECT_EQ(report.mode, "htex-gi");  // M cycled from forward to htex; the script then chose GI
+  EXPECT_EQ(report.msa_amortization, 8u);  // T twice: every 4th, then every 8th frame
   ASSERT_EQ(report.files_written.size(), 8u);
 
   // Refused: an unknown mode, and a volume verb; each named in a message.
