@@ -205,7 +205,10 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
         for (uint32_t i = 0; i + options.frames < options.gi_frames; ++i) render(device, renderer, camera, mode, extent);
       }
       // Moving rows: `frames` warm-up frames of the orbit first, then the measured ones, the last
-      // at the scene's camera.
+      // at the scene's camera. Amortization counts from the orbit's first frame (the warm-up
+      // frame above is forgotten), so with n dividing 2 * frames the measured last frame is the
+      // stalest of its cycle: its error is the amortization's worst.
+      if (run.moving) renderer.set_msa_amortization(run.amortize);
       const uint32_t orbit_frames = 2 * options.frames;
       auto orbit_camera = [&](uint32_t i) { return orbited(camera, double(orbit_frames - 1 - i) * options.motion_degrees); };
       if (run.moving)
