@@ -67,10 +67,11 @@ vec3 emitter_shadow_sample(uint k) {
 // front (the emitter's own triangle and its coplanar neighbours are then never hit).
 //
 // The weights are kept in an array and both sums are taken from it after all rays are traced.
-// Summing `seen` after each trace from a weight computed before it let the H200's ray-generation
-// code return ratios up to 1.05 (a value live across traceRayEXT came back different next to an
-// icosahedron corner: tests/surface/test_forward.cpp, FurnaceNextToACorner...); from one array
-// the ratio cannot exceed 1.
+// When `seen` was summed after each trace, from a weight computed before it, the H200's
+// ray-generation code returned ratios up to 1.05 next to an icosahedron corner
+// (tests/surface/test_forward.cpp, FurnaceNextToACorner...). The payload was only ever 0 or 1
+// there, so the weights that reached `seen` were not the ones that reached `total`. Summed from
+// one array, the ratio cannot exceed 1.
 float emitter_visibility(SurfacePoint sp, uint emitter) {
   EmitterGpu e = emitters[emitter];
   float offset = shadow_ray_offset(sp.position);
