@@ -64,6 +64,8 @@ const char* const kBenchHelp =
     "  --surface-still      also bench htex, texel and msa frames that reuse a still camera's shading\n"
     "  --surface-motion DEG also bench forward, htex, texel and msa with a camera that orbits DEG\n"
     "                       degrees per frame (ending at the scene's camera, where the error is taken)\n"
+    "  --msa-charts LIST    the msa rows' meshlet charts, a set of rows each: projection (default),\n"
+    "                       conformal (least-squares conformal maps)\n"
     "  --msa-amortize LIST  with --surface-motion: msa rows that shade every n-th frame (e.g. 4,8,16),\n"
     "                       showing from the atlas in between (the meshlet shading atlas's amortization)\n"
     "  --max-cells N        the cell-count sweep's largest mesh (default 2000000; the sweep splits\n"
@@ -251,7 +253,7 @@ int replot(const std::filesystem::path& dir) {
 int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
   std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget",
-                                            "surface-lights", "surface-motion", "msa-amortize"};
+                                            "surface-lights", "surface-motion", "msa-amortize", "msa-charts"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -444,6 +446,13 @@ int cmd_bench(const std::vector<std::string>& args) {
       so.motion_degrees = parse_double("surface-motion", a.values.at("surface-motion"));
       if (!(so.motion_degrees > 0.0 && so.motion_degrees <= 45.0))
         throw InputError("--surface-motion", "degrees per frame must lie in (0, 45]");
+    }
+    if (a.has("msa-charts")) {
+      so.msa_charts.clear();
+      for (const std::string& kind : split_list(a.values.at("msa-charts"))) {
+        if (kind != "projection" && kind != "conformal") throw InputError("--msa-charts", "must list projection or conformal, got '" + kind + "'");
+        so.msa_charts.push_back(kind == "conformal" ? msa::Parametrization::Conformal : msa::Parametrization::Projection);
+      }
     }
     if (a.has("msa-amortize")) {
       if (!a.has("surface-motion")) throw InputError("--msa-amortize", "needs --surface-motion (amortization matters while the camera moves)");

@@ -80,6 +80,11 @@ AtlasFrame render_msa_frame(const vk::Device& device, const ParsedArgs& a, const
     if (v != "normal-cone" && v != "meshoptimizer") throw InputError("--meshlets", "must be normal-cone or meshoptimizer, got '" + v + "'");
     meshlet_settings.clustering = v == "meshoptimizer" ? msa::Clustering::Meshoptimizer : msa::Clustering::NormalCone;
   }
+  if (a.has("msa-charts")) {
+    const std::string& v = a.values.at("msa-charts");
+    if (v != "projection" && v != "conformal") throw InputError("--msa-charts", "must be projection or conformal, got '" + v + "'");
+    meshlet_settings.parametrization = v == "conformal" ? msa::Parametrization::Conformal : msa::Parametrization::Projection;
+  }
   surface::MsaSettings settings;
   settings.shadows = shadows;
   if (a.has("msa-superblocks")) settings.superblocks = parse_uint("msa-superblocks", a.values.at("msa-superblocks"));
@@ -98,7 +103,9 @@ AtlasFrame render_msa_frame(const vk::Device& device, const ParsedArgs& a, const
               (c.hole_pixels ? "; " + std::to_string(c.hole_pixels) + " pixels without shading (atlas too small: raise --msa-superblocks)" : "");
   std::ostringstream js;
   js << ",\n  \"meshlets\": " << meshlets.meshlets.size() << ",\n  \"clustering\": \""
-     << (meshlet_settings.clustering == msa::Clustering::Meshoptimizer ? "meshoptimizer" : "normal-cone") << "\",\n  \"superblocks\": "
+     << (meshlet_settings.clustering == msa::Clustering::Meshoptimizer ? "meshoptimizer" : "normal-cone") << "\",\n  \"charts\": \""
+     << (meshlet_settings.parametrization == msa::Parametrization::Conformal ? "conformal" : "projection")
+     << "\",\n  \"conformal_fallbacks\": " << meshlets.conformal_fallbacks << ",\n  \"superblocks\": "
      << settings.superblocks << ",\n  \"shading_budget\": " << settings.budget_texels << ",\n  \"budget_factor\": " << json_number(c.budget_factor)
      << ",\n  \"seen_meshlets\": " << c.seen_meshlets << ",\n  \"allocated_blocks\": " << c.allocated_blocks << ",\n  \"block_texels\": "
      << c.held_texels << ",\n  \"shaded_tiles\": " << c.shaded_tiles << ",\n  \"shaded_texels\": " << c.shaded_texels << ",\n  \"hole_pixels\": "
@@ -114,11 +121,11 @@ bool wants_atlas_mode(const std::vector<std::string>& args) { return !atlas_mode
 int cmd_render_atlas(const std::vector<std::string>& args) {
   const std::string mode = atlas_mode(args);
   const ParsedArgs a = parse(args, 1, with_camera({"output", "size", "mode", "quantity", "texel-density", "texel-levels", "mip-bias", "meshlets",
-                                                   "msa-superblocks", "shading-budget", "stats", "device"}),
+                                                   "msa-charts", "msa-superblocks", "shading-budget", "stats", "device"}),
                              {"validate", "no-shadows"});
   for (const char* option : {"texel-density", "texel-levels", "mip-bias"})
     if (mode != "texel" && a.has(option)) throw InputError(std::string("--") + option, "is an option of --mode texel");
-  for (const char* option : {"meshlets", "msa-superblocks", "shading-budget"})
+  for (const char* option : {"meshlets", "msa-charts", "msa-superblocks", "shading-budget"})
     if (mode != "msa" && a.has(option)) throw InputError(std::string("--") + option, "is an option of --mode msa");
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");

@@ -160,17 +160,21 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       bool still = false;   // frames reuse a still camera's shading
       bool moving = false;  // the camera orbits (options.motion_degrees per frame)
       uint32_t amortize = 0;  // msa: shade every n-th frame
+      msa::Parametrization charts = msa::Parametrization::Projection;  // msa
     };
     std::vector<Run> runs;
     for (const std::string& mode : renderer.modes()) {
       if (!options.modes.empty() && std::find(options.modes.begin(), options.modes.end(), mode) == options.modes.end()) continue;
       const bool texture_space = mode == "htex" || mode == "texel" || mode == "msa";
-      runs.push_back({mode, 0u, false});
-      if (options.shading_budget > 0 && texture_space) runs.push_back({mode, options.shading_budget, false});
-      if (options.still_rows && texture_space) runs.push_back({mode, 0u, true});
-      if (options.motion_degrees > 0.0 && (texture_space || mode == "forward")) runs.push_back({mode, 0u, false, true});
-      if (options.motion_degrees > 0.0 && mode == "msa")
-        for (const uint32_t n : options.msa_amortization) runs.push_back({mode, 0u, false, true, n});
+      const std::vector<msa::Parametrization> chart_kinds = mode == "msa" ? options.msa_charts : std::vector{msa::Parametrization::Projection};
+      for (const msa::Parametrization charts : chart_kinds) {
+        runs.push_back({mode, 0u, false, false, 0u, charts});
+        if (options.shading_budget > 0 && texture_space) runs.push_back({mode, options.shading_budget, false, false, 0u, charts});
+        if (options.still_rows && texture_space) runs.push_back({mode, 0u, true, false, 0u, charts});
+        if (options.motion_degrees > 0.0 && (texture_space || mode == "forward")) runs.push_back({mode, 0u, false, true, 0u, charts});
+        if (options.motion_degrees > 0.0 && mode == "msa")
+          for (const uint32_t n : options.msa_amortization) runs.push_back({mode, 0u, false, true, n, charts});
+      }
     }
     std::map<std::string, uint64_t> unbiased_shaded;  // mode/shadows -> shaded samples at the mode's own rate
     uint32_t covered_pixels = 0;                      // of the scene's first frame
@@ -186,6 +190,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
         lod_bias = float(0.5 * std::log2(double(unbiased_shaded.at(rate_key)) / double(budget)));
       renderer.set_shading_rate(lod_bias, mode == "msa" ? budget : 0u);
       renderer.set_msa_amortization(run.amortize);
+      renderer.set_msa_charts(run.charts);
       // The CPU reference of what the mode computes, once per shadow setting.
       if (gi_mode(mode) && !shadows) continue;  // GI's bounce rays see occlusion: only with shadows
       const std::string ref_key = gi_mode(mode) ? "path" : shadows ? "shadows" : "none";
@@ -237,6 +242,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (run.still) m.settings += " camera=still";
       if (run.moving) m.settings += " camera=moving(" + app::json_number(options.motion_degrees) + "deg/frame)";
       if (run.amortize > 0) m.settings += " amortize=" + std::to_string(run.amortize);
+      if (run.charts == msa::Parametrization::Conformal) m.settings += " charts=conformal";
       if (budget > 0) m.settings += " budget=" + std::to_string(budget) + (mode == "msa" ? "" : " lod-bias=" + std::to_string(lod_bias));
       if (gi_mode(mode)) m.settings += " frames=" + std::to_string(renderer.gi_frames());
       m.ordering = "-";
@@ -254,7 +260,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.mesh_bytes = renderer.gpu_scene().bytes;
       const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
       m.shaded = (shaded_sum + options.frames / 2) / options.frames;  // the mean over the measured frames
-      if (budget == 0 && !run.still && !run.moving) unbiased_shaded[rate_key] = counts.shaded;
+      if (budget == 0 && !run.still && !run.moving && run.charts == msa::Parametrization::Projection) unbiased_shaded[rate_key] = counts.shaded;
       m.mode_bytes = counts.mode_bytes;
       m.error = reference::image_error(f.rgba, reference, peak, 4, 3);
       m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak, 4, 3);

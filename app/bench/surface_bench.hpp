@@ -8,6 +8,7 @@
 
 #include "app/bench/bench_cases.hpp"
 #include "app/bench/bench_table.hpp"
+#include "renderer/surface/meshlets.hpp"
 
 namespace prismoid::vk {
 class Device;
@@ -42,6 +43,8 @@ struct SurfaceBenchOptions {
   double motion_degrees = 0.0;
   // With motion: msa rows amortized over n frames each (SurfaceRenderer::set_msa_amortization).
   std::vector<uint32_t> msa_amortization;
+  // The msa rows' charts, each kind a set of rows (--msa-charts projection,conformal).
+  std::vector<msa::Parametrization> msa_charts{msa::Parametrization::Projection};
 };
 
 // Which CPU reference a mode is held to, in words (the report's notes say it).

@@ -181,15 +181,32 @@ MeshletSet build_meshlets(const SurfaceScene& scene, const MeshletSettings& sett
   if (settings.clustering == Clustering::NormalCone) {
     for (const charts::PlanarChart& chart : charts::grow_planar_charts(scene, tris, settings.max_triangles, settings.max_normal_angle_deg))
       add(set, chart);
-    return set;
+  } else {
+    uint32_t first = 0;
+    for (const SceneMesh& mesh : scene.meshes) {
+      for (const auto& group : meshoptimizer_groups(mesh, first, tris, settings)) chart_or_split(tris, group, set);
+      for (uint32_t k = 0; k < mesh.triangles.size(); ++k)
+        if (tris[first + k].degenerate) add(set, *charts::chart_triangles(tris, {first + k}));  // point-like
+      first += static_cast<uint32_t>(mesh.triangles.size());
+    }
   }
-  uint32_t first = 0;
-  for (const SceneMesh& mesh : scene.meshes) {
-    for (const auto& group : meshoptimizer_groups(mesh, first, tris, settings)) chart_or_split(tris, group, set);
-    for (uint32_t k = 0; k < mesh.triangles.size(); ++k)
-      if (tris[first + k].degenerate) add(set, *charts::chart_triangles(tris, {first + k}));  // point-like
-    first += static_cast<uint32_t>(mesh.triangles.size());
-  }
+  if (settings.parametrization == Parametrization::Conformal)
+    for (Meshlet& m : set.meshlets) {
+      charts::PlanarChart projected;
+      projected.mesh = m.mesh;
+      projected.triangles = m.triangles;
+      projected.extent = m.extent;
+      projected.normal = m.normal;
+      for (uint32_t t : m.triangles) projected.corners.push_back(set.corner_chart[t]);
+      const std::optional<charts::PlanarChart> conformal = charts::conformal_chart(tris, projected);
+      if (!conformal) {
+        ++set.conformal_fallbacks;
+        continue;
+      }
+      m.extent = conformal->extent;
+      for (size_t k = 0; k < conformal->triangles.size(); ++k) set.corner_chart[conformal->triangles[k]] = conformal->corners[k];
+      m.triangles = conformal->triangles;
+    }
   return set;
 }
 
@@ -217,6 +234,7 @@ MeshletStats meshlet_stats(const SurfaceScene& scene, const MeshletSet& set, dou
   MeshletStats stats;
   stats.meshlets = set.meshlets.size();
   size_t triangles = 0;
+  double sampling_sum = 0.0, sampling_weight = 0.0;
   double deviation = 0.0, weight = 0.0, chart_area = 0.0, rect_area = 0.0, scaled_area = 0.0, block_area = 0.0;
   for (const Meshlet& m : set.meshlets) {
     triangles += m.triangles.size();
@@ -229,6 +247,10 @@ MeshletStats meshlet_stats(const SurfaceScene& scene, const MeshletSet& set, dou
       area += 0.5 * std::abs(u.x * v.y - u.y * v.x);
       const charts::TriangleGeometry& g = tris[t];
       if (g.degenerate || m.normal == glm::dvec3(0.0)) continue;
+      const double sampling = std::sqrt(0.5 * std::abs(u.x * v.y - u.y * v.x) / g.area);
+      stats.sampling_min = sampling_weight > 0.0 ? std::min(stats.sampling_min, sampling) : sampling;
+      sampling_sum += g.area * sampling;
+      sampling_weight += g.area;
       const double cosine = std::clamp(glm::dot(g.normal, m.normal), -1.0, 1.0);
       deviation += g.area * std::acos(cosine) * (180.0 / 3.14159265358979323846);
       weight += g.area;
@@ -246,6 +268,7 @@ MeshletStats meshlet_stats(const SurfaceScene& scene, const MeshletSet& set, dou
   if (weight > 0.0) stats.mean_normal_deviation_deg = deviation / weight;
   if (rect_area > 0.0) stats.chart_fill = chart_area / rect_area;
   if (block_area > 0.0) stats.block_fill = scaled_area / block_area;
+  if (sampling_weight > 0.0) stats.sampling_mean = sampling_sum / sampling_weight;
   return stats;
 }
 

@@ -39,9 +39,14 @@ inline constexpr uint32_t kMaxMeshletTriangles = 84;
 inline constexpr uint32_t kMeshoptMaxVertices = 64;
 
 enum class Clustering { Meshoptimizer, NormalCone };
+// A meshlet's chart: the orthogonal projection described above, or the least-squares conformal
+// map of the same triangles (charts::conformal_chart: the paper's LSCM; a meshlet whose
+// conformal chart would flip or overlap keeps its projection).
+enum class Parametrization { Projection, Conformal };
 
 struct MeshletSettings {
   Clustering clustering = Clustering::NormalCone;
+  Parametrization parametrization = Parametrization::Projection;
   uint32_t max_triangles = kMaxMeshletTriangles;  // 1 .. 126
   double max_normal_angle_deg = 60.0;             // NormalCone: in (0, 90)
   double cone_weight = 0.5;                       // Meshoptimizer: meshopt_buildMeshlets' cone_weight, in [0, 1]
@@ -56,6 +61,7 @@ struct Meshlet {
 
 struct MeshletSet {
   std::vector<Meshlet> meshlets;
+  size_t conformal_fallbacks = 0;  // Conformal: meshlets that kept their projection
   std::vector<uint32_t> meshlet_of_triangle;             // per global triangle
   std::vector<std::array<glm::dvec2, 3>> corner_chart;   // per global triangle: its corners in its meshlet's chart
 };
@@ -77,6 +83,11 @@ struct MeshletStats {
   // Triangles' chart area scaled by min(texels_per_unit, msa_block_scale) (the density the block
   // holds: lower only where the 256-texel side clamps) / blocks' area.
   double block_fill = 0.0;
+  // Sampling: a triangle's chart area over its surface area, square-rooted (the texels per unit
+  // it gets for each texel per unit asked; a projection gives cos(tilt), a conformal chart its
+  // scale): the smallest, and the surface-area-weighted mean.
+  double sampling_min = 0.0;
+  double sampling_mean = 0.0;
 };
 // InputError(scene.name, ...) when `set` is not one of the scene's or texels_per_unit is not
 // positive and finite.

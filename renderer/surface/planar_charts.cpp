@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -131,6 +132,34 @@ struct ChartBuild {
     return true;
   }
 };
+
+// Solves the symmetric positive definite n x n system a x = b (a row-major, overwritten by its
+// Cholesky factor; b by x). False when a pivot is not positive (a singular system).
+bool solve_spd(std::vector<double>& a, std::vector<double>& b, size_t n) {
+  for (size_t j = 0; j < n; ++j) {
+    double d = a[j * n + j];
+    for (size_t k = 0; k < j; ++k) d -= a[j * n + k] * a[j * n + k];
+    if (!(d > 0.0) || !std::isfinite(d)) return false;
+    d = std::sqrt(d);
+    a[j * n + j] = d;
+    for (size_t i = j + 1; i < n; ++i) {
+      double sum = a[i * n + j];
+      for (size_t k = 0; k < j; ++k) sum -= a[i * n + k] * a[j * n + k];
+      a[i * n + j] = sum / d;
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    double sum = b[i];
+    for (size_t k = 0; k < i; ++k) sum -= a[i * n + k] * b[k];
+    b[i] = sum / a[i * n + i];
+  }
+  for (size_t i = n; i-- > 0;) {
+    double sum = b[i];
+    for (size_t k = i + 1; k < n; ++k) sum -= a[k * n + i] * b[k];
+    b[i] = sum / a[i * n + i];
+  }
+  return true;
+}
 
 PlanarChart point_chart(uint32_t mesh, uint32_t triangle) {
   PlanarChart chart;
@@ -319,6 +348,102 @@ std::optional<PlanarChart> chart_triangles(const std::vector<TriangleGeometry>& 
   for (uint32_t t : triangles)
     if (!chart.try_add(t, tris[t], chart.project(tris[t]))) return std::nullopt;
   return finish(chart);
+}
+
+std::optional<PlanarChart> conformal_chart(const std::vector<TriangleGeometry>& tris, const PlanarChart& chart) {
+  if (chart.point_like() || chart.triangles.size() < 2) return chart;
+  // The chart's vertices: corners that coincide exactly (a mesh's shared vertices).
+  std::map<std::array<double, 3>, uint32_t> vertex_of;
+  std::vector<glm::dvec2> planar;  // each vertex where `chart` has it
+  std::vector<std::array<uint32_t, 3>> corner_vertex(chart.triangles.size());
+  for (size_t k = 0; k < chart.triangles.size(); ++k) {
+    const uint32_t t = chart.triangles[k];
+    if (t >= tris.size() || tris[t].degenerate) return std::nullopt;
+    for (int v = 0; v < 3; ++v) {
+      const glm::dvec3& p = tris[t].p[v];
+      const auto [it, added] = vertex_of.try_emplace({p.x, p.y, p.z}, static_cast<uint32_t>(planar.size()));
+      if (added) planar.push_back(chart.corners[k][v]);
+      corner_vertex[k][v] = it->second;
+    }
+  }
+  const size_t nv = planar.size();
+  // Pins: the two vertices farthest apart in the projection, kept where it has them.
+  uint32_t pin_a = 0, pin_b = 1;
+  double farthest = -1.0;
+  for (uint32_t i = 0; i < nv; ++i)
+    for (uint32_t j = i + 1; j < nv; ++j) {
+      const glm::dvec2 d = planar[j] - planar[i];
+      if (glm::dot(d, d) > farthest) farthest = glm::dot(d, d), pin_a = i, pin_b = j;
+    }
+  std::vector<int64_t> unknown(nv, -1);  // vertex -> index of its U among the unknowns (V follows)
+  size_t n = 0;
+  for (uint32_t i = 0; i < nv; ++i)
+    if (i != pin_a && i != pin_b) unknown[i] = static_cast<int64_t>(n), n += 2;
+  std::vector<double> normal_matrix(n * n, 0.0), rhs(n, 0.0);
+  double surface_area = 0.0;
+  for (size_t k = 0; k < chart.triangles.size(); ++k) {
+    const TriangleGeometry& g = tris[chart.triangles[k]];
+    surface_area += g.area;
+    // The triangle in its own plane, counter-clockwise seen from its normal: z0 = 0, z1 on +x.
+    const glm::dvec3 e1 = g.p[1] - g.p[0], e2 = g.p[2] - g.p[0];
+    const glm::dvec3 x = glm::normalize(e1), y = glm::cross(g.normal, x);
+    const glm::dvec2 z[3] = {glm::dvec2(0.0), glm::dvec2(glm::length(e1), 0.0), glm::dvec2(glm::dot(e2, x), glm::dot(e2, y))};
+    const double weight = 1.0 / std::sqrt(2.0 * g.area);
+    // sum_j W_j u_j = 0 (complex; W_j = z_{j+1} - z_{j+2}) holds exactly for similarities: its
+    // real and imaginary parts are the two rows, each over (U_j, V_j).
+    for (int part = 0; part < 2; ++part) {
+      double coef[6];  // (U_j, V_j) for j = 0, 1, 2
+      for (int j = 0; j < 3; ++j) {
+        const glm::dvec2 w = (z[(j + 1) % 3] - z[(j + 2) % 3]) * weight;
+        coef[2 * j] = part == 0 ? w.x : w.y;
+        coef[2 * j + 1] = part == 0 ? -w.y : w.x;
+      }
+      double pinned = 0.0;  // the row's value from the pinned vertices
+      for (int j = 0; j < 3; ++j) {
+        const uint32_t vtx = corner_vertex[k][j];
+        if (unknown[vtx] < 0) pinned += coef[2 * j] * planar[vtx].x + coef[2 * j + 1] * planar[vtx].y;
+      }
+      for (int j = 0; j < 3; ++j) {
+        const int64_t r = unknown[corner_vertex[k][j]];
+        if (r < 0) continue;
+        for (int d = 0; d < 2; ++d) {
+          const size_t row = static_cast<size_t>(r) + d;
+          rhs[row] -= coef[2 * j + d] * pinned;
+          for (int i = 0; i < 3; ++i) {
+            const int64_t c = unknown[corner_vertex[k][i]];
+            if (c < 0) continue;
+            for (int e = 0; e < 2; ++e) normal_matrix[row * n + static_cast<size_t>(c) + e] += coef[2 * j + d] * coef[2 * i + e];
+          }
+        }
+      }
+    }
+  }
+  if (n > 0 && !solve_spd(normal_matrix, rhs, n)) return std::nullopt;
+  std::vector<glm::dvec2> uv(nv);
+  for (uint32_t i = 0; i < nv; ++i)
+    uv[i] = unknown[i] < 0 ? planar[i] : glm::dvec2(rhs[static_cast<size_t>(unknown[i])], rhs[static_cast<size_t>(unknown[i]) + 1]);
+  double chart_area = 0.0;
+  for (const auto& cv : corner_vertex) chart_area += 0.5 * orient(uv[cv[0]], uv[cv[1]], uv[cv[2]]);
+  if (!(chart_area > 0.0) || !std::isfinite(chart_area)) return std::nullopt;
+  const double scale = std::sqrt(surface_area / chart_area);
+  // Kept only where it samples its worst triangle at least as well as the projection does (to
+  // rounding: on a flat meshlet the two are the same map).
+  auto worst_sampling = [&](auto corner) {
+    double worst = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < chart.triangles.size(); ++k)
+      worst = std::min(worst, std::sqrt(0.5 * std::abs(orient(corner(k, 0), corner(k, 1), corner(k, 2))) / tris[chart.triangles[k]].area));
+    return worst;
+  };
+  const double projected = worst_sampling([&](size_t k, int v) { return chart.corners[k][v]; });
+  const double conformal = worst_sampling([&](size_t k, int v) { return uv[corner_vertex[k][v]] * scale; });
+  if (!(conformal >= projected * (1.0 - 1e-9))) return std::nullopt;
+  ChartBuild build(chart.mesh, tris[chart.triangles[0]].p[0], chart.normal);
+  for (size_t k = 0; k < chart.triangles.size(); ++k) {
+    const std::array<glm::dvec2, 3> corners{uv[corner_vertex[k][0]] * scale, uv[corner_vertex[k][1]] * scale, uv[corner_vertex[k][2]] * scale};
+    if (!std::isfinite(corners[0].x + corners[0].y + corners[1].x + corners[1].y + corners[2].x + corners[2].y)) return std::nullopt;
+    if (!build.try_add(chart.triangles[k], tris[chart.triangles[k]], corners)) return std::nullopt;  // flipped, shrunk or overlapping
+  }
+  return finish(build);
 }
 
 }  // namespace prismoid::charts

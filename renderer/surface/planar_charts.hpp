@@ -69,4 +69,20 @@ std::vector<PlanarChart> grow_planar_charts(const SurfaceScene& scene, const std
 // keeps less than kMinProjectedArea of its area, or two projections overlap.
 std::optional<PlanarChart> chart_triangles(const std::vector<TriangleGeometry>& geometry, std::vector<uint32_t> triangles);
 
+// The same triangles with least-squares conformal coordinates (Lévy, Petitjean, Ray & Maillot
+// 2002, "Least Squares Conformal Maps", the meshlet shading atlas paper's pre-charted LSCM), in
+// place of the projection: vertices are the triangles' corners that coincide exactly (one mesh's
+// shared vertices); the two corners farthest apart in `chart` are pinned where `chart` has them;
+// the rest solve the conformal energy's normal equations (dense Cholesky: a chart holds at most
+// a few hundred corners). The result is scaled so that its area equals the triangles' surface
+// area (on average a texel per unit asks for one texel per unit of surface; the projection gives
+// cos(tilt) of that), then turned and shifted as a planar chart; `normal` stays `chart`'s.
+// nullopt (callers keep the projection) when the system is singular (e.g. a meshlet in two
+// pieces), when the conformal chart flips, shrinks below kMinProjectedArea or overlaps anywhere,
+// or when it samples its worst triangle less densely than `chart` does (the square root of chart
+// area over surface area, smallest over the triangles: a conformal chart is never a worse
+// sampling than the projection it replaces). A point-like or single-triangle chart is returned
+// as it is.
+std::optional<PlanarChart> conformal_chart(const std::vector<TriangleGeometry>& geometry, const PlanarChart& chart);
+
 }  // namespace prismoid::charts

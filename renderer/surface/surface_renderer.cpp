@@ -139,6 +139,14 @@ void SurfaceRenderer::set_shading_rate(float lod_bias, uint32_t msa_budget) {
   last_eye_.reset();  // shade afresh
 }
 
+void SurfaceRenderer::set_msa_charts(msa::Parametrization charts) {
+  if (charts == msa_charts_) return;
+  msa_charts_ = charts;
+  msa_.reset();  // rebuilt with the new charts at the next msa frame
+  meshlets_.reset();
+  last_eye_.reset();
+}
+
 void SurfaceRenderer::set_msa_amortization(uint32_t every_n_frames) {
   msa_amortization_ = every_n_frames;
   last_eye_.reset();  // shade afresh
@@ -178,7 +186,7 @@ void SurfaceRenderer::record_texel(VkCommandBuffer cmd, const Camera& camera, vk
 
 void SurfaceRenderer::record_msa(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer) {
   if (!msa_) {
-    meshlets_ = std::make_unique<msa::MeshletSet>(msa::build_meshlets(source_));
+    meshlets_ = std::make_unique<msa::MeshletSet>(msa::build_meshlets(source_, {.parametrization = msa_charts_}));
     MsaSettings settings;
     settings.shadows = shadows_;
     // As many superblocks (1 MiB each) as one storage buffer holds, up to 256 (16 M texels).

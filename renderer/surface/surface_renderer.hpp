@@ -116,6 +116,10 @@ class SurfaceRenderer {
   // and in between only blocks new to the atlas are shaded. 0: every moved eye shades again.
   void set_msa_amortization(uint32_t every_n_frames);
   uint32_t msa_amortization() const { return msa_amortization_; }
+  // The meshlets' charts (msa::Parametrization): a change rebuilds the meshlets and the atlas
+  // (the GPU must be idle: the bench and the window call it between frames).
+  void set_msa_charts(msa::Parametrization charts);
+  msa::Parametrization msa_charts() const { return msa_charts_; }
 
   const GpuSurfaceScene& gpu_scene() const { return scene_; }
   const SurfaceScene& scene() const { return source_; }
@@ -151,6 +155,7 @@ class SurfaceRenderer {
   float lod_bias_ = 0.0f;
   uint32_t msa_budget_ = 0;
   uint32_t msa_amortization_ = 0;
+  msa::Parametrization msa_charts_ = msa::Parametrization::Projection;
   ShadingReuse last_reuse_;
   ShadingReuse plan_reuse(const Camera& camera, bool amortized = false) const;
   void record_texel(VkCommandBuffer cmd, const Camera& camera, vk::GpuTimer& timer);

@@ -106,11 +106,18 @@ TEST(CliTexel, RendersTheCornellBoxWithStats) {
   EXPECT_NE(bad.err.find("level"), std::string::npos) << bad.err;
 }
 
-// The meshlet shading atlas; a shading budget of a quarter shades fewer texels; another mode's
-// options are refused.
+// The meshlet shading atlas, with projected and with conformal charts; a shading budget of a
+// quarter shades fewer texels; another mode's options and an unknown chart kind are refused.
 TEST(CliMsa, RendersTheCornellBoxWithStats) {
-  const std::vector<std::string> keys = {"\"name\": \"pre-z + visibility\"", "\"name\": \"block management\"", "\"name\": \"display\"",
-                                         "\"clustering\": \"normal-cone\""};
+  std::vector<std::string> keys = {"\"name\": \"pre-z + visibility\"", "\"name\": \"block management\"", "\"name\": \"display\"",
+                                   "\"clustering\": \"normal-cone\""};
+  std::vector<std::string> conformal_keys = keys;
+  conformal_keys.push_back("\"charts\": \"conformal\"");
+  keys.push_back("\"charts\": \"projection\"");
+  EXPECT_GT(check_atlas_cornell("msa", "--msa-charts conformal", conformal_keys, true), 0u);
+  const CliRun unknown = run("render cornell-box --mode msa --msa-charts lscm --output " + (work_dir() / "x.pfm").string());
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.err.find("--msa-charts"), std::string::npos) << unknown.err;
   const size_t plain = check_atlas_cornell("msa", "", keys, true);
   const size_t budgeted = check_atlas_cornell("msa", "--shading-budget " + std::to_string(std::max<size_t>(1, plain / 4)), keys, false);
   EXPECT_GT(plain, 0u);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -652,6 +653,162 @@ TEST(Meshlets, RealMeshesStats) {
     for (double rho : densities(named)) compare(named, rho, false);
   }
   if (found == 0) GTEST_SKIP() << "no real meshes in " << dir << " (stats only)";
+}
+
+// ---- Conformal charts (charts::conformal_chart, Parametrization::Conformal) ------------------
+
+// A quarter-turn strip of a cylinder (radius 1, height 1), `around` x `up` quads: each quad is a
+// flat rectangle, so the strip unrolls onto the plane without stretching.
+SceneMesh cylinder_strip(double degrees, uint32_t around, uint32_t up) {
+  SceneMesh m;
+  m.name = "cylinder strip";
+  for (uint32_t j = 0; j <= up; ++j)
+    for (uint32_t i = 0; i <= around; ++i) {
+      const double a = degrees * kPi / 180.0 * i / around;
+      m.positions.push_back({std::cos(a), std::sin(a), double(j) / up});
+    }
+  const uint32_t row = around + 1;
+  for (uint32_t j = 0; j < up; ++j)
+    for (uint32_t i = 0; i < around; ++i) {
+      const uint32_t p = j * row + i;
+      m.triangles.push_back({p, p + 1, p + row + 1});  // facing the axis' outside
+      m.triangles.push_back({p, p + row + 1, p + row});
+    }
+  return m;
+}
+
+// Every triangle's chart edges against its surface edges: the largest |ratio - 1|.
+double worst_edge_stretch(const SurfaceScene& scene, const MeshletSet& set) {
+  const Flat flat = flatten(scene);
+  double worst = 0.0;
+  for (size_t t = 0; t < flat.p.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const double surface = glm::length(flat.p[t][(k + 1) % 3] - flat.p[t][k]);
+      const double chart = glm::length(set.corner_chart[t][(k + 1) % 3] - set.corner_chart[t][k]);
+      worst = std::max(worst, std::abs(chart / surface - 1.0));
+    }
+  return worst;
+}
+
+// Each meshlet's chart: every triangle counter-clockwise, inside [0, extent], and no two
+// triangles' interiors overlapping (a separating edge for every pair whose boxes meet).
+void expect_injective_charts(const SurfaceScene& scene, const MeshletSet& set) {
+  for (uint32_t id = 0; id < set.meshlets.size(); ++id) {
+    const Meshlet& m = set.meshlets[id];
+    if (m.normal == glm::dvec3(0.0)) continue;
+    const double scale = std::max(m.extent.x, 1e-300);
+    for (size_t a = 0; a < m.triangles.size(); ++a) {
+      const auto& p = set.corner_chart[m.triangles[a]];
+      const glm::dvec2 e1 = p[1] - p[0], e2 = p[2] - p[0];
+      EXPECT_GT(e1.x * e2.y - e1.y * e2.x, 0.0) << scene.name << ", meshlet " << id << ": a flipped triangle";
+      for (const auto& q : p) {
+        EXPECT_GE(q.x, -1e-9 * scale);
+        EXPECT_GE(q.y, -1e-9 * scale);
+        EXPECT_LE(q.x, m.extent.x + 1e-9 * scale);
+        EXPECT_LE(q.y, m.extent.y + 1e-9 * scale);
+      }
+      for (size_t b = a + 1; b < m.triangles.size(); ++b) {
+        const auto& r = set.corner_chart[m.triangles[b]];
+        auto separated = [scale](const Tri2& x, const Tri2& y) {
+          for (int k = 0; k < 3; ++k) {
+            const glm::dvec2 o = x[k], d = x[(k + 1) % 3] - x[k];
+            bool all = true;
+            for (const auto& q : y) all = all && d.x * (q.y - o.y) - d.y * (q.x - o.x) <= 1e-12 * scale * scale;
+            if (all) return true;
+          }
+          return false;
+        };
+        EXPECT_TRUE(separated(p, r) || separated(r, p)) << scene.name << ", meshlet " << id << ": triangles overlap";
+      }
+    }
+  }
+}
+
+// A flat patch has an exact conformal map, its projection: the conformal chart keeps every edge
+// (the area normalization gives scale 1), as the projection does.
+TEST(ConformalCharts, AFlatPatchKeepsEveryEdge) {
+  SceneMesh plane = terrain(12, 0.0, 0.0, 3);
+  const glm::dvec3 n = glm::normalize(glm::dvec3(0.2, -0.4, 0.9));
+  const glm::dvec3 a = glm::normalize(glm::cross(n, glm::dvec3(1, 0, 0))), b = glm::cross(n, a);
+  for (auto& p : plane.positions) p = glm::dvec3(3.0, -1.0, 2.0) + p.x * a + p.z * b;  // terrain is flat in x, z: a tilted plane
+  const SurfaceScene scene = scene_of("tilted plane", {plane});
+  for (Clustering c : {Clustering::NormalCone, Clustering::Meshoptimizer}) {
+    MeshletSettings s = with(c);
+    s.parametrization = Parametrization::Conformal;
+    const MeshletSet set = build_meshlets(scene, s);
+    EXPECT_EQ(set.conformal_fallbacks, 0u);
+    EXPECT_LT(worst_edge_stretch(scene, set), 1e-9);
+    expect_injective_charts(scene, set);
+  }
+}
+
+// An 80-degree strip of a cylinder in one meshlet: the projection onto the seed's plane narrows
+// the far quads to the cosine of their turn (sampling, the square root of the area ratio, down
+// to about 0.5); the conformal chart unrolls the strip, every edge kept (to the solver's
+// rounding).
+TEST(ConformalCharts, ACylinderStripUnrollsWithoutStretching) {
+  const SurfaceScene scene = scene_of("cylinder strip", {cylinder_strip(80.0, 15, 4)});
+  MeshletSettings s = with(Clustering::NormalCone);
+  s.max_normal_angle_deg = 89.0;
+  s.max_triangles = 126;
+  const MeshletSet projected = build_meshlets(scene, s);
+  ASSERT_EQ(projected.meshlets.size(), 1u);
+  s.parametrization = Parametrization::Conformal;
+  const MeshletSet conformal = build_meshlets(scene, s);
+  ASSERT_EQ(conformal.meshlets.size(), 1u);
+  EXPECT_EQ(conformal.conformal_fallbacks, 0u);
+  const double stretch = worst_edge_stretch(scene, conformal);
+  EXPECT_LT(stretch, 1e-8);
+  EXPECT_GT(worst_edge_stretch(scene, projected), 0.5);
+  const MeshletStats p = meshlet_stats(scene, projected, 16.0), q = meshlet_stats(scene, conformal, 16.0);
+  EXPECT_NEAR(q.sampling_min, 1.0, 1e-8);
+  EXPECT_NEAR(q.sampling_mean, 1.0, 1e-8);
+  EXPECT_LT(p.sampling_min, 0.6);
+  expect_injective_charts(scene, conformal);
+  std::printf("cylinder strip: edge stretch %.1e conformal, %.2f projected; sampling min/mean %.3f/%.3f projected, %.3f/%.3f conformal\n",
+              stretch, worst_edge_stretch(scene, projected), p.sampling_min, p.sampling_mean, q.sampling_min, q.sampling_mean);
+}
+
+// The smallest sampling (square root of chart over surface area) among a meshlet's triangles.
+double worst_sampling(const SurfaceScene& scene, const MeshletSet& set, const Meshlet& m) {
+  const Flat flat = flatten(scene);
+  double worst = 1e300;
+  for (uint32_t t : m.triangles) {
+    const auto& c = set.corner_chart[t];
+    const glm::dvec2 u = c[1] - c[0], v = c[2] - c[0];
+    worst = std::min(worst, std::sqrt(std::abs(u.x * v.y - u.y * v.x) / glm::length(cross_of(flat.p[t]))));
+  }
+  return worst;
+}
+
+// On curved and noisy meshes every conformal chart is injective, and no meshlet's worst
+// triangle is sampled less densely than under the projection (a meshlet whose conformal chart
+// would be keeps its projection, counted); the statistics are printed for the record.
+TEST(ConformalCharts, ChartsOfCurvedMeshesAreInjectiveAndNoWorseSampled) {
+  for (Clustering c : {Clustering::NormalCone, Clustering::Meshoptimizer})
+    for (const SurfaceScene& scene : small_scenes()) {
+      MeshletSettings s = with(c);
+      const MeshletSet projected = build_meshlets(scene, s);
+      const MeshletStats p = meshlet_stats(scene, projected, 64.0);
+      s.parametrization = Parametrization::Conformal;
+      const MeshletSet set = build_meshlets(scene, s);
+      expect_injective_charts(scene, set);
+      const MeshletStats q = meshlet_stats(scene, set, 64.0);
+      expect_finite(q);
+      ASSERT_EQ(set.meshlets.size(), projected.meshlets.size());
+      size_t changed = 0;
+      for (size_t id = 0; id < set.meshlets.size(); ++id) {
+        if (set.meshlets[id].normal == glm::dvec3(0.0) || set.meshlets[id].triangles.size() < 2) continue;
+        const double before = worst_sampling(scene, projected, projected.meshlets[id]), after = worst_sampling(scene, set, set.meshlets[id]);
+        EXPECT_GE(after, before * (1.0 - 1e-9)) << scene.name << ", meshlet " << id;
+        changed += after != before;
+      }
+      EXPECT_GT(changed, 0u) << scene.name;
+      std::printf("%-16s %-13s %5zu meshlets, %3zu kept their projection: sampling min/mean %.3f/%.3f projected, %.3f/%.3f conformal; "
+                  "block fill %.3f / %.3f\n",
+                  scene.name.c_str(), c == Clustering::NormalCone ? "NormalCone" : "Meshoptimizer", set.meshlets.size(), set.conformal_fallbacks,
+                  p.sampling_min, p.sampling_mean, q.sampling_min, q.sampling_mean, p.block_fill, q.block_fill);
+    }
 }
 
 }  // namespace

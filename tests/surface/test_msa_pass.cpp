@@ -39,11 +39,12 @@ surface::MsaSettings unshadowed() {
 }
 
 struct MsaRig {
-  MsaRig(const vk::Device& device, SurfaceScene s, const surface::MsaSettings& settings, msa::Clustering clustering = msa::Clustering::NormalCone)
+  MsaRig(const vk::Device& device, SurfaceScene s, const surface::MsaSettings& settings, msa::Clustering clustering = msa::Clustering::NormalCone,
+         msa::Parametrization parametrization = msa::Parametrization::Projection)
       : scene(std::move(s)),
         gpu(surface::upload(device, scene)),
         accel(device, scene),
-        meshlets(msa::build_meshlets(scene, {.clustering = clustering})),
+        meshlets(msa::build_meshlets(scene, {.clustering = clustering, .parametrization = parametrization})),
         pass(std::make_unique<surface::MsaPass>(device, meshlets, settings)),
         triangles(scene) {}
   surface::MsaImage render(const vk::Device& device, const Camera& camera) { return surface::render_msa(device, *pass, gpu, accel.tlas(), camera, {kW, kH}); }
@@ -204,12 +205,15 @@ TEST_F(MsaPassTest, EverySeenMeshletGetsADisjointBlockOfTheSizeItsPixelsAskFor) 
               static_cast<unsigned long long>(held), img.visibility.size(), c.free_superblocks);
 }
 
+// Both charts: the orthogonal projection (GGX and diffuse) and the conformal one (diffuse).
 TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
-  for (const bool ggx : {false, true}) {
+  for (const int variant : {0, 1, 2}) {
+    const bool ggx = variant == 1;
+    const msa::Parametrization charts = variant == 2 ? msa::Parametrization::Conformal : msa::Parametrization::Projection;
     SphereSceneOptions o;
     o.ggx = ggx;
     o.sky = true;
-    MsaRig rig(device(), sphere_scene(o), unshadowed());
+    MsaRig rig(device(), sphere_scene(o), unshadowed(), msa::Clustering::NormalCone, charts);
     const Camera camera = rig.scene.camera;
     const surface::MsaImage img = rig.render(device(), camera);
     const auto blocks = rig.read<gpu::MsaBlockGpu>(rig.pass->blocks());
@@ -274,7 +278,7 @@ TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
     EXPECT_EQ(img.counters.hole_pixels, 0u);
     std::printf("[ %s ] %zu texels of %u tiles checked (%zu empty, %zu ambiguous): worst %.3g of tolerance; display %zu pixels, worst %.3g of "
                 "tolerance; %zu meshlets\n",
-                ggx ? "GGX" : "diffuse", queries.size(), img.counters.shaded_tiles, empty, ambiguous, shading.worst, pixels, worst_display,
+                variant == 2 ? "diffuse, conformal charts" : ggx ? "GGX" : "diffuse", queries.size(), img.counters.shaded_tiles, empty, ambiguous, shading.worst, pixels, worst_display,
                 rig.meshlets.meshlets.size());
   }
 }
