@@ -481,17 +481,21 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
 // Moving-camera rows and the meshlet shading atlas's temporal amortization: the amortized row
 // shades fewer texels per frame than the moving one that shades every frame (here about a
 // quarter: every 4th frame), and it ends at the same camera, so its error is measured where the
-// others' is. Bad values name the option.
+// others' is. Each chart kind gets its rows. Bad values name the option.
 TEST(Cli, BenchMovesTheCameraAndAmortizesTheAtlas) {
   const fs::path dir = work_dir() / "bench_motion";
   const CliRun r = run("bench --quick --sweeps surfaces --surfaces cornell-box --surface-modes msa --surface-motion 2 "
-                       "--msa-amortize 4 --frames 4 --no-plots --validate --out " + dir.string());
+                       "--msa-amortize 4 --msa-charts projection,conformal --frames 4 --no-plots --validate --out " + dir.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const std::vector<bench::BenchRow> rows = bench::read_csv(dir / "bench.csv");
   for (const char* shadows : {"shadows=off", "shadows=on"}) {
-    const bench::BenchRow *moving = nullptr, *amortized = nullptr;
+    const bench::BenchRow *moving = nullptr, *amortized = nullptr, *conformal = nullptr;
     for (const auto& row : rows) {
       if (row.settings.rfind(shadows, 0) != 0 || row.settings.find("camera=moving(2deg/frame)") == std::string::npos) continue;
+      if (row.settings.find("charts=conformal") != std::string::npos) {
+        if (row.settings.find("amortize") == std::string::npos) conformal = &row;
+        continue;
+      }
       (row.settings.find("amortize=4") != std::string::npos ? amortized : moving) = &row;
     }
     if (std::string(shadows) == "shadows=on" && !moving) continue;  // a device without ray tracing
@@ -500,7 +504,11 @@ TEST(Cli, BenchMovesTheCameraAndAmortizesTheAtlas) {
     EXPECT_GT(moving->shaded, 0u);
     EXPECT_LT(amortized->shaded, moving->shaded) << shadows;
     EXPECT_TRUE(std::isfinite(amortized->error.rmse));
+    ASSERT_NE(conformal, nullptr) << shadows;
+    EXPECT_GT(conformal->shaded, 0u);
+    EXPECT_TRUE(std::isfinite(conformal->error.rmse));
   }
+  EXPECT_EQ(run("bench --quick --sweeps surfaces --msa-charts lscm --out " + dir.string()).code, 2);
   EXPECT_EQ(run("bench --quick --sweeps surfaces --msa-amortize 4 --out " + dir.string()).code, 2);
   const CliRun zero = run("bench --quick --sweeps surfaces --surface-motion 0 --out " + dir.string());
   EXPECT_EQ(zero.code, 2);
