@@ -651,6 +651,19 @@ TEST(Meshlets, RealMeshesStats) {
     SurfaceScene named = scene;
     named.name = name;
     for (double rho : densities(named)) compare(named, rho, false);
+    // Conformal charts against projected ones: the sampling of the worst triangle never drops.
+    for (Clustering c : {Clustering::NormalCone, Clustering::Meshoptimizer}) {
+      MeshletSettings s = with(c);
+      const MeshletStats p = meshlet_stats(named, build_meshlets(named, s), densities(named)[1]);
+      s.parametrization = Parametrization::Conformal;
+      const MeshletSet set = build_meshlets(named, s);
+      const MeshletStats q = meshlet_stats(named, set, densities(named)[1]);
+      EXPECT_GE(q.sampling_min, p.sampling_min * (1.0 - 1e-9)) << name;
+      std::printf("%-20s %-13s charts: sampling min/mean %.3f/%.3f projected, %.3f/%.3f conformal (%zu of %zu meshlets kept their "
+                  "projection); block fill %.3f / %.3f\n",
+                  name, c == Clustering::NormalCone ? "NormalCone" : "Meshoptimizer", p.sampling_min, p.sampling_mean, q.sampling_min, q.sampling_mean,
+                  set.conformal_fallbacks, set.meshlets.size(), p.block_fill, q.block_fill);
+    }
   }
   if (found == 0) GTEST_SKIP() << "no real meshes in " << dir << " (stats only)";
 }
