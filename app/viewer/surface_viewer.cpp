@@ -73,6 +73,12 @@ struct SurfaceSession {
     const uint32_t n = renderer.msa_amortization();
     renderer.set_msa_amortization(n == 0 ? 4 : n >= 16 ? 0 : 2 * n);
   }
+  // K: msa's meshlet charts, projected or conformal (rebuilt at the next msa frame).
+  void toggle_charts() {
+    device.wait_idle();
+    renderer.set_msa_charts(renderer.msa_charts() == msa::Parametrization::Conformal ? msa::Parametrization::Projection
+                                                                                   : msa::Parametrization::Conformal);
+  }
   void next_mode() {
     const auto& modes = renderer.modes();
     const auto it = std::find(modes.begin(), modes.end(), mode);
@@ -110,6 +116,7 @@ struct SurfaceSession {
     switch (key.key) {
       case GLFW_KEY_M: next_mode(); break;
       case GLFW_KEY_T: next_amortization(); break;
+      case GLFW_KEY_K: toggle_charts(); break;
       case GLFW_KEY_L: set_shadows(!renderer.shadows()); break;
       case GLFW_KEY_H: show_ui = !show_ui; break;
       case GLFW_KEY_C: copy_camera(); break;
@@ -162,6 +169,7 @@ void draw_surface_panel(SurfaceSession& s) {
       ImGui::Text("msa shades every moved frame (T: amortize)");
     else
       ImGui::Text("msa shades every %u frames while moving (T)", n);
+    ImGui::Text("meshlet charts: %s (K)", s.renderer.msa_charts() == msa::Parametrization::Conformal ? "conformal" : "projected");
   }
   ImGui::Separator();
   double total = 0.0;
@@ -323,6 +331,7 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
   report.camera = s.camera.camera();
   report.mode = s.mode;
   report.msa_amortization = s.renderer.msa_amortization();
+  report.msa_conformal_charts = s.renderer.msa_charts() == msa::Parametrization::Conformal;
   report.validation_messages = instance.validation_log().count();
   return report;
 }

@@ -55,7 +55,8 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
                                          (dir / "render.pfm").string() + "\nrender 160 120 " + (dir / "render.png").string() +
                                          "\nframe 4\nshadows on\nrender 160 120 " + (dir / "shadowed.pfm").string() +
                                          "\nmode htex\nrender 160 120 " + (dir / "htex.pfm").string() + "\nmode texel\nrender 160 120 " +
-                                         (dir / "texel.pfm").string() + "\nmode msa\nrender 160 120 " + (dir / "msa.pfm").string() + "\nkey T\nkey T\nmode forward" +
+                                         (dir / "texel.pfm").string() + "\nmode msa\nrender 160 120 " + (dir / "msa.pfm").string() + "\nkey T\nkey T\nkey K\nframe 2\nrender 160 120 " +
+                                         (dir / "msa_conformal.pfm").string() + "\nmode forward" +
                                          "\nmode no-such-mode\nkey M\nframe 5\nui on\nscreenshot " + (dir / "ui.png").string() +
                                          "\nframe 6\nmode htex-gi\nrotate 40 0\nzoom 1\nprint-camera\ntetlet-size 4\nframe 8\nclose\n",
                                      "test script");
@@ -63,7 +64,8 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   EXPECT_EQ(report.validation_messages, 0u);
   EXPECT_EQ(report.mode, "htex-gi");  // M cycled from forward to htex; the script then chose GI
   EXPECT_EQ(report.msa_amortization, 8u);  // T twice: every 4th, then every 8th frame
-  ASSERT_EQ(report.files_written.size(), 8u);
+  EXPECT_TRUE(report.msa_conformal_charts);  // K
+  ASSERT_EQ(report.files_written.size(), 9u);
 
   // Refused: an unknown mode, and a volume verb; each named in a message.
   ASSERT_EQ(report.messages.size(), 2u);
@@ -140,6 +142,16 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
     EXPECT_LE(msa_worst, 1e-6);
     EXPECT_EQ(texel.counters.hole_pixels, 0u);
     EXPECT_EQ(msa.counters.hole_pixels, 0u);
+    // After K the window's msa render is the conformal charts' image.
+    const msa::MeshletSet conformal = msa::build_meshlets(lit, {.parametrization = msa::Parametrization::Conformal});
+    surface::MsaPass conformal_pass(device, conformal, {});
+    const surface::MsaImage conformal_image = surface::render_msa(device, conformal_pass, gpu, accel.tlas(), scene.camera, {160, 120});
+    const io::FloatImage conformal_render = io::read_pfm((dir / "msa_conformal.pfm").string());
+    double conformal_worst = 0.0;
+    for (size_t p = 0; p < size_t(160) * 120; ++p)
+      for (int c = 0; c < 3; ++c)
+        conformal_worst = std::max(conformal_worst, std::abs(double(conformal_render.pixels[3 * p + c]) - double(conformal_image.rgba[4 * p + c])));
+    EXPECT_LE(conformal_worst, 1e-6);
   }
   // The panel's count of what the last frame shaded.
   EXPECT_TRUE(report.last_frame.counted);
