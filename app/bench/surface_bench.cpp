@@ -42,10 +42,7 @@ Frame render(const vk::Device& device, surface::SurfaceRenderer& renderer, const
              VkExtent2D extent) {
   renderer.resize(extent);
   vk::GpuTimer timer(device, 16);
-  device.submit_and_wait([&](VkCommandBuffer cmd) {
-    timer.reset(cmd);
-    renderer.record(cmd, camera, mode, timer);
-  });
+  timer.submit_and_wait([&](VkCommandBuffer cmd) { renderer.record(cmd, camera, mode, timer); });
   Frame f;
   f.rgba.resize(size_t(extent.width) * extent.height * 4);
   vk::read_image(device, renderer.display(), sizeof(float) * 4, std::as_writable_bytes(std::span(f.rgba)));

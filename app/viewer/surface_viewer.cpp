@@ -96,10 +96,7 @@ struct SurfaceSession {
     const VkExtent2D window_extent = renderer.extent();
     renderer.resize({width, height});
     vk::GpuTimer timer(device, 8);
-    device.submit_and_wait([&](VkCommandBuffer cmd) {
-      timer.reset(cmd);
-      renderer.record(cmd, camera.camera(), mode, timer);
-    });
+    timer.submit_and_wait([&](VkCommandBuffer cmd) { renderer.record(cmd, camera.camera(), mode, timer); });
     std::vector<float> rgba(size_t(width) * height * 4);
     vk::read_image(device, renderer.display(), sizeof(float) * 4, std::as_writable_bytes(std::span(rgba)));
     renderer.resize(window_extent);

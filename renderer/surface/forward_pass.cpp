@@ -253,22 +253,12 @@ uint64_t ForwardPass::read_fragment_invocations() const {
   return value;
 }
 
-std::vector<float> ForwardImage::rgb() const {
-  std::vector<float> out;
-  out.reserve(size_t(width) * height * 3);
-  for (size_t i = 0; i + 4 <= rgba.size(); i += 4) out.insert(out.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
-  return out;
-}
-
 ForwardImage render_forward(const vk::Device& device, ForwardPass& pass, const GpuSurfaceScene& scene, const Camera& camera,
                             VkExtent2D extent, const ForwardSettings& settings) {
   if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
   ForwardTargets targets = create_forward_targets(device, extent);
   vk::GpuTimer timer(device, 2);
-  device.submit_and_wait([&](VkCommandBuffer cmd) {
-    timer.reset(cmd);
-    pass.record(cmd, scene, targets, camera, settings, timer);
-  });
+  timer.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, scene, targets, camera, settings, timer); });
   ForwardImage image;
   image.width = extent.width;
   image.height = extent.height;

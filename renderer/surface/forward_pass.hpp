@@ -14,6 +14,7 @@
 #include <glm/vec2.hpp>
 
 #include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/surface/surface_image.hpp"
 #include "renderer/surface/surface_frame.hpp"
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
@@ -75,9 +76,7 @@ class ForwardPass {
 };
 
 // One frame rendered and read back: what the CLI and the tests use.
-struct ForwardImage {
-  uint32_t width = 0, height = 0;
-  std::vector<float> rgba;             // row-major, row 0 at the top
+struct ForwardImage : SurfaceImage {
   std::vector<uint32_t> shade_counts;  // per pixel, with count_shading
   std::vector<vk::PassTiming> passes;  // GPU time per pass (summed over the frames when supersampled)
   uint64_t fragment_invocations = 0;   // of the surfaces' shading draw (summed), when counted
@@ -86,7 +85,6 @@ struct ForwardImage {
   // ray-generation shader (one per covered pixel); fragment_invocations stays 0 there.
   uint64_t shading_invocations = 0;
   bool shadows = false;
-  std::vector<float> rgb() const;      // 3 floats per pixel
 };
 ForwardImage render_forward(const vk::Device& device, ForwardPass& pass, const GpuSurfaceScene& scene, const Camera& camera,
                             VkExtent2D extent, const ForwardSettings& settings = {});

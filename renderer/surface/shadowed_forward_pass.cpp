@@ -197,10 +197,7 @@ ForwardImage render_forward_shadowed(const vk::Device& device, ShadowedForwardPa
   if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
   ShadowedForwardTargets targets = create_shadowed_forward_targets(device, extent);
   vk::GpuTimer timer(device, 2);
-  device.submit_and_wait([&](VkCommandBuffer cmd) {
-    timer.reset(cmd);
-    pass.record(cmd, scene, accel, targets, camera, settings, timer);
-  });
+  timer.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, scene, accel, targets, camera, settings, timer); });
   ForwardImage image;
   image.width = extent.width;
   image.height = extent.height;

@@ -53,13 +53,6 @@ TextureSpaceTargets create_texture_space_targets(const vk::Device& device, VkExt
   return t;
 }
 
-std::vector<float> TextureSpaceImage::rgb() const {
-  std::vector<float> out;
-  out.reserve(size_t(width) * height * 3);
-  for (size_t i = 0; i + 4 <= rgba.size(); i += 4) out.insert(out.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
-  return out;
-}
-
 void read_texture_space_image(const vk::Device& device, const TextureSpaceTargets& targets, vk::GpuTimer& timer, TextureSpaceImage& image) {
   image.width = targets.extent.width;
   image.height = targets.extent.height;

@@ -14,6 +14,7 @@
 
 #include "renderer/rt/rt_pipeline.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/surface/surface_image.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/handle.hpp"
 #include "renderer/vk/memory.hpp"
@@ -50,12 +51,9 @@ struct TextureSpaceTargets {
 TextureSpaceTargets create_texture_space_targets(const vk::Device& device, VkExtent2D extent);
 
 // One frame read back: what the CLI and the tests use (each backend adds its counters).
-struct TextureSpaceImage {
-  uint32_t width = 0, height = 0;
-  std::vector<float> rgba;             // row-major, row 0 at the top
+struct TextureSpaceImage : SurfaceImage {
   std::vector<glm::uvec4> visibility;  // per pixel, as TextureSpaceTargets::visibility
   std::vector<vk::PassTiming> passes;
-  std::vector<float> rgb() const;      // 3 floats per pixel
 };
 // Reads the colour, the visibility buffer and the timer after a submission completed.
 void read_texture_space_image(const vk::Device& device, const TextureSpaceTargets& targets, vk::GpuTimer& timer, TextureSpaceImage& image);
@@ -89,10 +87,7 @@ Image render_texture_space_frame(const vk::Device& device, Pass& pass, const Gpu
                                  const Camera& camera, VkExtent2D extent) {
   TextureSpaceTargets targets = create_texture_space_targets(device, extent);
   vk::GpuTimer timer(device, 8);
-  device.submit_and_wait([&](VkCommandBuffer cmd) {
-    timer.reset(cmd);
-    pass.record(cmd, scene, tlas, targets, camera, timer);
-  });
+  timer.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, scene, tlas, targets, camera, timer); });
   Image image;
   read_texture_space_image(device, targets, timer, image);
   image.counters = pass.read_counters();

@@ -26,6 +26,13 @@ void GpuTimer::reset(VkCommandBuffer cmd) {
   if (enabled_) vkCmdResetQueryPool(cmd, pool_.get(), 0, 2 * capacity_);
 }
 
+void GpuTimer::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
+  device_->submit_and_wait([&](VkCommandBuffer cmd) {
+    reset(cmd);
+    record(cmd);
+  });
+}
+
 void GpuTimer::begin(VkCommandBuffer cmd, std::string name) {
   if (open_) throw std::logic_error("GpuTimer: pass '" + name + "' begins inside pass '" + names_.back() + "'");
   if (names_.size() >= capacity_) throw std::logic_error("GpuTimer: more passes than the timer was made for");

@@ -1,6 +1,7 @@
 #pragma once
 // GPU time per pass from timestamp queries: every pass a frame records is bracketed by a
 // pair of timestamps, and its name travels with them into the stats.
+#include <functional>
 #include <string>
 #include <vector>
 #include <vulkan/vulkan.h>
@@ -21,6 +22,9 @@ class GpuTimer {
   GpuTimer(const Device& device, uint32_t max_passes);
 
   void reset(VkCommandBuffer cmd);
+  // One submission on the timer's device, waited for: reset(), then `record` (which brackets its
+  // passes with this timer). The timings are then read().
+  void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
   void begin(VkCommandBuffer cmd, std::string name);
   void end(VkCommandBuffer cmd);
   // Reads the timings of the passes recorded since reset(); waits for the GPU.

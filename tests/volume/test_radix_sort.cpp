@@ -189,10 +189,7 @@ class VisibilitySortTest : public RadixSortTest {
     SCOPED_TRACE("eye (" + std::to_string(eye.x) + ", " + std::to_string(eye.y) + ", " + std::to_string(eye.z) + ")");
     const glm::dvec3 eye_local = eye - gpu.origin;
     vk::GpuTimer timer(device(), 1);
-    device().submit_and_wait([&](VkCommandBuffer cmd) {
-      timer.reset(cmd);
-      sort.record(cmd, gpu.positions, gpu.tets, gpu.tet_count, glm::vec3(eye_local), timer);
-    });
+    timer.submit_and_wait([&](VkCommandBuffer cmd) { sort.record(cmd, gpu.positions, gpu.tets, gpu.tet_count, glm::vec3(eye_local), timer); });
     ASSERT_EQ(timer.recorded(), std::vector<std::string>{"sort"});
     const std::vector<uint32_t> order = download(sort.order(), gpu.tet_count);
     const std::vector<uint32_t> keys = download(sort.keys(), gpu.tet_count);
