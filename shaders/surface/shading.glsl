@@ -151,8 +151,19 @@ vec3 sky_cosine_mean(vec3 n) {
 // The light the scene's lights (point, directional, emissive triangles) reflect at the point:
 // no emission of its own and no sky. ReSTIR GI (shaders/surface/gi/) uses it for the radiance a
 // bounce's hit point sends back.
+//
+// Every emitter's closed-form term is summed before the first shadow ray is traced; the shadow
+// of an emitter then removes (1 - visibility) of its term. Next to a corner where emitters meet,
+// the terms of their shared edges cancel only if every emitter sees the very same point (a shift
+// of one ulp at 1e-5 from the corner moves a term by 1e-3). In ray-generation code the H200's
+// compiler recomputed the point after each traced ray, 1 to 3 ulps away from the first value
+// (with `precise` on every operation too): with the terms summed between rays, the furnace next
+// to an icosahedron corner came out up to 3e-4 too bright (tests/surface/test_forward.cpp,
+// FurnaceNextToACorner...). Fragment shaders trace nothing, and there the second loop folds away.
 vec3 surface_lights(SurfacePoint sp, ShadingMaterial m) {
   vec3 L = vec3(0.0);
+  for (uint i = 0u; i < frame.counts.z; ++i)
+    if (emitters[i].info.x != sp.triangle) L += emitter_light(sp, m, emitters[i]);  // a point does not light itself
   for (uint i = 0u; i < frame.counts.x; ++i) {
     vec3 to = point_lights[i].position.xyz - sp.position;
     float d2 = dot(to, to);
@@ -169,12 +180,11 @@ vec3 surface_lights(SurfacePoint sp, ShadingMaterial m) {
     L += fcos * directional_lights[i].irradiance.rgb * directional_light_visibility(sp, i, wi);
   }
   for (uint i = 0u; i < frame.counts.z; ++i) {
-    if (emitters[i].info.x == sp.triangle) continue;  // a point does not light itself
-    vec3 Le = emitter_light(sp, m, emitters[i]);
-    if (Le == vec3(0.0)) continue;
-    L += Le * emitter_visibility(sp, i);
+    if (emitters[i].info.x == sp.triangle) continue;
+    float hidden = 1.0 - emitter_visibility(sp, i);
+    if (hidden > 0.0) L -= hidden * emitter_light(sp, m, emitters[i]);
   }
-  return L;
+  return max(L, vec3(0.0));  // a whole emitter's term taken back where the point moved an ulp
 }
 
 // Emission (front side) + the lights + the sky's ambient term. With ReSTIR GI on, the host sets
