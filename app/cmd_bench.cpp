@@ -48,8 +48,9 @@ const char* const kBenchHelp =
     "  --out DIR            folder for bench.csv and report.md (created if missing)\n"
     "  --quick              96x72, 3 frames, one or two settings per sweep: a smoke test in a minute\n"
     "  --size WxH           image size (default 400x300)\n"
-    "  --frames N           timed frames after one warm-up frame (default 10); times are the median,\n"
-    "                       with min and max\n"
+    "  --frames N           timed frames (default 10); times are the median, with min and max\n"
+    "  --warm-up SECONDS    frames drawn before each row's timed ones, for at least this long (default\n"
+    "                       2, --quick 0: one frame); lets the GPU leave its idle clock\n"
     "  --sweeps LIST        comma-separated subset of: modes, tetlet-size, preintegration, image-size,\n"
     "                       march-step, cells, surfaces (default: all)\n"
     "  --surfaces LIST      the surfaces sweep's scenes: cornell-box, furnace:A or surface files\n"
@@ -253,7 +254,7 @@ int replot(const std::filesystem::path& dir) {
 int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
   std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget",
-                                            "surface-lights", "surface-motion", "msa-amortize", "msa-charts"};
+                                            "warm-up", "surface-lights", "surface-motion", "msa-amortize", "msa-charts"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -269,6 +270,8 @@ int cmd_bench(const std::vector<std::string>& args) {
   preset.max_cells = a.has("max-cells") ? parse_uint("max-cells", a.values.at("max-cells")) : 2'000'000;
   const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : preset.quick ? 3 : 10;
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
+  preset.warm_up_seconds = a.has("warm-up") ? parse_double("warm-up", a.values.at("warm-up")) : preset.quick ? 0.0 : bench::kTimedWarmUpSeconds;
+  if (!(preset.warm_up_seconds >= 0.0 && preset.warm_up_seconds <= 600.0)) throw InputError("--warm-up", "seconds must lie in [0, 600]");
   const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells", "surfaces"};
   const std::vector<std::string> sweeps = a.has("sweeps") ? split_list(a.values.at("sweeps")) : all_sweeps;
   for (const auto& s : sweeps)
@@ -299,6 +302,9 @@ int cmd_bench(const std::vector<std::string>& args) {
       std::cerr << "prismoid: bench: no X display for VTK's mappers and charts: " << x_problem << "\n";
     }
   bench::ReportContext context;
+  context.notes.push_back("warm-up: each row's timed frames follow " +
+                          (preset.warm_up_seconds > 0.0 ? "at least " + json_number(preset.warm_up_seconds) + " s of its frames" : std::string("one frame")) +
+                          " (--warm-up), so the GPU has left its idle clock");
   if (!x_problem.empty()) context.notes.push_back("VTK's mappers and the plots were left out: no X display (" + x_problem + ")");
 
   MeshCache meshes;
@@ -349,7 +355,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     }
 
     frame::FrameRenderer renderer(device, choice.mesh);
-    renderer.render_offscreen(camera, choice.settings, extent);  // warm-up: caches, clocks, first-use work
+    bench::warm_up([&] { renderer.render_offscreen(camera, choice.settings, extent); }, preset.warm_up_seconds);
     std::vector<std::vector<vk::PassTiming>> timings;
     std::vector<double> totals, cpu;
     frame::OffscreenFrame result;
@@ -468,6 +474,7 @@ int cmd_bench(const std::vector<std::string>& args) {
                                                                       : parse_uint("shading-budget", a.values.at("shading-budget"));
     so.size = preset.size;
     so.frames = frames;
+    so.warm_up_seconds = preset.warm_up_seconds;
     for (auto& row : bench::bench_surfaces(device, so)) rows.push_back(std::move(row));
     context.notes.push_back("surface rows are measured against " + bench::surface_reference_kind("") + ", " +
                             std::to_string(so.supersample) + "x" + std::to_string(so.supersample) + " supersampled");

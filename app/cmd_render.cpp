@@ -7,6 +7,7 @@
 #include <memory>
 #include <sstream>
 
+#include "app/bench/bench_cases.hpp"
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
@@ -94,8 +95,9 @@ const char* const kRenderHelp =
     "                       (default 16)\n"
     "  --shared-vertices    tetlets: group neighbouring cells so a workgroup loads their shared points\n"
     "                       once (order-independent quantities, or --mode interval)\n"
-    "  --frames N           render N timed frames after one warm-up frame; times are the median\n"
-    "                       (stats also give min and max) (default 1, no warm-up)\n"
+    "  --frames N           render N timed frames after 2 s of warm-up frames (the GPU leaves its idle\n"
+    "                       clock); times are the median (stats also give min and max) (default 1, no\n"
+    "                       warm-up)\n"
     "\n"
     "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
     "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
@@ -209,7 +211,7 @@ int cmd_render(const std::vector<std::string>& args) {
     driver = caps.driver_info;
     vk::Device device(*instance, caps, {});
     frame::FrameRenderer renderer(device, mesh);
-    if (frames > 1) renderer.render_offscreen(camera, settings, size);  // warm-up: caches, clocks, first-use work
+    if (frames > 1) bench::warm_up([&] { renderer.render_offscreen(camera, settings, size); }, bench::kTimedWarmUpSeconds);
     std::vector<std::vector<vk::PassTiming>> timings;
     for (uint32_t i = 0; i < frames; ++i) {
       renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused

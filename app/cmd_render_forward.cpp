@@ -7,6 +7,7 @@
 #include <memory>
 #include <sstream>
 
+#include "app/bench/bench_cases.hpp"
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
@@ -104,7 +105,7 @@ int cmd_render_forward(const std::vector<std::string>& args) {
                     : surface::render_forward_shadowed_supersampled(device, *shadowed, gpu, *accel, camera, size, k);
     return k == 1 ? surface::render_forward(device, *pass, gpu, camera, size) : surface::render_forward_supersampled(device, *pass, gpu, camera, size, k);
   };
-  if (frames > 1) render();  // warm-up: caches, first-use work
+  if (frames > 1) bench::warm_up([&] { render(); }, bench::kTimedWarmUpSeconds);
   surface::ForwardImage image;
   std::vector<std::vector<vk::PassTiming>> timings;
   for (uint32_t i = 0; i < frames; ++i) {

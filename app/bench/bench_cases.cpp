@@ -1,6 +1,7 @@
 #include "app/bench/bench_cases.hpp"
 
 #include <algorithm>
+#include <chrono>
 
 namespace prismoid::bench {
 
@@ -67,6 +68,16 @@ std::string settings_label(const BenchCase& c) {
   std::string s;
   for (const auto& [k, v] : c.options) s += (s.empty() ? "" : " ") + k + "=" + v;
   return s.empty() ? "default" : s;
+}
+
+uint32_t warm_up(const std::function<void()>& frame, double seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  uint32_t frames = 0;
+  do {
+    frame();
+    ++frames;
+  } while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds);
+  return frames;
 }
 
 }  // namespace prismoid::bench

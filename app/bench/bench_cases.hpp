@@ -2,6 +2,7 @@
 // What `prismoid bench` measures: the list of cases (dataset x sweep x quantity x mode x setting x
 // image size), built from the preset before anything is loaded. Plain data, no Vulkan.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,6 +25,7 @@ struct BenchCase {
 
 struct BenchPreset {
   bool quick = false;
+  double warm_up_seconds = 0.0;  // frames before each row's timed ones (warm_up)
   ImageSize size;              // the image size of every sweep but image-size
   uint64_t max_cells = 0;      // the cell-count sweep stops below this many cells
 };
@@ -40,5 +42,15 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
 
 // "key=value key=value", or "default".
 std::string settings_label(const BenchCase& c);
+
+// Renders `frame` until `seconds` of wall clock have passed, at least once (pipelines, caches,
+// first-use work), and returns how many frames that took. A row's timed frames follow at once.
+// Why a time and not a count: after an idle spell (the bench computes each CPU reference between
+// rows) the H200 kept its idle clock, 345 of 1980 MHz, through the ~0.7 s of a row's frames and
+// timed every pass 5.7x slow; it raises its clock after about a second of steady work
+// (docs/results.md, "The GPU's clock").
+uint32_t warm_up(const std::function<void()>& frame, double seconds);
+// The warm-up of `prismoid render --frames N` (N > 1) and the bench's default.
+inline constexpr double kTimedWarmUpSeconds = 2.0;
 
 }  // namespace prismoid::bench

@@ -197,7 +197,8 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       const ReferenceImage& ref = references.at(ref_key);
       const std::vector<float>& reference = ref.rgba;
       const double peak = ref.peak, reference_ms = ref.ms;
-      const Frame warm = render(device, renderer, camera, mode, extent);  // warm-up: pipelines, first-use work
+      Frame warm;
+      bench::warm_up([&] { warm = render(device, renderer, camera, mode, extent); }, options.warm_up_seconds);
       if (covered_pixels == 0)
         for (size_t p = 3; p < warm.rgba.size(); p += 4) covered_pixels += warm.rgba[p] == 1.0f;
       // GI modes: the reservoirs accumulate over a still camera's frames, as in the window; the

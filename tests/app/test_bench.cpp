@@ -1,11 +1,13 @@
 // The bench's plain parts: which cases a preset measures, and which rows are Pareto-optimal.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -73,6 +75,20 @@ BenchRow row(const std::string& dataset, const std::string& quantity, double ms,
   r.width = width;
   r.height = 100;
   return r;
+}
+
+// Warm-up frames run for the time asked, and at least once (the first frame's pipelines and
+// caches are never timed).
+TEST(BenchWarmUp, FramesRunForTheTimeAskedAndAtLeastOnce) {
+  uint32_t calls = 0;
+  EXPECT_EQ(warm_up([&] { ++calls; }, 0.0), 1u);
+  EXPECT_EQ(calls, 1u);
+  calls = 0;
+  const auto start = std::chrono::steady_clock::now();
+  const uint32_t frames = warm_up([&] { ++calls; std::this_thread::sleep_for(std::chrono::milliseconds(10)); }, 0.2);
+  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.2);
+  EXPECT_EQ(frames, calls);
+  EXPECT_GE(frames, 2u);
 }
 
 TEST(BenchTable, ParetoRowsAreThoseNoComparableRowBeats) {

@@ -485,9 +485,10 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
 TEST(Cli, BenchMovesTheCameraAndAmortizesTheAtlas) {
   const fs::path dir = work_dir() / "bench_motion";
   const CliRun r = run("bench --quick --sweeps surfaces --surfaces cornell-box --surface-modes msa --surface-motion 2 "
-                       "--msa-amortize 4 --msa-charts projection,conformal --frames 4 --no-plots --validate --out " + dir.string());
+                       "--msa-amortize 4 --msa-charts projection,conformal --frames 4 --warm-up 0.25 --no-plots --validate --out " + dir.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const std::vector<bench::BenchRow> rows = bench::read_csv(dir / "bench.csv");
+  EXPECT_NE(slurp(dir / "report.md").find("follow at least 0.25 s of its frames"), std::string::npos);
   for (const char* shadows : {"shadows=off", "shadows=on"}) {
     const bench::BenchRow *moving = nullptr, *amortized = nullptr, *conformal = nullptr;
     for (const auto& row : rows) {
@@ -510,6 +511,9 @@ TEST(Cli, BenchMovesTheCameraAndAmortizesTheAtlas) {
   }
   EXPECT_EQ(run("bench --quick --sweeps surfaces --msa-charts lscm --out " + dir.string()).code, 2);
   EXPECT_EQ(run("bench --quick --sweeps surfaces --msa-amortize 4 --out " + dir.string()).code, 2);
+  const CliRun cold = run("bench --quick --sweeps surfaces --warm-up -1 --out " + dir.string());
+  EXPECT_EQ(cold.code, 2);
+  EXPECT_NE(cold.err.find("--warm-up"), std::string::npos) << cold.err;
   const CliRun zero = run("bench --quick --sweeps surfaces --surface-motion 0 --out " + dir.string());
   EXPECT_EQ(zero.code, 2);
   EXPECT_NE(zero.err.find("--surface-motion"), std::string::npos) << zero.err;
