@@ -1,6 +1,7 @@
 #include "app/bench/bench_cases.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 
 namespace prismoid::bench {
@@ -70,14 +71,22 @@ std::string settings_label(const BenchCase& c) {
   return s.empty() ? "default" : s;
 }
 
-uint32_t warm_up(const std::function<void()>& frame, double seconds) {
+uint32_t warm_up(const std::function<double()>& frame, double seconds) {
   const auto start = std::chrono::steady_clock::now();
-  uint32_t frames = 0;
-  do {
-    frame();
-    ++frames;
-  } while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds);
-  return frames;
+  std::vector<double> ms;
+  auto median4 = [&](size_t end) {
+    std::array<double, 4> v{ms[end - 4], ms[end - 3], ms[end - 2], ms[end - 1]};
+    std::sort(v.begin(), v.end());
+    return 0.5 * (v[1] + v[2]);
+  };
+  for (;;) {
+    ms.push_back(frame());
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (elapsed < seconds) continue;
+    if (elapsed >= 4.0 * seconds) break;
+    if (ms.size() >= 8 && median4(ms.size()) >= 0.98 * median4(ms.size() - 4)) break;
+  }
+  return uint32_t(ms.size());
 }
 
 }  // namespace prismoid::bench

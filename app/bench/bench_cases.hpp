@@ -43,13 +43,16 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
 // "key=value key=value", or "default".
 std::string settings_label(const BenchCase& c);
 
-// Renders `frame` until `seconds` of wall clock have passed, at least once (pipelines, caches,
-// first-use work), and returns how many frames that took. A row's timed frames follow at once.
-// Why a time and not a count: after an idle spell (the bench computes each CPU reference between
-// rows) the H200 kept its idle clock, 345 of 1980 MHz, through the ~0.7 s of a row's frames and
-// timed every pass 5.7x slow; it raises its clock after about a second of steady work
-// (docs/results.md, "The GPU's clock").
-uint32_t warm_up(const std::function<void()>& frame, double seconds);
+// Draws `frame`, which returns its GPU time in ms, until `seconds` of wall clock have passed and
+// the frames have stopped getting faster (the median of the last 4 within 2% of the 4 before), for
+// 4 x `seconds` at most, and at least once (pipelines, caches, first-use work); returns how many
+// frames that took. A row's timed frames follow at once, and the frames should keep the GPU busy
+// (no read-back between them).
+// Why: after an idle spell (the bench computes each CPU reference between rows) the H200 sat at
+// its idle clock, 345 of 1980 MHz, through a row's frames, and timed every pass up to 5.7x slow;
+// under frames with read-backs between them (40-60% busy) it climbed only about 500 MHz a
+// second (nvidia-smi during the bench: docs/results.md, "The GPU's clock").
+uint32_t warm_up(const std::function<double()>& frame, double seconds);
 // The warm-up of `prismoid render --frames N` (N > 1) and the bench's default.
 inline constexpr double kTimedWarmUpSeconds = 2.0;
 

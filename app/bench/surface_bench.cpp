@@ -33,21 +33,26 @@ SurfaceScene load_scene(const std::string& name) {
   return app::surface_scene_from(one, "bench");
 }
 
-struct Frame {
-  std::vector<float> rgba;
-  std::vector<vk::PassTiming> passes;
-};
+double total_ms(const std::vector<vk::PassTiming>& passes) {
+  double total = 0.0;
+  for (const auto& p : passes) total += p.gpu_ms;
+  return total;
+}
 
-Frame render(const vk::Device& device, surface::SurfaceRenderer& renderer, const Camera& camera, const std::string& mode,
-             VkExtent2D extent) {
+// One frame drawn and timed; its image stays on the GPU (renderer.display()).
+std::vector<vk::PassTiming> draw(const vk::Device& device, surface::SurfaceRenderer& renderer, const Camera& camera, const std::string& mode,
+                                 VkExtent2D extent) {
   renderer.resize(extent);
   vk::GpuTimer timer(device, 16);
   timer.submit_and_wait([&](VkCommandBuffer cmd) { renderer.record(cmd, camera, mode, timer); });
-  Frame f;
-  f.rgba.resize(size_t(extent.width) * extent.height * 4);
-  vk::read_image(device, renderer.display(), sizeof(float) * 4, std::as_writable_bytes(std::span(f.rgba)));
-  f.passes = timer.read();
-  return f;
+  return timer.read();
+}
+
+// The last drawn frame's image, RGBA.
+std::vector<float> read_display(const vk::Device& device, const surface::SurfaceRenderer& renderer, VkExtent2D extent) {
+  std::vector<float> rgba(size_t(extent.width) * extent.height * 4);
+  vk::read_image(device, renderer.display(), sizeof(float) * 4, std::as_writable_bytes(std::span(rgba)));
+  return rgba;
 }
 
 struct ReferenceImage {
@@ -197,38 +202,37 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       const ReferenceImage& ref = references.at(ref_key);
       const std::vector<float>& reference = ref.rgba;
       const double peak = ref.peak, reference_ms = ref.ms;
-      Frame warm;
-      bench::warm_up([&] { warm = render(device, renderer, camera, mode, extent); }, options.warm_up_seconds);
-      if (covered_pixels == 0)
-        for (size_t p = 3; p < warm.rgba.size(); p += 4) covered_pixels += warm.rgba[p] == 1.0f;
+      bench::warm_up([&] { return total_ms(draw(device, renderer, camera, mode, extent)); }, options.warm_up_seconds);
+      if (covered_pixels == 0) {
+        const std::vector<float> first = read_display(device, renderer, extent);
+        for (size_t p = 3; p < first.size(); p += 4) covered_pixels += first[p] == 1.0f;
+      }
       // GI modes: the reservoirs accumulate over a still camera's frames, as in the window; the
       // row measures the frame after options.gi_frames of them.
       if (gi_mode(mode)) {
         renderer.reset_gi();
-        for (uint32_t i = 0; i + options.frames < options.gi_frames; ++i) render(device, renderer, camera, mode, extent);
+        for (uint32_t i = 0; i + options.frames < options.gi_frames; ++i) draw(device, renderer, camera, mode, extent);
       }
       // Moving rows: `frames` warm-up frames of the orbit first, then the measured ones, the last
       // at the scene's camera. Amortization counts from the orbit's first frame (the warm-up
-      // frame above is forgotten), so with n dividing 2 * frames the measured last frame is the
+      // frames above are forgotten), so with n dividing 2 * frames the measured last frame is the
       // stalest of its cycle: its error is the amortization's worst.
       if (run.moving) renderer.set_msa_amortization(run.amortize);
       const uint32_t orbit_frames = 2 * options.frames;
       auto orbit_camera = [&](uint32_t i) { return orbited(camera, double(orbit_frames - 1 - i) * options.motion_degrees); };
       if (run.moving)
-        for (uint32_t i = 0; i < options.frames; ++i) render(device, renderer, orbit_camera(i), mode, extent);
+        for (uint32_t i = 0; i < options.frames; ++i) draw(device, renderer, orbit_camera(i), mode, extent);
+      // The timed frames follow each other with no read-back; the image is the last one's.
       std::vector<double> totals;
       std::vector<std::vector<vk::PassTiming>> timings;
-      Frame f;
       uint64_t shaded_sum = 0;
       for (uint32_t i = 0; i < options.frames; ++i) {
         if (!gi_mode(mode) && !run.still && !run.moving) renderer.forget_shading();  // each frame costs what a moving camera's does
-        f = render(device, renderer, run.moving ? orbit_camera(options.frames + i) : camera, mode, extent);
+        timings.push_back(draw(device, renderer, run.moving ? orbit_camera(options.frames + i) : camera, mode, extent));
         shaded_sum += renderer.read_counts().shaded;
-        double total = 0.0;
-        for (const auto& p : f.passes) total += p.gpu_ms;
-        totals.push_back(total);
-        timings.push_back(f.passes);
+        totals.push_back(total_ms(timings.back()));
       }
+      const std::vector<float> image = read_display(device, renderer, extent);
       BenchRow m;
       m.dataset = scene.name;
       for (const SceneMesh& mesh : scene.meshes) m.cells += mesh.triangles.size();
@@ -260,9 +264,9 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.shaded = (shaded_sum + options.frames / 2) / options.frames;  // the mean over the measured frames
       if (budget == 0 && !run.still && !run.moving && run.charts == msa::Parametrization::Projection) unbiased_shaded[rate_key] = counts.shaded;
       m.mode_bytes = counts.mode_bytes;
-      m.error = reference::image_error(f.rgba, reference, peak, 4, 3);
-      m.ssim = reference::ssim(f.rgba, reference, extent.width, extent.height, peak, 4, 3);
-      m.flip = reference::flip(f.rgba, reference, extent.width, extent.height, 4).mean;
+      m.error = reference::image_error(image, reference, peak, 4, 3);
+      m.ssim = reference::ssim(image, reference, extent.width, extent.height, peak, 4, 3);
+      m.flip = reference::flip(image, reference, extent.width, extent.height, 4).mean;
       m.peak = peak;
       m.reference_ms = reference_ms;
       std::cout << m.dataset << " surfaces color " << m.mode << " " << m.width << "x" << m.height << ": " << m.ms_median
