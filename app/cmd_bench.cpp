@@ -357,24 +357,15 @@ int cmd_bench(const std::vector<std::string>& args) {
     }
 
     frame::FrameRenderer renderer(device, choice.mesh);
-    bench::warm_up(
-        [&] {
-          double total = 0.0;
-          for (const auto& p : renderer.render_offscreen(camera, choice.settings, extent).passes) total += p.gpu_ms;
-          return total;
-        },
-        preset.warm_up_seconds);
+    bench::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, choice.settings, extent).passes); }, preset.warm_up_seconds);
     std::vector<std::vector<vk::PassTiming>> timings;
     std::vector<double> totals, cpu;
     frame::OffscreenFrame result;
     for (uint32_t i = 0; i < frames; ++i) {
       renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused
       result = renderer.render_offscreen(camera, choice.settings, extent);
-      double total = 0.0, cpu_total = 0.0;
-      for (const auto& p : result.passes) total += p.gpu_ms;
-      for (const auto& p : result.report.cpu_passes) cpu_total += p.gpu_ms;
-      totals.push_back(total);
-      cpu.push_back(cpu_total);
+      totals.push_back(vk::total_gpu_ms(result.passes));
+      cpu.push_back(vk::total_gpu_ms(result.report.cpu_passes));
       timings.push_back(result.passes);
     }
 

@@ -212,13 +212,7 @@ int cmd_render(const std::vector<std::string>& args) {
     vk::Device device(*instance, caps, {});
     frame::FrameRenderer renderer(device, mesh);
     if (frames > 1)
-      bench::warm_up(
-          [&] {
-            double total = 0.0;
-            for (const auto& p : renderer.render_offscreen(camera, settings, size).passes) total += p.gpu_ms;
-            return total;
-          },
-          bench::kTimedWarmUpSeconds);
+      bench::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, settings, size).passes); }, bench::kTimedWarmUpSeconds);
     std::vector<std::vector<vk::PassTiming>> timings;
     for (uint32_t i = 0; i < frames; ++i) {
       renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused

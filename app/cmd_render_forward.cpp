@@ -106,13 +106,7 @@ int cmd_render_forward(const std::vector<std::string>& args) {
     return k == 1 ? surface::render_forward(device, *pass, gpu, camera, size) : surface::render_forward_supersampled(device, *pass, gpu, camera, size, k);
   };
   if (frames > 1)
-    bench::warm_up(
-        [&] {
-          double total = 0.0;
-          for (const auto& p : render().passes) total += p.gpu_ms;
-          return total;
-        },
-        bench::kTimedWarmUpSeconds);
+    bench::warm_up([&] { return vk::total_gpu_ms(render().passes); }, bench::kTimedWarmUpSeconds);
   surface::ForwardImage image;
   std::vector<std::vector<vk::PassTiming>> timings;
   for (uint32_t i = 0; i < frames; ++i) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 
 namespace prismoid::bench {
 
@@ -83,7 +84,7 @@ uint32_t warm_up(const std::function<double()>& frame, double seconds) {
     ms.push_back(frame());
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (elapsed < seconds) continue;
-    if (elapsed >= 4.0 * seconds) break;
+    if (elapsed >= 4.0 * seconds || !std::isfinite(ms.back())) break;  // no timestamps: nothing to watch
     if (ms.size() >= 8 && median4(ms.size()) >= 0.98 * median4(ms.size() - 4)) break;
   }
   return uint32_t(ms.size());

@@ -45,9 +45,9 @@ std::string settings_label(const BenchCase& c);
 
 // Draws `frame`, which returns its GPU time in ms, until `seconds` of wall clock have passed and
 // the frames have stopped getting faster (the median of the last 4 within 2% of the 4 before), for
-// 4 x `seconds` at most, and at least once (pipelines, caches, first-use work); returns how many
-// frames that took. A row's timed frames follow at once, and the frames should keep the GPU busy
-// (no read-back between them).
+// 4 x `seconds` at most (just `seconds` where a frame's time is NaN: no timestamps), and at least
+// once (pipelines, caches, first-use work); returns how many frames that took. A row's timed
+// frames follow at once, and the frames should keep the GPU busy (no read-back between them).
 // Why: after an idle spell (the bench computes each CPU reference between rows) the H200 sat at
 // its idle clock, 345 of 1980 MHz, through a row's frames, and timed every pass up to 5.7x slow;
 // under frames with read-backs between them (40-60% busy) it climbed only about 500 MHz a

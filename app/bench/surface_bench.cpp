@@ -33,12 +33,6 @@ SurfaceScene load_scene(const std::string& name) {
   return app::surface_scene_from(one, "bench");
 }
 
-double total_ms(const std::vector<vk::PassTiming>& passes) {
-  double total = 0.0;
-  for (const auto& p : passes) total += p.gpu_ms;
-  return total;
-}
-
 // One frame drawn and timed; its image stays on the GPU (renderer.display()).
 std::vector<vk::PassTiming> draw(const vk::Device& device, surface::SurfaceRenderer& renderer, const Camera& camera, const std::string& mode,
                                  VkExtent2D extent) {
@@ -202,7 +196,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       const ReferenceImage& ref = references.at(ref_key);
       const std::vector<float>& reference = ref.rgba;
       const double peak = ref.peak, reference_ms = ref.ms;
-      bench::warm_up([&] { return total_ms(draw(device, renderer, camera, mode, extent)); }, options.warm_up_seconds);
+      bench::warm_up([&] { return vk::total_gpu_ms(draw(device, renderer, camera, mode, extent)); }, options.warm_up_seconds);
       if (covered_pixels == 0) {
         const std::vector<float> first = read_display(device, renderer, extent);
         for (size_t p = 3; p < first.size(); p += 4) covered_pixels += first[p] == 1.0f;
@@ -230,7 +224,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
         if (!gi_mode(mode) && !run.still && !run.moving) renderer.forget_shading();  // each frame costs what a moving camera's does
         timings.push_back(draw(device, renderer, run.moving ? orbit_camera(options.frames + i) : camera, mode, extent));
         shaded_sum += renderer.read_counts().shaded;
-        totals.push_back(total_ms(timings.back()));
+        totals.push_back(vk::total_gpu_ms(timings.back()));
       }
       const std::vector<float> image = read_display(device, renderer, extent);
       BenchRow m;

@@ -17,6 +17,13 @@ struct PassTiming {
   double gpu_ms = 0.0;  // NaN where the device has no timestamps
 };
 
+// The passes' GPU time summed (NaN if any pass has none).
+inline double total_gpu_ms(const std::vector<PassTiming>& passes) {
+  double total = 0.0;
+  for (const PassTiming& p : passes) total += p.gpu_ms;
+  return total;
+}
+
 class GpuTimer {
  public:
   GpuTimer(const Device& device, uint32_t max_passes);

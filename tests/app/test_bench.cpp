@@ -106,6 +106,10 @@ TEST(BenchWarmUp, FramesRunForTheTimeAskedAndWhileTheyGetFaster) {
   const uint32_t settling = warm_up([&] { ++calls; if (calls <= 60) ms *= 0.9; return sleepy(ms); }, 0.1);
   EXPECT_GE(settling, 60u);
   EXPECT_LE(settling, 72u);
+  // Frames without a time (a device without timestamps) stop at the time asked.
+  const double untimed_s = seconds_of([&] { warm_up([&] { return sleepy(std::nan("")); }, 0.05); });
+  EXPECT_GE(untimed_s, 0.05);
+  EXPECT_LT(untimed_s, 0.15);
   // Frames that always get faster stop at 4x the time.
   ms = 1e30;
   const double capped_s = seconds_of([&] { warm_up([&] { ms *= 0.5; return sleepy(ms); }, 0.05); });
