@@ -160,13 +160,17 @@ void HtexPass::bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tla
   bound_.update(device_, set_.set, scene, tlas, targets.visibility, PRISMOID_HTEX_BINDING_VISIBILITY);
 }
 
-void HtexPass::dispatch_step(VkCommandBuffer cmd, uint32_t step, uint32_t invocations) {
+void HtexPass::push_step(VkCommandBuffer cmd, uint32_t step) {
   gpu::HtexPush push{};
   push.image = glm::uvec4(extent_.width, extent_.height, flags_, step);
   push.lod = glm::vec4(settings_.lod_bias, 0.0f, 0.0f, 0.0f);
   vkCmdPushConstants(cmd, layout_.get(), kStages & ~VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, 0, sizeof(push), &push);
+}
+
+void HtexPass::dispatch_step(VkCommandBuffer cmd, uint32_t step, uint32_t invocations) {
+  push_step(cmd, step);
   const uint32_t groups = std::max(1u, (invocations + 63) / 64);
-  const uint32_t x = std::min(groups, 32768u);
+  const uint32_t x = std::min(groups, PRISMOID_HTEX_DISPATCH_ROW);
   vkCmdDispatch(cmd, x, (groups + x - 1) / x, 1);
 }
 
@@ -201,25 +205,39 @@ void HtexPass::record_marking(VkCommandBuffer cmd, const GpuSurfaceScene& scene,
   record_depth_then_visible(cmd, scene, targets.depth, e, depth_pipeline_.get(), mark_pipeline_.get(), pass_binding(layout_.get(), set_.set, push));
 }
 
-void HtexPass::record_allocation(VkCommandBuffer cmd, const HtexTargets& targets, vk::GpuTimer& timer) {
+void HtexPass::record_allocation(VkCommandBuffer cmd, const HtexTargets&, vk::GpuTimer& timer) {
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   vk::ScopedPass pass(timer, cmd, "allocation");
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, allocate_pipeline_.get());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
   const uint32_t groups = geometry_.group_count();
-  const uint32_t pixels = targets.extent.width * targets.extent.height;
   auto step = [&](uint32_t s, uint32_t invocations) {
     dispatch_step(cmd, s, invocations);
     compute_barrier(cmd);
   };
+  // The loop's later steps are sized by DECIDE (HtexStateGpu::loop_groups, loop_pixels): once the
+  // marked groups fit, its remaining iterations launch nothing, where they used to launch every
+  // group and pixel only to return (most frames need no bias).
+  auto sized_by_decide = [&](uint32_t s, VkDeviceSize offset) {
+    push_step(cmd, s);
+    vkCmdDispatchIndirect(cmd, state_.get(), offset);
+    compute_barrier(cmd);
+  };
+  auto decide = [&] {
+    dispatch_step(cmd, kDecide, 1);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                       VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  };
   // Count and decide; while over capacity (and a coarser level is left), bias and re-mark.
-  for (uint32_t iteration = 0; iteration < geometry_.max_levels; ++iteration) {
-    step(kCount, groups);
-    step(kDecide, 1);
-    if (iteration + 1 == geometry_.max_levels) break;
-    step(kClear, groups);
-    step(kRemark, pixels);
+  step(kCount, groups);
+  decide();
+  for (uint32_t iteration = 1; iteration < geometry_.max_levels; ++iteration) {
+    sized_by_decide(kClear, offsetof(gpu::HtexStateGpu, loop_groups));
+    sized_by_decide(kRemark, offsetof(gpu::HtexStateGpu, loop_pixels));
+    sized_by_decide(kCount, offsetof(gpu::HtexStateGpu, loop_groups));
+    decide();
   }
   step(kRelease, groups);
   step(kAllocate, groups);

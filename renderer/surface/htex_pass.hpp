@@ -136,6 +136,7 @@ class HtexPass {
 
  private:
   void bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const HtexTargets& targets);
+  void push_step(VkCommandBuffer cmd, uint32_t step);
   void dispatch_step(VkCommandBuffer cmd, uint32_t step, uint32_t invocations);
 
   const vk::Device& device_;

@@ -54,6 +54,10 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_HTEX_FLAG_INDIRECT 2u  // the gather adds the indirect buffer
 #define PRISMOID_HTEX_FLAG_REUSE 4u     // shadels shaded in an earlier frame and still resident are not shaded again
 
+// The allocation steps run 64 invocations per workgroup, at most this many workgroups per row of
+// the dispatch (more rows beyond).
+#define PRISMOID_HTEX_DISPATCH_ROW 32768u
+
 // The allocation loop's phases (HtexStateGpu::marking.w).
 #define PRISMOID_HTEX_PHASE_COUNT 0u
 #define PRISMOID_HTEX_PHASE_REMARK 1u
@@ -81,6 +85,11 @@ struct HtexStateGpu {
                      // footprint texel not resident (holes), z: groups marked before any bias, w: marked shadels
                      // reused (shaded in an earlier frame, PRISMOID_HTEX_FLAG_REUSE)
   uvec4 persistent;  // x: pages on the free list
+  // The allocation loop's next CLEAR and COUNT (over groups) and REMARK (over pixels) steps:
+  // VkDispatchIndirectCommand in xyz, written by DECIDE; zero once the loop is done, so the
+  // loop's remaining iterations launch nothing.
+  uvec4 loop_groups;
+  uvec4 loop_pixels;
 };
 
 struct HtexPush {
@@ -93,7 +102,7 @@ PRISMOID_SHARED_END
 #ifdef __cplusplus
 static_assert(sizeof(prismoid::gpu::HtexAtlasGpu) == 32);
 static_assert(sizeof(prismoid::gpu::HtexMeshGpu) == 160);
-static_assert(sizeof(prismoid::gpu::HtexStateGpu) == 80);
+static_assert(sizeof(prismoid::gpu::HtexStateGpu) == 112);
 static_assert(sizeof(prismoid::gpu::HtexPush) == 32);
 #endif
 

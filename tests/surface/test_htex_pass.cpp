@@ -306,6 +306,14 @@ TEST_F(HtexPassTest, SmallPoolForcesTheBiasPass) {
       EXPECT_GE(v.y, std::min(c.bias_levels, rig.geometry.layout.meshes()[0].levels - 1));
     }
   }
+  // The loop stopped at the bias that fits: DECIDE sized its remaining steps to nothing, so its
+  // later iterations launch no workgroup.
+  const std::vector<gpu::HtexStateGpu> state = rig.read<gpu::HtexStateGpu>(rig.pass->state());
+  ASSERT_EQ(state.size(), 1u);
+  EXPECT_EQ(state[0].marking.w, PRISMOID_HTEX_PHASE_DONE);
+  EXPECT_EQ(state[0].marking.z, c.bias_levels);
+  EXPECT_EQ(state[0].loop_groups, glm::uvec4(0u));
+  EXPECT_EQ(state[0].loop_pixels, glm::uvec4(0u));
   std::printf("[ allocation ] %u groups wanted at level of detail, %u after %u bias level(s) in %u pages\n", c.marked_groups_unbiased,
               c.marked_groups, c.bias_levels, kPages);
 }

@@ -3,7 +3,8 @@
 // whose step is htex_push.image.w (HtexPass records them in this order, with barriers between):
 //   COUNT    (per group)  marked groups and shadels, while the loop runs
 //   DECIDE   (one thread) over the pool's capacity and a coarser level left: bias + 1, re-mark;
-//                         else the loop is done
+//                         else the loop is done; sizes the loop's next CLEAR, REMARK and COUNT
+//                         (indirect: nothing once done)
 //   CLEAR    (per group)  re-marking: occupancy to zero
 //   REMARK   (per pixel)  re-marking: the pixel's level raised to at least the bias, footprint marked
 //   RELEASE  (per group)  a resident group no longer marked gives its page back to the free list
@@ -32,6 +33,13 @@ layout(local_size_x = 64) in;
 #define STEP_FINISH 6u
 #define STEP_TASKS 7u
 
+// The workgroups of a step over `invocations` (as HtexPass::dispatch_step lays them out).
+uvec3 dispatch_size(uint invocations) {
+  uint workgroups = max(1u, (invocations + 63u) / 64u);
+  uint x = min(workgroups, PRISMOID_HTEX_DISPATCH_ROW);
+  return uvec3(x, (workgroups + x - 1u) / x, 1u);
+}
+
 uvec2 occupancy(uint g) { return uvec2(htex_occupancy[2u * g], htex_occupancy[2u * g + 1u]); }
 bool marked(uint g) { return any(notEqual(occupancy(g), uvec2(0u))); }
 
@@ -49,7 +57,8 @@ void main() {
   } else if (step == STEP_DECIDE) {
     if (id != 0u || htex_state.marking.w == PRISMOID_HTEX_PHASE_DONE) return;
     if (htex_state.marking.z == 0u) htex_state.result.z = htex_state.marking.x;
-    if (htex_state.marking.x > capacity && htex_state.marking.z + 1u < htex_atlas.counts.w) {
+    bool again = htex_state.marking.x > capacity && htex_state.marking.z + 1u < htex_atlas.counts.w;
+    if (again) {
       htex_state.marking.z += 1u;
       htex_state.marking.x = 0u;
       htex_state.marking.y = 0u;
@@ -57,6 +66,8 @@ void main() {
     } else {
       htex_state.marking.w = PRISMOID_HTEX_PHASE_DONE;
     }
+    htex_state.loop_groups = uvec4(again ? dispatch_size(groups) : uvec3(0u), 0u);
+    htex_state.loop_pixels = uvec4(again ? dispatch_size(htex_push.image.x * htex_push.image.y) : uvec3(0u), 0u);
   } else if (step == STEP_CLEAR) {
     if (id >= groups || htex_state.marking.w != PRISMOID_HTEX_PHASE_REMARK) return;
     htex_occupancy[2u * id] = 0u;
