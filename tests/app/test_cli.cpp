@@ -38,6 +38,13 @@ using test::slurp;
 using test::cli::run;
 using test::cli::work_dir;
 
+// The command is refused as bad input (exit code 2) with a message that contains `says`.
+void expect_refused(const std::string& command, const std::string& says) {
+  const CliRun r = run(command);
+  EXPECT_EQ(r.code, 2) << command;
+  EXPECT_NE(r.err.find(says), std::string::npos) << command << ": " << r.err;
+}
+
 // An aggregate check of a whole image written by the CLI against the CPU reference: RMSE
 // below 1e-3 of the peak. The per-pixel tolerances (sub-pixel snapping, float32) are derived
 // and checked in tests/volume; here we only prove the CLI path delivers that image.
@@ -511,12 +518,8 @@ TEST(Cli, BenchMovesTheCameraAndAmortizesTheAtlas) {
   }
   EXPECT_EQ(run("bench --quick --sweeps surfaces --msa-charts lscm --out " + dir.string()).code, 2);
   EXPECT_EQ(run("bench --quick --sweeps surfaces --msa-amortize 4 --out " + dir.string()).code, 2);
-  const CliRun cold = run("bench --quick --sweeps surfaces --warm-up -1 --out " + dir.string());
-  EXPECT_EQ(cold.code, 2);
-  EXPECT_NE(cold.err.find("--warm-up"), std::string::npos) << cold.err;
-  const CliRun zero = run("bench --quick --sweeps surfaces --surface-motion 0 --out " + dir.string());
-  EXPECT_EQ(zero.code, 2);
-  EXPECT_NE(zero.err.find("--surface-motion"), std::string::npos) << zero.err;
+  expect_refused("bench --quick --sweeps surfaces --warm-up -1 --out " + dir.string(), "--warm-up");
+  expect_refused("bench --quick --sweeps surfaces --surface-motion 0 --out " + dir.string(), "--surface-motion");
 }
 
 TEST(Cli, InfoPlanShowsTheSortOnlyWhereTheQuantityNeedsOne) {
@@ -606,9 +609,7 @@ TEST(Cli, ClosedSurfaceIsTetrahedralizedAndRendered) {
   text = text.substr(0, text.rfind("3 3 4 7"));
   const fs::path open = work_dir() / "open.off";
   std::ofstream(open) << text;
-  const CliRun bad = run("render " + open.string() + " --size 8x8 --output " + (work_dir() / "o.png").string());
-  EXPECT_EQ(bad.code, 2);
-  EXPECT_NE(bad.err.find("--fill-holes"), std::string::npos) << bad.err;
+  expect_refused("render " + open.string() + " --size 8x8 --output " + (work_dir() / "o.png").string(), "--fill-holes");
   const CliRun filled = run("render " + open.string() + " --fill-holes --size 8x8 --output " + (work_dir() / "o.png").string());
   EXPECT_EQ(filled.code, 0) << filled.err;
   // info tells which is which before anything is tetrahedralized.
@@ -641,9 +642,7 @@ TEST(Cli, RemeshMakesASelfIntersectingSurfaceTetrahedralizable) {
                                          {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}})
         out << "3 " << base + f[0] << " " << base + f[1] << " " << base + f[2] << "\n";
   }
-  const CliRun bad = run("convert " + off.string() + " " + refused.string());
-  EXPECT_EQ(bad.code, 2);
-  EXPECT_NE(bad.err.find("intersects itself"), std::string::npos) << bad.err;
+  expect_refused("convert " + off.string() + " " + refused.string(), "intersects itself");
   EXPECT_FALSE(fs::exists(refused));
   const CliRun good = run("convert " + off.string() + " " + remeshed.string() + " --remesh 0.05");
   ASSERT_EQ(good.code, 0) << good.err;
@@ -666,11 +665,8 @@ TEST(Cli, TetgenCellsLandsNearTheTargetAndRejectsBadCounts) {
   EXPECT_NE(r.err.find("(target 5000)"), std::string::npos) << r.err;
   const size_t cells = io::read_tet_mesh(vtu.string()).tets.size();
   EXPECT_LE(std::abs(double(cells) - 5000.0), io::kTargetCellsTolerance * 5000.0) << cells;
-  for (const char* bad : {"0", "many", "-3"}) {
-    const CliRun b = run("convert " + off.string() + " " + vtu.string() + " --tetgen-cells " + bad);
-    EXPECT_EQ(b.code, 2) << bad;
-    EXPECT_NE(b.err.find("--tetgen-cells"), std::string::npos) << b.err;
-  }
+  for (const char* bad : {"0", "many", "-3"})
+    expect_refused("convert " + off.string() + " " + vtu.string() + " --tetgen-cells " + bad, "--tetgen-cells");
 }
 
 // Two unit cubes side by side as legacy hexahedra, with a cell scalar and a point vector.
@@ -699,9 +695,7 @@ TEST(Cli, VectorArraysByMagnitudeOrComponent) {
   EXPECT_GT(magnitude, 0.0);
   EXPECT_GT(x, 0.0);
   EXPECT_NEAR(y / x, 4.0 / 3.0, 1e-4);  // linear in the values: components 4 and 3 where non-zero
-  const CliRun bad = run("render " + file.string() + " --array v --component 5 --size 8x8 --output " + pfm.string());
-  EXPECT_EQ(bad.code, 2);
-  EXPECT_NE(bad.err.find("has 3 components"), std::string::npos) << bad.err;
+  expect_refused("render " + file.string() + " --array v --component 5 --size 8x8 --output " + pfm.string(), "has 3 components");
 }
 
 // ball[:S]: the constant-extinction ball, whose optical depth at the centre pixel of a view
@@ -922,12 +916,8 @@ TEST(Cli, PathReferenceLightsASurfaceFileThatHasNoLights) {
   const io::FloatImage img = io::read_pfm(pfm.string());
   for (float value : img.pixels) EXPECT_GT(value, 0.0f);  // never black: the cube and the sky behind it
 
-  const CliRun bad = run("render furnace:1.5 --mode path-reference --output " + pfm.string());
-  EXPECT_EQ(bad.code, 2);
-  EXPECT_NE(bad.err.find("furnace:1.5: the furnace's albedo must lie in [0, 1)"), std::string::npos) << bad.err;
-  const CliRun volume = run("render field:blobs --mode path-reference --output " + pfm.string());
-  EXPECT_EQ(volume.code, 2);
-  EXPECT_NE(volume.err.find("renders surfaces"), std::string::npos) << volume.err;
+  expect_refused("render furnace:1.5 --mode path-reference --output " + pfm.string(), "furnace:1.5: the furnace's albedo must lie in [0, 1)");
+  expect_refused("render field:blobs --mode path-reference --output " + pfm.string(), "renders surfaces");
 }
 
 }  // namespace
