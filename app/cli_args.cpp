@@ -85,8 +85,17 @@ std::optional<uint32_t> parse_device(const ParsedArgs& a) {
   return parse_uint("device", a.values.at("device"));
 }
 
+double parse_fovy(const ParsedArgs& a, double otherwise) {
+  if (!a.has("fovy")) return otherwise;
+  const double fovy = parse_double("fovy", a.values.at("fovy"));
+  // Checked before the camera is framed with it: at 0 degrees the framing distance is infinite.
+  if (!(fovy > 0.0 && fovy < 180.0))
+    throw InputError("--fovy", "'" + a.values.at("fovy") + "' degrees: the vertical field of view must lie strictly between 0 and 180 degrees");
+  return fovy;
+}
+
 Camera camera_from(const ParsedArgs& a, const Bounds& bounds) {
-  Camera c = fit_camera(bounds, a.has("fovy") ? parse_double("fovy", a.values.at("fovy")) : 40.0);
+  Camera c = fit_camera(bounds, parse_fovy(a, 40.0));
   if (a.has("eye")) c.eye = parse_vec3("eye", a.values.at("eye"));
   if (a.has("target")) c.target = parse_vec3("target", a.values.at("target"));
   if (a.has("up")) c.up = parse_vec3("up", a.values.at("up"));

@@ -37,6 +37,8 @@ glm::dvec3 parse_vec3(const std::string& option, const std::string& text);
 VkExtent2D parse_size(const std::string& text);
 std::optional<uint32_t> parse_device(const ParsedArgs& a);
 
+// --fovy in degrees, checked to lie in (0, 180); `otherwise` without it.
+double parse_fovy(const ParsedArgs& a, double otherwise);
 // The camera of --eye/--target/--up/--fovy/--near, framing `bounds` where they are silent.
 Camera camera_from(const ParsedArgs& a, const Bounds& bounds);
 extern const std::vector<std::string> kCameraOptions;

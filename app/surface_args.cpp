@@ -111,7 +111,7 @@ Camera surface_camera(const ParsedArgs& a, Camera c) {
   if (a.has("eye")) c.eye = parse_vec3("eye", a.values.at("eye"));
   if (a.has("target")) c.target = parse_vec3("target", a.values.at("target"));
   if (a.has("up")) c.up = parse_vec3("up", a.values.at("up"));
-  if (a.has("fovy")) c.fovy_degrees = parse_double("fovy", a.values.at("fovy"));
+  c.fovy_degrees = parse_fovy(a, c.fovy_degrees);
   if (a.has("near")) c.near_distance = parse_double("near", a.values.at("near"));
   validate(c);
   return c;

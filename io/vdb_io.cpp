@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <unordered_map>
 
 #include <glm/common.hpp>
@@ -61,6 +62,14 @@ openvdb::GridPtrVec read_grids(const std::string& path) {
   } catch (const std::exception& e) {  // openvdb::Exception and the standard library's, from corrupt or truncated files
     throw InputError(path, std::string("is not a readable VDB file (truncated or corrupt?): ") + e.what());
   }
+}
+
+// A number as people write it: 3 significant digits, exponent where needed (1e-09, 0.00205).
+std::string short_number(double v) {
+  std::ostringstream s;
+  s.precision(3);
+  s << v;
+  return s.str();
 }
 
 std::string grid_label(const openvdb::GridBase& grid) {
@@ -427,13 +436,26 @@ FloatGrid::Ptr surface_level_set(const SurfaceMesh& surface, double voxel_size, 
   const double diagonal = 2.0 * b.radius();
   if (!(diagonal > 0.0) || !std::isfinite(diagonal)) throw InputError(surface.name, "the surface has no extent (or non-finite points)");
   const double h = voxel_size > 0.0 ? voxel_size : diagonal / 128.0;
+  // Below two voxels across the box's thinnest side, the grid may hold no voxel centre inside
+  // the shape at all: an empty fog volume, or a level set with no inside.
+  const double thinnest = std::min({b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z});
+  if (h > 0.5 * thinnest)
+    throw InputError(surface.name, "a voxel size of " + short_number(h) + " is over half the bounding box's thinnest side (" +
+                                       short_number(thinnest) + "), too coarse for the grid to hold the inside; use at most " +
+                                       short_number(0.5 * thinnest));
   constexpr float kHalfWidth = 3.0f;  // voxels each side of the surface: OpenVDB's default band
-  double voxels = 1.0;
-  for (int a = 0; a < 3; ++a) voxels *= std::ceil((b.max[a] - b.min[a]) / h) + 2.0 * double(kHalfWidth) + 1.0;
-  if (voxels > double(max_voxels))
-    throw InputError(surface.name, "a voxel size of " + std::to_string(h) + " makes " + std::to_string(uint64_t(voxels)) +
-                                       " voxels in the bounding box, more than " + std::to_string(max_voxels) + "; try a voxel size of " +
-                                       std::to_string(h * std::cbrt(voxels / double(max_voxels)) * 1.05));
+  double voxels = 1.0, padded_volume = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double n = std::ceil((b.max[a] - b.min[a]) / h) + 2.0 * double(kHalfWidth) + 1.0;
+    voxels *= n;
+    padded_volume *= n * h;  // finite where the count is not: the size to suggest comes from it
+  }
+  if (!(voxels <= double(max_voxels))) {
+    const double suggested = std::cbrt(padded_volume / double(max_voxels)) * 1.05;
+    throw InputError(surface.name, "a voxel size of " + short_number(h) + " makes about " + short_number(voxels) +
+                                       " voxels in the bounding box, more than " + std::to_string(max_voxels) +
+                                       (std::isfinite(suggested) ? "; try a voxel size of " + short_number(suggested) : std::string()));
+  }
 
   initialize_openvdb();
   std::vector<openvdb::Vec3s> points;
@@ -446,8 +468,13 @@ FloatGrid::Ptr surface_level_set(const SurfaceMesh& surface, double voxel_size, 
   ProgressInterrupter interrupter(progress, "converting the surface to a level set");
   FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<FloatGrid>(interrupter, *xform, points, triangles, kHalfWidth);
   if (interrupter.cancelled()) throw Cancelled(surface.name);
-  if (grid->activeVoxelCount() == 0)
-    throw InputError(surface.name, "OpenVDB found no inside at voxel size " + std::to_string(h) + " (the shape is thinner than a voxel?)");
+  // The band reaches 3 voxels inward, so a shape with any voxel centre inside has an active
+  // negative value; without one the fog would be empty and the level set all outside.
+  bool inside = false;
+  for (auto value = grid->cbeginValueOn(); value && !inside; ++value) inside = *value < 0.0f;
+  if (!inside)
+    throw InputError(surface.name, "no voxel centre lies inside the surface at voxel size " + short_number(h) +
+                                       " (the shape is thinner than a voxel?); try a smaller voxel size");
   return grid;
 }
 

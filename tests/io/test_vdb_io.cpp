@@ -316,6 +316,38 @@ TEST(VdbIo, FogFromAClosedCubeIsOneInsideAndZeroOutside) {
   EXPECT_GT(deep, 1000u);
 }
 
+// A closed slab 0.01 thick, tilted 45 degrees so that its bounding box is 1.4 or more on every
+// side: a voxel size of 0.5 passes the bounding-box rule, yet no voxel centre lies inside the
+// slab, so the fog would be empty and the level set all outside. Both are refused, naming why.
+TEST(VdbIo, WritingRefusesAShapeThatHoldsNoVoxelCentre) {
+  SurfaceMesh slab;
+  slab.name = "slab";
+  const double r = std::sqrt(0.5);
+  for (int i = 0; i < 8; ++i) {
+    const double x = 2.0 * (i & 1), y = 2.0 * ((i >> 1) & 1), z = 0.1 + 0.01 * (i >> 2);  // z = 0.1 to 0.11: no grid point
+    slab.points.emplace_back(x, r * (y - z), r * (y + z));
+  }
+  slab.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  for (const bool fog : {true, false}) {
+    const std::string path = temp_path(fog ? "slab_fog.vdb" : "slab_levelset.vdb").string();
+    io::VdbWriteOptions options;
+    options.fog = fog;
+    options.voxel_size = 0.5;
+    try {
+      io::write_vdb_from_surface(path, slab, options);
+      ADD_FAILURE() << "a slab thinner than a voxel was written";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("slab: no voxel centre lies inside the surface at voxel size 0.5"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(path));
+  }
+  // Finer voxels hold it.
+  io::VdbWriteOptions fine;
+  fine.voxel_size = 0.004;
+  EXPECT_GT(io::write_vdb_from_surface(temp_path("slab_fine.vdb").string(), slab, fine).active_voxels, 0u);
+}
+
 TEST(VdbIo, WritingRefusesOpenSurfacesAndLeavesNoFileOnFailure) {
   SurfaceMesh open;
   open.name = "open";
