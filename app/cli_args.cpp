@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "app/output_files.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -147,18 +148,16 @@ void write_stats_json(const std::string& path, const std::string& fields, const 
     total += passes[i].gpu_ms;
   }
   js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": " << validation_messages << "\n}\n";
-  const std::string temporary = path + ".partial";
-  {
-    std::ofstream out(temporary);
-    if (!out || !(out << js.str()) || !out.flush()) {
-      std::remove(temporary.c_str());
-      throw InputError(path, "cannot write the stats file");
-    }
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    throw InputError(path, "cannot write the stats file");
-  }
+  std::ofstream out(path);
+  if (!out || !(out << js.str()) || !out.flush()) throw InputError(path, "cannot write the stats file");
+}
+
+void declare_render_files(OutputFiles& files, const ParsedArgs& a) {
+  for (const std::string& file : a.files) files.input(file);
+  if (a.has("tf")) files.input(a.values.at("tf"));
+  if (a.has("output")) files.output(a.values.at("output"), "--output", kImageExtensions);
+  if (a.has("stats")) files.output(a.values.at("stats"), "--stats", {".json"});
+  if (a.has("variance")) files.output(a.values.at("variance"), "--variance", {".pfm"});
 }
 
 int validation_exit(const vk::Instance& instance) {

@@ -53,9 +53,14 @@ int validation_exit(const vk::Instance& instance);
 // Prints each pass's GPU time ("  NAME: X ms GPU", or "no timestamps") and returns their sum.
 double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& passes);
 // A render's stats JSON: `fields` (the object's leading ",\n  \"key\": value" lines, without
-// the opening brace) followed by the passes, their total and the validation log's count; written
-// whole to a temporary file and renamed over `path`, so a failed write leaves nothing behind
-// (InputError naming the file).
+// the opening brace) followed by the passes, their total and the validation log's count, written
+// to `path` (an OutputFiles temporary; InputError naming the file when it cannot be written).
 void write_stats_json(const std::string& path, const std::string& fields, const std::vector<vk::PassTiming>& passes, size_t validation_messages);
+
+class OutputFiles;
+// What every render verb reads and writes, declared before its work (app/output_files.hpp):
+// reads FILE and a --tf file; writes --output (.png or .pfm), and --stats (.json) and
+// --variance (.pfm) where given.
+void declare_render_files(OutputFiles& files, const ParsedArgs& a);
 
 }  // namespace prismoid::app

@@ -24,6 +24,7 @@
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/output_files.hpp"
 #include "app/reference_frame.hpp"
 #include "app/volume_options.hpp"
 #include "renderer/frame/frame_renderer.hpp"
@@ -185,7 +186,7 @@ std::string host_name() {
 
 // The plots beside report.md: error against time per dataset, quantity and size (every row), and
 // time against cell count (the modes and cell-count sweeps, at the preset's size).
-void write_plots(const std::filesystem::path& dir, const std::vector<bench::BenchRow>& rows, bench::ReportContext& context) {
+void write_plots(const std::filesystem::path& dir, const std::vector<bench::BenchRow>& rows, bench::ReportContext& context, OutputFiles& files) {
   std::vector<bench::BenchPoint> all, scaling;
   for (const auto& r : rows) {
     bench::BenchPoint p{r.dataset, r.quantity, r.mode, r.settings == "default" ? "" : r.settings, r.cells, r.ms_median, r.error.rmse,
@@ -202,10 +203,13 @@ void write_plots(const std::filesystem::path& dir, const std::vector<bench::Benc
   for (auto& plot : bench::bench_plots(scaling))
     if (plot.first == "time_vs_cells.png") plots.push_back(std::move(plot));
   for (const auto& [file, spec] : plots) {
+    const std::string png = (dir / file).string();
     try {
-      bench::write_plot_png(spec, dir / file);
+      files.output(png, "--out", {".png"});
+      files.write(png, [&](const std::string& temporary) { bench::write_plot_png(spec, temporary); });
       context.plots.emplace_back(spec.title, file);
     } catch (const std::exception& e) {
+      files.discard(png);
       std::cerr << "prismoid: bench: plot " << file << ": " << e.what() << "\n";
       context.notes.push_back("plot " + file + " failed: " + e.what());
     }
@@ -216,10 +220,13 @@ void write_plots(const std::filesystem::path& dir, const std::vector<bench::Benc
 int replot(const std::filesystem::path& dir) {
   const std::vector<bench::BenchRow> rows = bench::read_csv(dir / "bench.csv");
   if (rows.empty()) throw InputError((dir / "bench.csv").string(), "has no measurements to plot");
+  const std::filesystem::path report_path = dir / "report.md";
+  OutputFiles files;  // the plots and the report with their links, all or none
+  files.input((dir / "bench.csv").string());
+  files.output(report_path.string(), "--replot", {".md"});
   const bench::XDisplay x;
   bench::ReportContext context;
-  write_plots(dir, rows, context);
-  const std::filesystem::path report_path = dir / "report.md";
+  write_plots(dir, rows, context, files);
   std::string report;
   {
     std::ifstream in(report_path);
@@ -237,14 +244,13 @@ int replot(const std::filesystem::path& dir) {
   }
   const size_t first = report.find("\n## ");
   report.insert(first == std::string::npos ? report.size() : first, section);
-  const std::filesystem::path tmp = report_path.string() + ".partial";
-  {
-    std::ofstream out(tmp);
+  files.write(report_path.string(), [&](const std::string& file) {
+    std::ofstream out(file);
     out << report;
     out.close();
-    if (!out) throw InputError(tmp.string(), "cannot write the report");
-  }
-  std::filesystem::rename(tmp, report_path);
+    if (!out) throw InputError(file, "cannot write the report");
+  });
+  files.commit();
   std::cout << "wrote " << context.plots.size() << " plots into " << dir.string() << " and linked them from " << report_path.string() << "\n";
   return kOk;
 }
@@ -277,10 +283,17 @@ int cmd_bench(const std::vector<std::string>& args) {
   for (const auto& s : sweeps)
     if (std::find(all_sweeps.begin(), all_sweeps.end(), s) == all_sweeps.end())
       throw InputError("--sweeps", "unknown sweep '" + s + "' (modes, tetlet-size, preintegration, image-size, march-step, cells, surfaces)");
+  // Declared before the work: a folder made here goes again if the bench fails (or is stopped).
   const std::filesystem::path out_dir = a.values.at("out");
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw InputError(out_dir.string(), "cannot create the output folder: " + ec.message());
+  OutputFiles files;
+  for (const std::string& file : a.files) files.input(file);
+  if (a.has("tf")) files.input(a.values.at("tf"));
+  if (a.has("surfaces"))
+    for (const std::string& scene : split_list(a.values.at("surfaces"))) files.input(scene);
+  files.folder(out_dir.string(), "--out");
+  const std::string csv_path = (out_dir / "bench.csv").string(), report_path = (out_dir / "report.md").string();
+  files.output(csv_path, "--out", {".csv"});
+  files.output(report_path, "--out", {".md"});
 
   const std::vector<std::string> datasets = a.files.empty() ? std::vector<std::string>{"", "ball:2"} : a.files;
   std::vector<bench::BenchCase> cases = bench::bench_cases(datasets, preset);
@@ -486,10 +499,11 @@ int cmd_bench(const std::vector<std::string>& args) {
   context.command = "prismoid";
   for (const auto& s : args)  // as a shell would need it: empty or spaced arguments quoted
     context.command += " " + (s.empty() || s.find_first_of(" \t'") != std::string::npos ? "\"" + s + "\"" : s);
-  if (want_plots && x) write_plots(out_dir, rows, context);
-  bench::write_csv(out_dir / "bench.csv", rows);
-  bench::write_report(out_dir / "report.md", rows, context);
-  std::cout << "wrote " << (out_dir / "bench.csv").string() << " and " << (out_dir / "report.md").string() << "\n";
+  if (want_plots && x) write_plots(out_dir, rows, context, files);
+  files.write(csv_path, [&](const std::string& file) { bench::write_csv(file, rows); });
+  files.write(report_path, [&](const std::string& file) { bench::write_report(file, rows, context); });
+  files.commit();
+  std::cout << "wrote " << csv_path << " and " << report_path << "\n";
   return validation_exit(instance);
 }
 

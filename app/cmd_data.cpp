@@ -1,7 +1,6 @@
 // `prismoid convert` and `prismoid info`: datasets without rendering.
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <iostream>
 
 #include <glm/common.hpp>
@@ -10,6 +9,7 @@
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
 #include "app/dataset_report.hpp"
+#include "app/output_files.hpp"
 #include "app/terminal_progress.hpp"
 #include "app/volume_options.hpp"
 #include "io/dataset_info.hpp"
@@ -37,12 +37,15 @@ const char* const kConvertHelp =
     "the boundary of any tetrahedral mesh above): meshToLevelSet's narrow-band level set (3 voxels each\n"
     "side; grid 'surface'), or with --vdb fog (the default) that level set through sdfToFogVolume\n"
     "(density 1 inside, 0 outside; grid 'density'). --voxel-size H: default the bounding box's\n"
-    "diagonal / 128. The file is written beside OUT and renamed, so a failure leaves nothing.\n";
+    "diagonal / 128, at most half the box's thinnest side (coarser grids cannot hold the inside).\n"
+    "\n"
+    "OUT may not be IN (nor a link to it): converting loses what OUT's format does not keep. It is\n"
+    "written beside OUT and renamed, so a failure or Ctrl-C leaves nothing.\n";
 
 namespace {
 
 // IN as a closed surface: read as it is, or the boundary of the tetrahedral mesh it loads as.
-int convert_to_vdb(ParsedArgs& a, const std::string& out) {
+int convert_to_vdb(ParsedArgs& a, const std::string& out, OutputFiles& files) {
   if (a.files.size() != 1) throw InputError("convert", "writing .vdb needs IN: a closed surface or a tetrahedral mesh");
   for (const char* option : {"array", "density-scale"})
     if (a.has(option)) throw InputError(std::string("--") + option, "does not apply to .vdb output (a grid made from a surface)");
@@ -66,7 +69,10 @@ int convert_to_vdb(ParsedArgs& a, const std::string& out) {
   }
   TerminalProgress progress(in);
   options.progress = progress.callback();
-  const io::VdbWriteReport report = io::write_vdb_from_surface(out, surface, options);
+  io::VdbWriteReport report;
+  files.write(out, [&](const std::string& file) { report = io::write_vdb_from_surface(file, surface, options); });
+  progress.throw_if_cancelled(in);  // Ctrl-C after OpenVDB's last progress report: nothing is written
+  files.commit();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "wrote " << out << " (" << (options.fog ? "fog volume 'density'" : "level set 'surface'") << ", voxel size "
             << report.voxel_size << ", " << report.active_voxels << " active voxels, from " << surface.triangles.size()
@@ -84,13 +90,16 @@ int cmd_convert(const std::vector<std::string>& args) {
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
   const std::string out = a.files.back();
   a.files.pop_back();
-  if (io::is_vdb_path(out)) return convert_to_vdb(a, out);
-  if (std::filesystem::path(out).extension() != ".vtu") throw InputError(out, "convert writes .vtu and .vdb files");
+  OutputFiles files;
+  for (const std::string& in : a.files) files.input(in);
+  files.output(out, "convert", {".vtu", ".vdb"});
+  if (io::is_vdb_path(out)) return convert_to_vdb(a, out, files);
   for (const char* option : {"vdb", "voxel-size"})
     if (a.has(option)) throw InputError(std::string("--") + option, "applies to .vdb output only");
   TetMesh mesh = load_scene(a);
   if (mesh.point_scalars.empty() && mesh.linear_extinction()) mesh.point_scalars = mesh.point_extinction;
-  io::write_tet_mesh_vtu(out, mesh);
+  files.write(out, [&](const std::string& file) { io::write_tet_mesh_vtu(file, mesh); });
+  files.commit();
   std::cout << "wrote " << out << " (" << mesh.tets.size() << " tetrahedra, " << mesh.points.size() << " points)\n";
   return kOk;
 }

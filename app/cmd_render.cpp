@@ -12,6 +12,7 @@
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
 #include "app/frame_image.hpp"
+#include "app/output_files.hpp"
 #include "app/reference_frame.hpp"
 #include "app/volume_options.hpp"
 #include "io/image_io.hpp"
@@ -183,7 +184,8 @@ int cmd_render(const std::vector<std::string>& args) {
   if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");
-  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+  OutputFiles files;
+  declare_render_files(files, a);
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
   const auto device_index = parse_device(a);
   const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : 1;
@@ -224,7 +226,7 @@ int cmd_render(const std::vector<std::string>& args) {
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
   const io::FloatImage image = frame_image(result, output, color);
-  io::write_image(output, image);
+  files.write(output, [&](const std::string& file) { io::write_image(file, image); });
 
   const bool cpu = mode == "reference";
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
@@ -291,9 +293,12 @@ int cmd_render(const std::vector<std::string>& args) {
          << json_escape(plan.skipped[i].reason) << "\"}";
     js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": "
        << validation_messages << "\n}\n";
-    std::ofstream out(stats_path);
-    if (!out || !(out << js.str())) throw InputError(stats_path, "cannot write the stats file");
+    files.write(stats_path, [&](const std::string& file) {
+      std::ofstream out(file);
+      if (!out || !(out << js.str()) || !out.flush()) throw InputError(file, "cannot write the stats file");
+    });
   }
+  files.commit();
   return instance ? validation_exit(*instance) : kOk;
 }
 

@@ -11,6 +11,7 @@
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/output_files.hpp"
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
@@ -129,7 +130,8 @@ int cmd_render_atlas(const std::vector<std::string>& args) {
     if (mode != "msa" && a.has(option)) throw InputError(std::string("--") + option, "is an option of --mode msa");
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
-  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+  OutputFiles files;
+  declare_render_files(files, a);
   if (a.has("quantity") && a.values.at("quantity") != "color")
     throw InputError("--quantity", "--mode " + mode + " renders linear colour: use --quantity color");
   const bool shadows = a.flags.count("no-shadows") == 0;
@@ -151,7 +153,7 @@ int cmd_render_atlas(const std::vector<std::string>& args) {
   out.height = size.height;
   out.channels = 3;
   for (size_t i = 0; i < f.rgba.size(); i += 4) out.pixels.insert(out.pixels.end(), {f.rgba[i], f.rgba[i + 1], f.rgba[i + 2]});
-  io::write_image(output, out);
+  files.write(output, [&](const std::string& file) { io::write_image(file, out); });
 
   size_t covered = 0;
   for (size_t i = 3; i < f.rgba.size(); i += 4) covered += f.rgba[i] == 1.0f;
@@ -166,8 +168,11 @@ int cmd_render_atlas(const std::vector<std::string>& args) {
     js << ",\n  \"device\": \"" << json_escape(caps.name) << "\",\n  \"dataset\": \"" << json_escape(scene.name) << "\",\n  \"mode\": \"" << mode
        << "\",\n  \"width\": " << size.width << ",\n  \"height\": " << size.height << ",\n  \"triangles\": " << gpu.triangle_count
        << ",\n  \"covered_pixels\": " << covered << ",\n  \"shadows\": " << (shadows ? "true" : "false") << f.json;
-    write_stats_json(a.values.at("stats"), js.str(), f.passes, instance.validation_log().count());
+    files.write(a.values.at("stats"), [&](const std::string& file) {
+      write_stats_json(file, js.str(), f.passes, instance.validation_log().count());
+    });
   }
+  files.commit();
   return validation_exit(instance);
 }
 

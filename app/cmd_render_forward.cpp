@@ -11,6 +11,7 @@
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/output_files.hpp"
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
@@ -60,7 +61,8 @@ int cmd_render_forward(const std::vector<std::string>& args) {
       parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "quantity", "supersample", "frames", "stats", "device", "shadows"})), {"validate"});
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
-  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+  OutputFiles files;
+  declare_render_files(files, a);
   if (a.has("quantity") && a.values.at("quantity") != "color")
     throw InputError("--quantity", "--mode forward renders linear colour: use --quantity color");
   const uint32_t k = a.has("supersample") ? parse_uint("supersample", a.values.at("supersample")) : 1;
@@ -114,7 +116,7 @@ int cmd_render_forward(const std::vector<std::string>& args) {
     timings.push_back(image.passes);
   }
   image.passes = median_passes(timings);
-  io::write_image(output, rgb_image(image));
+  files.write(output, [&](const std::string& file) { io::write_image(file, rgb_image(image)); });
 
   size_t covered = 0;
   for (size_t i = 3; i < image.rgba.size(); i += 4) covered += image.rgba[i] == 1.0f;
@@ -143,8 +145,11 @@ int cmd_render_forward(const std::vector<std::string>& args) {
     if (image.statistics) js << ",\n  \"fragments\": " << image.fragment_invocations;
     if (shadows) js << ",\n  \"shading_invocations\": " << image.shading_invocations;
     js << ",\n  \"frames\": " << frames;
-    write_stats_json(a.values.at("stats"), js.str(), image.passes, instance.validation_log().count());
+    files.write(a.values.at("stats"), [&](const std::string& file) {
+      write_stats_json(file, js.str(), image.passes, instance.validation_log().count());
+    });
   }
+  files.commit();
   return validation_exit(instance);
 }
 

@@ -10,6 +10,7 @@
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/output_files.hpp"
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
@@ -33,7 +34,8 @@ int cmd_render_htex(const std::vector<std::string>& args) {
                              {"validate", "no-shadows"});
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
-  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+  OutputFiles files;
+  declare_render_files(files, a);
   if (a.has("quantity") && a.values.at("quantity") != "color")
     throw InputError("--quantity", "--mode htex renders linear colour: use --quantity color");
   htex::LayoutOptions layout;
@@ -99,7 +101,7 @@ int cmd_render_htex(const std::vector<std::string>& args) {
   out.height = image.height;
   out.channels = 3;
   out.pixels = image.rgb();
-  io::write_image(output, out);
+  files.write(output, [&](const std::string& file) { io::write_image(file, out); });
 
   const surface::HtexCounters& c = image.counters;
   size_t covered = 0;
@@ -140,8 +142,11 @@ int cmd_render_htex(const std::vector<std::string>& args) {
          << ",\n  \"gi_fallback\": " << (gi_settings.fallback ? "true" : "false") << ",\n  \"gi_reservoir_bytes\": " << gi->reservoir_bytes()
          << ",\n  \"gi_persistent_bytes\": " << gi->persistent_bytes() << ",\n  \"gi_persistent_texels\": " << gi->persistent_texels();
     js << ",\n  \"default_lighting\": " << (lit.directional_lights.size() != scene.directional_lights.size() ? "true" : "false");
-    write_stats_json(a.values.at("stats"), js.str(), image.passes, instance.validation_log().count());
+    files.write(a.values.at("stats"), [&](const std::string& file) {
+      write_stats_json(file, js.str(), image.passes, instance.validation_log().count());
+    });
   }
+  files.commit();
   return validation_exit(instance);
 }
 

@@ -7,6 +7,7 @@
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/output_files.hpp"
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/reference/path_tracer.hpp"
@@ -37,7 +38,8 @@ int cmd_render_path_reference(const std::vector<std::string>& args) {
   const ParsedArgs a = parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "spp", "max-bounces", "seed", "variance", "stats"})), {});
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
-  if (!io::is_supported_image_path(output)) throw InputError(output, "unknown image type: use .png or .pfm");
+  OutputFiles files;
+  declare_render_files(files, a);
   const SurfaceScene scene = surface_scene_from(a, "path-reference");
   const Camera camera = surface_camera(a, scene.camera);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
@@ -53,8 +55,9 @@ int cmd_render_path_reference(const std::vector<std::string>& args) {
     throw InputError("--spp", "must be between 1 and 1048576");
   const reference::PathTracedImage image = reference::path_trace(lit, camera, settings);
 
-  io::write_image(output, rgb_image(image, image.mean));
-  if (a.has("variance")) io::write_pfm(a.values.at("variance"), rgb_image(image, image.variance));
+  files.write(output, [&](const std::string& file) { io::write_image(file, rgb_image(image, image.mean)); });
+  if (a.has("variance"))
+    files.write(a.values.at("variance"), [&](const std::string& file) { io::write_pfm(file, rgb_image(image, image.variance)); });
   const auto& c = image.counts;
   std::cout << "wrote " << output << " (" << image.width << "x" << image.height << ", " << scene.name << ", " << settings.samples_per_pixel
             << " samples per pixel, at most " << settings.max_bounces << " bounces) on the CPU path tracer in "
@@ -70,9 +73,12 @@ int cmd_render_path_reference(const std::vector<std::string>& args) {
        << ",\n  \"seed\": " << settings.seed << ",\n  \"seconds\": " << json_number(image.seconds) << ",\n  \"rays\": " << c.rays
        << ",\n  \"zero_pdf\": " << c.zero_pdf << ",\n  \"non_finite\": " << c.non_finite << ",\n  \"backfacing_normals\": "
        << c.backfacing_normals << ",\n  \"degenerate_triangles\": " << c.degenerate_triangles << "\n}\n";
-    std::ofstream out(a.values.at("stats"));
-    if (!out || !(out << js.str())) throw InputError(a.values.at("stats"), "cannot write the stats file");
+    files.write(a.values.at("stats"), [&](const std::string& file) {
+      std::ofstream out(file);
+      if (!out || !(out << js.str()) || !out.flush()) throw InputError(file, "cannot write the stats file");
+    });
   }
+  files.commit();
   return kOk;
 }
 

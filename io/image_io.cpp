@@ -41,19 +41,15 @@ void check_shape(const std::string& path, const FloatImage& image) {
     throw InputError(path, "image data does not match its size");
 }
 
-// Writes to a temporary file beside the target, then renames, so that a failed write never
-// leaves a half-written image under the requested name.
+// Writes `path` itself; a failed write removes what it left. Putting the file in place whole
+// (a temporary beside it, renamed) is the caller's: app/output_files.hpp.
 template <typename Writer>
-void write_atomically(const std::string& path, Writer&& writer) {
-  const std::string tmp = path + ".partial";
-  if (!writer(tmp)) {
+void write_or_remove(const std::string& path, Writer&& writer) {
+  if (!writer(path)) {
     std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
+    std::filesystem::remove(path, ignored);
     throw InputError(path, "cannot write the image (does the folder exist, is it writable?)");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw InputError(path, "cannot write the image: " + ec.message());
 }
 
 }  // namespace
@@ -66,8 +62,8 @@ void write_png(const std::string& path, const FloatImage& image) {
     const bool alpha = image.channels == 4 && i % 4 == 3;
     bytes[i] = alpha ? static_cast<uint8_t>(std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f)) : to_srgb8(image.pixels[i]);
   }
-  write_atomically(path, [&](const std::string& tmp) {
-    return stbi_write_png(tmp.c_str(), int(image.width), int(image.height), int(image.channels), bytes.data(),
+  write_or_remove(path, [&](const std::string& file) {
+    return stbi_write_png(file.c_str(), int(image.width), int(image.height), int(image.channels), bytes.data(),
                           int(image.width * image.channels)) != 0;
   });
 }
@@ -75,8 +71,8 @@ void write_png(const std::string& path, const FloatImage& image) {
 void write_pfm(const std::string& path, const FloatImage& image) {
   check_shape(path, image);
   if (image.channels != 1 && image.channels != 3) throw InputError(path, "PFM holds 1 or 3 channels");
-  write_atomically(path, [&](const std::string& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
+  write_or_remove(path, [&](const std::string& file) {
+    std::ofstream out(file, std::ios::binary);
     if (!out) return false;
     out << (image.channels == 1 ? "Pf" : "PF") << "\n" << image.width << " " << image.height << "\n-1.0\n";
     const size_t row = size_t(image.width) * image.channels;

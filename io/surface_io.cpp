@@ -492,8 +492,14 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
   if (!result.cache_file.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
+    // Written beside the entry and renamed, so a reader never meets half an entry.
+    const std::string partial = result.cache_file + ".partial-" + std::to_string(::getpid()) + ".vtu";
     try {
-      if (!ec) write_tet_mesh_vtu(result.cache_file, result.mesh);
+      if (!ec) {
+        write_tet_mesh_vtu(partial, result.mesh);
+        std::filesystem::rename(partial, result.cache_file, ec);
+        if (ec) std::filesystem::remove(partial, ec);
+      }
     } catch (const InputError&) {
       // An unwritable cache costs only the next load's time.
     }

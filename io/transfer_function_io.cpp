@@ -86,12 +86,12 @@ void write_paraview_colormap(const std::string& path, const volume::TransferFunc
     for (double v : {p.x, p.opacity, 0.5, 0.0}) points.push_back(v);
   entry["RGBPoints"] = rgb;
   entry["Points"] = points;
-  const std::string partial = path + ".partial";
-  {
-    std::ofstream out(partial);
-    if (!out || !(out << nlohmann::json::array({entry}).dump(2) << "\n")) throw InputError(path, "cannot be written");
+  std::ofstream out(path);
+  if (!out || !(out << nlohmann::json::array({entry}).dump(2) << "\n") || !out.flush()) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+    throw InputError(path, "cannot be written");
   }
-  std::filesystem::rename(partial, path);
 }
 
 volume::TransferFunction transfer_function_from(const std::string& preset_or_path) {

@@ -495,21 +495,14 @@ VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh
   }
   VdbWriteReport result{h, grid->activeVoxelCount()};
 
-  // Written beside the target and renamed, so a failed write never leaves a partial file.
-  const std::string tmp = path + ".partial";
-  std::error_code ec;
   try {
-    openvdb::io::File file(tmp);
+    openvdb::io::File file(path);
     file.write({grid});
     file.close();
   } catch (const std::exception& e) {
-    std::filesystem::remove(tmp, ec);
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
     throw InputError(path, std::string("cannot write the .vdb file: ") + e.what());
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path, "cannot write the .vdb file: " + ec.message());
   }
   return result;
 }

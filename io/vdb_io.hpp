@@ -105,11 +105,11 @@ VdbDense read_vdb_dense(const std::string& path, const VdbReadOptions& options =
 // Writing: a closed triangle surface as a narrow-band level set (OpenVDB's meshToLevelSet, 3
 // voxels each side) or, with fog = true, that level set through sdfToFogVolume (density 1 inside,
 // a linear ramp across the inner band, 0 outside). The grid is called "density" (fog) or
-// "surface" (level set). voxel_size <= 0: the bounding-box diagonal / 128. Written to a temporary
-// file beside `path` and renamed, so a failure leaves nothing. InputError for an empty or open
-// surface, a voxel size giving more than max_voxels voxels in the padded bounding box or over
-// half the box's thinnest side (the grid could not hold the inside), no voxel centre inside the
-// surface, or a file that cannot be written.
+// "surface" (level set). voxel_size <= 0: the bounding-box diagonal / 128. Writes `path` itself
+// and removes it when the write fails (putting the file in place whole is the caller's,
+// app/output_files.hpp). InputError for an empty or open surface, a voxel size giving more than
+// max_voxels voxels in the padded bounding box or over half the box's smallest side (the grid
+// could not hold the inside), no voxel centre inside the surface, or a file that cannot be written.
 struct VdbWriteOptions {
   bool fog = true;
   double voxel_size = 0.0;

@@ -211,19 +211,15 @@ void write_tet_mesh_vtu(const std::string& path, const TetMesh& mesh) {
     for (double v : mesh.point_scalars) scalars->InsertNextValue(v);
     grid->GetPointData()->AddArray(scalars);
   }
-  // Written beside the target and renamed, so a failed write never leaves a partial file.
-  const std::string tmp = path + ".partial";
   const detail::QuietVtk quiet;  // a failed write is an InputError, not console noise
   vtkNew<vtkXMLUnstructuredGridWriter> writer;
-  writer->SetFileName(tmp.c_str());
+  writer->SetFileName(path.c_str());
   writer->SetInputData(grid);
-  std::error_code ec;
   if (writer->Write() != 1) {
-    std::filesystem::remove(tmp, ec);
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
     throw InputError(path, "cannot write the .vtu file (does the folder exist, is it writable?)");
   }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw InputError(path, "cannot write the .vtu file: " + ec.message());
 }
 
 }  // namespace prismoid::io

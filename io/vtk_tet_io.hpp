@@ -60,7 +60,9 @@ std::string conversion_note(const MeshConversion& conversion);
 TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options = {}, MeshConversion* conversion = nullptr);
 
 // Writes the mesh as a .vtu with its extinction as the cell array `extinction` (and the
-// point scalars, if any, as the point array `scalars`). InputError when it cannot write.
+// point scalars, if any, as the point array `scalars`). Writes `path` itself (a failed write
+// removes it; putting the file in place whole is the caller's, app/output_files.hpp).
+// InputError when it cannot write.
 void write_tet_mesh_vtu(const std::string& path, const TetMesh& mesh);
 
 // Whether `path` has an extension read_tet_mesh understands.

@@ -11,8 +11,6 @@
 #include <system_error>
 #include <tuple>
 
-#include <unistd.h>
-
 #include <vtkAxis.h>
 #include <vtkChartLegend.h>
 #include <vtkChartXY.h>
@@ -180,9 +178,9 @@ PlotAxisMap axis_map(vtkAxis* axis, bool horizontal, double height) {
   return m;
 }
 
+// Writes `png` itself, removed again when the write fails; putting it in place whole is the
+// caller's (app/output_files.hpp).
 void write_png(vtkRenderWindow* window, const fs::path& png) {
-  const fs::path dir = png.parent_path().empty() ? fs::path(".") : png.parent_path();
-  const fs::path tmp = dir / ("." + png.filename().string() + ".tmp-" + std::to_string(getpid()));
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(window);
   grab->SetInputBufferTypeToRGB();
@@ -190,17 +188,12 @@ void write_png(vtkRenderWindow* window, const fs::path& png) {
   grab->Update();
   vtkNew<vtkPNGWriter> writer;
   writer->SetInputConnection(grab->GetOutputPort());
-  writer->SetFileName(tmp.c_str());
+  writer->SetFileName(png.c_str());
   writer->Write();
   std::error_code ec;
-  if (writer->GetErrorCode() != 0 || !fs::is_regular_file(tmp, ec) || fs::file_size(tmp, ec) == 0) {
-    fs::remove(tmp, ec);
+  if (writer->GetErrorCode() != 0 || !fs::is_regular_file(png, ec) || fs::file_size(png, ec) == 0) {
+    if (fs::is_regular_file(png, ec)) fs::remove(png, ec);
     throw InputError(png.string(), "cannot write the plot (no permission, or the disk is full?)");
-  }
-  fs::rename(tmp, png, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(png.string(), "cannot write the plot: " + ec.message());
   }
 }
 

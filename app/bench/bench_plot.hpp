@@ -64,8 +64,9 @@ struct PlotLayout {
   std::optional<std::array<double, 2>> pixel_of(double x, double y) const;
 };
 
-// Draws the plot and writes it to png atomically (a temporary file in the same folder, then a
-// rename). A plot with no drawable point is still written, with "no data" under the title.
+// Draws the plot and writes it to png (removed again when the write fails; putting it in place
+// whole is the caller's, app/output_files.hpp). A plot with no drawable point is still written,
+// with "no data" under the title.
 // Throws InputError naming png when it cannot be written (missing folder, a folder in its place,
 // no permission), std::runtime_error without an X display, std::invalid_argument for a zero size.
 PlotLayout write_plot_png(const PlotSpec& spec, const std::filesystem::path& png);

@@ -246,7 +246,7 @@ TEST(Cli, BadVdbInputExitsWithTwoAndLeavesNoFile) {
       {"convert ball:1 " + d + "x.vdb --voxel-size 0", "--voxel-size: must be positive"},
       {"convert ball:1 " + d + "x.vdb --voxel-size 0.00001", "voxels in the bounding box"},
       {"convert " + d + "open.off " + d + "x.vdb", "open.off: the surface is not closed"},
-      {"convert ball:1 /no/such/dir/x.vdb", "/no/such/dir/x.vdb: cannot write the .vdb file"},
+      {"convert ball:1 /no/such/dir/x.vdb", "/no/such/dir/x.vdb: the folder '/no/such/dir' does not exist"},
       {"convert ball:1 " + d + "x.vtu --vdb fog", "--vdb: applies to .vdb output only"},
   };
   for (const auto& c : cases) {

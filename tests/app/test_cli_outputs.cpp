@@ -1,5 +1,7 @@
-// Refused outputs and options: each refused command is checked for its exit code and message
-// and for leaving its folder exactly as it was, byte for byte.
+// Nothing a user owns is lost and nothing half-written is left behind: every file a command
+// writes is declared and checked before the command's work and put in place whole, together
+// with the command's other outputs (app/output_files.hpp). Each refused command is checked for
+// its exit code and message and for leaving its folder exactly as it was, byte for byte.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -74,6 +76,94 @@ void expect_refused_leaving(const fs::path& dir, const std::string& command, con
   EXPECT_EQ(changes(before, snapshot(dir)), "") << command;
 }
 
+// A closed cube of side 2 as OFF: a surface for path-reference and TetGen.
+void write_cube_off(const fs::path& off) {
+  std::ofstream(off) << "OFF\n8 12 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
+                        "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
+}
+
+TEST(CliOutputs, AnOutputThatIsAnInputIsRefusedAndTheInputKeptByteForByte) {
+  const fs::path d = fresh_dir("output-is-input");
+  const std::string v = (d / "v.vtu").string(), vdb = (d / "v.vdb").string(), off = (d / "cube.off").string();
+  ASSERT_EQ(run("convert ball:1 " + v).code, 0);
+  ASSERT_EQ(run("convert ball:1 " + vdb + " --vdb levelset --voxel-size 0.25").code, 0);
+  write_cube_off(off);
+  fs::create_symlink("v.vtu", d / "link.json");  // a symlink to an input counts as the input
+  fs::create_hard_link(v, d / "hard.vtu");        // so does a hard link
+  std::ofstream(d / "t.json") << "[]";            // a --tf file (read before the render would refuse it)
+  // A parallel .vtu whose piece is v.vtu: converting it into its own piece would destroy the piece.
+  std::ofstream(d / "p.pvtu") << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\">\n"
+                                 "  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n"
+                                 "    <Piece Source=\"v.vtu\"/>\n  </PUnstructuredGrid>\n</VTKFile>\n";
+  const std::string o = " --size 8x8 --output " + (d / "o.png").string();
+  expect_refused_leaving(d, "render " + v + o + " --stats " + v, v + ": --stats would write over a file this command reads");
+  expect_refused_leaving(d, "render " + v + " --size 8x8 --stats " + (d / "o.pfm").string() + " --output " + (d / "o.pfm").string(),
+                         "o.pfm: --stats and --output name the same file");
+  expect_refused_leaving(d, "render " + v + o + " --stats " + (d / "link.json").string(), "link.json: --stats would write over '" + v + "'");
+  expect_refused_leaving(d, "render " + v + o + " --quantity color --tf " + (d / "t.json").string() + " --stats " + (d / "t.json").string(),
+                         "t.json: --stats would write over");
+  const std::string path_ref = "render " + off + " --mode path-reference --size 4x4 --spp 1 --output " + (d / "o.pfm").string();
+  expect_refused_leaving(d, path_ref + " --variance " + off, off + ": --variance would write over a file this command reads");
+  expect_refused_leaving(d, path_ref + " --variance " + (d / "var.png").string(), "var.png: --variance writes .pfm files, not .png");
+  expect_refused_leaving(d, "convert " + v + " " + v, v + ": convert would write over a file this command reads");
+  expect_refused_leaving(d, "convert " + v + " " + (d / "hard.vtu").string(), "hard.vtu: convert would write over '" + v + "'");
+  expect_refused_leaving(d, "convert " + vdb + " " + vdb, vdb + ": convert would write over a file this command reads");
+  expect_refused_leaving(d, "convert " + (d / "p.pvtu").string() + " " + v, v + ": convert would write over");
+}
+
+TEST(CliOutputs, AFolderInAnOutputsPlaceLeavesNoPartialFile) {
+  const fs::path d = fresh_dir("folder-in-place");
+  const std::string v = (d / "v.vtu").string();
+  ASSERT_EQ(run("convert ball:1 " + v).code, 0);
+  for (const char* name : {"img.png", "img.pfm", "out.vtu", "out.vdb", "stats.json"}) fs::create_directory(d / name);
+  expect_refused_leaving(d, "render " + v + " --size 8x8 --output " + (d / "img.png").string(), "img.png: is a folder: --output needs a file name");
+  expect_refused_leaving(d, "render " + v + " --size 8x8 --output " + (d / "img.pfm").string(), "img.pfm: is a folder");
+  expect_refused_leaving(d, "render " + v + " --size 8x8 --output " + (d / "o.png").string() + " --stats " + (d / "stats.json").string(),
+                         "stats.json: is a folder: --stats needs a file name");
+  expect_refused_leaving(d, "convert " + v + " " + (d / "out.vtu").string(), "out.vtu: is a folder: convert needs a file name");
+  expect_refused_leaving(d, "convert " + v + " " + (d / "out.vdb").string(), "out.vdb: is a folder: convert needs a file name");
+}
+
+// All outputs of a command are written, or none: a --stats or --variance that cannot be written
+// is refused before the image is rendered, and a command that succeeds leaves exactly its files.
+TEST(CliOutputs, EveryOutputOfACommandIsWrittenOrNone) {
+  const fs::path d = fresh_dir("all-or-none");
+  const std::string v = (d / "v.vtu").string(), off = (d / "cube.off").string();
+  ASSERT_EQ(run("convert ball:1 " + v).code, 0);
+  write_cube_off(off);
+  const std::string missing = (d / "no-such-folder").string();
+  expect_refused_leaving(d, "render " + v + " --size 8x8 --output " + (d / "o.png").string() + " --stats " + missing + "/s.json",
+                         missing + "/s.json: the folder '" + missing + "' does not exist");
+  expect_refused_leaving(d, "render " + off + " --mode path-reference --size 4x4 --spp 1 --output " + (d / "o.pfm").string() + " --variance " +
+                                missing + "/v.pfm",
+                         "v.pfm: the folder '" + missing + "' does not exist");
+  std::ofstream(d / "o.png") << "an older image";  // replaced whole
+  const auto before = snapshot(d);
+  const CliRun r = run("render " + v + " --size 8x8 --output " + (d / "o.png").string() + " --stats " + (d / "s.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto after = snapshot(d);
+  EXPECT_EQ(after.size(), before.size() + 1) << changes(before, after);  // s.json added, o.png replaced, nothing else
+  EXPECT_EQ(after.at("o.png").substr(1, 3), "PNG");
+  EXPECT_NE(after.at("s.json").find("\"validation_messages\""), std::string::npos);
+}
+
+// A folder that takes no new file is said to be so. /proc refuses new files even to root (with
+// ENOENT); a folder without write permission does so for other users.
+TEST(CliOutputs, AnUnwritableFolderIsSaidToBe) {
+  const CliRun r = run("render --size 8x8 --output /proc/prismoid-test.png");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("/proc/prismoid-test.png: the folder '/proc' is not writable"), std::string::npos) << r.err;
+  const CliRun vdb = run("convert ball:1 /proc/prismoid-test.vdb");
+  EXPECT_EQ(vdb.code, 2);
+  EXPECT_NE(vdb.err.find("/proc/prismoid-test.vdb: the folder '/proc' is not writable"), std::string::npos) << vdb.err;
+  if (::geteuid() != 0) {  // root writes into a read-only folder regardless
+    const fs::path d = fresh_dir("read-only");
+    fs::permissions(d, fs::perms::owner_read | fs::perms::owner_exec);
+    expect_refused_leaving(d, "render --size 8x8 --output " + (d / "x.png").string(), "x.png: the folder '" + d.string() + "' is not writable");
+    fs::permissions(d, fs::perms::owner_all);
+  }
+}
+
 // A voxel size the grid cannot hold the inside at is refused before OpenVDB runs, saying why
 // and what size would do; one too fine for the voxel budget says how many voxels it makes.
 TEST(CliOutputs, ConvertRefusesAVoxelSizeTheGridCannotHoldUpFront) {
@@ -98,6 +188,66 @@ TEST(CliOutputs, AFieldOfViewOutsideItsRangeIsSaidToBe) {
   expect_refused_leaving(d, "render cornell-box --mode path-reference --size 4x4 --fovy 0 --output " + (d / "o.pfm").string(), says);
   expect_refused_leaving(d, "render --size 8x8 --fovy 180 --output " + (d / "o.png").string(), "--fovy: '180' degrees");
   expect_refused_leaving(d, "render --size 8x8 --fovy -5 --output " + (d / "o.png").string(), "--fovy: '-5' degrees");
+}
+
+// A bench that fails removes the folders it made for --out, and never what it did not make.
+TEST(CliOutputs, AFailedBenchRemovesOnlyTheFoldersItCreated) {
+  const fs::path d = fresh_dir("bench-out");
+  const std::string bench = "bench " + (d / "missing.vtu").string() + " --quick --no-peers --no-plots --sweeps modes --out ";
+  const CliRun r = run(bench + (d / "new" / "deeper").string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("missing.vtu: file does not exist"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "new"));
+  fs::create_directories(d / "mine");
+  std::ofstream(d / "mine" / "keep.txt") << "the user's";
+  expect_refused_leaving(d, bench + (d / "mine").string(), "missing.vtu: file does not exist");
+  std::ofstream(d / "taken") << "a file where the folder would go";
+  expect_refused_leaving(d, bench + (d / "taken").string(), "taken: is not a folder: --out names the folder to write into");
+}
+
+// Runs prismoid with `args` in the background, sends `sig` as soon as a temporary output file
+// appears in `dir` (the command is then mid-run), and returns the wait status.
+int signal_mid_run(const fs::path& dir, const std::vector<std::string>& args, int sig) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+    std::vector<char*> argv{const_cast<char*>(PRISMOID_EXE)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(PRISMOID_EXE, argv.data());
+    _exit(127);
+  }
+  bool seen = false;
+  const auto start = std::chrono::steady_clock::now();
+  while (!seen && std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
+    for (const auto& e : fs::directory_iterator(dir)) seen = seen || e.path().filename().string().find("partial") != std::string::npos;
+    if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_TRUE(seen) << "no temporary output appeared while the command ran";
+  kill(pid, sig);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return status;
+}
+
+// Ctrl-C or SIGTERM during a render or a convert leaves no partial or temporary file: the
+// command's temporaries exist from its start, so the signal lands while they do.
+TEST(CliOutputs, SignalsMidRunLeaveNoPartialFile) {
+  for (const int sig : {SIGTERM, SIGINT}) {
+    for (const std::string verb : {"convert", "render"}) {
+      const fs::path d = fresh_dir("signal-" + verb + "-" + std::to_string(sig));
+      const std::vector<std::string> args =
+          verb == "convert" ? std::vector<std::string>{"convert", "field:marschner-lobb:48", (d / "big.vtu").string()}
+                            : std::vector<std::string>{"render", "field:marschner-lobb:8", "--mode", "reference", "--size", "200x200",
+                                                       "--output", (d / "r.pfm").string(), "--stats", (d / "r.json").string()};
+      const int status = signal_mid_run(d, args, sig);
+      // Ended by the signal, or (Ctrl-C during a load with its progress bar) cancelled: 130.
+      EXPECT_TRUE((WIFSIGNALED(status) && WTERMSIG(status) == sig) || (WIFEXITED(status) && WEXITSTATUS(status) == 130))
+          << verb << " signal " << sig << ": status " << status;
+      EXPECT_EQ(changes({}, snapshot(d)), "") << verb << " signal " << sig;
+    }
+  }
 }
 
 }  // namespace
