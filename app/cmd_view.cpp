@@ -99,6 +99,14 @@ ViewerOptions window_options(const ParsedArgs& a) {
   return options;
 }
 
+// What the window was started from: its outputs may not replace these.
+std::vector<std::string> window_inputs(const ParsedArgs& a) {
+  std::vector<std::string> inputs = a.files;
+  for (const char* option : {"tf", "script"})
+    if (a.has(option)) inputs.push_back(a.values.at(option));
+  return inputs;
+}
+
 int report_window(const ViewerReport& report, const ViewerOptions& options, double seconds) {
   std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << " in " << seconds << " s ("
             << report.frames_presented / seconds << " frames per second, window set-up included)\n";
@@ -113,6 +121,7 @@ int view_surface(const ParsedArgs& a) {
   if (a.files.size() != 1) throw InputError("view", "the surface window shows one scene: give one FILE");
   const SurfaceScene scene = surface_scene_from(a, a.has("mode") ? a.values.at("mode") : "forward");
   ViewerOptions options = window_options(a);
+  options.inputs = window_inputs(a);
   options.mode = a.has("mode") ? a.values.at("mode") : "";
   const Camera camera = surface_camera(a, scene.camera);
   bool any_camera = false;
@@ -143,6 +152,7 @@ int cmd_view(const std::vector<std::string>& args) {
   state.datasets.push_back(make_dataset(std::move(choice.mesh), field_of(first)));
   for (size_t i = 1; i < a.files.size(); ++i) state.datasets.push_back(load_for_view(load_request_from(a, a.files[i], color), color));
   ViewerOptions options = window_options(a);
+  options.inputs = window_inputs(a);
   options.settings = choice.settings;
   options.mode = choice.mode;
   bool any_camera = false;

@@ -10,7 +10,8 @@ namespace prismoid::app {
 
 namespace {
 
-constexpr const char* kErrorPopup = "Could not open";
+// The popup's identity; its title (before ###) changes with what failed.
+constexpr const char* kErrorPopupId = "###prismoid-error";
 
 void draw_datasets(const ViewState& state, DataRequests& requests) {
   for (size_t i = 0; i < state.datasets.size(); ++i) {
@@ -68,13 +69,13 @@ void draw_data_section(const ViewState& state, DataPanel& panel, DataRequests& r
 
 void draw_load_error_popup(DataPanel& panel) {
   if (panel.show_error) {
-    ImGui::OpenPopup(kErrorPopup);
+    ImGui::OpenPopup(kErrorPopupId);
     panel.show_error = false;
   }
   const ImGuiViewport* viewport = ImGui::GetMainViewport();
   ImGui::SetNextWindowPos(viewport->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
   ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 0.0f), ImVec2(0.8f * viewport->WorkSize.x, 0.8f * viewport->WorkSize.y));
-  if (ImGui::BeginPopupModal(kErrorPopup, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+  if (ImGui::BeginPopupModal((panel.error_title + kErrorPopupId).c_str(), nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
     ImGui::PushTextWrapPos(0.6f * viewport->WorkSize.x);
     ImGui::TextUnformatted(panel.error.c_str());
     ImGui::PopTextWrapPos();

@@ -33,7 +33,8 @@ struct DataPanel {
   char array[128] = "";  // the array to read from the next file opened (empty: none)
   LoadStatus load;
   std::vector<RecentEntry> recent;
-  std::string error;           // the last failed load's message, for the popup
+  std::string error;           // the last failed load's (or request's) message, for the popup
+  std::string error_title = "Could not open";
   bool show_error = false;     // open the popup on the next frame
 };
 
@@ -46,7 +47,8 @@ struct DataRequests {
 };
 
 void draw_data_section(const ViewState& state, DataPanel& panel, DataRequests& requests);
-// The modal "could not open" popup; drawn every frame (it shows only while open).
+// The modal error popup ("Could not open", or a failed request's title); drawn every frame (it
+// shows only while open).
 void draw_load_error_popup(DataPanel& panel);
 
 }  // namespace prismoid::app

@@ -41,6 +41,7 @@ struct UiRequests {
   std::optional<std::string> apply_camera_line;
   std::optional<std::string> screenshot;  // path
   std::optional<RenderRequest> render;
+  std::optional<std::string> import_tf, export_tf;  // ParaView colour-map paths
   DataRequests data;  // open, cancel, show, active
 };
 
@@ -63,7 +64,7 @@ void draw_view_section(PanelState& panel, const CameraController& camera, UiRequ
 void draw_mode_section(ViewState& state, PanelState& panel, uint32_t max_tetlet_size);
 // The passes of the last frame, their times and why each runs.
 void draw_frame_plan(const ViewState& state, const FrameStats& stats);
-void draw_tf_section(ViewState& state, PanelState& panel);
+void draw_tf_section(ViewState& state, PanelState& panel, UiRequests& requests);
 // The HUD in the top-right corner.
 void draw_hud(const FrameStats& stats, const ViewState& state);
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <utility>
 
+#include "app/output_files.hpp"
 #include "renderer/vk/device.hpp"
 
 namespace prismoid::app {
@@ -26,10 +27,14 @@ void SwapchainCapture::record(VkCommandBuffer cmd, VkImage image, VkExtent2D ext
   path_ = std::move(path);
 }
 
-std::optional<std::string> SwapchainCapture::finish() {
+std::optional<std::string> SwapchainCapture::finish(const std::vector<std::string>& inputs) {
   if (path_.empty()) return std::nullopt;
   std::string path = std::exchange(path_, {});
-  io::write_png(path, swapchain_pixels(buffer_.mapped(), extent_, format_));
+  OutputFiles files;
+  for (const std::string& in : inputs) files.input(in);
+  files.output(path, "screenshot", {".png"});
+  files.write(path, [&](const std::string& file) { io::write_png(file, swapchain_pixels(buffer_.mapped(), extent_, format_)); });
+  files.commit();
   return path;
 }
 

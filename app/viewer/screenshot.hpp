@@ -4,6 +4,7 @@
 // frame's fence has signalled.
 #include <optional>
 #include <string>
+#include <vector>
 #include <vulkan/vulkan.h>
 
 #include "io/image_io.hpp"
@@ -19,9 +20,9 @@ class SwapchainCapture {
   // image goes back to PRESENT_SRC. `path` is written by finish().
   void record(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, VkFormat format, std::string path);
   bool pending() const { return !path_.empty(); }
-  // After the recorded frame has finished: writes the PNG, returns its path (nullopt if none
-  // was pending).
-  std::optional<std::string> finish();
+  // After the recorded frame has finished: writes the PNG through app/output_files.hpp (never
+  // over one of `inputs`), returns its path (nullopt if none was pending).
+  std::optional<std::string> finish(const std::vector<std::string>& inputs);
 
  private:
   const vk::Device& device_;

@@ -59,7 +59,7 @@ UiRequests draw_side_panel(ViewState& state, PanelState& panel, const FrameStats
     if (ImGui::CollapsingHeader("Mode", ImGuiTreeNodeFlags_DefaultOpen)) draw_mode_section(state, panel, max_tetlet_size);
     if (state.settings.resolve.quantity == volume::Quantity::Color &&
         ImGui::CollapsingHeader("Transfer function", ImGuiTreeNodeFlags_DefaultOpen))
-      draw_tf_section(state, panel);
+      draw_tf_section(state, panel, requests);
     if (ImGui::CollapsingHeader("Compare", ImGuiTreeNodeFlags_DefaultOpen)) draw_compare_section(state, panel);
     if (ImGui::CollapsingHeader("Frame plan", ImGuiTreeNodeFlags_DefaultOpen)) draw_frame_plan(state, stats);
     ImGui::PopItemWidth();

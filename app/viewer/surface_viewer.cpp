@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 
+#include "app/output_files.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/imgui_layer.hpp"
 #include "app/viewer/screenshot.hpp"
@@ -44,6 +45,7 @@ struct SurfaceSession {
   std::vector<vk::PassTiming> passes;
   surface::SurfaceRenderer::FrameCounts counts;
   double cpu_frame_ms = 0.0;
+  std::vector<std::string> inputs;  // the scene's file: no output of the window may replace it
 
   double aspect() const {
     const VkExtent2D e = swapchain.extent();
@@ -92,6 +94,10 @@ struct SurfaceSession {
   }
   // This view at width x height through the same renderer (no panels), as PFM or PNG.
   void render_at(uint32_t width, uint32_t height, const std::string& path) {
+    check_render_size(width, height);
+    OutputFiles files;
+    for (const std::string& in : inputs) files.input(in);
+    files.output(path, "render", kImageExtensions);
     device.wait_idle();
     const VkExtent2D window_extent = renderer.extent();
     renderer.resize({width, height});
@@ -105,8 +111,13 @@ struct SurfaceSession {
     image.height = height;
     image.channels = 3;
     for (size_t i = 0; i < rgba.size(); i += 4) image.pixels.insert(image.pixels.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
-    io::write_image(path, image);
+    files.write(path, [&](const std::string& file) { io::write_image(file, image); });
+    files.commit();
     report.files_written.push_back(path);
+  }
+  void request_screenshot(const std::string& path) {
+    check_output(path, "screenshot", {".png"}, inputs);
+    capture_path = path;
   }
   void on_key(const KeyPress& key) {
     if (camera_key(camera, key, aspect())) return;
@@ -117,7 +128,13 @@ struct SurfaceSession {
       case GLFW_KEY_L: set_shadows(!renderer.shadows()); break;
       case GLFW_KEY_H: show_ui = !show_ui; break;
       case GLFW_KEY_C: copy_camera(); break;
-      case GLFW_KEY_P: capture_path = "prismoid-screenshot-" + std::to_string(++screenshot_count) + ".png"; break;
+      case GLFW_KEY_P:
+        try {
+          request_screenshot("prismoid-screenshot-" + std::to_string(++screenshot_count) + ".png");
+        } catch (const InputError& e) {
+          message(e.what());
+        }
+        break;
       case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window.get(), GLFW_TRUE); break;
       default: break;
     }
@@ -130,10 +147,10 @@ struct SurfaceSession {
     else if (c.verb == "shadows") set_shadows(script_on_off(c));
     else if (run_camera_command(camera, c, swapchain.extent(), bounds)) {
     } else if (c.verb == "ui") show_ui = script_on_off(c);
-    else if (c.verb == "screenshot") capture_path = a[0];
+    else if (c.verb == "screenshot") request_screenshot(a[0]);
     else if (c.verb == "render") render_at(whole(0), whole(1), a[2]);
     else if (c.verb == "print-camera") copy_camera();
-    else if (c.verb == "resize") glfwSetWindowSize(window.get(), int(whole(0)), int(whole(1)));
+    else if (c.verb == "resize") resize_window(window, whole(0), whole(1));
     else if (c.verb == "close") glfwSetWindowShouldClose(window.get(), GLFW_TRUE);
     else message(c.where + ": " + c.verb + " is not available in the surface window");
   }
@@ -219,6 +236,7 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
                    options.camera ? CameraController(bounds, *options.camera) : CameraController(bounds, scene.camera),
                    bounds, report, renderer.modes().front()};
   s.show_ui = options.show_ui;
+  s.inputs = options.inputs;
   if (!options.mode.empty()) {
     if (const std::string problem = renderer.mode_problem(options.mode); !problem.empty()) throw InputError("--mode " + options.mode, problem);
     s.mode = options.mode;
@@ -231,7 +249,7 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
   const VkCommandBuffer cmd = frame_resources.cmd;
 
   auto recreate = [&] { recreate_swapchain(swapchain, window, ui, report); };
-  auto finish_frame_capture = [&] { finish_capture(capture, report, [&](const std::string& m) { s.message(m); }); };
+  auto finish_frame_capture = [&] { finish_capture(capture, report, s.inputs, [&](const std::string& m) { s.message(m); }); };
 
   bool frame_in_flight = false;
   MouseState mouse;
@@ -244,7 +262,7 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
     for (; next_command < options.script.size() && options.script[next_command].frame <= frame_index; ++next_command) {
       try {
         s.run(options.script[next_command]);
-      } catch (const InputError& e) {
+      } catch (const std::exception& e) {  // whatever a command meets, the window goes on
         s.message(options.script[next_command].where + ": " + e.what());
       }
     }

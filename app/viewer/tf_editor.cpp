@@ -3,11 +3,9 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <exception>
 
 #include "app/viewer/panels.hpp"
 #include "app/viewer/tf_edit.hpp"
-#include "io/transfer_function_io.hpp"
 
 namespace prismoid::app {
 
@@ -65,7 +63,7 @@ void draw_opacity_plot(volume::TransferFunction& tf, PanelState& panel) {
 
 }  // namespace
 
-void draw_tf_section(ViewState& state, PanelState& panel) {
+void draw_tf_section(ViewState& state, PanelState& panel, UiRequests& requests) {
   volume::TransferFunction& tf = state.settings.resolve.transfer;
   if (ImGui::BeginCombo("preset", state.tf_preset.c_str())) {
     for (const auto& name : volume::preset_names())
@@ -88,28 +86,9 @@ void draw_tf_section(ViewState& state, PanelState& panel) {
     tf.range_hi = state.dataset().scalar_hi;
   }
   ImGui::InputText("file", panel.tf_path, sizeof panel.tf_path);
-  if (ImGui::Button("import ParaView JSON")) {
-    try {
-      volume::TransferFunction read = io::read_paraview_colormap(panel.tf_path);
-      read.range_lo = tf.range_lo;
-      read.range_hi = tf.range_hi;
-      read.density_scale = tf.density_scale;
-      tf = std::move(read);
-      state.tf_preset = tf.name;
-      panel.message = std::string("imported ") + panel.tf_path;
-    } catch (const std::exception& e) {
-      panel.message = e.what();
-    }
-  }
+  if (ImGui::Button("import ParaView JSON")) requests.import_tf = std::string(panel.tf_path);
   ImGui::SameLine();
-  if (ImGui::Button("export ParaView JSON")) {
-    try {
-      io::write_paraview_colormap(panel.tf_path, tf);
-      panel.message = std::string("wrote ") + panel.tf_path;
-    } catch (const std::exception& e) {
-      panel.message = e.what();
-    }
-  }
+  if (ImGui::Button("export ParaView JSON")) requests.export_tf = std::string(panel.tf_path);
 }
 
 }  // namespace prismoid::app

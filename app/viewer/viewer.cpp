@@ -71,6 +71,8 @@ void run_script(ViewerSession& s, const CompareView& compare, const std::vector<
       s.run(script[next]);
     } catch (const InputError& e) {
       s.message(script[next].where + ": " + e.what());
+    } catch (const std::exception& e) {  // whatever a command meets, the window goes on
+      s.failed("Error", script[next].where + ": " + e.what());
     }
   }
   if (!held()) ++s.script_frame;
@@ -153,6 +155,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   s.loading.recent_file = options.recent_file;
   s.loading.renderer_slot = &renderer_slot;
   s.loading.drawn_mesh = s.state.drawn().mesh;
+  s.inputs = options.inputs;
   const uint32_t max_tetlet = volume::max_tetlet_size(device);
 
   vk::GpuTimer timer(device, 16);
@@ -162,7 +165,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   const VkCommandBuffer cmd = frame_resources.cmd;
 
   auto recreate = [&] { recreate_swapchain(swapchain, window, ui, report); };
-  auto finish_frame_capture = [&] { finish_capture(capture, report, [&](const std::string& m) { s.message(m); }); };
+  auto finish_frame_capture = [&] { finish_capture(capture, report, s.inputs, [&](const std::string& m) { s.failed("Could not write", m); }); };
 
   bool frame_in_flight = false;
   MouseState mouse;

@@ -33,6 +33,9 @@ struct ViewerOptions {
   bool show_ui = true;
   LoadRequest open_defaults;          // how files opened in the window are read (density scale, role)
   std::filesystem::path recent_file;  // the recent-files list (recent_files_path()); empty: none kept
+  // The files read to start the window (datasets, --tf, --script): the window's screenshots,
+  // renders and exports may not replace them, nor any file it opens later.
+  std::vector<std::string> inputs;
 };
 
 // One dataset the window tried to open.
@@ -61,6 +64,7 @@ struct ViewerReport {
   std::vector<std::string> files_written;  // screenshots and renders, in order
   std::vector<std::string> camera_lines;   // printed by C / print-camera
   std::vector<std::string> messages;       // refused commands and settings, errors
+  std::vector<std::string> error_popups;   // "TITLE: TEXT" of each error popup opened (failed loads and requests)
   std::vector<std::pair<uint32_t, uint64_t>> resident_kib;  // (frame, resident memory) at each `rss`
   std::vector<LoadRecord> loads;           // opened in the window, in the order they ended
   size_t datasets = 0;                     // in the scene at the end

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <unistd.h>
 
 #include "app/cli_args.hpp"
 #include "app/frame_image.hpp"
+#include "app/output_files.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/dataset_list.hpp"
 #include "app/viewer/compare.hpp"
@@ -74,6 +76,22 @@ void ViewerSession::message(const std::string& text) {
   std::cerr << "prismoid: " << text << "\n";
 }
 
+void ViewerSession::failed(const std::string& title, const std::string& text) {
+  message(text);
+  panel.data.error = text;
+  panel.data.error_title = title;
+  panel.data.show_error = true;
+  report.error_popups.push_back(title + ": " + text);
+}
+
+void ViewerSession::attempt(const std::string& title, const std::string& where, const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const std::exception& e) {  // what the user asked for failed; the window goes on
+    failed(title, (where.empty() ? std::string() : where + ": ") + e.what());
+  }
+}
+
 void ViewerSession::copy_camera() {
   const std::string line = camera_line(camera.camera());
   glfwSetClipboardString(window.get(), line.c_str());
@@ -83,12 +101,58 @@ void ViewerSession::copy_camera() {
 }
 
 void ViewerSession::render_at(uint32_t width, uint32_t height, const std::string& path) {
-  // The same path as `prismoid render`: an offscreen frame of this camera and these settings.
+  // The same path as `prismoid render`: an offscreen frame of this camera and these settings,
+  // its size within render's --size bounds and its file checked before any work.
+  check_render_size(width, height);
+  OutputFiles files;
+  for (const std::string& in : inputs) files.input(in);
+  files.output(path, "render", kImageExtensions);
   device.wait_idle();
   const frame::OffscreenFrame frame = renderer.render_offscreen(camera.camera(), state.settings, {width, height});
-  io::write_image(path, frame_image(frame, path, state.settings.resolve.quantity == volume::Quantity::Color));
+  const io::FloatImage image = frame_image(frame, path, state.settings.resolve.quantity == volume::Quantity::Color);
+  files.write(path, [&](const std::string& file) { io::write_image(file, image); });
+  files.commit();
   report.files_written.push_back(path);
   panel.message = "wrote " + path;
+}
+
+void ViewerSession::request_screenshot(const std::string& path) {
+  check_output(path, "screenshot", {".png"}, inputs);
+  capture_path = path;
+}
+
+void ViewerSession::import_transfer_function(const std::string& path) {
+  volume::ResolveSettings& r = state.settings.resolve;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a folder, not a ParaView colour-map file");
+  inputs.push_back(path);
+  volume::TransferFunction read = io::read_paraview_colormap(path);
+  read.range_lo = r.transfer.range_lo;
+  read.range_hi = r.transfer.range_hi;
+  read.density_scale = r.transfer.density_scale;
+  r.transfer = std::move(read);
+  state.tf_preset = r.transfer.name;
+  panel.message = "imported " + path;
+}
+
+void ViewerSession::export_transfer_function(const std::string& path) {
+  OutputFiles files;
+  for (const std::string& in : inputs) files.input(in);
+  files.output(path, "tf-export", {".json"});
+  files.write(path, [&](const std::string& file) { io::write_paraview_colormap(file, state.settings.resolve.transfer); });
+  files.commit();
+  report.files_written.push_back(path);
+  panel.message = "wrote " + path;
+}
+
+void check_render_size(uint32_t width, uint32_t height) {
+  if (width == 0 || height == 0 || width > 16384 || height > 16384) throw InputError("render", "each side must be between 1 and 16384 pixels");
+}
+
+void resize_window(Window& window, uint32_t width, uint32_t height) {
+  // X ends the process on a zero size (BadValue), so it never reaches the window system.
+  if (width == 0 || height == 0 || width > 16384 || height > 16384) throw InputError("resize", "each side must be between 1 and 16384 pixels");
+  glfwSetWindowSize(window.get(), int(width), int(height));
 }
 
 bool camera_key(CameraController& camera, const KeyPress& key, double aspect) {
@@ -136,7 +200,9 @@ void ViewerSession::on_key(const KeyPress& key) {
   switch (key.key) {
     case GLFW_KEY_H: state.show_ui = !state.show_ui; break;
     case GLFW_KEY_C: copy_camera(); break;
-    case GLFW_KEY_P: capture_path = "prismoid-screenshot-" + std::to_string(++screenshot_count) + ".png"; break;
+    case GLFW_KEY_P:
+      attempt("Could not write", "", [&] { request_screenshot("prismoid-screenshot-" + std::to_string(++screenshot_count) + ".png"); });
+      break;
     case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window.get(), GLFW_TRUE); break;
     default: break;
   }
@@ -155,14 +221,10 @@ void ViewerSession::apply(const UiRequests& r) {
       message(e.what());
     }
   }
-  if (r.screenshot) capture_path = *r.screenshot;
-  if (r.render) {
-    try {
-      render_at(r.render->width, r.render->height, r.render->path);
-    } catch (const InputError& e) {
-      message(e.what());
-    }
-  }
+  if (r.screenshot) attempt("Could not write", "", [&] { request_screenshot(*r.screenshot); });
+  if (r.render) attempt("Could not write", "", [&] { render_at(r.render->width, r.render->height, r.render->path); });
+  if (r.import_tf) attempt("Could not open", "", [&] { import_transfer_function(*r.import_tf); });
+  if (r.export_tf) attempt("Could not write", "", [&] { export_transfer_function(*r.export_tf); });
 }
 
 void ViewerSession::run(const ScriptCommand& c) {
@@ -176,16 +238,8 @@ void ViewerSession::run(const ScriptCommand& c) {
   else if (c.verb == "quantity") message(set_quantity(state, quantity_of_name(a[0])));
   else if (c.verb == "tf") {
     const auto names = volume::preset_names();
-    if (std::find(names.begin(), names.end(), a[0]) != names.end()) {
-      message(set_preset(state, a[0]));
-    } else {
-      volume::TransferFunction read = io::read_paraview_colormap(a[0]);
-      read.range_lo = r.transfer.range_lo;
-      read.range_hi = r.transfer.range_hi;
-      read.density_scale = r.transfer.density_scale;
-      r.transfer = std::move(read);
-      state.tf_preset = r.transfer.name;
-    }
+    if (std::find(names.begin(), names.end(), a[0]) != names.end()) message(set_preset(state, a[0]));
+    else attempt("Could not open", c.where, [&] { import_transfer_function(a[0]); });
   } else if (c.verb == "tf-range") {
     if (a.size() == 1 && a[0] == "data") {
       r.transfer.range_lo = state.dataset().scalar_lo;
@@ -197,8 +251,7 @@ void ViewerSession::run(const ScriptCommand& c) {
       throw InputError(c.where, "tf-range takes LO HI with HI > LO, or data");
     }
   } else if (c.verb == "tf-export") {
-    io::write_paraview_colormap(a[0], r.transfer);
-    report.files_written.push_back(a[0]);
+    attempt("Could not write", c.where, [&] { export_transfer_function(a[0]); });
   } else if (c.verb == "tetlet-size") r.tetlet_size = whole(0);
   else if (c.verb == "shared-vertices") {
     const bool on = script_on_off(c);
@@ -211,10 +264,10 @@ void ViewerSession::run(const ScriptCommand& c) {
   else if (run_camera_command(camera, c, swapchain.extent(), state.drawn().bounds)) {
   }
   else if (c.verb == "ui") state.show_ui = script_on_off(c);
-  else if (c.verb == "screenshot") capture_path = a[0];
-  else if (c.verb == "render") render_at(whole(0), whole(1), a[2]);
+  else if (c.verb == "screenshot") attempt("Could not write", c.where, [&] { request_screenshot(a[0]); });
+  else if (c.verb == "render") attempt("Could not write", c.where, [&] { render_at(whole(0), whole(1), a[2]); });
   else if (c.verb == "print-camera") copy_camera();
-  else if (c.verb == "resize") glfwSetWindowSize(window.get(), int(whole(0)), int(whole(1)));
+  else if (c.verb == "resize") attempt("Refused", c.where, [&] { resize_window(window, whole(0), whole(1)); });
   else if (c.verb == "iconify") glfwIconifyWindow(window.get());
   else if (c.verb == "restore") glfwRestoreWindow(window.get());
   else if (c.verb == "close") glfwSetWindowShouldClose(window.get(), GLFW_TRUE);

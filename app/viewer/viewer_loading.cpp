@@ -55,7 +55,9 @@ void finish(ViewerSession& s, DatasetLoad& job) {
     } else {
       s.message("could not open: " + outcome.error);
       s.panel.data.error = outcome.error;
+      s.panel.data.error_title = "Could not open";
       s.panel.data.show_error = true;
+      s.report.error_popups.push_back("Could not open: " + outcome.error);
     }
   }
   s.report.loads.push_back(std::move(record));
@@ -65,6 +67,7 @@ void finish(ViewerSession& s, DatasetLoad& job) {
 
 void open_datasets(ViewerSession& s, const std::vector<std::string>& paths, const std::string& array) {
   for (const std::string& path : paths) {
+    s.inputs.push_back(path);  // read from now on: no output of the window may replace it
     LoadRequest r = s.loading.defaults;
     r.path = path;
     r.array = array;

@@ -3,8 +3,10 @@
 // panels and script commands share (viewer.cpp runs the frame loop, viewer_actions.cpp the
 // actions).
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/viewer/camera_controller.hpp"
 #include "app/viewer/imgui_layer.hpp"
@@ -39,15 +41,31 @@ struct ViewerSession {
   uint32_t script_frame = 0;
   // A script's wait-reference: its commands pause until the difference view settles or then.
   std::optional<std::chrono::steady_clock::time_point> reference_deadline;
+  // The files the window read (datasets, the script, colour maps): its outputs may not be any
+  // of them (app/output_files.hpp).
+  std::vector<std::string> inputs;
 
   double aspect() const;
   void message(const std::string& text);  // shown in the panel, kept in the report, on stderr
+  // A request that failed (a file not read or written, a size refused): the message, and the
+  // error popup titled `title`.
+  void failed(const std::string& title, const std::string& text);
+  // Runs `action`; an exception from it becomes failed(title, where: what) and the window goes on.
+  void attempt(const std::string& title, const std::string& where, const std::function<void()>& action);
   void on_key(const KeyPress& key);
   void run(const ScriptCommand& command);
   void apply(const UiRequests& requests);
   void copy_camera();
   void render_at(uint32_t width, uint32_t height, const std::string& path);
+  void request_screenshot(const std::string& path);  // checked now, written when the frame finishes
+  void import_transfer_function(const std::string& path);  // keeps the range and density scale
+  void export_transfer_function(const std::string& path);
 };
+
+// The sizes the window accepts for `render W H FILE` and `resize W H`: render's --size bounds
+// (1 to 16384 pixels a side); InputError naming the command otherwise.
+void check_render_size(uint32_t width, uint32_t height);
+void resize_window(Window& window, uint32_t width, uint32_t height);
 
 // The key a script names: a letter, digit or Escape, optionally after "shift+".
 KeyPress key_from_name(const std::string& name);

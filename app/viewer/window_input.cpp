@@ -72,10 +72,11 @@ void recreate_swapchain(vk::Swapchain& swapchain, const Window& window, ImGuiLay
   ++report.swapchain_recreations;
 }
 
-void finish_capture(SwapchainCapture& capture, ViewerReport& report, const std::function<void(const std::string&)>& message) {
+void finish_capture(SwapchainCapture& capture, ViewerReport& report, const std::vector<std::string>& inputs,
+                    const std::function<void(const std::string&)>& message) {
   try {
-    if (const auto written = capture.finish()) report.files_written.push_back(*written);
-  } catch (const InputError& e) {  // an unwritable path: say so, keep the window
+    if (const auto written = capture.finish(inputs)) report.files_written.push_back(*written);
+  } catch (const std::exception& e) {  // an unwritable path: say so, keep the window
     message(e.what());
   }
 }

@@ -62,9 +62,10 @@ struct FrameResources {
 // A new swapchain at the window's framebuffer size (resized or out of date), the UI told, the
 // report counting it.
 void recreate_swapchain(vk::Swapchain& swapchain, const Window& window, ImGuiLayer& ui, ViewerReport& report);
-// After the frame a screenshot was recorded in has finished: writes it and lists it in the
-// report; an unwritable path goes to `message` (the window stays).
-void finish_capture(SwapchainCapture& capture, ViewerReport& report, const std::function<void(const std::string&)>& message);
+// After the frame a screenshot was recorded in has finished: writes it (never over one of
+// `inputs`) and lists it in the report; a failure goes to `message` (the window stays).
+void finish_capture(SwapchainCapture& capture, ViewerReport& report, const std::vector<std::string>& inputs,
+                    const std::function<void(const std::string&)>& message);
 
 // Waits for the acquired image before the blit writes it; signals `done` for presentation.
 void submit_frame(const vk::Device& device, VkCommandBuffer cmd, VkSemaphore acquired, VkSemaphore done, VkFence fence);

@@ -250,5 +250,38 @@ TEST(CliOutputs, SignalsMidRunLeaveNoPartialFile) {
   }
 }
 
+// The window's script commands that name a bad file or size are reported and the window goes
+// on to its next commands; none writes over the dataset it opened.
+TEST(CliOutputs, TheWindowReportsBadScriptCommandsAndGoesOn) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "needs a display: run through scripts/test.sh (Xvfb)";
+  const fs::path d = fresh_dir("window");
+  const std::string v = (d / "v.vtu").string();
+  ASSERT_EQ(run("convert field:blobs:3 " + v).code, 0);
+  fs::create_directory(d / "folder.json");
+  std::ofstream(d / "s.txt") << "frame 2\n"
+                                "tf " << (d / "folder.json").string() << "\n"
+                                "tf-export " << (d / "folder.json").string() << "\n"
+                                "render 100000 100000 " << (d / "r.pfm").string() << "\n"
+                                "resize 0 0\n"
+                                "screenshot " << v << "\n"
+                                "render 16 16 " << v << "\n"
+                                "frame 6\n"
+                                "screenshot " << (d / "shot.png").string() << "\n"
+                                "frame 10\n"
+                                "close\n";
+  const auto before = snapshot(d);
+  const CliRun r = run("view " + v + " --quantity color --array scalars --size 160x120 --script " + (d / "s.txt").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  for (const std::string& says : std::vector<std::string>{"s.txt:2: " + (d / "folder.json").string() + ": is a folder, not a ParaView colour-map file",
+                                 "s.txt:3: " + (d / "folder.json").string() + ": is a folder: tf-export needs a file name",
+                                 "s.txt:4: render: each side must be between 1 and 16384 pixels",
+                                 "s.txt:5: resize: each side must be between 1 and 16384 pixels",
+                                 "s.txt:6: " + v + ": screenshot would write over a file this command reads",
+                                 "s.txt:7: " + v + ": render would write over a file this command reads"})
+    EXPECT_NE(r.err.find(says), std::string::npos) << says << "\nprinted: " << r.err;
+  const auto after = snapshot(d);
+  EXPECT_EQ(changes(before, after), " added shot.png");  // the dataset untouched, no temporary left
+}
+
 }  // namespace
 }  // namespace prismoid

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include <glm/geometric.hpp>
 
@@ -187,6 +188,40 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   for (const auto& p : report.last_frame.gpu_passes) names.push_back(p.name);
   for (const char* pass_name : {"pre-z + marking", "allocation", "shading", "gi initial+temporal", "gi spatial", "gather", "present-blit", "ui"})
     EXPECT_NE(std::find(names.begin(), names.end(), pass_name), names.end()) << pass_name;
+}
+
+// A size out of bounds for `render` or `resize`, and a screenshot or render over the scene's
+// file, are refused with a message and the window goes on; the file keeps its bytes.
+TEST(SurfaceViewer, BadSizesAndOutputsOverTheSceneAreRefusedAndTheWindowGoesOn) {
+  ASSERT_TRUE(app::display_available()) << "this test needs a display: run it through scripts/test.sh, which starts Xvfb";
+  const fs::path dir = fs::temp_directory_path() / "prismoid-surface-viewer-refusals";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene_file = (dir / "scene.png").string();  // an input that looks like an image
+  std::ofstream(scene_file) << "the scene's own bytes";
+  app::ViewerOptions options;
+  options.width = 120;
+  options.height = 90;
+  options.validation = true;
+  options.print_timings = false;
+  options.max_frames = 200;
+  options.inputs = {scene_file};
+  options.script = app::parse_script("frame 2\nrender 100000 100000 " + (dir / "r.pfm").string() + "\nresize 0 0\nscreenshot " + scene_file +
+                                         "\nrender 8 8 " + scene_file + "\nframe 3\nrender 8 8 " + (dir / "ok.pfm").string() + "\nframe 5\nclose\n",
+                                     "test script");
+  const SurfaceScene scene = with_default_lighting(make_cornell_box(), make_cornell_box().camera);
+  const app::ViewerReport report = app::run_surface_viewer(scene, options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  ASSERT_EQ(report.messages.size(), 4u);
+  EXPECT_NE(report.messages[0].find("test script:2: render: each side must be between 1 and 16384 pixels"), std::string::npos) << report.messages[0];
+  EXPECT_NE(report.messages[1].find("test script:3: resize: each side must be between 1 and 16384 pixels"), std::string::npos) << report.messages[1];
+  EXPECT_NE(report.messages[2].find(scene_file + ": screenshot would write over a file this command reads"), std::string::npos) << report.messages[2];
+  EXPECT_NE(report.messages[3].find(scene_file + ": render would write over a file this command reads"), std::string::npos) << report.messages[3];
+  EXPECT_EQ(report.files_written, std::vector<std::string>{(dir / "ok.pfm").string()});
+  std::ifstream in(scene_file);
+  std::string kept;
+  std::getline(in, kept);
+  EXPECT_EQ(kept, "the scene's own bytes");
 }
 
 }  // namespace

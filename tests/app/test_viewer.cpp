@@ -368,6 +368,45 @@ TEST(ViewerLoading, BadFilesReportTheirErrorAndTheWindowStaysUsable) {
   EXPECT_GE(report.frames_presented, 5u);
 }
 
+std::string file_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Script commands on a bad file or size (a colour map that is a folder, an export to a folder,
+// a render and a window size out of bounds, a screenshot or render over the dataset the window
+// opened) each open the error popup with their message; the window goes on, writes its next
+// screenshot, leaves no temporary file, and the dataset keeps its bytes.
+TEST(Viewer, BadFileAndSizeCommandsOpenTheErrorPopupAndTheWindowGoesOn) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("bad-commands");
+  const std::string v = (dir / "v.vtu").string(), folder = (dir / "folder.json").string(), shot = (dir / "shot.png").string();
+  io::write_tet_mesh_vtu(v, make_default_volume());
+  const std::string before = file_bytes(v);
+  fs::create_directory(folder);
+  std::ostringstream script;
+  script << "open " << v << "\nwait-load\ntf " << folder << "\ntf-export " << folder << "\nrender 100000 100000 " << (dir / "r.pfm").string()
+         << "\nresize 0 0\nscreenshot " << v << "\nrender 16 16 " << v << "\nwait 2\nscreenshot " << shot << "\nwait 4\nclose\n";
+  app::ViewerOptions options = window_options(200, 150, script.str());
+  options.settings.resolve.quantity = volume::Quantity::Color;
+  const app::ViewerReport report = app::run_viewer(make_default_volume(), options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  const std::vector<std::string> expected = {
+      "Could not open: test script:3: " + folder + ": is a folder, not a ParaView colour-map file",
+      "Could not write: test script:4: " + folder + ": is a folder: tf-export needs a file name",
+      "Could not write: test script:5: render: each side must be between 1 and 16384 pixels",
+      "Refused: test script:6: resize: each side must be between 1 and 16384 pixels",
+      "Could not write: test script:7: " + v + ": screenshot would write over a file this command reads: name another file",
+      "Could not write: test script:8: " + v + ": render would write over a file this command reads: name another file"};
+  EXPECT_EQ(report.error_popups, expected);
+  EXPECT_EQ(report.files_written, std::vector<std::string>{shot});
+  EXPECT_GE(report.frames_presented, 6u);
+  EXPECT_EQ(file_bytes(v), before);
+  for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename().string().find("partial"), std::string::npos) << e.path();
+}
+
 // Cancel on a slow load (over a million cells to fill): it stops, nothing is added, no crash.
 // Closing the window mid-load cancels and waits for the load, and returns promptly.
 TEST(ViewerLoading, CancelAndClosingMidLoadEndTheLoadCleanly) {
