@@ -27,8 +27,12 @@ namespace prismoid::app {
 const char* const kRenderHelp =
     "usage: prismoid render [FILE] --output OUT.png|OUT.pfm [options]\n"
     "\n"
+    "No output may be a file the command reads (nor a link to one) or another output; all are written\n"
+    "beside their names and renamed together once every one is written, so a failure or Ctrl-C\n"
+    "leaves none of them.\n"
+    "\n"
     "  --output PATH        image to write: .png (display colour, sRGB) or .pfm (the quantity, float32)\n"
-    "  --stats PATH         write a JSON file with the device, the passes that ran and their GPU times,\n"
+    "  --stats PATH.json    write a JSON file with the device, the passes that ran and their GPU times,\n"
     "                       and the frame plan: each planned pass with its reason, each skipped one with why\n"
     "  --mode MODE          interval               interval shading on the GPU, cells in mesh order\n"
     "                       interval-sorted        ... cells sorted by centroid distance on the GPU each frame\n"

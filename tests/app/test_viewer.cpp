@@ -377,7 +377,7 @@ std::string file_bytes(const fs::path& p) {
 
 // Script commands on a bad file or size (a colour map that is a folder, an export to a folder,
 // a render and a window size out of bounds, a screenshot or render over the dataset the window
-// opened) each open the error popup with their message; the window goes on, writes its next
+// opened, a screenshot that is not a PNG) each open the error popup with their message; the window goes on, writes its next
 // screenshot, leaves no temporary file, and the dataset keeps its bytes.
 TEST(Viewer, BadFileAndSizeCommandsOpenTheErrorPopupAndTheWindowGoesOn) {
   REQUIRE_DISPLAY();
@@ -388,7 +388,7 @@ TEST(Viewer, BadFileAndSizeCommandsOpenTheErrorPopupAndTheWindowGoesOn) {
   fs::create_directory(folder);
   std::ostringstream script;
   script << "open " << v << "\nwait-load\ntf " << folder << "\ntf-export " << folder << "\nrender 100000 100000 " << (dir / "r.pfm").string()
-         << "\nresize 0 0\nscreenshot " << v << "\nrender 16 16 " << v << "\nwait 2\nscreenshot " << shot << "\nwait 4\nclose\n";
+         << "\nresize 0 0\nscreenshot " << v << "\nrender 16 16 " << v << "\nscreenshot " << (dir / "shot.jpg").string() << "\nwait 2\nscreenshot " << shot << "\nwait 4\nclose\n";
   app::ViewerOptions options = window_options(200, 150, script.str());
   options.settings.resolve.quantity = volume::Quantity::Color;
   const app::ViewerReport report = app::run_viewer(make_default_volume(), options);
@@ -399,7 +399,8 @@ TEST(Viewer, BadFileAndSizeCommandsOpenTheErrorPopupAndTheWindowGoesOn) {
       "Could not write: test script:5: render: each side must be between 1 and 16384 pixels",
       "Refused: test script:6: resize: each side must be between 1 and 16384 pixels",
       "Could not write: test script:7: " + v + ": screenshot would write over a file this command reads: name another file",
-      "Could not write: test script:8: " + v + ": render would write over a file this command reads: name another file"};
+      "Could not write: test script:8: " + v + ": render would write over a file this command reads: name another file",
+      "Could not write: test script:9: " + (dir / "shot.jpg").string() + ": screenshot writes .png files, not .jpg"};
   EXPECT_EQ(report.error_popups, expected);
   EXPECT_EQ(report.files_written, std::vector<std::string>{shot});
   EXPECT_GE(report.frames_presented, 6u);
