@@ -170,10 +170,12 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
       throw InputError(path, "has no array '" + options.array + "' (cell arrays: " + array_names(grid->GetCellData()) +
                                  "; point arrays: " + array_names(grid->GetPointData()) + ")");
   }
-  if (vtkDataArray* chosen = array ? array : point_array; chosen && options.component >= chosen->GetNumberOfComponents() &&
-                                                          chosen->GetNumberOfComponents() > 1)
-    throw InputError(path, "array '" + options.array + "' has " + std::to_string(chosen->GetNumberOfComponents()) +
-                               " components; --component " + std::to_string(options.component) + " does not exist");
+  if (vtkDataArray* chosen = array ? array : point_array; chosen && options.component >= chosen->GetNumberOfComponents()) {
+    const int components = chosen->GetNumberOfComponents();
+    throw InputError(path, "array '" + options.array + "' has " + std::to_string(components) +
+                               (components == 1 ? " component (it is a scalar)" : " components") + "; --component " +
+                               std::to_string(options.component) + " does not exist");
+  }
   // The raw values are the scalar field; as extinction they are scaled.
   const bool extinction = options.role == ArrayRole::Extinction;
   if (point_array) {
