@@ -8,6 +8,7 @@
 #include "app/cli.hpp"
 #include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/dataset_loader.hpp"
 #include "app/dataset_report.hpp"
 #include "app/output_files.hpp"
 #include "app/terminal_progress.hpp"
@@ -129,6 +130,8 @@ int cmd_info(const std::vector<std::string>& args) {
     throw InputError("info", "--" + (a.values.empty() ? a.flags.begin()->first : a.values.begin()->first) + " applies with --plan only");
   if (a.files.size() != 1) throw InputError("info", "expects one FILE (see --help)");
   const std::string& file = a.files.front();
+  if (field_of_path(file))  // an unknown field: InputError listing the known ones
+    throw InputError(file, "is an analytic field, not a file: info describes files (render and view draw fields)");
   auto print_bounds = [](const Bounds& b) {
     std::cout << "  bounds: [" << b.min.x << ", " << b.max.x << "] x [" << b.min.y << ", " << b.max.y << "] x [" << b.min.z
               << ", " << b.max.z << "]\n";

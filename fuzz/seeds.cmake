@@ -35,3 +35,9 @@ prismoid_seed(tet_mesh a "tetrahedra: four points, one cell, extinction 1")
 prismoid_seed(tet_mesh b "~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~")
 prismoid_seed(voxel_tets a "a 3 x 4 x 5 image, subsample 1")
 prismoid_seed(voxel_tets b "zzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzz")
+
+# Declared sizes: the first byte picks the kind (see fuzz_declared_sizes.cpp: "1" .ply, "2" .vtu, "5" .vtk, "6" .mha), then the file.
+prismoid_seed(declared_sizes ply "1ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+prismoid_seed(declared_sizes vtu "2<VTKFile type=\"UnstructuredGrid\" compressor=\"vtkZLibDataCompressor\"><UnstructuredGrid><Piece NumberOfPoints=\"4\" NumberOfCells=\"1\"><Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points></Piece></UnstructuredGrid></VTKFile>\n")
+prismoid_seed(declared_sizes vtk "5# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n")
+prismoid_seed(declared_sizes mha "6ObjectType = Image\nNDims = 3\nDimSize = 2 2 1\nElementType = MET_UCHAR\nElementDataFile = LOCAL\nABCD")

@@ -1,7 +1,5 @@
 #include "io/dataset_info.hpp"
 
-#include <filesystem>
-
 #include <vtkCellData.h>
 #include <vtkCellTypes.h>
 #include <vtkDataArray.h>
@@ -34,23 +32,45 @@ void summarize(vtkFieldData* data, bool per_point, std::vector<ArraySummary>& ou
 
 }  // namespace
 
+// DatasetInfo through the isolated reader's pipe.
+template <typename S, Carries<ArraySummary> M>
+void fields(S& s, M& a) {
+  s(a.name);
+  s(a.per_point);
+  s(a.components);
+  s(a.min);
+  s(a.max);
+}
+template <typename S, Carries<DatasetInfo> M>
+void fields(S& s, M& info) {
+  s(info.points);
+  s(info.cells_by_type);
+  s(info.arrays);
+  s(info.bounds);
+  s(info.conversion);
+  s(info.mesh_points);
+  s(info.volume);
+}
+
 DatasetInfo describe_dataset(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  detail::require_regular_file(path);
   if (!is_tet_mesh_path(path))
     throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (info describes .vtu .vtk .vtm .pvtu meshes; render and convert also read images .vti .mhd .mha .inr and surfaces .vtp .stl .obj .ply .off)");
-  const detail::QuietVtk quiet;
-  const detail::GridSource source = detail::read_unstructured_grid(path);
-  vtkUnstructuredGrid* grid = source.grid;
-  DatasetInfo info;
-  info.points = size_t(grid->GetNumberOfPoints());
-  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) ++info.cells_by_type[vtkCellTypes::GetClassNameFromTypeId(grid->GetCellType(c))];
-  summarize(grid->GetPointData(), true, info.arrays);
-  summarize(grid->GetCellData(), false, info.arrays);
-  const TetMesh mesh = detail::tet_mesh_from_grid(source, path, {}, &info.conversion);
-  info.bounds = bounds_of(mesh);
-  info.mesh_points = mesh.points.size();
-  info.volume = tet_quality(mesh).total_volume;
-  return info;
+  return run_isolated<DatasetInfo>(read_job(path), {}, [&](const Progress&) {  // VTK reads in a child (io/isolated_read.hpp)
+    const detail::QuietVtk quiet;
+    const detail::GridSource source = detail::read_unstructured_grid(path);
+    vtkUnstructuredGrid* grid = source.grid;
+    DatasetInfo info;
+    info.points = size_t(grid->GetNumberOfPoints());
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) ++info.cells_by_type[vtkCellTypes::GetClassNameFromTypeId(grid->GetCellType(c))];
+    summarize(grid->GetPointData(), true, info.arrays);
+    summarize(grid->GetCellData(), false, info.arrays);
+    const TetMesh mesh = detail::tet_mesh_from_grid(source, path, {}, &info.conversion);
+    info.bounds = bounds_of(mesh);
+    info.mesh_points = mesh.points.size();
+    info.volume = tet_quality(mesh).total_volume;
+    return info;
+  });
 }
 
 }  // namespace prismoid::io

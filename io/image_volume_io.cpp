@@ -19,8 +19,11 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkXMLImageDataReader.h>
 
+#include "io/declared_sizes.hpp"
 #include "io/inrimage.hpp"
+#include "io/isolated_read.hpp"
 #include "io/path_util.hpp"
+#include "io/vtk_grid.hpp"
 #include "io/vtk_progress.hpp"
 #include "io/voxel_tets.hpp"
 #include "scene/input_error.hpp"
@@ -94,11 +97,13 @@ detail::VoxelGrid read_vtk_image(const std::string& path, const ImageReadOptions
   reader->AddObserver(vtkCommand::ErrorEvent, on_error);
   const CerrCapture metaio_messages;
   auto failure = [&]() -> std::string {  // empty while nothing went wrong
-    if (!vtk_error.empty()) return vtk_error;
+    if (!vtk_error.empty()) return detail::vtk_problem(vtk_error);
+    if (const std::string reported = detail::reported_vtk_error(); !reported.empty()) return detail::vtk_problem(reported);
     if (const std::string line = metaio_messages.first_line(); !line.empty()) return line;
     return reader->GetErrorCode() != 0 ? "error code " + std::to_string(reader->GetErrorCode()) : "";
   };
   if (!reader->CanReadFile(path.c_str())) throw InputError(path, std::string("is not a ") + format + " file");
+  detail::check_declared_sizes(path);
   reader->SetFileName(path.c_str());
   reader->UpdateInformation();
   if (const std::string problem = failure(); !problem.empty())
@@ -169,20 +174,25 @@ bool is_image_volume_path(const std::string& path) {
 }
 
 TetMesh read_image_volume(const std::string& path, const ImageReadOptions& options) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  detail::require_regular_file(path);
   if (!is_image_volume_path(path))
     throw InputError(path, "unknown image type '" + detail::lower_extension(path) + "' (this build reads .vti, .mhd, .mha, .inr, .inr.gz)");
-  vtkObject::GlobalWarningDisplayOff();  // failures become InputErrors, not console noise
-  const std::string ext = detail::lower_extension(path);
-  detail::VoxelGrid grid = ext == ".vti"   ? read_vtk_image<vtkXMLImageDataReader>(path, options, "VTK XML image data (.vti)")
-                   : is_inr_path(path) ? read_inr(path, options)
-                                       : read_vtk_image<vtkMetaImageReader>(path, options, "MetaImage (.mhd/.mha)");
-  // VTK's readers take the first half of the bar; INRIMAGE's reading is not reported.
-  ImageReadOptions converting = options;
-  converting.progress = scaled(options.progress, 0.5, 1.0);
-  TetMesh mesh = detail::voxel_grid_to_tets(grid, path, converting);
-  validate(mesh);
-  return mesh;
+  // The readers and the conversion run in a child process (io/isolated_read.hpp).
+  return run_isolated<TetMesh>(read_job(path), options.progress, [&](const Progress& progress) {
+    const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
+    ImageReadOptions reading = options;
+    reading.progress = progress;
+    const std::string ext = detail::lower_extension(path);
+    detail::VoxelGrid grid = ext == ".vti"       ? read_vtk_image<vtkXMLImageDataReader>(path, reading, "VTK XML image data (.vti)")
+                             : is_inr_path(path) ? read_inr(path, reading)
+                                                 : read_vtk_image<vtkMetaImageReader>(path, reading, "MetaImage (.mhd/.mha)");
+    // VTK's readers take the first half of the bar; INRIMAGE's reading is not reported.
+    ImageReadOptions converting = reading;
+    converting.progress = scaled(progress, 0.5, 1.0);
+    TetMesh mesh = detail::voxel_grid_to_tets(grid, path, converting);
+    validate(mesh);
+    return mesh;
+  });
 }
 
 }  // namespace prismoid::io

@@ -1,4 +1,5 @@
 #include "io/inrimage.hpp"
+#include "io/path_util.hpp"
 
 #include <bit>
 #include <charconv>
@@ -27,7 +28,7 @@ struct GzCloser {
 using GzFile = std::unique_ptr<gzFile_s, GzCloser>;
 
 GzFile open(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  require_regular_file(path);
   GzFile file(gzopen(path.c_str(), "rb"));
   if (!file) throw InputError(path, "cannot be opened for reading");
   return file;

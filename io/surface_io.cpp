@@ -16,11 +16,6 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include <sys/types.h>
-#include <sys/wait.h>
-#include <poll.h>
-#include <csignal>
-#include <unistd.h>
 
 #include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
@@ -45,8 +40,12 @@
 
 #include <glm/common.hpp>
 
+#include "io/declared_sizes.hpp"
+#include "io/image_volume_io.hpp"
+#include "io/isolated_read.hpp"
 #include "io/off_reader.hpp"
 #include "io/path_util.hpp"
+#include "io/vtk_grid.hpp"
 #include "io/vtk_progress.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
@@ -75,6 +74,7 @@ vtkSmartPointer<vtkPolyData> read_off(const std::string& path) {
 
 vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::string& ext, const Progress& progress) {
   if (ext == ".off") return read_off(path);
+  detail::check_declared_sizes(path);
   vtkSmartPointer<vtkAlgorithm> reader;
   if (ext == ".vtp") {
     auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
@@ -96,7 +96,10 @@ vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path, const std::s
   }
   detail::update_with_progress(reader, progress, {0.0, 0.6, "reading"}, path);
   vtkPolyData* poly = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
-  if (reader->GetErrorCode() != 0 || !poly) throw InputError(path, "could not be read as " + ext + " (corrupt or truncated?)");
+  if (reader->GetErrorCode() != 0 || !poly || !detail::reported_vtk_error().empty()) {
+    const std::string vtk = detail::vtk_problem(detail::reported_vtk_error());
+    throw InputError(path, "could not be read as " + ext + " (corrupt or truncated?)" + (vtk.empty() ? "" : " (VTK: " + vtk + ")"));
+  }
   return poly;
 }
 
@@ -170,33 +173,17 @@ vtkSmartPointer<vtkPolyData> to_polydata(const SurfaceMesh& s) {
 
 // What a TetGen run in a child process reports.
 struct TetgenResult {
-  int signal = 0;              // the child died of this signal
   int error = 0;               // TetGen stopped with this code
   size_t intersecting_faces = 0;
   std::vector<glm::dvec3> points;
   std::vector<std::array<uint32_t, 4>> tets;
 };
-
-bool write_all(int fd, const void* data, size_t bytes) {
-  const char* p = static_cast<const char*>(data);
-  while (bytes > 0) {
-    const ssize_t n = ::write(fd, p, bytes);
-    if (n <= 0) return false;
-    p += n;
-    bytes -= size_t(n);
-  }
-  return true;
-}
-
-bool read_all(int fd, void* data, size_t bytes) {
-  char* p = static_cast<char*>(data);
-  while (bytes > 0) {
-    const ssize_t n = ::read(fd, p, bytes);
-    if (n <= 0) return false;
-    p += n;
-    bytes -= size_t(n);
-  }
-  return true;
+template <typename S, Carries<TetgenResult> M>
+void fields(S& s, M& r) {
+  s(r.error);
+  s(r.intersecting_faces);
+  s(r.points);
+  s(r.tets);
 }
 
 void fill_tetgen_input(const SurfaceMesh& surface, tetgenio& in) {
@@ -219,90 +206,50 @@ void fill_tetgen_input(const SurfaceMesh& surface, tetgenio& in) {
   }
 }
 
-// The child's side: first TetGen's self-intersection check (-d), then the tetrahedralization;
-// everything goes down the pipe as a header of four int64 (error, intersecting faces, points,
-// tetrahedra) and the arrays.
-[[noreturn]] void tetgen_child(const SurfaceMesh& surface, const std::string& switches, int fd) {
-  int64_t header[4] = {0, 0, 0, 0};
-  std::vector<double> points;
-  std::vector<uint32_t> tets;
-  try {
-    {
-      tetgenio in, out;
-      fill_tetgen_input(surface, in);
-      std::string detect = "pdQ";
-      ::tetrahedralize(detect.data(), &in, &out);
-      header[1] = out.numberoftrifaces;
-    }
-    if (header[1] == 0) {
-      tetgenio in, out;
-      fill_tetgen_input(surface, in);
-      std::string text = switches;
-      ::tetrahedralize(text.data(), &in, &out);
-      header[2] = out.numberofpoints;
-      header[3] = out.numberoftetrahedra;
-      points.assign(out.pointlist, out.pointlist + 3 * size_t(out.numberofpoints));
-      for (int t = 0; t < out.numberoftetrahedra; ++t)
-        for (int k = 0; k < 4; ++k) tets.push_back(uint32_t(out.tetrahedronlist[size_t(t) * size_t(out.numberofcorners) + size_t(k)]));
-    }
-  } catch (int code) {
-    header[0] = code == 0 ? -1 : code;
-  } catch (...) {
-    header[0] = -1;
-  }
-  const bool ok = write_all(fd, header, sizeof header) && write_all(fd, points.data(), points.size() * sizeof(double)) &&
-                  write_all(fd, tets.data(), tets.size() * sizeof(uint32_t));
-  ::_exit(ok ? 0 : 1);
-}
-
 // TetGen 1.5.0 frees its memory twice when it stops on bad input (a crash in
-// tetgenmesh::freememory), so it runs in a child process: a crash there is an error here.
+// tetgenmesh::freememory), and its memory grows with the cells asked for, so it runs in a child
+// process (io/isolated_read.hpp): a crash there is an InputError here, and Ctrl-C or Cancel kills
+// it. First TetGen's self-intersection check (-d), then the tetrahedralization.
 TetgenResult run_tetgen_isolated(const SurfaceMesh& surface, const std::string& switches, const Progress& progress) {
-  int fds[2];
-  if (::pipe(fds) != 0) throw std::runtime_error("pipe() failed for TetGen");
-  std::cout.flush();
-  std::cerr.flush();
-  const pid_t child = ::fork();
-  if (child < 0) throw std::runtime_error("fork() failed for TetGen");
-  if (child == 0) {
-    ::close(fds[0]);
-    tetgen_child(surface, switches, fds[1]);
-  }
-  ::close(fds[1]);
-  // The child writes only when done: until then, tell the caller it is working (no fraction is
-  // known), and stop the child if the caller cancels.
-  for (;;) {
+  ChildJob job;
+  job.source = surface.name;
+  job.worker = "TetGen";
+  job.crash_hint = "the surface probably intersects itself or has features below its tolerance";
+  job.memory_hint = "ask for fewer cells (a larger --tetgen-max-volume or a smaller --tetgen-cells)";
+  job.stage = "TetGen";
+  job.waiting_fraction = -1.0;  // TetGen cannot tell how far it is
+  // No time limit: TetGen's time grows with the cells asked for, which are bounded before it starts.
+  job.limits.memory_bytes = child_memory_budget();
+  return run_isolated<TetgenResult>(job, progress, [&](const Progress&) {
+    TetgenResult r;
     try {
-      report(progress, -1.0, "TetGen", surface.name);
-    } catch (const Cancelled&) {
-      ::kill(child, SIGKILL);
-      ::close(fds[0]);
-      int ignored = 0;
-      ::waitpid(child, &ignored, 0);
-      throw;
+      {
+        tetgenio in, out;
+        fill_tetgen_input(surface, in);
+        std::string detect = "pdQ";
+        ::tetrahedralize(detect.data(), &in, &out);
+        r.intersecting_faces = size_t(std::max(out.numberoftrifaces, 0));
+      }
+      if (r.intersecting_faces == 0) {
+        tetgenio in, out;
+        fill_tetgen_input(surface, in);
+        std::string text = switches;
+        ::tetrahedralize(text.data(), &in, &out);
+        r.points.reserve(size_t(out.numberofpoints));
+        for (int i = 0; i < out.numberofpoints; ++i)
+          r.points.emplace_back(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
+        r.tets.reserve(size_t(out.numberoftetrahedra));
+        for (int t = 0; t < out.numberoftetrahedra; ++t) {
+          const int* corners = out.tetrahedronlist + size_t(t) * size_t(out.numberofcorners);
+          r.tets.push_back({uint32_t(corners[0]), uint32_t(corners[1]), uint32_t(corners[2]), uint32_t(corners[3])});
+        }
+      }
+    } catch (int code) {  // TETLIBRARY: TetGen's errors are thrown ints
+      r = TetgenResult{};
+      r.error = code == 0 ? -1 : code;
     }
-    pollfd ready{fds[0], POLLIN, 0};
-    if (::poll(&ready, 1, 100) != 0) break;  // data, end of file, or an error: read below
-  }
-  TetgenResult r;
-  int64_t header[4] = {0, 0, 0, 0};
-  bool complete = read_all(fds[0], header, sizeof header);
-  if (complete) {
-    r.error = int(header[0]);
-    r.intersecting_faces = size_t(header[1]);
-    std::vector<double> points(3 * size_t(std::max<int64_t>(header[2], 0)));
-    std::vector<uint32_t> tets(4 * size_t(std::max<int64_t>(header[3], 0)));
-    complete = read_all(fds[0], points.data(), points.size() * sizeof(double)) &&
-               read_all(fds[0], tets.data(), tets.size() * sizeof(uint32_t));
-    for (size_t i = 0; i + 2 < points.size(); i += 3) r.points.emplace_back(points[i], points[i + 1], points[i + 2]);
-    for (size_t i = 0; i + 3 < tets.size(); i += 4) r.tets.push_back({tets[i], tets[i + 1], tets[i + 2], tets[i + 3]});
-  }
-  ::close(fds[0]);
-  int status = 0;
-  ::waitpid(child, &status, 0);
-  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
-  else if (!complete || WEXITSTATUS(status) != 0) r.signal = -1;
-  return r;
+    return r;
+  });
 }
 
 }  // namespace
@@ -313,13 +260,17 @@ bool is_surface_path(const std::string& path) {
 }
 
 SurfaceMesh read_surface(const std::string& path, const Progress& progress) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  detail::require_regular_file(path);
   if (!is_surface_path(path)) throw InputError(path, "is not a surface file (.vtp .stl .obj .ply .off)");
-  vtkObject::GlobalWarningDisplayOff();
-  const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path), progress);
-  SurfaceMesh s = to_surface(poly, path, progress);
-  if (s.triangles.empty()) throw InputError(path, "has no surface triangles");
-  return s;
+  // The readers run in a child process (io/isolated_read.hpp): VTK's PLY reader, for one,
+  // crashes on truncated files.
+  return run_isolated<SurfaceMesh>(read_job(path), progress, [&](const Progress& reporting) {
+    const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
+    const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path), reporting);
+    SurfaceMesh s = to_surface(poly, path, reporting);
+    if (s.triangles.empty()) throw InputError(path, "has no surface triangles");
+    return s;
+  });
 }
 
 SurfaceCheck check_surface(const SurfaceMesh& surface) {
@@ -371,9 +322,6 @@ TetMesh run_tetgen(const SurfaceMesh& surface, double radius_edge_ratio, double 
   switches << "Q";
   const std::string text = switches.str();
   const TetgenResult result = run_tetgen_isolated(surface, text, progress);
-  if (result.signal != 0)
-    throw InputError(surface.name, "cannot be tetrahedralized: TetGen crashed (signal " + std::to_string(result.signal) +
-                                       "); the surface probably intersects itself or has features below its tolerance");
   if (result.error != 0) {
     const int code = result.error;
     const char* why = code == 3   ? "the surface intersects itself"
@@ -408,8 +356,24 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options,
         << check.first_problem.z << "); TetGen needs a closed surface (--fill-holes closes holes)";
     throw InputError(surface.name, msg.str());
   }
-  if (!(options.radius_edge_ratio >= 1.0) || !(options.max_volume >= 0.0))
-    throw InputError("--tetgen-quality", "the radius-edge bound must be at least 1 and the volume bound not negative");
+  if (!(options.radius_edge_ratio >= 1.0) || !std::isfinite(options.radius_edge_ratio))
+    throw InputError("--tetgen-quality", "the radius-edge bound must be a number of at least 1");
+  if (!(options.max_volume >= 0.0) || !std::isfinite(options.max_volume))
+    throw InputError("--tetgen-max-volume", "the volume bound must be a finite number, not negative (0: no bound)");
+  if (options.target_cells > kInteractiveMaxCells)
+    throw InputError("--tetgen-cells", "asks for " + std::to_string(options.target_cells) + " tetrahedra, more than the " +
+                                           std::to_string(kInteractiveMaxCells) + " Prismoid fills a surface with");
+  // The cell guard, decided before TetGen runs: with a volume bound a, cells fill the enclosed
+  // volume V at most a each, so TetGen makes at least V / a of them.
+  const double volume = std::abs(enclosed_volume(surface));
+  const double fewest_cells = options.max_volume > 0.0 ? volume / options.max_volume : 0.0;
+  if (fewest_cells > double(kInteractiveMaxCells)) {
+    std::ostringstream msg;
+    msg << "asks for at least " << std::llround(std::min(fewest_cells, 1e18)) << " tetrahedra (the enclosed volume " << volume
+        << " / the bound " << options.max_volume << "), more than the " << kInteractiveMaxCells
+        << " Prismoid fills a surface with; a bound of at least " << volume / double(kInteractiveMaxCells) << " fits";
+    throw InputError("--tetgen-max-volume", msg.str());
+  }
   if (options.target_cells == 0) return run_tetgen(surface, options.radius_edge_ratio, options.max_volume, progress);
   if (options.max_volume > 0.0) throw InputError("--tetgen-cells", "sets the volume bound itself: give it or --tetgen-max-volume, not both");
 
@@ -417,9 +381,10 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options,
   // refinement and the surface's own detail add cells beyond that, and the count falls more
   // slowly than 1 / a: model count = k a^-p, correcting first with p = 1, then with p measured
   // from the last two runs (a secant step in log-log), kept within [0.3, 1.5] against noise.
-  const double volume = std::abs(enclosed_volume(surface));
+  // Corrections never take the bound below the cell guard's.
   if (!(volume > 0.0)) throw InputError(surface.name, "encloses no volume, so no cell count can be aimed at (--tetgen-cells)");
   const uint64_t target = options.target_cells;
+  const double smallest_bound = volume / double(kInteractiveMaxCells);
   double bound = volume / double(target), previous_bound = 0.0;
   size_t previous_count = 0;
   TetMesh last = run_tetgen(surface, options.radius_edge_ratio, bound, progress);
@@ -431,7 +396,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetgenOptions& options,
       exponent = std::clamp(std::log(double(previous_count) / count) / std::log(bound / previous_bound), 0.3, 1.5);
     previous_bound = bound;
     previous_count = last.tets.size();
-    bound *= std::pow(count / double(target), 1.0 / exponent);
+    bound = std::max(smallest_bound, bound * std::pow(count / double(target), 1.0 / exponent));
     last = run_tetgen(surface, options.radius_edge_ratio, bound, progress);
     if (relative_miss(last.tets.size(), target) < relative_miss(best.tets.size(), target)) best = last;
   }
@@ -458,7 +423,7 @@ std::string default_cache_dir() {
 }  // namespace
 
 SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& options) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  detail::require_regular_file(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot be read");
   std::ostringstream bytes;
@@ -474,7 +439,8 @@ SurfaceTets surface_to_tets(const std::string& path, const SurfaceToTets& option
     std::snprintf(name, sizeof name, "%016llx.vtu", static_cast<unsigned long long>(hash));
     result.cache_file = dir + "/" + name;
   }
-  if (!result.cache_file.empty() && std::filesystem::exists(result.cache_file)) {
+  std::error_code no_cache;
+  if (!result.cache_file.empty() && std::filesystem::is_regular_file(result.cache_file, no_cache)) {
     try {
       result.mesh = read_tet_mesh(result.cache_file);
       result.mesh.name = path;

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/path_util.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::io {
@@ -20,6 +21,9 @@ std::vector<double> numbers(const nlohmann::json& entry, const char* key, size_t
   const auto& list = entry.at(key);
   if (!list.is_array() || list.empty() || list.size() % stride != 0)
     throw InputError(path, std::string("\"") + key + "\" must hold groups of " + std::to_string(stride) + " numbers");
+  if (list.size() / stride > kMaxTransferFunctionPoints)
+    throw InputError(path, std::string("\"") + key + "\" holds " + std::to_string(list.size() / stride) + " points; at most " +
+                               std::to_string(kMaxTransferFunctionPoints) + " are read (colour maps hold a few hundred)");
   std::vector<double> v;
   for (const auto& x : list) {
     if (!x.is_number()) throw InputError(path, std::string("\"") + key + "\" holds something that is not a number");
@@ -31,7 +35,7 @@ std::vector<double> numbers(const nlohmann::json& entry, const char* key, size_t
 }  // namespace
 
 volume::TransferFunction read_paraview_colormap(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  detail::require_regular_file(path);
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot be read");
   return parse_paraview_colormap(in, path);
@@ -97,7 +101,10 @@ void write_paraview_colormap(const std::string& path, const volume::TransferFunc
 volume::TransferFunction transfer_function_from(const std::string& preset_or_path) {
   for (const auto& name : volume::preset_names())
     if (name == preset_or_path) return volume::preset(name);
-  if (std::filesystem::exists(preset_or_path)) return read_paraview_colormap(preset_or_path);
+  // Anything at that path (a folder, a loop of symbolic links) is read as a file, and refused as one.
+  std::error_code ec;
+  if (std::filesystem::symlink_status(preset_or_path, ec).type() != std::filesystem::file_type::not_found && !ec)
+    return read_paraview_colormap(preset_or_path);
   return volume::preset(preset_or_path);  // throws, listing the presets
 }
 

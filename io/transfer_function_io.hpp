@@ -3,6 +3,7 @@
 // an array of objects with "Name", "RGBPoints" [x, r, g, b, ...] and optionally "Points"
 // [x, opacity, midpoint, sharpness, ...]. The points' positions are rescaled so the colour
 // points span [0, 1], as ParaView does when it applies a preset to a data range.
+#include <cstddef>
 #include <istream>
 #include <string>
 
@@ -10,8 +11,13 @@
 
 namespace prismoid::io {
 
+// Colour and opacity points a file may hold: published colour maps hold a few hundred, and every
+// point is a breakpoint the renderer's tables are built over.
+inline constexpr size_t kMaxTransferFunctionPoints = 4096;
+
 // The first colour map in the file. Throws InputError naming the file: unreadable, not JSON,
-// no "RGBPoints", point lists of the wrong length or not sorted, values outside [0, 1],
+// no "RGBPoints", point lists of the wrong length, longer than kMaxTransferFunctionPoints or
+// not sorted, values outside [0, 1],
 // midpoint/sharpness other than ParaView's linear defaults (0.5, 0).
 volume::TransferFunction read_paraview_colormap(const std::string& path);
 // The same from a stream; errors name `name`.

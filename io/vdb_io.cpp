@@ -19,6 +19,7 @@
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
+#include "io/isolated_read.hpp"
 #include "io/kuhn_split.hpp"
 #include "io/path_util.hpp"
 #include "io/voxel_tets.hpp"
@@ -42,7 +43,7 @@ void initialize_openvdb() {
 // 800 MB string, for one). A stream that throws on the first failed read stops it there.
 // Delayed loading stays off: it would read voxels on first touch, after we checked the file.
 openvdb::GridPtrVec read_grids(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  detail::require_regular_file(path);
   if (!is_vdb_path(path)) throw InputError(path, "is not a .vdb file");
   initialize_openvdb();
   try {
@@ -173,7 +174,9 @@ const char* vdb_class_name(VdbClass c) {
   }
 }
 
-VdbInfo inspect_vdb(const std::string& path) {
+namespace {
+
+VdbInfo inspect_vdb_here(const std::string& path) {
   const openvdb::GridPtrVec grids = read_grids(path);
   VdbInfo info;
   info.path = path;
@@ -233,7 +236,11 @@ VdbInfo inspect_vdb(const std::string& path) {
   return info;
 }
 
-TetMesh read_vdb_voxels(const std::string& path, const VdbReadOptions& options) {
+}  // namespace
+
+namespace {
+
+TetMesh read_vdb_voxels_here(const std::string& path, const VdbReadOptions& options) {
   if (options.subsample == 0) throw InputError(path, "subsample must be at least 1");
   const openvdb::GridPtrVec grids = read_grids(path);
   const FloatGrid::Ptr grid = choose_float_grid(path, grids, options.grid);
@@ -333,7 +340,11 @@ TetMesh read_vdb_voxels(const std::string& path, const VdbReadOptions& options) 
   return mesh;
 }
 
-VdbDense read_vdb_dense(const std::string& path, const VdbReadOptions& options, uint64_t max_voxels) {
+}  // namespace
+
+namespace {
+
+VdbDense read_vdb_dense_here(const std::string& path, const VdbReadOptions& options, uint64_t max_voxels) {
   if (options.subsample == 0) throw InputError(path, "subsample must be at least 1");
   const openvdb::GridPtrVec grids = read_grids(path);
   const FloatGrid::Ptr grid = choose_float_grid(path, grids, options.grid);
@@ -394,6 +405,69 @@ VdbDense read_vdb_dense(const std::string& path, const VdbReadOptions& options, 
     if (!it.isVoxelValue()) add_box(it.getBoundingBox());
   report(options.progress, 1.0, "sampling the grid densely", path);
   return dense;
+}
+
+}  // namespace
+
+// OpenVDB's reading runs in a child process (io/isolated_read.hpp): it trusts the sizes it
+// reads, so a corrupt file can make it allocate without end.
+template <typename S, Carries<VdbGridInfo> M>
+void fields(S& s, M& g) {
+  s(g.name);
+  s(g.value_type);
+  s(g.grid_class);
+  s(g.voxel_size);
+  s(g.linear_transform);
+  s(g.active_voxels);
+  s(g.index_min);
+  s(g.index_max);
+  s(g.world);
+  s(g.has_range);
+  s(g.value_min);
+  s(g.value_max);
+  s(g.leaf_nodes);
+  s(g.memory_bytes);
+  s(g.dual_cells);
+  s(g.mesh_points);
+}
+template <typename S, Carries<VdbInfo> M>
+void fields(S& s, M& info) {
+  s(info.path);
+  s(info.file_bytes);
+  s(info.grids);
+}
+template <typename S, Carries<VdbDense> M>
+void fields(S& s, M& d) {
+  s(d.dims);
+  s(d.origin);
+  s(d.spacing);
+  s(d.values);
+  s(d.active_boxes);
+  s(d.grid_class);
+  s(d.background);
+}
+
+VdbInfo inspect_vdb(const std::string& path) {
+  detail::require_regular_file(path);
+  return run_isolated<VdbInfo>(read_job(path), {}, [&](const Progress&) { return inspect_vdb_here(path); });
+}
+
+TetMesh read_vdb_voxels(const std::string& path, const VdbReadOptions& options) {
+  detail::require_regular_file(path);
+  return run_isolated<TetMesh>(read_job(path), options.progress, [&](const Progress& progress) {
+    VdbReadOptions reading = options;
+    reading.progress = progress;
+    return read_vdb_voxels_here(path, reading);
+  });
+}
+
+VdbDense read_vdb_dense(const std::string& path, const VdbReadOptions& options, uint64_t max_voxels) {
+  detail::require_regular_file(path);
+  return run_isolated<VdbDense>(read_job(path), options.progress, [&](const Progress& progress) {
+    VdbReadOptions reading = options;
+    reading.progress = progress;
+    return read_vdb_dense_here(path, reading, max_voxels);
+  });
 }
 
 namespace {

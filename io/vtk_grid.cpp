@@ -18,6 +18,7 @@
 #include <vtkXMLPUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include "io/declared_sizes.hpp"
 #include "io/path_util.hpp"
 #include "io/vtk_progress.hpp"
 #include "scene/input_error.hpp"
@@ -37,18 +38,26 @@ class ErrorCatcher : public vtkCommand {
   std::string message;
 };
 
-// Messages from VTK objects without an observer: kept from the console while io reads.
+// Messages from VTK objects without an observer: kept from the console while io reads, and the
+// first error kept. VTK's readers report some failures only this way: errors of objects without
+// an observer, and "generic warnings" of the helper functions that read values (a legacy file's
+// data ending early is one, "Error reading ascii data"). A read during which one came failed.
 class SilentOutput : public vtkOutputWindow {
  public:
   static SilentOutput* New() { return new SilentOutput; }
   void DisplayText(const char*) override {}
+  void DisplayErrorText(const char* text) override { keep(text); }
+  void DisplayGenericWarningText(const char* text) override { keep(text); }
+  std::string first_error;
+
+ private:
+  void keep(const char* text) {
+    if (first_error.empty() && text) first_error = text;
+  }
 };
 
 [[noreturn]] void fail_read(const std::string& path, const std::string& what, const ErrorCatcher& errors) {
-  // VTK's text reads "ERROR: In FILE, line N\nvtkClass (0x...): the problem"; the problem is what the user needs.
-  std::string detail = errors.message;
-  if (const auto cut = detail.find("): "); cut != std::string::npos) detail = detail.substr(cut + 3);
-  while (!detail.empty() && (detail.back() == '\n' || detail.back() == ' ')) detail.pop_back();
+  const std::string detail = vtk_problem(errors.message.empty() ? reported_vtk_error() : errors.message);
   throw InputError(path, what + (detail.empty() ? "" : " (VTK: " + detail + ")"));
 }
 
@@ -60,7 +69,7 @@ vtkSmartPointer<Reader> run_xml_reader(const std::string& path, const char* kind
   reader->AddObserver(vtkCommand::ErrorEvent, errors);
   reader->SetFileName(path.c_str());
   update_with_progress(reader, progress, span, path);
-  if (reader->GetErrorCode() != 0 || !errors->message.empty() || !reader->GetOutputDataObject(0))
+  if (reader->GetErrorCode() != 0 || !errors->message.empty() || !reported_vtk_error().empty() || !reader->GetOutputDataObject(0))
     fail_read(path, "VTK could not read the file (truncated or corrupt?)", *errors);
   return reader;
 }
@@ -74,7 +83,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_legacy(const std::string& path, const 
   vtkNew<ErrorCatcher> errors;
   reader->AddObserver(vtkCommand::ErrorEvent, errors);
   update_with_progress(reader, progress, span, path);
-  if (reader->GetErrorCode() != 0 || !errors->message.empty() || !reader->GetOutput())
+  if (reader->GetErrorCode() != 0 || !errors->message.empty() || !reported_vtk_error().empty() || !reader->GetOutput())
     fail_read(path, "VTK could not read the unstructured grid (truncated or corrupt?)", *errors);
   return reader->GetOutput();
 }
@@ -125,7 +134,7 @@ GridSource read_multiblock(const std::string& path, const Progress& progress, do
 // The file's first bytes say what it is; a mismatch with the extension is named before a reader
 // fails on it with a vaguer message.
 void check_content(const std::string& path, const std::string& ext) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path, "is not a regular file");
+  require_regular_file(path);
   std::ifstream in(path, std::ios::binary);
   std::string head(512, '\0');
   if (!in || !in.read(head.data(), std::streamsize(head.size())).gcount())
@@ -150,6 +159,20 @@ void check_content(const std::string& path, const std::string& ext) {
 
 }  // namespace
 
+std::string vtk_problem(std::string text) {
+  // "ERROR: In FILE, line N\nvtkClass (0x...): the problem" or "Generic Warning: In FILE, line
+  // N\nthe problem": the problem is what the user needs.
+  if (const auto newline = text.find('\n'); newline != std::string::npos && text.find(": In ") < newline) text = text.substr(newline + 1);
+  if (const auto cut = text.find("): "); cut != std::string::npos && text.rfind("vtk", 0) == 0) text = text.substr(cut + 3);
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  return text;
+}
+
+std::string reported_vtk_error() {
+  auto* silent = dynamic_cast<SilentOutput*>(vtkOutputWindow::GetInstance());
+  return silent ? silent->first_error : std::string();
+}
+
 QuietVtk::QuietVtk() : previous_(vtkOutputWindow::GetInstance()), display_(vtkObject::GetGlobalWarningDisplay()) {
   // Error events reach observers only while the global display is on; the silent window keeps
   // the console clean of the messages no observer takes.
@@ -171,6 +194,7 @@ QuietVtk::~QuietVtk() {
 GridSource read_unstructured_grid(const std::string& path, const Progress& progress, double read_end) {
   const std::string ext = lower_extension(path);
   check_content(path, ext);
+  check_declared_sizes(path);
   if (ext == ".vtm") return read_multiblock(path, progress, read_end);
   if (ext == ".pvtu") {
     // Read piece by piece: the reader's whole output is one grid, whose shared points
@@ -186,7 +210,8 @@ GridSource read_unstructured_grid(const std::string& path, const Progress& progr
     for (int i = 0; i < count; ++i) {
       const ProgressSpan piece{(0.1 + 0.7 * i / count) * read_end, (0.1 + 0.7 * (i + 1) / count) * read_end, "reading pieces"};
       update_with_progress(reader, progress, piece, path, [&] { reader->UpdatePiece(i, count, 0); });
-      if (!errors->message.empty()) fail_read(path, "VTK could not read piece " + std::to_string(i), *errors);
+      if (!errors->message.empty() || !reported_vtk_error().empty())
+        fail_read(path, "VTK could not read piece " + std::to_string(i), *errors);
       pieces.push_back(vtkSmartPointer<vtkUnstructuredGrid>::New());
       pieces.back()->DeepCopy(reader->GetOutput());
     }

@@ -28,6 +28,12 @@ class QuietVtk {
   int logger_verbosity_ = 0;
 };
 
+// The first error VTK reported through its output window since the innermost QuietVtk began
+// (objects with an error observer report there instead); empty when none.
+std::string reported_vtk_error();
+// The problem a VTK message states, without its file, line and object prefixes.
+std::string vtk_problem(std::string text);
+
 struct GridSource {
   vtkSmartPointer<vtkUnstructuredGrid> grid;
   size_t pieces = 1;           // blocks of a .vtm or pieces of a .pvtu, merged into `grid`
@@ -49,7 +55,24 @@ vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid, c
 
 }  // namespace prismoid::io::detail
 
+#include "io/isolated_read.hpp"
 #include "io/vtk_tet_io.hpp"
+
+namespace prismoid::io {
+
+// MeshConversion through the isolated reader's pipe (io/isolated_read.hpp).
+template <typename S, Carries<MeshConversion> M>
+void fields(S& s, M& c) {
+  s(c.cells_in);
+  s(c.dropped);
+  s(c.tets_out);
+  s(c.pieces);
+  s(c.merged_points);
+  s(c.zero_volume);
+  s(c.inverted);
+}
+
+}  // namespace prismoid::io
 
 namespace prismoid::io::detail {
 

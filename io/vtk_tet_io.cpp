@@ -99,12 +99,36 @@ bool is_tet_mesh_path(const std::string& path) {
   return ext == ".vtu" || ext == ".vtk" || ext == ".vtm" || ext == ".pvtu";
 }
 
+namespace {
+
+struct ReadResult {
+  TetMesh mesh;
+  MeshConversion conversion;
+};
+template <typename S, Carries<ReadResult> M>
+void fields(S& s, M& r) {
+  s(r.mesh);
+  s(r.conversion);
+}
+
+}  // namespace
+
 TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options, MeshConversion* conversion) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "file does not exist");
+  detail::require_regular_file(path);
   if (!is_tet_mesh_path(path))
     throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (Prismoid reads meshes .vtu .vtk .vtm .pvtu, images .vti .mhd .mha .inr, surfaces .vtp .stl .obj .ply .off)");
-  const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
-  return detail::tet_mesh_from_grid(detail::read_unstructured_grid(path, options.progress, 0.7), path, options, conversion);
+  // VTK's readers run in a child process (io/isolated_read.hpp): a file that crashes them or
+  // makes them allocate without end is an InputError here.
+  ReadResult result = run_isolated<ReadResult>(read_job(path), options.progress, [&](const Progress& progress) {
+    const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
+    TetReadOptions reading = options;
+    reading.progress = progress;
+    ReadResult r;
+    r.mesh = detail::tet_mesh_from_grid(detail::read_unstructured_grid(path, progress, 0.7), path, reading, &r.conversion);
+    return r;
+  });
+  if (conversion) *conversion = result.conversion;
+  return std::move(result.mesh);
 }
 
 namespace detail {
@@ -146,10 +170,12 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
       throw InputError(path, "has no array '" + options.array + "' (cell arrays: " + array_names(grid->GetCellData()) +
                                  "; point arrays: " + array_names(grid->GetPointData()) + ")");
   }
-  if (vtkDataArray* chosen = array ? array : point_array; chosen && options.component >= chosen->GetNumberOfComponents() &&
-                                                          chosen->GetNumberOfComponents() > 1)
-    throw InputError(path, "array '" + options.array + "' has " + std::to_string(chosen->GetNumberOfComponents()) +
-                               " components; --component " + std::to_string(options.component) + " does not exist");
+  if (vtkDataArray* chosen = array ? array : point_array; chosen && options.component >= chosen->GetNumberOfComponents()) {
+    const int components = chosen->GetNumberOfComponents();
+    throw InputError(path, "array '" + options.array + "' has " + std::to_string(components) +
+                               (components == 1 ? " component (it is a scalar)" : " components") + "; --component " +
+                               std::to_string(options.component) + " does not exist");
+  }
   // The raw values are the scalar field; as extinction they are scaled.
   const bool extinction = options.role == ArrayRole::Extinction;
   if (point_array) {

@@ -1,0 +1,407 @@
+#include "io/isolated_read.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <new>
+#include <stdexcept>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "io/path_util.hpp"
+#include "scene/input_error.hpp"
+
+namespace prismoid::io {
+
+namespace {
+
+bool g_in_child = false;
+
+// What the child sends: any number of progress frames, then one error or one result frame.
+enum Frame : uint8_t { kProgressFrame = 'P', kErrorFrame = 'E', kResultFrame = 'R' };
+enum ErrorKind : uint8_t { kInputError = 1, kCancelled = 2, kOutOfMemory = 3, kOtherError = 4 };
+
+// How often the parent looks up from the pipe to ask the caller whether to go on.
+constexpr int kPollMilliseconds = 100;
+
+std::string signal_name(int sig) {
+  const char* abbrev = ::sigabbrev_np(sig);
+  return abbrev ? std::string("SIG") + abbrev : "signal " + std::to_string(sig);
+}
+
+std::string bytes_text(uint64_t bytes) {
+  char text[32];
+  if (bytes < (uint64_t(1) << 30)) std::snprintf(text, sizeof text, "%.0f MiB", double(bytes) / double(uint64_t(1) << 20));
+  else std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / double(uint64_t(1) << 30));
+  return text;
+}
+
+std::string seconds_text(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, seconds < 10.0 ? "%.1f s" : "%.0f s", seconds);
+  return text;
+}
+
+// The process's mapped address space (the first field of /proc/self/statm, in pages), read with
+// plain system calls: the child of a multithreaded process keeps to those before its work.
+uint64_t mapped_bytes() {
+  const int fd = ::open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  char text[64] = {};
+  const ssize_t n = ::read(fd, text, sizeof text - 1);
+  ::close(fd);
+  uint64_t pages = 0;
+  for (ssize_t i = 0; i < n && text[i] >= '0' && text[i] <= '9'; ++i) pages = 10 * pages + uint64_t(text[i] - '0');
+  return pages * uint64_t(::sysconf(_SC_PAGESIZE));
+}
+
+bool write_all(int fd, const void* data, size_t count) {
+  const char* p = static_cast<const char*>(data);
+  while (count > 0) {
+    const ssize_t n = ::write(fd, p, count);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    count -= size_t(n);
+  }
+  return true;
+}
+
+// The text of an InputError without its "source: " prefix.
+std::string problem_of(const InputError& e) {
+  const std::string what = e.what();
+  return what.size() >= e.source().size() + 2 ? what.substr(e.source().size() + 2) : what;
+}
+
+// The child: limits first, then the work; every way out is _exit.
+[[noreturn]] void child_main(const ChildJob& job, int fd, pid_t parent, const std::function<void(ResultWriter&, const Progress&)>& work) {
+  g_in_child = true;
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // dies with the parent (the thread that forked, which waits for it)
+  if (::getppid() != parent) ::_exit(1);  // the parent ended before the line above
+  // Ctrl-C reaches the whole process group; the parent decides (it cancels and kills the child).
+  struct sigaction ignore {};
+  ignore.sa_handler = SIG_IGN;
+  ::sigaction(SIGINT, &ignore, nullptr);
+  // Only the pipe stays open beside the standard streams: a concurrent child's pipe held open
+  // here would keep its parent from seeing that child end.
+  if (fd > 3) ::close_range(3, unsigned(fd - 1), 0);
+  ::close_range(unsigned(fd + 1), ~0U, 0);
+  // Readers talk on the standard streams when they fail (the PLY library, glibc's "double free
+  // detected"); the parent reports the failure in one line of its own.
+  if (const int null = ::open("/dev/null", O_RDWR); null >= 0) {
+    for (const int stream : {STDOUT_FILENO, STDERR_FILENO})
+      if (stream != fd) ::dup2(null, stream);  // (the pipe is one of them only when the parent ran without it)
+    if (null > STDERR_FILENO) ::close(null);
+  }
+  const rlimit no_core{0, 0};
+  ::setrlimit(RLIMIT_CORE, &no_core);  // a crashing reader leaves no core file behind
+  if (const uint64_t mapped = mapped_bytes(); job.limits.memory_bytes > 0 && mapped > 0) {  // (no /proc: no limit)
+    const rlim_t limit = rlim_t(mapped + job.limits.memory_bytes);
+    const rlimit as{limit, limit};
+    ::setrlimit(RLIMIT_AS, &as);
+  }
+  auto send = [fd](const void* data, size_t count) {
+    if (!write_all(fd, data, count)) ::_exit(1);  // the parent is gone or stopped listening
+  };
+  auto send_text = [&](const std::string& text) {
+    const uint64_t n = text.size();
+    send(&n, sizeof n);
+    send(text.data(), text.size());
+  };
+  auto send_error = [&](ErrorKind kind, const std::string& source, const std::string& text) {
+    const uint8_t header[2] = {kErrorFrame, kind};
+    send(header, sizeof header);
+    send_text(source);
+    send_text(text);
+    ::_exit(0);
+  };
+  try {
+    double last_fraction = -2.0;
+    std::string last_stage;
+    const Progress forward = [&](double fraction, const std::string& stage) {
+      if (fraction != last_fraction || stage != last_stage) {
+        last_fraction = fraction;
+        last_stage = stage;
+        const uint8_t tag = kProgressFrame;
+        send(&tag, 1);
+        send(&fraction, sizeof fraction);
+        send_text(stage);
+      }
+      return true;
+    };
+    ResultWriter out(fd);
+    work(out, forward);
+  } catch (const InputError& e) {
+    send_error(kInputError, e.source(), problem_of(e));
+  } catch (const Cancelled& e) {
+    send_error(kCancelled, job.source, e.what());
+  } catch (const std::bad_alloc& e) {
+    send_error(kOutOfMemory, job.source, e.what());
+  } catch (const std::length_error& e) {  // a size beyond what a container can hold
+    send_error(kOutOfMemory, job.source, e.what());
+  } catch (const std::exception& e) {
+    send_error(kOtherError, job.source, e.what());
+  } catch (...) {
+    send_error(kOtherError, job.source, "an unknown exception");
+  }
+  ::_exit(0);
+}
+
+}  // namespace
+
+// The parent's end of the pipe and the child itself: whatever way the parent leaves (a result,
+// an error, the caller's exception), the child is killed if still running and reaped.
+class ChildChannel {
+ public:
+  ChildChannel(const ChildJob& job, const Progress& progress, pid_t pid, int fd)
+      : job_(job), progress_(progress), pid_(pid), fd_(fd), fraction_(job.waiting_fraction), stage_(job.stage) {
+    if (job.limits.seconds > 0.0)
+      deadline_ = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                          std::chrono::duration<double>(job.limits.seconds));
+  }
+  ~ChildChannel() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      reap();
+    }
+    ::close(fd_);
+  }
+  ChildChannel(const ChildChannel&) = delete;
+  ChildChannel& operator=(const ChildChannel&) = delete;
+
+  void read(void* data, size_t count) {
+    char* p = static_cast<char*>(data);
+    while (count > 0) {
+      wait_readable();
+      const ssize_t n = ::read(fd_, p, count);
+      if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+      if (n <= 0) ended_without_result();
+      p += n;
+      count -= size_t(n);
+    }
+  }
+
+  // A progress report from the child, passed on.
+  void progress(double fraction, const std::string& stage) {
+    fraction_ = fraction;
+    stage_ = stage;
+    ask_caller();
+  }
+
+  // After the result: the child exits on its own.
+  void finish() { reap(); }
+
+  int reap() {
+    int status = 0;
+    while (pid_ > 0 && ::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+    }
+    pid_ = -1;
+    return status;
+  }
+
+  [[noreturn]] void ended_without_result() {
+    const int status = reap();
+    if (WIFSIGNALED(status)) {
+      const int sig = WTERMSIG(status);
+      if (sig == SIGKILL)  // not ours (we reap our own kills elsewhere): the system's out-of-memory killer, or a user
+        throw InputError(job_.source, job_.worker + " was killed (SIGKILL), most likely for lack of memory: " + job_.memory_hint);
+      throw InputError(job_.source, job_.worker + " crashed (" + signal_name(sig) + "): " + job_.crash_hint);
+    }
+    throw InputError(job_.source, job_.worker + " ended without a result (exit status " +
+                                      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + "): " + job_.crash_hint);
+  }
+
+  const ChildJob& job() const { return job_; }
+
+ private:
+  void wait_readable() {
+    for (;;) {
+      check_deadline();
+      pollfd ready{fd_, POLLIN, 0};
+      const int rc = ::poll(&ready, 1, kPollMilliseconds);
+      if (rc > 0) return;                     // data, the end of the pipe, or an error: read() tells
+      if (rc < 0 && errno != EINTR) return;   // read() reports it
+      // Nothing yet, or a signal interrupted the wait (Ctrl-C's handler sets the flag the
+      // caller's progress callback reads): ask the caller whether to go on.
+      ask_caller();
+    }
+  }
+
+  void ask_caller() {
+    if (progress_ && !progress_(fraction_, stage_)) {
+      ::kill(pid_, SIGKILL);
+      reap();
+      throw Cancelled(job_.source);
+    }
+  }
+
+  void check_deadline() {
+    if (job_.limits.seconds <= 0.0 || std::chrono::steady_clock::now() < deadline_) return;
+    ::kill(pid_, SIGKILL);
+    reap();
+    throw InputError(job_.source, job_.worker + " did not finish within " + seconds_text(job_.limits.seconds) +
+                                      " (the limit for a file of this size): " + job_.crash_hint);
+  }
+
+  const ChildJob& job_;
+  const Progress& progress_;
+  pid_t pid_;
+  int fd_;
+  double fraction_;
+  std::string stage_;
+  std::chrono::steady_clock::time_point deadline_{};
+};
+
+void ResultWriter::bytes(const void* data, size_t count) {
+  if (!started_) {  // the result frame's tag goes before its first byte
+    started_ = true;
+    const uint8_t tag = kResultFrame;
+    if (!write_all(fd_, &tag, 1)) ::_exit(1);
+  }
+  if (!write_all(fd_, data, count)) ::_exit(1);
+}
+
+void ResultReader::bytes(void* data, size_t count) { channel_.read(data, count); }
+
+bool in_isolated_child() { return g_in_child; }
+
+uint64_t child_memory_budget() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page = ::sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return uint64_t(8) << 30;
+  return uint64_t(pages) * uint64_t(page) / 4 * 3;
+}
+
+namespace {
+
+uint64_t file_size_or_zero(const std::filesystem::path& p) {
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(p, ec);
+  return ec ? 0 : uint64_t(size);
+}
+
+// The files a .vtm (file="..."), .pvtu (Source="...") or .mhd (ElementDataFile = ...) names,
+// relative to its folder: their bytes count towards the time a read may take.
+uint64_t referenced_bytes(const std::string& path, const std::string& ext) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text(size_t(1) << 20, '\0');
+  in.read(text.data(), std::streamsize(text.size()));
+  text.resize(size_t(in.gcount()));
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  uint64_t total = 0;
+  if (ext == ".mhd") {
+    const auto at = text.find("ElementDataFile");
+    if (at == std::string::npos) return 0;
+    const auto eq = text.find('=', at);
+    const auto end = text.find('\n', eq);
+    if (eq == std::string::npos) return 0;
+    std::string name = text.substr(eq + 1, end == std::string::npos ? std::string::npos : end - eq - 1);
+    name.erase(0, name.find_first_not_of(" \t"));
+    name.erase(name.find_last_not_of(" \t\r") + 1);
+    return name.empty() || name == "LOCAL" ? 0 : file_size_or_zero(folder / name);
+  }
+  const std::string key = ext == ".vtm" ? "file=\"" : "Source=\"";
+  for (size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+    const size_t start = at + key.size(), end = text.find('"', start);
+    if (end == std::string::npos) break;
+    total += file_size_or_zero(folder / text.substr(start, end - start));
+  }
+  return total;
+}
+
+}  // namespace
+
+ChildLimits read_limits(const std::string& path) {
+  const std::string ext = detail::lower_extension(path);
+  uint64_t bytes = file_size_or_zero(path);
+  if (ext == ".vtm" || ext == ".pvtu" || ext == ".mhd") bytes += referenced_bytes(path, ext);
+  const bool may_be_compressed = ext == ".vtu" || ext == ".vtp" || ext == ".vti" || ext == ".vtm" || ext == ".pvtu" || ext == ".vdb" ||
+                                 ext == ".mha" || ext == ".mhd" || ext == ".gz";
+  const double expanded = double(bytes) * (may_be_compressed ? kMaxCompressionRatio : 1.0);
+  ChildLimits limits;
+  const bool voxels = ext == ".vti" || ext == ".mhd" || ext == ".mha" || ext == ".inr" || ext == ".gz" || ext == ".vdb";
+  const double per_byte = double(voxels ? kReadMemoryPerVoxelByte : kReadMemoryPerByte);
+  limits.memory_bytes = uint64_t(std::min(double(child_memory_budget()), double(kReadBaseMemory) + per_byte * expanded));
+  limits.seconds = kReadBaseSeconds + kReadSecondsPerMiB * expanded / 1048576.0;
+  return limits;
+}
+
+ChildJob read_job(const std::string& path) {
+  ChildJob job;
+  job.source = path;
+  job.limits = read_limits(path);
+  return job;
+}
+
+void run_in_child(const ChildJob& job, const Progress& progress, const std::function<void(ResultWriter&, const Progress&)>& work,
+                  const std::function<void(ResultReader&)>& receive) {
+  if (g_in_child) {  // already isolated: run in place, through a pipe all the same would be pointless
+    throw std::logic_error("run_in_child: nested isolation; call the work directly");
+  }
+  report(progress, job.waiting_fraction, job.stage, job.source);  // the caller hears of the work, and may stop it, before it starts
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(job.source + ": cannot make a pipe for the reader: " + std::strerror(errno));
+  std::cout.flush();  // the child must not write what the parent has buffered
+  std::cerr.flush();
+  std::fflush(nullptr);
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int error = errno;
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw std::runtime_error(job.source + ": cannot start a process for the reader: " + std::strerror(error));
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    child_main(job, fds[1], parent, work);
+  }
+  ::close(fds[1]);
+  ChildChannel channel(job, progress, pid, fds[0]);
+  ResultReader in(channel);
+  for (;;) {
+    uint8_t tag = 0;
+    channel.read(&tag, 1);
+    if (tag == kProgressFrame) {
+      double fraction = 0.0;
+      std::string stage;
+      in(fraction);
+      in(stage);
+      channel.progress(fraction, stage);
+    } else if (tag == kErrorFrame) {
+      uint8_t kind = 0;
+      std::string source, text;
+      in(kind);
+      in(source);
+      in(text);
+      channel.finish();
+      if (kind == kInputError) throw InputError(source, text);
+      if (kind == kCancelled) throw Cancelled(job.source);
+      if (kind == kOutOfMemory)
+        throw InputError(job.source, job.worker + " needs more than " + bytes_text(job.limits.memory_bytes) + " of memory (" + text +
+                                         "): " + job.memory_hint);
+      throw InputError(job.source, job.worker + " failed: " + text);
+    } else if (tag == kResultFrame) {
+      receive(in);
+      channel.finish();
+      return;
+    } else {
+      channel.ended_without_result();
+    }
+  }
+}
+
+}  // namespace prismoid::io
