@@ -1,11 +1,11 @@
-// Meshlets and their charts (renderer/surface/meshlets.hpp), both clusterings: every triangle in
+// Meshlets and their charts (renderer/surface/msa/meshlets.hpp), both clusterings: every triangle in
 // exactly one meshlet of one mesh and at most max_triangles; each chart is one orthogonal
 // projection (a rotation of the projection onto the meshlet's plane: edge lengths and areas as
 // the normal's cosine says), orientation-keeping, injective, inside [0, extent]; NormalCone
 // keeps its normal cone; degenerate triangles get harmless meshlets; bad settings name the
 // scene. Then the comparison: NormalCone's meshlets fill their blocks better than
 // meshoptimizer's (meshlet_stats), on a sphere and on bumpy surfaces.
-#include "renderer/surface/meshlets.hpp"
+#include "renderer/surface/msa/meshlets.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,7 +23,7 @@
 #include <meshoptimizer.h>
 
 #include "io/surface_io.hpp"
-#include "renderer/surface/planar_charts.hpp"
+#include "renderer/surface/charts/planar_charts.hpp"
 #include "scene/generators.hpp"
 #include "surface/chart_test_scenes.hpp"
 #include "scene/input_error.hpp"
