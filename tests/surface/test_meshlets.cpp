@@ -636,9 +636,17 @@ TEST(Meshlets, NormalConeFillsBlocksBetterThanMeshoptimizer) {
 }
 
 // The real meshes of datasets/ (when the cache holds them): stats only, nothing asserted beyond
-// finite numbers.
+// finite numbers. The cache is where datasets/fetch-real.sh puts it: $PRISMOID_DATA_CACHE, else
+// datasets/.cache of this source tree.
+std::filesystem::path real_mesh_dir() {
+  const char* cache = std::getenv("PRISMOID_DATA_CACHE");
+  const std::filesystem::path root = cache != nullptr && *cache != '\0' ? std::filesystem::path(cache)
+                                                                         : std::filesystem::path(PRISMOID_SOURCE_DIR) / "datasets" / ".cache";
+  return root / "meshes";
+}
+
 TEST(Meshlets, RealMeshesStats) {
-  const std::filesystem::path dir = "/work/main/datasets/.cache/meshes";
+  const std::filesystem::path dir = real_mesh_dir();
   int found = 0;
   for (const char* name : {"bunny00", "armadillo", "ChineseDragon-10kv"}) {
     const std::filesystem::path path = dir / (std::string(name) + ".off");

@@ -1,7 +1,8 @@
 #pragma once
-// ReSTIR GI hosted by the Htex backend (Li & Guo 4, shared/papers): the GI passes of
-// restir_gi.glsl run over the texels of HtexPass's task list (8 x 8 per task shadel, launched
-// indirectly like the shading pass) with the Htex hooks of shaders/surface/gi/htex_host.glsl:
+// ReSTIR GI hosted by the Htex backend (Li & Guo, "Real-time Seamless Object Space Shading",
+// section 4): the GI passes of restir_gi.glsl run over the texels of HtexPass's task list (8 x 8
+// per task shadel, launched indirectly like the shading pass) with the Htex hooks of
+// shaders/surface/gi/htex_host.glsl:
 //  - a sample's reservoir slot is its texel's physical pool slot, so a texel whose group keeps
 //    its page keeps its reservoir across frames (temporal reuse without reprojection);
 //  - history is valid when the slot's stamp names the same virtual texel and the previous frame

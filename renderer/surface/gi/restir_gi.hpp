@@ -1,5 +1,6 @@
 #pragma once
-// ReSTIR GI in object space (Ouyang et al. 2021; in object space as Li & Guo, shared/papers):
+// ReSTIR GI in object space (Ouyang et al. 2021, "ReSTIR GI: Path Resampling for Real-Time Path
+// Tracing"; in object space as Li & Guo, "Real-time Seamless Object Space Shading", section 4):
 // one-bounce indirect light for a set of shading samples, with reservoirs that live in
 // per-sample slots across frames (temporal reuse without reprojection), spatial reuse over
 // neighbours on the surface and a persistent fallback layer for samples whose history is lost.

@@ -1,7 +1,7 @@
 #pragma once
 // Htex (Barbier & Dupuy 2022, "Htex: Per-Halfedge Texturing for Arbitrary Mesh Topologies",
 // DOI 10.1145/3543868) laid out in one virtual atlas as Li & Guo ("Real-time Seamless Object
-// Space Shading", shared/papers) do: plain data and math, no Vulkan. The GPU passes (pre-Z
+// Space Shading", section 3.1) do: plain data and math, no Vulkan. The GPU passes (pre-Z
 // marking, allocation, shading, gather) address texels through this; the CPU reference
 // (renderer/reference/htex_reference.hpp) blends them in double precision.
 //

@@ -217,8 +217,8 @@ void HtexPass::record_allocation(VkCommandBuffer cmd, const HtexTargets&, vk::Gp
     compute_barrier(cmd);
   };
   // The loop's later steps are sized by DECIDE (HtexStateGpu::loop_groups, loop_pixels): once the
-  // marked groups fit, its remaining iterations launch nothing, where they used to launch every
-  // group and pixel only to return (most frames need no bias).
+  // marked groups fit, its remaining iterations launch nothing instead of every group and pixel
+  // only to return, since most frames need no bias.
   auto sized_by_decide = [&](uint32_t s, VkDeviceSize offset) {
     push_step(cmd, s);
     vkCmdDispatchIndirect(cmd, state_.get(), offset);

@@ -1,6 +1,6 @@
 #pragma once
 // The Htex object-space shading backend (Li & Guo, "Real-time Seamless Object Space Shading",
-// shared/papers; Htex: Barbier & Dupuy 2022). Shading lives on per-edge texture quads packed in
+// section 3; Htex: Barbier & Dupuy 2022). Shading lives on per-edge texture quads packed in
 // one virtual atlas (htex_layout.hpp, htex_tables.hpp); per frame:
 //  - "pre-z + marking": a depth pre-pass, then an EQUAL-tested pass whose fragment shader runs
 //    once per visible pixel (shaders/surface/htex/mark.frag): barycentric weights of the pixel's
@@ -13,7 +13,8 @@
 //    level-0 groups; raising all pixels below the bias level repeats that step), up to the
 //    coarsest level; then groups no longer marked release their pages to a free list and newly
 //    marked groups take one. A group that stays marked keeps its page: what is stored per texel
-//    (shading now; reservoirs of the GI pass later) persists across frames at the same slot.
+//    (the shading, and with GI the texel's reservoir: htex_gi.hpp) persists across frames at
+//    the same slot.
 //    When the pool is still too small, the groups left without a page are counted (overflow);
 //    nothing is written outside the pool and the gather renormalizes over the resident texels.
 //    The task list (every marked shadel of a resident group) and the indirect launch size are

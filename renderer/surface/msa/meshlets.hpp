@@ -1,10 +1,10 @@
 #pragma once
 // Meshlets and their charts for the meshlet shading atlas (Neff et al. 2022, "Meshlets and How
-// to Shade Them", shared/papers): plain data and math, no Vulkan.
+// to Shade Them: A Study on Texture-Space Shading"): plain data and math, no Vulkan.
 //
 // A meshlet is up to `max_triangles` (84, the paper's) triangles of one mesh. Two clusterings:
-//  - Meshoptimizer: meshopt_buildMeshlets (meshoptimizer's clusterizer, the issue's starting
-//    point; Debian's 0.18) per mesh, at most kMeshoptMaxVertices vertices and max_triangles
+//  - Meshoptimizer: meshopt_buildMeshlets (meshoptimizer's clusterizer, the baseline the
+//    normal-cone clustering is compared with; Debian's 0.18) per mesh, at most kMeshoptMaxVertices vertices and max_triangles
 //    triangles (rounded down to a multiple of 4, as 0.18 requires, at least 4; then cut by
 //    triangle order when that is still more than max_triangles), with its cone weight; each
 //    meshlet is then charted as below, onto the plane of its area-weighted mean normal, and

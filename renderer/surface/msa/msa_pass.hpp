@@ -1,7 +1,7 @@
 #pragma once
-// The meshlet shading atlas backend (Neff et al. 2022, "Meshlets and How to Shade Them",
-// shared/papers) over the meshlets and charts of meshlets.hpp (the paper's pre-charted variant,
-// MSA-UV, with planar charts). Per frame:
+// The meshlet shading atlas backend (Neff et al. 2022, "Meshlets and How to Shade Them: A Study
+// on Texture-Space Shading") over the meshlets and charts of meshlets.hpp (the paper's
+// pre-charted variant, MSA-UV, with planar charts). Per frame:
 //  - "pre-z + visibility": a depth pre-pass, then an EQUAL-tested pass once per visible pixel
 //    (shaders/surface/msa/mark.frag): the pixel's barycentric weights to a visibility buffer;
 //    its meshlet marked seen with the density it wants (texels per chart unit so that a texel

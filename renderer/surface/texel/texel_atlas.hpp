@@ -1,6 +1,6 @@
 #pragma once
 // The static texture atlas of the texel shading backend (Hillesland & Yang 2016, "Texel
-// Shading", shared/papers): plain data and math, no Vulkan. Texel shading needs a unique,
+// Shading"): plain data and math, no Vulkan. Texel shading needs a unique,
 // static parametrization of every surface; surface files rarely carry one, so this builds it:
 //
 // Charts. Triangles are grown into charts over shared edges (a triangle joins a chart when its

@@ -1,5 +1,5 @@
 #pragma once
-// The texel shading backend (Hillesland & Yang 2016, "Texel Shading", shared/papers) over the
+// The texel shading backend (Hillesland & Yang 2016, "Texel Shading") over the
 // static atlas of texel_atlas.hpp. Per frame:
 //  - "pre-z + queue": a depth pre-pass, then an EQUAL-tested pass whose fragment shader runs
 //    once per visible pixel (shaders/surface/texel/queue.frag): the pixel's barycentric weights
