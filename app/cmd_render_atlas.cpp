@@ -1,6 +1,6 @@
 // `prismoid render SCENE --mode texel|msa`: a surface scene through one of the atlas-based
 // texture-space backends: texel shading over a static mip-mapped atlas (renderer/surface/
-// texel_pass.hpp) or the meshlet shading atlas (renderer/surface/msa_pass.hpp). Shaded with
+// texel/texel_pass.hpp) or the meshlet shading atlas (renderer/surface/msa/msa_pass.hpp). Shaded with
 // shadows, displayed bilinearly per pixel; linear RGB to PFM (or display sRGB to PNG), counters in
 // the stats.
 #include <cmath>
@@ -15,8 +15,8 @@
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/msa_pass.hpp"
-#include "renderer/surface/texel_pass.hpp"
+#include "renderer/surface/msa/msa_pass.hpp"
+#include "renderer/surface/texel/texel_pass.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
 #include "scene/input_error.hpp"

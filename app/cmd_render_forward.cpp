@@ -1,5 +1,5 @@
 // `prismoid render SCENE --mode forward`: a surface scene through the forward GPU backend
-// (renderer/surface/forward_pass.hpp), linear RGB to PFM (or display sRGB to PNG).
+// (renderer/surface/forward/forward_pass.hpp), linear RGB to PFM (or display sRGB to PNG).
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -15,8 +15,8 @@
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/forward_pass.hpp"
-#include "renderer/surface/shadowed_forward_pass.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
+#include "renderer/surface/forward/shadowed_forward_pass.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"

@@ -1,5 +1,5 @@
 // `prismoid render SCENE --mode htex`: a surface scene through the Htex object-space shading
-// backend (renderer/surface/htex_pass.hpp): shading on per-edge texture quads with shadows,
+// backend (renderer/surface/htex/htex_pass.hpp): shading on per-edge texture quads with shadows,
 // gathered per pixel; linear RGB to PFM (or display sRGB to PNG), counters in the stats.
 #include <cmath>
 #include <fstream>
@@ -14,8 +14,8 @@
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/htex_gi.hpp"
-#include "renderer/surface/htex_pass.hpp"
+#include "renderer/surface/gi/htex_gi.hpp"
+#include "renderer/surface/htex/htex_pass.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
 #include "scene/input_error.hpp"
@@ -47,7 +47,7 @@ int cmd_render_htex(const std::vector<std::string>& args) {
     if (end == v.c_str() || *end != '\0' || !(layout.texels_per_unit > 0.0) || !std::isfinite(layout.texels_per_unit))
       throw InputError("--texels-per-unit", "must be a positive number, got '" + v + "'");
   }
-  // GI (ReSTIR GI hosted by the Htex backend, renderer/surface/htex_gi.hpp).
+  // GI (ReSTIR GI hosted by the Htex backend, renderer/surface/gi/htex_gi.hpp).
   const std::string gi_mode = a.has("gi") ? a.values.at("gi") : "off";
   if (gi_mode != "off" && gi_mode != "biased" && gi_mode != "unbiased")
     throw InputError("--gi", "must be off, biased or unbiased, got '" + gi_mode + "'");

@@ -1,6 +1,6 @@
 #pragma once
 // A halfedge structure over a triangle mesh, as flat arrays that a GPU pass can upload as they
-// are. Htex (renderer/surface/htex_layout.hpp) gives every edge of it one square texture.
+// are. Htex (renderer/surface/htex/htex_layout.hpp) gives every edge of it one square texture.
 //
 // Ours rather than a library's. Debian 12 packages both OpenMesh (libopenmesh-dev) and CGAL
 // (libcgal-dev, header-only); both are general polygon meshes with handles and property

@@ -48,10 +48,10 @@ std::string settings_label(const BenchCase& c);
 // 4 x `seconds` at most (just `seconds` where a frame's time is NaN: no timestamps), and at least
 // once (pipelines, caches, first-use work); returns how many frames that took. A row's timed
 // frames follow at once, and the frames should keep the GPU busy (no read-back between them).
-// Why: after an idle spell (the bench computes each CPU reference between rows) the H200 sat at
-// its idle clock, 345 of 1980 MHz, through a row's frames, and timed every pass up to 5.7x slow;
-// under frames with read-backs between them (40-60% busy) it climbed only about 500 MHz a
-// second (nvidia-smi during the bench: docs/results.md, "The GPU's clock").
+// Why: after an idle spell (the bench computes each CPU reference between rows) a GPU can stay at
+// its idle clock through a row's frames, and under frames with read-backs between them it rises
+// only slowly; rows timed then are several times too slow (docs/results.md, "The GPU's clock",
+// has the measurements).
 uint32_t warm_up(const std::function<double()>& frame, double seconds);
 // The warm-up of `prismoid render --frames N` (N > 1) and the bench's default.
 inline constexpr double kTimedWarmUpSeconds = 2.0;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/reference/image_error.hpp"
+#include "renderer/metrics/image_error.hpp"
 
 namespace prismoid::bench {
 

@@ -8,7 +8,7 @@
 
 #include "app/bench/bench_cases.hpp"
 #include "app/bench/bench_table.hpp"
-#include "renderer/surface/meshlets.hpp"
+#include "renderer/surface/msa/meshlets.hpp"
 
 namespace prismoid::vk {
 class Device;

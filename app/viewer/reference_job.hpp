@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "renderer/frame/frame_renderer.hpp"
-#include "renderer/reference/image_error.hpp"
+#include "renderer/metrics/image_error.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
 

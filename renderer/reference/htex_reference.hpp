@@ -26,7 +26,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "renderer/surface/htex_layout.hpp"
+#include "renderer/surface/htex/htex_layout.hpp"
 #include "scene/halfedge_mesh.hpp"
 
 namespace prismoid::reference {

@@ -91,7 +91,7 @@ PathTracedImage path_trace(const SurfaceScene& scene, const Camera& camera, cons
 // side, as seen from `wo`), reflection there is shaded for the viewer at `wo` (the shading
 // normal turned to wo's side, as for a camera ray arriving along -wo). width, height and jitter
 // are ignored. With max_bounces = 2 the result is emission + direct light + light reflected
-// once more (one bounce): what direct shading plus one-bounce GI (renderer/surface/restir_gi)
+// once more (one bounce): what direct shading plus one-bounce GI (renderer/surface/gi/restir_gi)
 // converges to; min_bounces = max_bounces = 2 gives the one-bounce part alone.
 struct SurfacePointQuery {
   uint32_t mesh = 0, triangle = 0;  // the scene's mesh and the triangle within it

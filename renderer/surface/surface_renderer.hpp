@@ -8,14 +8,14 @@
 #include <vector>
 
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/forward_pass.hpp"
-#include "renderer/surface/shadowed_forward_pass.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
+#include "renderer/surface/forward/shadowed_forward_pass.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
-#include "renderer/surface/htex_pass.hpp"
-#include "renderer/surface/htex_gi.hpp"
-#include "renderer/surface/htex_tables.hpp"
-#include "renderer/surface/msa_pass.hpp"
-#include "renderer/surface/texel_pass.hpp"
+#include "renderer/surface/htex/htex_pass.hpp"
+#include "renderer/surface/gi/htex_gi.hpp"
+#include "renderer/surface/htex/htex_tables.hpp"
+#include "renderer/surface/msa/msa_pass.hpp"
+#include "renderer/surface/texel/texel_pass.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
 #include "scene/surface_scene.hpp"
@@ -53,13 +53,13 @@ struct ReuseInputs {
 ShadingReuse plan_shading_reuse(const ReuseInputs& in);
 
 // The surface modes this device can draw, in the order the window lists them: forward (per
-// pixel, renderer/surface/forward_pass and shadowed_forward_pass), htex (object space,
-// renderer/surface/htex_pass), and Htex with one-bounce indirect light (renderer/surface/
-// htex_gi): htex-gi (ReSTIR GI as the paper ships it, biased), htex-gi-unbiased (the
+// pixel, renderer/surface/forward/forward_pass and shadowed_forward_pass), htex (object space,
+// renderer/surface/htex/htex_pass), and Htex with one-bounce indirect light (renderer/surface/
+// gi/htex_gi): htex-gi (ReSTIR GI as the paper ships it, biased), htex-gi-unbiased (the
 // bias-corrected combination) and htex-pt (one bounce sample per texel and frame, no reuse: plain
 // path tracing in object space, the baseline ReSTIR is measured against), then texel (texel
-// shading over a static atlas, renderer/surface/texel_pass) and msa (the meshlet shading atlas,
-// renderer/surface/msa_pass).
+// shading over a static atlas, renderer/surface/texel/texel_pass) and msa (the meshlet shading atlas,
+// renderer/surface/msa/msa_pass).
 std::vector<std::string> surface_modes(const vk::Device& device);
 
 class SurfaceRenderer {

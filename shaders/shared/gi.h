@@ -1,7 +1,8 @@
 // Layouts of ReSTIR GI in object space (Ouyang et al. 2021, "ReSTIR GI: Path Resampling for
-// Real-Time Path Tracing", CGF 40(8); in object space as Li & Guo do it, shared/papers), shared
-// by shaders/surface/gi/ and renderer/surface/restir_gi.cpp. All positions are float and
-// relative to the scene origin (GpuSurfaceScene::origin, SceneAccel::origin).
+// Real-Time Path Tracing", CGF 40(8); in object space as Li & Guo do it in "Real-time Seamless
+// Object Space Shading", section 4), shared by shaders/surface/gi/ and
+// renderer/surface/gi/restir_gi.cpp. All positions are float and relative to the scene origin
+// (GpuSurfaceScene::origin, SceneAccel::origin).
 //
 // Vocabulary: a host (a shading backend: Htex shadels, the dense test set, ...) hands GI a set of
 // *shading samples* (points x1 on surfaces, GiSample). Each sample owns a *slot* in a reservoir

@@ -1,6 +1,6 @@
 // Layouts shared by the Htex backend's shaders (shaders/surface/htex/) and renderer/surface
 // (htex_tables.hpp, htex_pass.hpp). The CPU twins of the shaders' arithmetic are
-// renderer/surface/htex_layout.hpp (charts, quads, atlas) and renderer/reference/
+// renderer/surface/htex/htex_layout.hpp (charts, quads, atlas) and renderer/reference/
 // htex_reference.hpp (footprint, level of detail).
 //
 // Identifiers on the GPU are global over the scene's meshes: a global face is the mesh's

@@ -1,5 +1,5 @@
 // Layouts shared by the meshlet shading atlas's shaders (shaders/surface/msa/) and
-// renderer/surface/msa_pass.hpp. Meshlets and their charts: renderer/surface/meshlets.hpp.
+// renderer/surface/msa/msa_pass.hpp. Meshlets and their charts: renderer/surface/msa/meshlets.hpp.
 //
 // Atlas: a grid of superblocks of PRISMOID_MSA_SUPERBLOCK^2 texels (atlas texel (x, y) at
 // y * width + x of the result buffer). A superblock belongs to one block size class at a time:

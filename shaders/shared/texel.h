@@ -1,6 +1,6 @@
 // Layouts shared by the texel shading backend's shaders (shaders/surface/texel/) and
-// renderer/surface/texel_pass.hpp. The atlas itself (charts, levels, triangle index texture,
-// lookup rules) is renderer/surface/texel_atlas.hpp; its CPU arithmetic is the twin of
+// renderer/surface/texel/texel_pass.hpp. The atlas itself (charts, levels, triangle index texture,
+// lookup rules) is renderer/surface/texel/texel_atlas.hpp; its CPU arithmetic is the twin of
 // shaders/surface/texel/texel.glsl.
 //
 // Buffers hold every level one after the other: texel (i, j) of level L is at

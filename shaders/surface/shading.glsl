@@ -155,11 +155,12 @@ vec3 sky_cosine_mean(vec3 n) {
 // Every emitter's closed-form term is summed before the first shadow ray is traced; the shadow
 // of an emitter then removes (1 - visibility) of its term. Next to a corner where emitters meet,
 // the terms of their shared edges cancel only if every emitter sees the very same point (a shift
-// of one ulp at 1e-5 from the corner moves a term by 1e-3). In ray-generation code the H200's
-// compiler recomputed the point after each traced ray, 1 to 3 ulps away from the first value
-// (with `precise` on every operation too): with the terms summed between rays, the furnace next
-// to an icosahedron corner came out up to 3e-4 too bright (tests/surface/test_forward.cpp,
-// FurnaceNextToACorner...). Fragment shaders trace nothing, and there the second loop folds away.
+// of one ulp at 1e-5 from the corner moves a term by 1e-3). In ray-generation code a compiler
+// may recompute the point after each traced ray a few ulps away from its first value (`precise`
+// does not prevent it), so terms summed between rays would not cancel
+// (tests/surface/test_forward.cpp, FurnaceNextToACornerStaysAtTheClosedForm; docs/results.md,
+// "The GI furnace's excess"). Fragment shaders trace nothing, and there the second loop folds
+// away.
 vec3 surface_lights(SurfacePoint sp, ShadingMaterial m) {
   vec3 L = vec3(0.0);
   for (uint i = 0u; i < frame.counts.z; ++i)

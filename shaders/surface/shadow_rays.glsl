@@ -66,12 +66,12 @@ vec3 emitter_shadow_sample(uint k) {
 // seen along the segment from the offset origin to the point moved off the emitter towards its
 // front (the emitter's own triangle and its coplanar neighbours are then never hit).
 //
-// The weights are kept in an array and both sums are taken from it after all rays are traced.
-// When `seen` was summed after each trace, from a weight computed before it, the H200's
-// ray-generation code returned ratios up to 1.05 next to an icosahedron corner
-// (tests/surface/test_forward.cpp, FurnaceNextToACorner...). The payload was only ever 0 or 1
-// there, so the weights that reached `seen` were not the ones that reached `total`. Summed from
-// one array, the ratio cannot exceed 1.
+// The weights are kept in an array and both sums are taken from it after all rays are traced, so
+// that the very same weights reach `seen` and `total` and the ratio cannot exceed 1. A weight
+// summed into `seen` after a trace, from a value computed before it, need not be the one summed
+// into `total`: a compiler may recompute it across traceRayEXT, and next to an emitter's corner
+// the weights are sensitive to the last ulp (tests/surface/test_forward.cpp,
+// FurnaceNextToACornerStaysAtTheClosedForm; docs/results.md, "The GI furnace's excess").
 float emitter_visibility(SurfacePoint sp, uint emitter) {
   EmitterGpu e = emitters[emitter];
   float offset = shadow_ray_offset(sp.position);

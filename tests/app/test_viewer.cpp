@@ -24,7 +24,7 @@
 #include "app/viewer/viewer.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "io/image_io.hpp"
-#include "renderer/reference/image_error.hpp"
+#include "renderer/metrics/image_error.hpp"
 #include "scene/generators.hpp"
 #include "support/cube_surface.hpp"
 

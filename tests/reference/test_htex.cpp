@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "renderer/surface/htex_layout.hpp"
+#include "renderer/surface/htex/htex_layout.hpp"
 #include "scene/generators.hpp"
 #include "support/test_meshes.hpp"
 

@@ -21,7 +21,7 @@
 #include <gtest/gtest.h>
 
 #include "reference/ggx_albedo.hpp"
-#include "renderer/reference/image_error.hpp"
+#include "renderer/metrics/image_error.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"

@@ -18,8 +18,8 @@
 
 #include <glm/vec2.hpp>
 
-#include "renderer/surface/forward_pass.hpp"
-#include "renderer/surface/shadowed_forward_pass.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
+#include "renderer/surface/forward/shadowed_forward_pass.hpp"
 #include "scene/surface_scene.hpp"
 
 namespace prismoid::test {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/htex_pass.hpp"
+#include "renderer/surface/htex/htex_pass.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "scene/surface_scene.hpp"

@@ -1,5 +1,5 @@
 // The CPU half of ReSTIR GI in object space: the texel walk over the halfedge adjacency
-// (renderer/surface/htex_walk.hpp), the dense sample set and its neighbour table
+// (renderer/surface/htex/htex_walk.hpp), the dense sample set and its neighbour table
 // (gi_dense_set.hpp), and the path tracer's radiance leaving surface points (the reference the
 // GPU passes are held to).
 #include <gtest/gtest.h>
@@ -11,9 +11,9 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/reference/path_tracer.hpp"
-#include "renderer/surface/gi_dense_set.hpp"
-#include "renderer/surface/htex_layout.hpp"
-#include "renderer/surface/htex_walk.hpp"
+#include "renderer/surface/gi/gi_dense_set.hpp"
+#include "renderer/surface/htex/htex_layout.hpp"
+#include "renderer/surface/htex/htex_walk.hpp"
 #include "scene/halfedge_mesh.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"

@@ -1,4 +1,4 @@
-// ReSTIR GI hosted by the Htex backend (renderer/surface/htex_gi.hpp) on lavapipe with
+// ReSTIR GI hosted by the Htex backend (renderer/surface/gi/htex_gi.hpp) on lavapipe with
 // validation on: the GLSL texel walk against the C++ one, the furnace against its closed form,
 // the Cornell box against the CPU path tracer (max_bounces 2), and the fallback layer at a
 // disocclusion. No GPU times are asserted.
@@ -12,8 +12,8 @@
 
 #include "renderer/reference/htex_reference.hpp"
 #include "renderer/reference/path_tracer.hpp"
-#include "renderer/surface/htex_gi.hpp"
-#include "renderer/surface/htex_walk.hpp"
+#include "renderer/surface/gi/htex_gi.hpp"
+#include "renderer/surface/htex/htex_walk.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "scene/generators.hpp"

@@ -53,7 +53,7 @@
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/htex_reference.hpp"
 #include "renderer/reference/tet_ray.hpp"
-#include "renderer/surface/forward_pass.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
 #include "scene/generators.hpp"
 #include "support/gpu_fixture.hpp"
 #include "surface/forward_comparison.hpp"

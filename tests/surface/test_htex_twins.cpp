@@ -14,7 +14,7 @@
 #include <set>
 
 #include "renderer/reference/htex_reference.hpp"
-#include "renderer/surface/htex_tables.hpp"
+#include "renderer/surface/htex/htex_tables.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "surface/htex_fixture.hpp"

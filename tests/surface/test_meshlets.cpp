@@ -1,11 +1,11 @@
-// Meshlets and their charts (renderer/surface/meshlets.hpp), both clusterings: every triangle in
+// Meshlets and their charts (renderer/surface/msa/meshlets.hpp), both clusterings: every triangle in
 // exactly one meshlet of one mesh and at most max_triangles; each chart is one orthogonal
 // projection (a rotation of the projection onto the meshlet's plane: edge lengths and areas as
 // the normal's cosine says), orientation-keeping, injective, inside [0, extent]; NormalCone
 // keeps its normal cone; degenerate triangles get harmless meshlets; bad settings name the
 // scene. Then the comparison: NormalCone's meshlets fill their blocks better than
 // meshoptimizer's (meshlet_stats), on a sphere and on bumpy surfaces.
-#include "renderer/surface/meshlets.hpp"
+#include "renderer/surface/msa/meshlets.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,7 +23,7 @@
 #include <meshoptimizer.h>
 
 #include "io/surface_io.hpp"
-#include "renderer/surface/planar_charts.hpp"
+#include "renderer/surface/charts/planar_charts.hpp"
 #include "scene/generators.hpp"
 #include "surface/chart_test_scenes.hpp"
 #include "scene/input_error.hpp"
@@ -636,9 +636,17 @@ TEST(Meshlets, NormalConeFillsBlocksBetterThanMeshoptimizer) {
 }
 
 // The real meshes of datasets/ (when the cache holds them): stats only, nothing asserted beyond
-// finite numbers.
+// finite numbers. The cache is where datasets/fetch-real.sh puts it: $PRISMOID_DATA_CACHE, else
+// datasets/.cache of this source tree.
+std::filesystem::path real_mesh_dir() {
+  const char* cache = std::getenv("PRISMOID_DATA_CACHE");
+  const std::filesystem::path root = cache != nullptr && *cache != '\0' ? std::filesystem::path(cache)
+                                                                         : std::filesystem::path(PRISMOID_SOURCE_DIR) / "datasets" / ".cache";
+  return root / "meshes";
+}
+
 TEST(Meshlets, RealMeshesStats) {
-  const std::filesystem::path dir = "/work/main/datasets/.cache/meshes";
+  const std::filesystem::path dir = real_mesh_dir();
   int found = 0;
   for (const char* name : {"bunny00", "armadillo", "ChineseDragon-10kv"}) {
     const std::filesystem::path path = dir / (std::string(name) + ".off");

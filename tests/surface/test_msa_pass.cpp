@@ -1,5 +1,5 @@
 // The meshlet shading atlas's passes on the GPU (lavapipe, validation on) against the CPU side:
-// every seen meshlet gets a block of the size its density asks for (renderer/surface/msa_pass's
+// every seen meshlet gets a block of the size its density asks for (renderer/surface/msa/msa_pass's
 // msa_class_for from the GPU's densities, which are the CPU's from the pixel rays), blocks never
 // overlap, every shaded texel is the direct-light reference at its chart point's surface point,
 // every displayed pixel the bilinear lookup of its block, a still camera shades nothing new, the
@@ -17,8 +17,8 @@
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/forward_pass.hpp"
-#include "renderer/surface/msa_pass.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
+#include "renderer/surface/msa/msa_pass.hpp"
 #include "shaders/shared/msa.h"
 #include "support/gpu_fixture.hpp"
 #include "surface/forward_comparison.hpp"

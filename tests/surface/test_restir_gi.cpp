@@ -1,4 +1,4 @@
-// ReSTIR GI in object space (renderer/surface/restir_gi.hpp) on lavapipe with validation on,
+// ReSTIR GI in object space (renderer/surface/gi/restir_gi.hpp) on lavapipe with validation on,
 // against closed forms and the CPU path tracer's radiance leaving the same points
 // (reference::radiance_leaving, double precision). No GPU times are asserted.
 #include <gtest/gtest.h>
@@ -12,9 +12,9 @@
 
 #include "renderer/reference/path_tracer.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/gi_dense_set.hpp"
+#include "renderer/surface/gi/gi_dense_set.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
-#include "renderer/surface/restir_gi.hpp"
+#include "renderer/surface/gi/restir_gi.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/surface_generators.hpp"
 #include "support/gpu_fixture.hpp"

@@ -13,7 +13,7 @@
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/shadowed_forward_pass.hpp"
+#include "renderer/surface/forward/shadowed_forward_pass.hpp"
 #include "scene/surface_generators.hpp"
 #include "support/gpu_fixture.hpp"
 #include "surface/forward_comparison.hpp"

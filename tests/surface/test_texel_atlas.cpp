@@ -1,8 +1,8 @@
-// The texel shading atlas (renderer/surface/texel_atlas.hpp): charts are injective similarities
+// The texel shading atlas (renderer/surface/texel/texel_atlas.hpp): charts are injective similarities
 // of the surface (up to the projection's cosine), packed rectangles are disjoint and aligned,
 // the triangle index textures match a brute-force evaluation of their rule, and the lookup
 // (level selection, bilinear taps, texel barycentrics) does what its definition says.
-#include "renderer/surface/texel_atlas.hpp"
+#include "renderer/surface/texel/texel_atlas.hpp"
 
 #include <algorithm>
 #include <chrono>

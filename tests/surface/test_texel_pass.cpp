@@ -1,5 +1,5 @@
 // The texel shading backend's passes on the GPU (lavapipe, validation on) against the
-// double-precision CPU side (renderer/surface/texel_atlas.hpp, reference::direct_light_at):
+// double-precision CPU side (renderer/surface/texel/texel_atlas.hpp, reference::direct_light_at):
 // the queued tiles are exactly the tiles of the visible pixels' bilinear taps, every shaded
 // texel is the direct-light reference at its texel point, every gathered pixel is the bilinear
 // lookup of the shaded texels, no pixel reads an unshaded texel, shading is reused across
@@ -19,8 +19,8 @@
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
-#include "renderer/surface/forward_pass.hpp"
-#include "renderer/surface/texel_pass.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
+#include "renderer/surface/texel/texel_pass.hpp"
 #include "support/gpu_fixture.hpp"
 #include "surface/forward_comparison.hpp"
 #include "surface/htex_fixture.hpp"

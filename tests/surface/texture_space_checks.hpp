@@ -13,7 +13,7 @@
 #include <glm/vec4.hpp>
 
 #include "renderer/reference/direct_light.hpp"
-#include "renderer/surface/forward_pass.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
 #include "scene/surface_scene.hpp"
 #include "surface/forward_comparison.hpp"
 #include "surface/surface_test_scenes.hpp"

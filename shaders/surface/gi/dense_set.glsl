@@ -1,4 +1,4 @@
-// The dense sample set's hooks for ReSTIR GI (renderer/surface/gi_dense_set.hpp): sample i's
+// The dense sample set's hooks for ReSTIR GI (renderer/surface/gi/gi_dense_set.hpp): sample i's
 // slot and fallback entry are i; history validity is a per-sample flag the host writes; spatial
 // candidates come from a precomputed table of texels reached by walking the halfedge adjacency
 // in quad space, in rings of growing radius (the first (2 rho + 1)^2 - 1 entries lie within

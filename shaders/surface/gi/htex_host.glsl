@@ -1,4 +1,4 @@
-// The Htex backend as a ReSTIR GI host (renderer/surface/htex_gi.hpp; Li & Guo 4): the shading
+// The Htex backend as a ReSTIR GI host (renderer/surface/gi/htex_gi.hpp; Li & Guo 4): the shading
 // samples are the texels of this frame's task shadels (HtexPass's task list, 8 x 8 texels per
 // task, launched indirectly like the shading pass), and a sample's index IS its physical pool
 // slot (page * 4096 + texel in page), so the GI buffers indexed by sample (samples, pass 1's

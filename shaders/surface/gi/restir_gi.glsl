@@ -1,6 +1,7 @@
 // ReSTIR GI in object space: the pieces both passes share (Ouyang et al. 2021, "ReSTIR GI: Path
 // Resampling for Real-Time Path Tracing"; reservoirs live with the shading samples as in Li &
-// Guo, shared/papers). Included by a host's ray-generation shaders (e.g. dense_initial.rgen):
+// Guo, "Real-time Seamless Object Space Shading", section 4.2). Included by a host's
+// ray-generation shaders (e.g. dense_initial.rgen):
 //
 //   #include "restir_gi.glsl"        // this file: bindings, reservoirs, target, Jacobian, hooks declared
 //   #include "<host hooks>.glsl"     // the host defines the four hooks below

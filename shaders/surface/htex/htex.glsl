@@ -1,4 +1,4 @@
-// Htex on the GPU: the float twins of renderer/surface/htex_layout.cpp (charts, quads, atlas
+// Htex on the GPU: the float twins of renderer/surface/htex/htex_layout.cpp (charts, quads, atlas
 // addressing, texel points) and renderer/reference/htex_reference.cpp (the lookup's footprint and
 // level of detail), line for line, over the global tables of shaders/shared/htex.h. Tested
 // against the double-precision C++ at many points (tests/surface/test_htex_gpu.cpp).

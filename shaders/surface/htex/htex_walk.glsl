@@ -1,4 +1,4 @@
-// Walking between Htex texels across the surface: the GLSL twin of renderer/surface/htex_walk.cpp
+// Walking between Htex texels across the surface: the GLSL twin of renderer/surface/htex/htex_walk.cpp
 // (htex::step_texel, walk_texel) over the global tables of htex.glsl, step for step. Unit steps
 // cross quad borders through the face's quarter-turn charts and the twin's flip; directions turn
 // with the same maps. Tested against the C++ at many texels (tests/surface/test_htex_gi.cpp).

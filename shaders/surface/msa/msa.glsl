@@ -1,5 +1,5 @@
 // The meshlet shading atlas's buffers and block arithmetic (shaders/shared/msa.h), shared by
-// its passes; renderer/surface/msa_pass.cpp's msa_* functions are the CPU twins.
+// its passes; renderer/surface/msa/msa_pass.cpp's msa_* functions are the CPU twins.
 #ifndef PRISMOID_MSA_GLSL
 #define PRISMOID_MSA_GLSL
 

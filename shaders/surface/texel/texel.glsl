@@ -1,6 +1,6 @@
 // The texel shading backend's buffers and lookup (Hillesland & Yang 2016), shared by the shade
 // queue (queue.frag), the shading pass (shade.rgen) and the gather (gather.frag). The rules are
-// renderer/surface/texel_atlas.hpp's; reference::texel_lookup is the double-precision twin.
+// renderer/surface/texel/texel_atlas.hpp's; reference::texel_lookup is the double-precision twin.
 #ifndef PRISMOID_TEXEL_GLSL
 #define PRISMOID_TEXEL_GLSL
 
