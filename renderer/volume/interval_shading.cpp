@@ -392,10 +392,14 @@ void IntervalShadingPass::record_intervals(VkCommandBuffer cmd, const GpuTetMesh
   const glm::dmat4 proj = projection_matrix(camera, aspect);
 
   gpu::FrameUniforms frame{};
-  frame.view = to_float(view_matrix(camera, mesh.origin));
+  const glm::dmat4 view = view_matrix(camera, mesh.origin);
+  frame.view = to_float(view);
   frame.projection = to_float(proj);
   frame.viewport = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
-  frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance), 0.0f);
+  // The near plane's depth minus the mesh origin's (view[3].z is minus that depth), in double:
+  // the mesh shader clips relative to each cell's reference point, at any distance from the eye.
+  frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance),
+                              float(camera.near_distance + view[3][2]));
   // Marching draws every cell (the mesh shader's emission path: no cell is culled by its
   // extinction, near-clipped pieces in order) and ignores the proxy's linear field.
   const bool per_point = emission || march ? mesh.scalar_per_point : mesh.linear;

@@ -72,7 +72,8 @@ struct FrameUniforms {
   mat4 view;        // mesh-local coordinates -> camera space (camera looks along -z)
   mat4 projection;  // camera space -> clip space (Vulkan: y down, depth 0..1)
   vec4 viewport;    // width, height, 1/width, 1/height
-  vec4 ray_scale;   // 1/P[0][0], 1/P[1][1], near distance (cells are clipped there), unused
+  vec4 ray_scale;   // 1/P[0][0], 1/P[1][1], near distance (cells are clipped there), near distance
+                    // minus the depth of the mesh origin (mesh-local 0)
   uvec4 counts;     // x: tetrahedron count, y: 1 when the field is linear per cell (point values),
                     // z: PRISMOID_INTEGRAND_*, w: 1 when cells are drawn in the order of PRISMOID_BINDING_ORDER
   vec4 transfer;    // x: scalar at the range's low end, y: 1 / (range width), z: table's longest

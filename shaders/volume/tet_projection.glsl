@@ -1,14 +1,25 @@
 // Projection of one tetrahedron into an interval-shading proxy (Tricard 2024, section 2.2).
-// Input: the four vertices in camera space (all in front of the near plane).
-// Output: up to 5 screen-space vertices carrying (1/depth_a, 1/depth_b) and up to 4 triangles.
-// Depth is the positive distance along the viewing axis; 1/depth is affine in screen space
-// on any plane, so the rasterizer's screen-space interpolation of it is exact.
+// Input: the four vertices relative to the cell's reference point c (camera orientation, all in
+// front of the near plane) with the cell's linear field there, c in camera space and the field
+// at c. Output: up to 5 screen-space vertices and up to 4 triangles, each vertex carrying, for
+// the two bounding surfaces a and b over it: 1/depth, (depth - depth_c)/depth and
+// (field - field_c)/depth. Depth is the positive distance along the viewing axis; on a plane,
+// 1/depth, and hence anything linear in camera space divided by depth, is affine in screen
+// space, so the rasterizer's screen-space interpolation of all three is exact. The last two are
+// small numbers computed from positions relative to c, so the fragment recovers the interval's
+// ends relative to c (and its length) with the precision of the cell's size rather than of its
+// distance from the eye: 1/depth alone, at a depth of 2e8, pins a surface only to +-8 units.
+// The inner vertex's second surface is found in 3D, relative to c (the ray to the vertex met
+// with the far face's plane, or the two diagonal edges' crossing as seen from the eye), not by
+// barycentrics of projected points, whose rounding (of the points' distance from the screen
+// centre, not of the cell's size) a small or distant cell would magnify.
 #ifndef PRISMOID_TET_PROJECTION_GLSL
 #define PRISMOID_TET_PROJECTION_GLSL
 
 struct TetProxy {
   vec2 ndc[5];
-  vec2 inv_depth[5];   // x: one bounding surface, y: the other (order unspecified)
+  vec2 inv_depth[5];   // 1/depth of surface a (x) and surface b (y) (which is in front unspecified)
+  vec4 relative[5];    // per surface a, b: (depth - depth_c) / depth in xy, (field - field_c) / depth in zw
   uvec3 triangles[4];
   uint vertex_count;
   uint triangle_count;
@@ -34,17 +45,38 @@ void drop_degenerate_triangles(inout TetProxy proxy, float eps) {
   proxy.triangle_count = kept;
 }
 
-TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
+// Stores proxy vertex k: screen position s, surface a's and surface b's (1/depth,
+// (depth - depth_c)/depth, (field - field_c)/depth).
+void set_proxy_vertex(inout TetProxy proxy, uint k, vec2 s, vec3 a, vec3 b) {
+  proxy.ndc[k] = s;
+  proxy.inv_depth[k] = vec2(a.x, b.x);
+  proxy.relative[k] = vec4(a.y, b.y, a.z, b.z);
+}
+
+// The surface attributes (1/depth, (depth - depth_c)/depth, (field - field_c)/depth) of the
+// point at `offset` from c (camera orientation) where the field is `value`.
+vec3 surface_at(vec3 offset, float value, vec3 cam_c, float field_c) {
+  float inv_d = 1.0 / -(cam_c.z + offset.z);
+  return vec3(inv_d, -offset.z * inv_d, (value - field_c) * inv_d);
+}
+
+vec2 project_point(vec3 cam, mat4 projection) {
+  vec4 clip = projection * vec4(cam, 1.0);
+  return clip.xy / clip.w;
+}
+
+// `piece`: the vertices relative to c (xyz) with the field there (w); `cam_c`: c in camera
+// space; `field_c`: the field at c.
+TetProxy project_tetrahedron(vec4 piece[4], vec3 cam_c, float field_c, mat4 projection) {
   TetProxy proxy;
   proxy.vertex_count = 0u;
   proxy.triangle_count = 0u;
 
   vec2 s[4];
-  float inv_d[4];
+  vec3 surf[4];  // per vertex: 1/depth, (depth - depth_c)/depth, (field - field_c)/depth
   for (int i = 0; i < 4; ++i) {
-    vec4 clip = projection * vec4(cam[i], 1.0);
-    s[i] = clip.xy / clip.w;
-    inv_d[i] = 1.0 / (-cam[i].z);
+    s[i] = project_point(cam_c + piece[i].xyz, projection);
+    surf[i] = surface_at(piece[i].xyz, piece[i].w, cam_c, field_c);
   }
 
   // Signed doubled areas of the projected faces. A face whose area is below `eps` is edge-on
@@ -73,29 +105,28 @@ TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
 
   if (positive == 1 || negative == 1) {
     // Case 1: the silhouette is the single face whose sign is alone; the vertex opposite it
-    // projects inside, and its barycentrics are the other faces' areas over the silhouette's.
+    // projects inside.
     float lone_sign = (positive == 1) ? 1.0 : -1.0;
     int inner = 0;
     for (int i = 0; i < 4; ++i)
       if (area[i] * lone_sign > eps) inner = i;
     uvec3 f = kFaceOpposite[inner];
-    float inv_far_face = 0.0;
-    float denom = area[inner];  // |denom| > eps, the largest magnitude of the four
-    float lambda_sum = 0.0;
-    float lambdas[3];
-    for (int k = 0; k < 3; ++k) {
-      // The face opposite f[k] holds the inner vertex and the other two silhouette vertices.
-      lambdas[k] = clamp(-area[f[k]] / denom, 0.0, 1.0);
-      lambda_sum += lambdas[k];
-    }
-    if (!(lambda_sum > 0.0)) return proxy;  // cannot happen when the areas sum to zero; keeps NaN out
-    for (int k = 0; k < 3; ++k) inv_far_face += lambdas[k] / lambda_sum * inv_d[f[k]];
-    for (int k = 0; k < 3; ++k) {
-      proxy.ndc[k] = s[f[k]];
-      proxy.inv_depth[k] = vec2(inv_d[f[k]]);
-    }
-    proxy.ndc[3] = s[inner];
-    proxy.inv_depth[3] = vec2(inv_d[inner], inv_far_face);
+    // The ray from the eye through the inner vertex p meets the silhouette face's plane at
+    // p + k (cam_c + p) (camera space, all relative to c): k = -n.(p - v0) / n.(cam_c + p).
+    vec3 p = piece[inner].xyz, v0 = piece[f.x].xyz, v1 = piece[f.y].xyz, v2 = piece[f.z].xyz;
+    vec3 n = cross(v1 - v0, v2 - v0);
+    float along = dot(n, cam_c + p);
+    if (!(abs(along) > 0.0)) return proxy;  // the silhouette face edge-on: cannot pass the area test
+    vec3 q = p - dot(n, p - v0) / along * (cam_c + p);
+    // The field at q from its barycentrics in the face (3D, relative to c).
+    float nn = dot(n, n);
+    vec3 lambda = clamp(vec3(dot(n, cross(v1 - q, v2 - q)), dot(n, cross(v2 - q, v0 - q)), dot(n, cross(v0 - q, v1 - q))) / nn,
+                        0.0, 1.0);
+    float lambda_sum = lambda.x + lambda.y + lambda.z;
+    if (!(lambda_sum > 0.0)) return proxy;  // keeps NaN out (nn > 0 for a face that passed the area test)
+    vec3 far_face = surface_at(q, dot(lambda, vec3(piece[f.x].w, piece[f.y].w, piece[f.z].w)) / lambda_sum, cam_c, field_c);
+    for (int k = 0; k < 3; ++k) set_proxy_vertex(proxy, uint(k), s[f[k]], surf[f[k]], surf[f[k]]);
+    set_proxy_vertex(proxy, 3u, s[inner], surf[inner], far_face);
     proxy.triangles[0] = uvec3(3, 0, 1);
     proxy.triangles[1] = uvec3(3, 1, 2);
     proxy.triangles[2] = uvec3(3, 2, 0);
@@ -117,24 +148,24 @@ TetProxy project_tetrahedron(vec3 cam[4], mat4 projection) {
   // vertices, neg[0]-neg[1]; the negative faces share the edge pos[0]-pos[1].
   int a = neg[0], b = neg[1];   // diagonal 1: edge a-b
   int c = pos[0], d = pos[1];   // diagonal 2: edge c-d
-  vec2 ab = s[b] - s[a];
-  vec2 cd = s[d] - s[c];
-  // |denom| is twice the quad's area, the sum of the two positive faces' (> 2 eps), so the
-  // division is safe; the guard only keeps NaN out if rounding ever says otherwise.
-  float denom = cross2(ab, cd);
-  if (!(abs(denom) > 0.0)) return proxy;
-  float t = clamp(cross2(s[c] - s[a], cd) / denom, 0.0, 1.0);
-  float u = clamp(cross2(s[c] - s[a], ab) / denom, 0.0, 1.0);
-  proxy.ndc[0] = s[a];
-  proxy.ndc[1] = s[c];
-  proxy.ndc[2] = s[b];
-  proxy.ndc[3] = s[d];
-  proxy.inv_depth[0] = vec2(inv_d[a]);
-  proxy.inv_depth[1] = vec2(inv_d[c]);
-  proxy.inv_depth[2] = vec2(inv_d[b]);
-  proxy.inv_depth[3] = vec2(inv_d[d]);
-  proxy.ndc[4] = mix(s[a], s[b], t);
-  proxy.inv_depth[4] = vec2(mix(inv_d[a], inv_d[b], t), mix(inv_d[c], inv_d[d], u));
+  // The diagonals cross where edge a-b meets the plane through the eye and edge c-d (and c-d
+  // the plane through the eye and a-b); in camera orientation relative to c (the eye at -cam_c),
+  // the plane's normal m = (cam_c + c) x (d - c) gives the parameter m.(a - c) / m.(a - b).
+  vec3 pa = piece[a].xyz, pb = piece[b].xyz, pc = piece[c].xyz, pd = piece[d].xyz;
+  vec3 m_cd = cross(cam_c + pc, pd - pc), m_ab = cross(cam_c + pa, pb - pa);
+  float t_denom = dot(m_cd, pa - pb), u_denom = dot(m_ab, pc - pd);
+  // Nonzero while the quad has area (the two positive faces passed the area test); the guard
+  // only keeps NaN out if rounding ever says otherwise.
+  if (!(abs(t_denom) > 0.0) || !(abs(u_denom) > 0.0)) return proxy;
+  float t = clamp(dot(m_cd, pa - pc) / t_denom, 0.0, 1.0);
+  float u = clamp(dot(m_ab, pc - pa) / u_denom, 0.0, 1.0);
+  vec4 on_ab = mix(piece[a], piece[b], t), on_cd = mix(piece[c], piece[d], u);
+  set_proxy_vertex(proxy, 0u, s[a], surf[a], surf[a]);
+  set_proxy_vertex(proxy, 1u, s[c], surf[c], surf[c]);
+  set_proxy_vertex(proxy, 2u, s[b], surf[b], surf[b]);
+  set_proxy_vertex(proxy, 3u, s[d], surf[d], surf[d]);
+  set_proxy_vertex(proxy, 4u, project_point(cam_c + on_ab.xyz, projection), surface_at(on_ab.xyz, on_ab.w, cam_c, field_c),
+                   surface_at(on_cd.xyz, on_cd.w, cam_c, field_c));
   proxy.triangles[0] = uvec3(4, 0, 1);
   proxy.triangles[1] = uvec3(4, 1, 2);
   proxy.triangles[2] = uvec3(4, 2, 3);

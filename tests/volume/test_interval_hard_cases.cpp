@@ -14,7 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "renderer/volume/analytic_field.hpp"
 #include "scene/generators.hpp"
 #include "volume/interval_comparison.hpp"
 
@@ -388,6 +390,53 @@ TEST_F(IntervalHardCaseTest, QuarterMillionCellsWithPointSigmaMatchReference) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
   std::printf("215,622 cells, point sigma: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error,
               c.max_relative_to_tolerance);
+}
+
+// ---- Numbers at the edge of float precision ----------------------------------------------
+
+// A field of view of 1e-6 degrees: the camera that frames a unit ball stands 2e8 from it, where
+// floats are 16 apart, so a surface's depth (or its 1/depth) pins it only to +-8 units while the
+// ball's chords are at most 2. The interval's ends are measured from each cell's reference point
+// instead; before, the GPU's largest optical depth here was 176 where the reference's is 1.99.
+TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMatchesReference) {
+  const TetMesh mesh = make_ball_mesh(glm::dvec3(0.0), 1.0, 3, 1.0);
+  const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
+  ASSERT_GT(glm::length(camera.eye - camera.target), 1e8);
+  const auto c = compare(mesh, camera, 64, 64);
+  EXPECT_GT(c.covered, 800u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+  std::printf("fovy 1e-6: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.max_relative_to_tolerance);
+}
+
+// The same view marched: a linear field (the midpoint rule integrates it exactly, so the march
+// must give the mesh's exact optical depth) sampled at points placed from each cell's reference
+// point, not from the eye 2e8 away. On top of interval shading's tolerance, the march's float
+// arithmetic: its sum of n samples (n + 16 roundings of the running total) and each sample's
+// position, mesh-local (8 roundings of the mesh's radius plus the cell's size) times |grad f|,
+// over the ray's length inside the mesh (at most the diagonal).
+TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMarchMatchesReference) {
+  const volume::AnalyticField field = volume::field_from_name("linear");
+  const TetMesh mesh = volume::make_field_mesh(field, 4);
+  const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
+  const uint32_t w = 48, h = 48;
+  frame::FrameRenderer renderer(device(), mesh);
+  frame::FrameSettings settings;
+  settings.resolve.quantity = volume::Quantity::OpticalDepth;
+  settings.resolve.march.enabled = true;
+  settings.resolve.march.field = field;
+  settings.resolve.march.step = 0.05;
+  const std::vector<float> gpu = renderer.render_offscreen(camera, settings, {w, h}).quantity;
+  const double diagonal = 2.0 * std::sqrt(3.0), longest = diagonal / 4.0, radius = diagonal / 2.0;
+  const double n = std::ceil(longest / settings.resolve.march.step), ulp = std::ldexp(1.0, -24);
+  const double gradient = glm::length(glm::dvec3(field.params[0]));
+  const std::vector<double> exact = reference::optical_depth_image(mesh, camera, w, h);
+  std::vector<double> march_tolerance(exact.size());
+  for (size_t i = 0; i < exact.size(); ++i)
+    march_tolerance[i] = exact[i] * (n + 16.0) * 2.0 * ulp + gradient * 8.0 * ulp * (radius + longest) * diagonal;
+  const auto c = compare_image(gpu, mesh, camera, w, h, march_tolerance);
+  EXPECT_GT(c.covered, 500u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+  std::printf("fovy 1e-6, marched: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.max_relative_to_tolerance);
 }
 
 }  // namespace
