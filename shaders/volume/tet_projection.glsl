@@ -31,16 +31,39 @@ float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 // sense for a positively oriented tetrahedron. Their projected signed areas sum to zero.
 const uvec3 kFaceOpposite[4] = uvec3[4](uvec3(1, 2, 3), uvec3(0, 3, 2), uvec3(0, 1, 3), uvec3(0, 2, 1));
 
-// Drops proxy triangles of (near) zero area. They arise when a vertex falls on the silhouette
-// (edge-on faces); their true coverage is nil, but a rasterizer given a sliver of rounding
-// width can still cover pixel centres with it, interpolating attributes across a vanishing
-// area, which gives wild values or NaN.
-void drop_degenerate_triangles(inout TetProxy proxy, float eps) {
+// Twice the signed area of the projected triangle (p0, p1, p2) (x) and a bound on its rounding
+// (y): each corner carries an error of a few ulps of its magnitude (at least 1: the camera
+// transform's own rounding), we allow 16 ulp (2^-24 each), and each edge's error multiplies the
+// other edge. The area is taken from the corner of smallest magnitude, so a corner far off
+// screen (a cell 10^6 times taller than wide, seen from beside it) only brings its error
+// times the short edges, not times itself.
+vec2 area_and_rounding(vec2 p0, vec2 p1, vec2 p2) {
+  float m0 = max(max(abs(p0.x), abs(p0.y)), 1.0), m1 = max(max(abs(p1.x), abs(p1.y)), 1.0), m2 = max(max(abs(p2.x), abs(p2.y)), 1.0);
+  // Rotating the corners keeps the orientation, hence the area.
+  if (m1 < m0 && m1 <= m2) {
+    vec2 p = p0; p0 = p1; p1 = p2; p2 = p;
+    float m = m0; m0 = m1; m1 = m2; m2 = m;
+  } else if (m2 < m0 && m2 < m1) {
+    vec2 p = p2; p2 = p1; p1 = p0; p0 = p;
+    float m = m2; m2 = m1; m1 = m0; m0 = m;
+  }
+  vec2 a = p1 - p0, b = p2 - p0;
+  const float ulp = 5.96e-8;
+  float rounding = 16.0 * ulp * ((m0 + m1) * (abs(b.x) + abs(b.y)) + (m0 + m2) * (abs(a.x) + abs(a.y))) +
+                   4.0 * ulp * (abs(a.x * b.y) + abs(a.y * b.x));
+  return vec2(cross2(a, b), rounding);
+}
+
+// Drops proxy triangles whose area is within rounding of zero. They arise when a vertex falls on
+// the silhouette (edge-on faces); their true coverage is nil, but a rasterizer given a sliver of
+// rounding width can still cover pixel centres with it, interpolating attributes across a
+// vanishing area, which gives wild values or NaN.
+void drop_degenerate_triangles(inout TetProxy proxy) {
   uint kept = 0u;
   for (uint t = 0u; t < proxy.triangle_count; ++t) {
     uvec3 tri = proxy.triangles[t];
-    float a = cross2(proxy.ndc[tri.y] - proxy.ndc[tri.x], proxy.ndc[tri.z] - proxy.ndc[tri.x]);
-    if (abs(a) > eps) proxy.triangles[kept++] = tri;
+    vec2 a = area_and_rounding(proxy.ndc[tri.x], proxy.ndc[tri.y], proxy.ndc[tri.z]);
+    if (abs(a.x) > a.y) proxy.triangles[kept++] = tri;
   }
   proxy.triangle_count = kept;
 }
@@ -79,27 +102,21 @@ TetProxy project_tetrahedron(vec4 piece[4], vec3 cam_c, float field_c, mat4 proj
     surf[i] = surface_at(piece[i].xyz, piece[i].w, cam_c, field_c);
   }
 
-  // Signed doubled areas of the projected faces. A face whose area is below `eps` is edge-on
-  // and carries no coverage, so it must not decide the classification. `eps` has two parts:
-  // one relative to the projected size of the tetrahedron, and one for rounding: projected
-  // positions carry an error of a few ulps of their magnitude (|s| up to ~1 in NDC), so an
-  // exactly edge-on face (an edge along the view ray, a face in a plane through the eye)
-  // computes an area of that error times the tetrahedron's extent, not zero. We allow 16 ulp
-  // (2^-24 each) of |s|: generous for the few roundings of the projection, yet at 1024^2 a
-  // full-screen cell only loses proxy triangles under a quarter of a pixel in area.
+  // Signed doubled areas of the projected faces. A face whose area is within the rounding of
+  // its projected corners is edge-on (an edge along the view ray, a face in a plane through the
+  // eye compute an area of that rounding, not zero) and carries no coverage, so it must not
+  // decide the classification. Nothing else makes a face edge-on: a real face of any shape,
+  // however thin or long on screen, votes with its sign.
   float area[4];
-  float scale = 0.0, magnitude = 0.0;
-  for (int i = 0; i < 4; ++i) {
-    uvec3 f = kFaceOpposite[i];
-    area[i] = cross2(s[f.y] - s[f.x], s[f.z] - s[f.x]);
-    for (int j = 0; j < 4; ++j) scale = max(scale, dot(s[i] - s[j], s[i] - s[j]));
-    magnitude = max(magnitude, max(abs(s[i].x), abs(s[i].y)));
-  }
-  float eps = 1e-6 * scale + 16.0 * 5.96e-8 * max(magnitude, 1.0) * sqrt(scale);
+  bool counts[4];
   int positive = 0, negative = 0;
   for (int i = 0; i < 4; ++i) {
-    if (area[i] > eps) ++positive;
-    else if (area[i] < -eps) ++negative;
+    uvec3 f = kFaceOpposite[i];
+    vec2 a = area_and_rounding(s[f.x], s[f.y], s[f.z]);
+    area[i] = a.x;
+    counts[i] = abs(a.x) > a.y;
+    if (counts[i] && a.x > 0.0) ++positive;
+    if (counts[i] && a.x < 0.0) ++negative;
   }
   if (positive == 0 || negative == 0) return proxy;  // projects to a segment or a point
 
@@ -109,7 +126,7 @@ TetProxy project_tetrahedron(vec4 piece[4], vec3 cam_c, float field_c, mat4 proj
     float lone_sign = (positive == 1) ? 1.0 : -1.0;
     int inner = 0;
     for (int i = 0; i < 4; ++i)
-      if (area[i] * lone_sign > eps) inner = i;
+      if (counts[i] && area[i] * lone_sign > 0.0) inner = i;
     uvec3 f = kFaceOpposite[inner];
     // The ray from the eye through the inner vertex p meets the silhouette face's plane at
     // p + k (cam_c + p) (camera space, all relative to c): k = -n.(p - v0) / n.(cam_c + p).
@@ -132,7 +149,7 @@ TetProxy project_tetrahedron(vec4 piece[4], vec3 cam_c, float field_c, mat4 proj
     proxy.triangles[2] = uvec3(3, 2, 0);
     proxy.vertex_count = 4u;
     proxy.triangle_count = 3u;
-    drop_degenerate_triangles(proxy, eps);
+    drop_degenerate_triangles(proxy);
     return proxy;
   }
 
@@ -141,8 +158,8 @@ TetProxy project_tetrahedron(vec4 piece[4], vec3 cam_c, float field_c, mat4 proj
   int pos[2], neg[2];
   int np = 0, nn = 0;
   for (int i = 0; i < 4; ++i) {
-    if (area[i] > eps) pos[np++] = i;
-    else if (area[i] < -eps) neg[nn++] = i;
+    if (counts[i] && area[i] > 0.0) pos[np++] = i;
+    else if (counts[i] && area[i] < 0.0) neg[nn++] = i;
   }
   // The positive faces (opposite pos[0], pos[1]) share the edge joining the other two
   // vertices, neg[0]-neg[1]; the negative faces share the edge pos[0]-pos[1].
@@ -154,7 +171,7 @@ TetProxy project_tetrahedron(vec4 piece[4], vec3 cam_c, float field_c, mat4 proj
   vec3 pa = piece[a].xyz, pb = piece[b].xyz, pc = piece[c].xyz, pd = piece[d].xyz;
   vec3 m_cd = cross(cam_c + pc, pd - pc), m_ab = cross(cam_c + pa, pb - pa);
   float t_denom = dot(m_cd, pa - pb), u_denom = dot(m_ab, pc - pd);
-  // Nonzero while the quad has area (the two positive faces passed the area test); the guard
+  // Nonzero while the quad has area (its faces passed the area test); the guard
   // only keeps NaN out if rounding ever says otherwise.
   if (!(abs(t_denom) > 0.0) || !(abs(u_denom) > 0.0)) return proxy;
   float t = clamp(dot(m_cd, pa - pc) / t_denom, 0.0, 1.0);
@@ -172,7 +189,7 @@ TetProxy project_tetrahedron(vec4 piece[4], vec3 cam_c, float field_c, mat4 proj
   proxy.triangles[3] = uvec3(4, 3, 0);
   proxy.vertex_count = 5u;
   proxy.triangle_count = 4u;
-  drop_degenerate_triangles(proxy, eps);
+  drop_degenerate_triangles(proxy);
   return proxy;
 }
 

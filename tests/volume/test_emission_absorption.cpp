@@ -220,6 +220,22 @@ TEST_F(EmissionAbsorptionTest, MicroDegreeFieldOfViewMatchesReferenceInExactOrde
   std::printf("fovy 1e-6, exact order: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.worst_over_tolerance);
 }
 
+// One cell 10^6 tall seen from beside it: its faces project to long slivers whose areas are
+// tiny next to the square of the cell's projected size; every face still votes with its sign
+// (tet_projection.glsl), so the colour matches the reference; before, nothing was drawn.
+TEST_F(EmissionAbsorptionTest, CellAMillionTimesTallerThanWideMatchesReference) {
+  TetMesh mesh = single_tet_with_scalars();
+  mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1e6}};
+  Camera camera;
+  camera.eye = {0.2, -5.0, 0.5};
+  camera.target = {0.2, 0.0, 0.5};
+  camera.up = {0.0, 0.0, 1.0};
+  camera.near_distance = 0.01;
+  const auto c = compare(mesh, test_tf(2.0), camera, 48, 48, frame::Ordering::Exact);
+  EXPECT_GT(c.covered, 150u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+}
+
 // Sorting by centroid distance is an approximation (a cell can be nearer by centroid yet
 // behind along some rays); it must still beat drawing in mesh order, and the sort must run
 // as its own timed pass.

@@ -439,5 +439,35 @@ TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMarchMatchesReference) {
   std::printf("fovy 1e-6, marched: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.max_relative_to_tolerance);
 }
 
+// One cell 10^6 tall seen from 5 units beside it: its top vertex projects 5.5e5 NDC units off
+// screen, so every face's projected area is a long sliver; a face is edge-on only when its area
+// is within the rounding of its own projected corners. Before, an edge-on tolerance relative to
+// the cell's whole projected size (1e-6 of its square, 3e5) called all four faces edge-on and
+// the image was all 0 where the reference's optical depth reaches 1.03.
+TetMesh tall_cell() {
+  TetMesh mesh;
+  mesh.name = "tall cell";
+  mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1e6}};
+  mesh.tets = {{0, 1, 2, 3}};
+  mesh.cell_extinction = {1.0};
+  return mesh;
+}
+
+Camera beside_tall_cell() {
+  Camera camera;
+  camera.eye = {0.2, -5.0, 0.5};
+  camera.target = {0.2, 0.0, 0.5};
+  camera.up = {0.0, 0.0, 1.0};
+  camera.near_distance = 0.01;
+  return camera;
+}
+
+TEST_F(IntervalHardCaseTest, CellAMillionTimesTallerThanWideMatchesReference) {
+  const auto c = compare(tall_cell(), beside_tall_cell(), 64, 64);
+  EXPECT_GT(c.covered, 300u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+  std::printf("tall cell: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.max_relative_to_tolerance);
+}
+
 }  // namespace
 }  // namespace prismoid
