@@ -97,9 +97,11 @@ void main() {
     if (emission) {
       // The transfer function decides what is transparent; every cell is drawn.
       sigma_max = 1.0;
-      float lo = frame.transfer.x, inv_width = frame.transfer.y;
-      float cell_x = per_point ? 0.0 : (cell_scalar[tet_index] - lo) * inv_width;
-      for (int i = 0; i < 4; ++i) field[i] = per_point ? (value[i] - lo) * inv_width : cell_x;
+      // x = value * scale + offset, both rounded from double once (volume::scalar_mapping): a
+      // range far wider than the data or far from zero still maps it without overflow.
+      float scale = frame.transfer.x, offset = frame.transfer.y;
+      float cell_x = per_point ? 0.0 : cell_scalar[tet_index] * scale + offset;
+      for (int i = 0; i < 4; ++i) field[i] = per_point ? value[i] * scale + offset : cell_x;
     } else if (per_point) {
       for (int i = 0; i < 4; ++i) field[i] = value[i];
       sigma_max = max(max(value[0], value[1]), max(value[2], value[3]));

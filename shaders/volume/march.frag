@@ -34,15 +34,17 @@ void main() {
   float depth_step = (r.rel_back - r.rel_front) / float(n), h = len / float(n);
   if (frame.field.z == PRISMOID_MARCH_OPTICAL_DEPTH) {
     float sum = 0.0;
-    for (uint i = 0u; i < n; ++i) sum += max(field_at(field_point(m, r.rel_front + (float(i) + 0.5) * depth_step)), 0.0);
-    out_value = vec4(frame.march.z * sum * h, 0.0, 0.0, 0.0);
+    // Each sample's extinction held to the cap (float_limits.hpp); the cap leaves room for the sum.
+    for (uint i = 0u; i < n; ++i)
+      sum += min(frame.march.z * max(field_at(field_point(m, r.rel_front + (float(i) + 0.5) * depth_step)), 0.0), frame.march.w);
+    out_value = vec4(sum * h, 0.0, 0.0, 0.0);
     return;
   }
   // Colour: each step has the colour and extinction of its midpoint; a step of constant
   // sigma and colour c contributes c (1 - e^(-sigma h)) with alpha 1 - e^(-sigma h).
   vec4 total = vec4(0.0);
   for (uint i = 0u; i < n && total.a < 1.0; ++i) {
-    float x = (field_at(field_point(m, r.rel_front + (float(i) + 0.5) * depth_step)) - frame.transfer.x) * frame.transfer.y;
+    float x = field_at(field_point(m, r.rel_front + (float(i) + 0.5) * depth_step)) * frame.transfer.x + frame.transfer.y;
     vec4 s = tf_at(x);
     float alpha = 1.0 - exp(-s.w * h);
     total += (1.0 - total.a) * vec4(s.rgb * alpha, alpha);

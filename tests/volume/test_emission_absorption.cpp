@@ -236,6 +236,28 @@ TEST_F(EmissionAbsorptionTest, CellAMillionTimesTallerThanWideMatchesReference) 
   EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
 }
 
+// Beyond float: an extinction of 1e300 at opacity 1 (stored up to volume::extinction_cap: every
+// segment the GPU can resolve is opaque either way), and a range of -1e300..1e300 (mapped as
+// x = s * scale + offset with both rounded once: scale is 0 in float and every value lands at
+// 0.5, as in double; (s - lo) / width gave inf * 0). Before: NaN-free but wrong (density: 0.08
+// off in places; range: every pixel the background).
+TEST_F(EmissionAbsorptionTest, ExtinctionAndRangeBeyondFloatMatchReference) {
+  const TetMesh mesh = default_with_scalars();
+  Camera camera = fit_camera(bounds_of(mesh));
+  camera.eye = camera.target + glm::dvec3(2.0, 1.5, 4.5);
+  volume::TransferFunction dense = blob_tf();
+  dense.density_scale = 1e300;
+  volume::TransferFunction wide = blob_tf();
+  wide.range_lo = -1e300;
+  wide.range_hi = 1e300;
+  for (const auto& tf : {dense, wide}) {
+    const auto c = compare(mesh, tf, camera, 40, 30, frame::Ordering::Exact);
+    EXPECT_GT(c.covered, 300u);
+    EXPECT_EQ(c.failures, 0u) << "density " << tf.density_scale << ", range " << tf.range_lo << ".." << tf.range_hi << ": "
+                              << c.first_failure << " (max error " << c.max_error << ")";
+  }
+}
+
 // Sorting by centroid distance is an approximation (a cell can be nearer by centroid yet
 // behind along some rays); it must still beat drawing in mesh order, and the sort must run
 // as its own timed pass.

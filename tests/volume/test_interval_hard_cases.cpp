@@ -469,5 +469,76 @@ TEST_F(IntervalHardCaseTest, CellAMillionTimesTallerThanWideMatchesReference) {
   std::printf("tall cell: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.max_relative_to_tolerance);
 }
 
+// Extinction 1e300 (--density-scale 1e300): float holds neither it nor the optical depths it
+// makes, so optical depth is refused (test_float_limits.cpp); transmittance is still exactly
+// representable: 0 wherever a ray crosses the data, 1 elsewhere. The GPU stores extinction up
+// to volume::extinction_cap, which saturates e^-tau for any segment longer than 2e-32 of the
+// data's diagonal. Every pixel must be 0 or 1 as the reference says, except where the rays
+// within the rasterizer's snapping reach (2 * 2^-b pixels) disagree on coverage. Before: NaN at
+// 70 pixels (interval) and 1 everywhere (after the cell-relative intervals, inf - inf).
+std::vector<bool> covered_by(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h, double ox, double oy) {
+  TetMesh unit = mesh;
+  unit.point_extinction.clear();
+  unit.cell_extinction.assign(mesh.tets.size(), 1.0);
+  const std::vector<double> tau = reference::optical_depth_image(unit, camera, w, h, ox, oy);
+  std::vector<bool> covered(tau.size());
+  for (size_t i = 0; i < tau.size(); ++i) covered[i] = tau[i] > 0.0;
+  return covered;
+}
+
+void expect_saturated_transmittance(const std::vector<float>& gpu, const TetMesh& mesh, const Camera& camera, uint32_t w,
+                                    uint32_t h, double radius) {
+  const std::vector<bool> centre = covered_by(mesh, camera, w, h, 0.0, 0.0);
+  std::vector<bool> ambiguous(centre.size(), false);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const std::vector<bool> moved = covered_by(mesh, camera, w, h, dx * radius, dy * radius);
+      for (size_t i = 0; i < centre.size(); ++i) ambiguous[i] = ambiguous[i] || moved[i] != centre[i];
+    }
+  size_t opaque = 0, clear = 0, failures = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(gpu[i])) << "pixel " << i;
+    if (ambiguous[i]) {
+      EXPECT_TRUE(gpu[i] >= 0.0f && gpu[i] <= 1.0f) << "pixel " << i << ": " << gpu[i];
+      continue;
+    }
+    const float expected = centre[i] ? 0.0f : 1.0f;
+    (centre[i] ? opaque : clear) += 1;
+    if (gpu[i] != expected && failures++ < 8)
+      ADD_FAILURE() << "pixel (" << i % w << "," << i / w << "): " << gpu[i] << ", the reference " << expected;
+  }
+  EXPECT_GT(opaque, 200u);
+  EXPECT_GT(clear, 200u);
+}
+
+TEST_F(IntervalHardCaseTest, ExtinctionBeyondFloatGivesTheReferencesTransmittance) {
+  const double radius = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
+  const uint32_t w = 48, h = 40;
+  {
+    const TetMesh ball = make_ball_mesh(glm::dvec3(0.0), 1.0, 2, 1e300);
+    Camera camera = fit_camera(bounds_of(ball));
+    camera.eye = camera.target + glm::dvec3(1.5, 1.0, 4.0);
+    frame::FrameRenderer renderer(device(), ball);
+    frame::FrameSettings settings;
+    settings.resolve.quantity = volume::Quantity::Transmittance;
+    expect_saturated_transmittance(renderer.render_offscreen(camera, settings, {w, h}).quantity, ball, camera, w, h, radius);
+  }
+  {
+    // Marched: each sample's density_scale * field held to the cap before the sum.
+    const volume::AnalyticField field = volume::field_from_name("blobs");
+    const TetMesh mesh = volume::make_field_mesh(field, 4, 1e300);
+    Camera camera = fit_camera(bounds_of(mesh));
+    camera.eye = camera.target + glm::dvec3(1.5, 1.0, 5.0);
+    frame::FrameRenderer renderer(device(), mesh);
+    frame::FrameSettings settings;
+    settings.resolve.quantity = volume::Quantity::Transmittance;
+    settings.resolve.march.enabled = true;
+    settings.resolve.march.field = field;
+    settings.resolve.march.step = 0.05;
+    settings.resolve.march.density_scale = 1e300;
+    expect_saturated_transmittance(renderer.render_offscreen(camera, settings, {w, h}).quantity, mesh, camera, w, h, radius);
+  }
+}
+
 }  // namespace
 }  // namespace prismoid
