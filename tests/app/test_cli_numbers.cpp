@@ -86,5 +86,20 @@ TEST(CliNumbers, PositionsFloatRoundsBeyondAPixelRenderWithAWarning) {
   EXPECT_NE(slurp(stats).find("\"warnings\": []"), std::string::npos) << slurp(stats);
 }
 
+// Surfaces: an emission of 1e300 is refused by every surface mode before anything is written
+// (before: forward, htex, texel and msa wrote all-Inf images, and path-reference reported "0
+// non-finite samples" while writing Inf); at a large emission float holds, images are finite.
+TEST(CliNumbers, SurfaceEmissionBeyondFloatIsRefusedByEveryMode) {
+  const fs::path pfm = work_dir() / "furnace.pfm";
+  for (const char* mode : {"forward", "path-reference", "htex", "texel", "msa"})
+    expect_refused_writing_nothing(std::string("render furnace:0.5:1e300 --size 8x8 --mode ") + mode, pfm,
+                                   "material 0 (furnace): emission 1e+300 is beyond 7.92e+28");
+  for (const char* mode : {"forward", "path-reference --spp 4"}) {
+    const CliRun r = run(std::string("render furnace:0.5:1e28 --size 8x8 --mode ") + mode + " --output " + pfm.string());
+    ASSERT_EQ(r.code, 0) << mode << "\n" << r.err;
+    expect_all_finite(pfm);
+  }
+}
+
 }  // namespace
 }  // namespace prismoid
