@@ -89,7 +89,9 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
     report.mesh_bytes += b->size();
   interval_.prepare(mesh_, settings.resolve);  // checks the settings before anything is planned
   report.warnings =
-      volume::check_float_limits(float_facts_, camera, targets_.extent.width, targets_.extent.height, settings.resolve).warnings;
+      volume::check_float_limits(float_facts_, camera, targets_.extent.width, targets_.extent.height, settings.resolve, true,
+                                 &orderings_->geometry.points)
+          .warnings;
   report.plan = plan_frame(scene_contents(camera, settings), settings);
   Orderings& o = *orderings_;
   o.order = nullptr;

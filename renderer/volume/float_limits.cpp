@@ -58,8 +58,29 @@ ScalarMapping scalar_mapping(const TransferFunction& tf) {
   return {0.5 / half_width, -(0.5 * tf.range_lo) / half_width};
 }
 
+namespace {
+
+// How far the GPU's camera-space position of p strays from the exact one, across the view (x)
+// and along it (y): p rounded to float relative to the origin, the float view matrix, and the
+// transform's products and sums in float, unfused and fused (drivers may contract either way).
+glm::dvec2 transform_error(const glm::dmat4& view, const glm::dvec3& local) {
+  const glm::mat4 view_f(view);
+  const glm::vec3 p(local);
+  glm::dvec2 worst(0.0);
+  for (int row = 0; row < 3; ++row) {
+    const double exact = view[0][row] * local.x + view[1][row] * local.y + view[2][row] * local.z + view[3][row];
+    const float unfused = ((view_f[0][row] * p.x + view_f[1][row] * p.y) + view_f[2][row] * p.z) + view_f[3][row];
+    const float fused = std::fma(view_f[2][row], p.z, std::fma(view_f[1][row], p.y, view_f[0][row] * p.x)) + view_f[3][row];
+    const double e = std::max(std::abs(double(unfused) - exact), std::abs(double(fused) - exact));
+    (row < 2 ? worst.x : worst.y) = std::max(row < 2 ? worst.x : worst.y, e);
+  }
+  return worst;
+}
+
+}  // namespace
+
 FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, uint32_t width, uint32_t height,
-                              const ResolveSettings& settings, bool gpu) {
+                              const ResolveSettings& settings, bool gpu, const std::vector<glm::dvec3>* points) {
   validate(camera);
   FloatCheck check;
   const std::string& name = mesh.name.empty() ? std::string("(unnamed mesh)") : mesh.name;
@@ -117,22 +138,11 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
                                "the transfer function only to " + number(x_rounding) + " of the range");
   }
 
-  // Positions: float relative to the bounds centre, and the camera's float translation; their
-  // rounding across the view (depth-wise it only scales the image by a relative error).
+  // Positions: each point's camera-space position as the GPU computes it, across the view (its
+  // rounding along the view only scales the image by a relative error).
   if (height > 0 && mesh.diagonal > 0.0) {
     const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
     const glm::dmat4 view = view_matrix(camera, mesh.origin);
-    // Across the view: the positions' own rounding, the translation's, the rotation's (its
-    // entries' rounding times the mesh's extent), and the shader's transform of a mesh-local
-    // point (a few ulps of the point's and the translation's lateral size).
-    double rotation_rounding = 0.0;
-    for (int col = 0; col < 3; ++col)
-      for (int row = 0; row < 3; ++row) rotation_rounding = std::max(rotation_rounding, float_rounding(view[col][row]));
-    const double radius = 0.5 * mesh.diagonal, ulp = std::ldexp(1.0, -24);
-    const double translation = std::max(std::abs(view[3][0]), std::abs(view[3][1]));
-    const double lateral = mesh.position_rounding + std::max(float_rounding(view[3][0]), float_rounding(view[3][1])) +
-                           3.0 * rotation_rounding * radius + 4.0 * ulp * (radius + translation);
-    const double along = mesh.position_rounding + float_rounding(view[3][2]);
     double nearest = 1e300;  // the nearest depth of the data's bounds (the near plane if it cuts them)
     for (int corner = 0; corner < 8; ++corner) {
       const glm::dvec3 p((corner & 1) ? mesh.bounds.max.x : mesh.bounds.min.x, (corner & 2) ? mesh.bounds.max.y : mesh.bounds.min.y,
@@ -140,13 +150,46 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
       nearest = std::min(nearest, glm::dot(p - camera.eye, forward));
     }
     nearest = std::max(nearest, camera.near_distance);
-    const double pixel = 2.0 * nearest * std::tan(glm::radians(camera.fovy_degrees) * 0.5) / double(height);
-    const double pixels = lateral / pixel + along / nearest * 0.5 * double(std::max(width, height));
-    if (pixels > std::ldexp(1.0, -8))
-      check.warnings.push_back("the GPU's float32 positions (relative to the data's centre, " + number(0.5 * mesh.diagonal) +
-                               " across) and camera are rounded by up to " + number(std::max(lateral, along)) +
-                               " world units, " + number(pixels) + " pixels at the data's nearest depth " + number(nearest) +
-                               ", more than the rasterizer's 2^-8 pixel: the image is only that precise");
+    // An error at depth d (at least the near plane's, where clipping puts the nearest points) in
+    // pixels: across the view over a pixel's width there, along it as the relative change of
+    // scale it makes over half the image.
+    const double pixel_per_depth = 2.0 * std::tan(glm::radians(camera.fovy_degrees) * 0.5) / double(height);
+    auto in_pixels = [&](glm::dvec2 error, double depth) {
+      depth = std::max(depth, camera.near_distance);
+      return error.x / (pixel_per_depth * depth) + error.y / depth * 0.5 * double(std::max(width, height));
+    };
+    // A bound from the facts: the positions' rounding, the view's entries' rounding times the
+    // data's extent and the translation, and a few ulps of the transform's terms.
+    double rotation_rounding = 0.0;
+    for (int col = 0; col < 3; ++col)
+      for (int row = 0; row < 3; ++row) rotation_rounding = std::max(rotation_rounding, float_rounding(view[col][row]));
+    const double radius = 0.5 * mesh.diagonal, ulp = std::ldexp(1.0, -24);
+    const double lateral_translation = std::max(std::abs(view[3][0]), std::abs(view[3][1]));
+    glm::dvec2 error(mesh.position_rounding + std::max(float_rounding(view[3][0]), float_rounding(view[3][1])) +
+                         3.0 * rotation_rounding * radius + 4.0 * ulp * (radius + lateral_translation),
+                     mesh.position_rounding + float_rounding(view[3][2]) + 3.0 * rotation_rounding * radius +
+                         4.0 * ulp * (radius + std::abs(view[3][2])));
+    const double threshold = std::ldexp(1.0, -8);
+    double pixels = in_pixels(error, nearest);
+    if (pixels > threshold && points) {
+      // What float actually does to each point, in pixels at its own depth.
+      error = glm::dvec2(0.0);
+      pixels = 0.0;
+      for (const auto& p : *points) {
+        const glm::dvec2 e = transform_error(view, p - mesh.origin);
+        const double px = in_pixels(e, glm::dot(p - camera.eye, forward));
+        if (px > pixels) {
+          pixels = px;
+          error = e;
+          nearest = std::max(glm::dot(p - camera.eye, forward), camera.near_distance);
+        }
+      }
+    }
+    if (pixels > threshold)
+      check.warnings.push_back("the GPU's float32 positions (relative to the data's centre, " + number(radius) +
+                               " from its farthest corner) and camera place points only to " + number(error.x) +
+                               " world units across the view, " + number(pixels) + " pixels at depth " +
+                               number(nearest) + ", more than the rasterizer's 2^-8 pixel: the image is only that precise");
   }
   return check;
 }

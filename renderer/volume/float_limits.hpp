@@ -57,11 +57,15 @@ struct FloatCheck {
 
 // Throws InputError when the frame's answer cannot be represented: optical depths beyond float
 // (with the margin above), scalars or their mapping into the transfer function beyond float, a
-// camera whose projection or depths leave float's range. Warns when the float positions (relative
-// to the bounds centre) and the camera's float translation are rounded by more than the
-// rasterizer's own snapping (2^-8 pixel) at the nearest depth of the data. `gpu` false: the CPU
-// reference, whose arithmetic is double but whose image is float32 (only the image's limits).
+// camera whose projection or depths leave float's range. Warns when the points' camera-space
+// positions as the GPU computes them (float positions relative to the bounds centre, the float
+// view matrix, the float transform) stray across the view by more than the rasterizer's own
+// snapping (2^-8 pixel) at the nearest depth of the data: first bounded from the facts, and
+// where the bound says they might, measured point by point on `points` (the mesh's, in double)
+// when given. `gpu` false: the CPU reference, whose arithmetic is double but whose image is
+// float32 (only the image's limits).
 FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, uint32_t width, uint32_t height,
-                              const ResolveSettings& settings, bool gpu = true);
+                              const ResolveSettings& settings, bool gpu = true,
+                              const std::vector<glm::dvec3>* points = nullptr);
 
 }  // namespace prismoid::volume

@@ -78,6 +78,7 @@ TEST(CliNumbers, PositionsFloatRoundsBeyondAPixelRenderWithAWarning) {
                        stats.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("prismoid: warning: the GPU's float32 positions"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("world units across the view"), std::string::npos) << r.err;
   const std::string js = slurp(stats);
   EXPECT_NE(js.find("\"warnings\": [\"the GPU's float32 positions"), std::string::npos) << js;
   expect_all_finite(pfm);

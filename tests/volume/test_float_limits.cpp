@@ -119,18 +119,33 @@ TEST(FloatLimits, CameraBeyondFloatsRangeIsRefused) {
 }
 
 TEST(FloatLimits, PositionsRoundedBeyondTheRasterizersSnappingWarnWithTheirSize) {
-  // An ordinary view: float's rounding is far below a pixel.
+  // An ordinary view: float's rounding is far below a pixel, by the bound alone.
   const TetMesh ball = make_ball_mesh(glm::dvec3(0.3, -0.2, 0.1), 1.0, 1, 1.0);
   EXPECT_TRUE(check_float_limits(float_facts(ball), fit_camera(bounds_of(ball)), 800, 600, quantity(volume::Quantity::OpticalDepth))
                   .warnings.empty());
   // A cell 10^6 tall seen from 5 units: the GPU's positions are relative to its centre, 5e5
-  // away, where floats are 1/32 apart; the camera's translation rounds to that grid too.
+  // away, where floats are 1/32 apart. With the eye off that grid the camera's translation
+  // rounds by up to 1/64 (measured: 0.02 world units with the transform, a third of a pixel).
   const glm::dvec3 base(0.1234567, 0.3, 0.77777);
-  const auto facts = float_facts(tall_cell(base));
-  const auto check = check_float_limits(facts, beside(base), 64, 64, quantity(volume::Quantity::OpticalDepth));
-  ASSERT_EQ(check.warnings.size(), 1u);
-  EXPECT_NE(check.warnings[0].find("rounded by up to"), std::string::npos) << check.warnings[0];
-  EXPECT_NE(check.warnings[0].find("pixels at the data's nearest depth 5"), std::string::npos) << check.warnings[0];
+  const TetMesh off_grid = tall_cell(base);
+  Camera camera = beside(base);
+  camera.eye = {0.32, -4.7, 1.27};
+  camera.target = {0.32, 0.3, 1.27};
+  for (const std::vector<glm::dvec3>* points : {static_cast<const std::vector<glm::dvec3>*>(nullptr), &off_grid.points}) {
+    const auto check =
+        check_float_limits(float_facts(off_grid), camera, 64, 64, quantity(volume::Quantity::OpticalDepth), true, points);
+    ASSERT_EQ(check.warnings.size(), 1u);
+    EXPECT_NE(check.warnings[0].find("world units across the view"), std::string::npos) << check.warnings[0];
+    EXPECT_NE(check.warnings[0].find("pixels at depth 5"), std::string::npos) << check.warnings[0];
+  }
+  // On the grid (the corners and the eye exact in float there): the bound alone cannot tell
+  // (the transform's products might round), the points measured say float is exact.
+  const TetMesh on_grid = tall_cell(glm::dvec3(0.0));
+  const auto bound = check_float_limits(float_facts(on_grid), beside(glm::dvec3(0.0)), 64, 64, quantity(volume::Quantity::OpticalDepth));
+  EXPECT_EQ(bound.warnings.size(), 1u);
+  EXPECT_TRUE(check_float_limits(float_facts(on_grid), beside(glm::dvec3(0.0)), 64, 64, quantity(volume::Quantity::OpticalDepth), true,
+                                 &on_grid.points)
+                  .warnings.empty());
 }
 
 }  // namespace
