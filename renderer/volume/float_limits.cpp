@@ -172,12 +172,16 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
     const double threshold = std::ldexp(1.0, -8);
     double pixels = in_pixels(error, nearest);
     if (pixels > threshold && points) {
-      // What float actually does to each point, in pixels at its own depth.
+      // What float actually does to each point, in pixels at its own depth; only points nearer
+      // than where the bound itself drops below the threshold can exceed it.
+      const glm::dvec2 bound = error;
       error = glm::dvec2(0.0);
       pixels = 0.0;
       for (const auto& p : *points) {
+        const double depth = glm::dot(p - camera.eye, forward);
+        if (in_pixels(bound, depth) <= threshold) continue;
         const glm::dvec2 e = transform_error(view, p - mesh.origin);
-        const double px = in_pixels(e, glm::dot(p - camera.eye, forward));
+        const double px = in_pixels(e, depth);
         if (px > pixels) {
           pixels = px;
           error = e;
