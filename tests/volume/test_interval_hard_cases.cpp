@@ -1,6 +1,8 @@
 // Hard cases of interval shading against the CPU double-precision reference (tolerances:
 // interval_comparison.cpp): one tetrahedron under thousands of orientations, exact edge-on
-// and face-on views among them, and a mesh of 10^5+ cells.
+// and face-on views among them, a mesh of 10^5+ cells, and numbers at the edge of float
+// precision (a field of view of 1e-6 degrees, a cell 10^6 times taller than wide, extinction
+// beyond float; what is refused instead is tested in test_float_limits.cpp).
 #include <gtest/gtest.h>
 
 #include <array>
