@@ -88,8 +88,8 @@ TEST(CliNumbers, PositionsFloatRoundsBeyondAPixelRenderWithAWarning) {
 }
 
 // Surfaces: an emission of 1e300 is refused by every surface mode before anything is written
-// (before: forward, htex, texel and msa wrote all-Inf images, and path-reference reported "0
-// non-finite samples" while writing Inf); at a large emission float holds, images are finite.
+// (float32 on the GPU and in every image would hold it as Inf); at a large emission float holds,
+// images are finite.
 TEST(CliNumbers, SurfaceEmissionBeyondFloatIsRefusedByEveryMode) {
   const fs::path pfm = work_dir() / "furnace.pfm";
   for (const char* mode : {"forward", "path-reference", "htex", "texel", "msa"})

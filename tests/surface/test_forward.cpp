@@ -93,7 +93,7 @@ TEST_F(ForwardTest, FurnaceFromInsideIsEmissionTimesOnePlusAlbedo) {
 
 // At the largest emission the scene may hold (float32's largest value over 2^32), the furnace's
 // Le (1 + A) still matches the reference; beyond it the upload refuses the scene, naming the
-// material and the limit (before: Le = 1e300 was uploaded as inf and every pixel was Inf).
+// material and the limit (float would upload Le = 1e300 as inf).
 TEST_F(ForwardTest, FurnaceAtTheLargestEmissionFloatHoldsMatchesAndBeyondIsRefused) {
   const ForwardComparison r = compare(make_furnace(0.5, kMaxRadiometricValue, 3), 32, 32);
   expect_agreement(r, "furnace at the largest emission");

@@ -207,8 +207,8 @@ TEST_F(EmissionAbsorptionTest, ExactOrderOnConvexMeshMatchesReference) {
 
 // A field of view of 1e-6 degrees: the camera framing the data stands 2e8 from it, where floats
 // are 16 apart. Each segment's ends and scalars come relative to its cell (interval_ray.glsl),
-// so the composited colour in exact order still matches the reference; before, every pixel
-// came out transparent.
+// so the composited colour in exact order still matches the reference (depths themselves are
+// 16 apart there: differences of them are no lengths).
 TEST_F(EmissionAbsorptionTest, MicroDegreeFieldOfViewMatchesReferenceInExactOrder) {
   const TetMesh mesh = default_with_scalars();
   const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
@@ -222,7 +222,7 @@ TEST_F(EmissionAbsorptionTest, MicroDegreeFieldOfViewMatchesReferenceInExactOrde
 
 // One cell 10^6 tall seen from beside it: its faces project to long slivers whose areas are
 // tiny next to the square of the cell's projected size; every face still votes with its sign
-// (tet_projection.glsl), so the colour matches the reference; before, nothing was drawn.
+// (tet_projection.glsl), so the colour matches the reference.
 TEST_F(EmissionAbsorptionTest, CellAMillionTimesTallerThanWideMatchesReference) {
   TetMesh mesh = single_tet_with_scalars();
   mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1e6}};
@@ -239,8 +239,7 @@ TEST_F(EmissionAbsorptionTest, CellAMillionTimesTallerThanWideMatchesReference) 
 // Beyond float: an extinction of 1e300 at opacity 1 (stored up to volume::extinction_cap: every
 // segment the GPU can resolve is opaque either way), and a range of -1e300..1e300 (mapped as
 // x = s * scale + offset with both rounded once: scale is 0 in float and every value lands at
-// 0.5, as in double; (s - lo) / width gave inf * 0). Before: NaN-free but wrong (density: 0.08
-// off in places; range: every pixel the background).
+// 0.5, as in double; (s - lo) / width with float(lo) = -inf would give inf * 0).
 TEST_F(EmissionAbsorptionTest, ExtinctionAndRangeBeyondFloatMatchReference) {
   const TetMesh mesh = default_with_scalars();
   Camera camera = fit_camera(bounds_of(mesh));

@@ -399,7 +399,7 @@ TEST_F(IntervalHardCaseTest, QuarterMillionCellsWithPointSigmaMatchReference) {
 // A field of view of 1e-6 degrees: the camera that frames a unit ball stands 2e8 from it, where
 // floats are 16 apart, so a surface's depth (or its 1/depth) pins it only to +-8 units while the
 // ball's chords are at most 2. The interval's ends are measured from each cell's reference point
-// instead; before, the GPU's largest optical depth here was 176 where the reference's is 1.99.
+// instead.
 TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMatchesReference) {
   const TetMesh mesh = make_ball_mesh(glm::dvec3(0.0), 1.0, 3, 1.0);
   const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
@@ -443,9 +443,8 @@ TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMarchMatchesReference) {
 
 // One cell 10^6 tall seen from 5 units beside it: its top vertex projects 5.5e5 NDC units off
 // screen, so every face's projected area is a long sliver; a face is edge-on only when its area
-// is within the rounding of its own projected corners. Before, an edge-on tolerance relative to
-// the cell's whole projected size (1e-6 of its square, 3e5) called all four faces edge-on and
-// the image was all 0 where the reference's optical depth reaches 1.03.
+// is within the rounding of its own projected corners (a tolerance relative to the cell's
+// whole projected size would call all four edge-on).
 TetMesh tall_cell() {
   TetMesh mesh;
   mesh.name = "tall cell";
@@ -476,8 +475,8 @@ TEST_F(IntervalHardCaseTest, CellAMillionTimesTallerThanWideMatchesReference) {
 // representable: 0 wherever a ray crosses the data, 1 elsewhere. The GPU stores extinction up
 // to volume::extinction_cap, which saturates e^-tau for any segment longer than 2e-32 of the
 // data's diagonal. Every pixel must be 0 or 1 as the reference says, except where the rays
-// within the rasterizer's snapping reach (2 * 2^-b pixels) disagree on coverage. Before: NaN at
-// 70 pixels (interval) and 1 everywhere (after the cell-relative intervals, inf - inf).
+// within the rasterizer's snapping reach (2 * 2^-b pixels) disagree on coverage. (Extinction
+// stored as float inf would give inf * 0 and inf - inf: NaN.)
 std::vector<bool> covered_by(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h, double ox, double oy) {
   TetMesh unit = mesh;
   unit.point_extinction.clear();
