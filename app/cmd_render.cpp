@@ -20,6 +20,7 @@
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
+#include "renderer/volume/float_limits.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -208,6 +209,8 @@ int cmd_render(const std::vector<std::string>& args) {
   std::unique_ptr<vk::Instance> instance;
   if (mode == "reference") {
     device_name = "CPU reference (double precision)";
+    // Double arithmetic, but the image is float32: refused where it cannot hold the answer.
+    volume::check_float_limits(volume::float_facts(mesh), camera, size.width, size.height, settings.resolve, false);
     result = field ? render_field_reference(mesh, camera, settings.resolve, size) : render_reference(mesh, camera, settings.resolve, size);
   } else {
     instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
@@ -231,6 +234,7 @@ int cmd_render(const std::vector<std::string>& args) {
 
   const io::FloatImage image = frame_image(result, output, color);
   files.write(output, [&](const std::string& file) { io::write_image(file, image); });
+  for (const std::string& w : result.report.warnings) std::cerr << "prismoid: warning: " << w << "\n";
 
   const bool cpu = mode == "reference";
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
@@ -274,7 +278,10 @@ int cmd_render(const std::vector<std::string>& args) {
     if (field)
       js << ",\n  \"field\": \"" << json_escape(settings.resolve.march.field.name) << "\",\n  \"march_step\": " << json_number(settings.resolve.march.step)
          << (quantity == volume::Quantity::Isosurface ? ",\n  \"isovalue\": " + json_number(settings.resolve.march.isovalue) : "");
-    js << ",\n  \"frames\": " << frames << ",\n  \"passes\": [";
+    js << ",\n  \"warnings\": [";
+    for (size_t i = 0; i < result.report.warnings.size(); ++i)
+      js << (i ? ", " : "") << "\"" << json_escape(result.report.warnings[i]) << "\"";
+    js << "],\n  \"frames\": " << frames << ",\n  \"passes\": [";
     for (size_t i = 0; i < result.passes.size(); ++i) {
       js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.passes[i].name)
          << "\", \"gpu_ms\": " << json_number(result.passes[i].gpu_ms);

@@ -43,6 +43,7 @@ int cmd_render_path_reference(const std::vector<std::string>& args) {
   const SurfaceScene scene = surface_scene_from(a, "path-reference");
   const Camera camera = surface_camera(a, scene.camera);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
+  validate_float_range(lit);  // double arithmetic, but the image is float32
 
   reference::PathTracerSettings settings;
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};

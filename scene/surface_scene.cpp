@@ -1,6 +1,8 @@
 #include "scene/surface_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -75,6 +77,26 @@ void validate(const SurfaceScene& scene) {
   if (!non_negative(scene.sky.top) || !non_negative(scene.sky.bottom))
     throw InputError(scene.name, "the sky's radiance must be finite and >= 0");
   if (!finite(scene.sky.up) || glm::length(scene.sky.up) == 0.0) throw InputError(scene.name, "the sky's up vector is zero");
+}
+
+void validate_float_range(const SurfaceScene& scene) {
+  auto check = [&](const glm::dvec3& v, const std::string& what) {
+    const double largest = std::max({v.x, v.y, v.z});
+    if (largest > kMaxRadiometricValue) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, " %.3g is beyond %.3g, float32's largest value over 2^32", largest, kMaxRadiometricValue);
+      throw InputError(scene.name, what + buf +
+                                       " (the GPU shades and every image stores float32; 2^32 is the headroom kept for the "
+                                       "factors geometry, materials, lights and bounces multiply it by)");
+    }
+  };
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    check(scene.materials[i].emission, "material " + std::to_string(i) +
+                                           (scene.materials[i].name.empty() ? "" : " (" + scene.materials[i].name + ")") + ": emission");
+  for (size_t i = 0; i < scene.point_lights.size(); ++i) check(scene.point_lights[i].intensity, "point light " + std::to_string(i) + ": intensity");
+  for (size_t i = 0; i < scene.directional_lights.size(); ++i)
+    check(scene.directional_lights[i].irradiance, "directional light " + std::to_string(i) + ": irradiance");
+  check(glm::max(scene.sky.top, scene.sky.bottom), "the sky: radiance");
 }
 
 Bounds bounds_of(const SurfaceScene& scene) {

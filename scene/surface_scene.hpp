@@ -87,6 +87,17 @@ struct SurfaceScene {
 // materials while there are meshes.
 void validate(const SurfaceScene& scene);
 
+// The largest radiometric value (emission, sky radiance, light intensity or irradiance) a scene
+// may hold for rendering: float32's largest value over 2^32. The GPU uploads and sums these in
+// float32, and every image is float32; a pixel's radiance is such a value times what the
+// geometry and the materials bring (BRDF peaks, solid angles, 1/d^2 of a point light, sums
+// over lights and bounces: the path tracer's furnace gives Le / (1 - A)), for which 2^32 is the
+// headroom kept.
+inline constexpr double kMaxRadiometricValue = 3.4028234663852886e38 / 4294967296.0;
+// InputError(scene.name, ...) naming the first value above kMaxRadiometricValue, its size and
+// the limit: decided from the scene before anything is shaded.
+void validate_float_range(const SurfaceScene& scene);
+
 // Bounds of all mesh positions (a point at the origin for an empty scene).
 Bounds bounds_of(const SurfaceScene& scene);
 

@@ -46,7 +46,8 @@ struct FrameRenderer::Recorded {
 };
 
 FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& mesh)
-    : device_(device), mesh_(volume::upload(device, mesh)), bounds_(bounds_of(mesh)), interval_(device),
+    : device_(device), mesh_(volume::upload(device, mesh)), bounds_(bounds_of(mesh)), float_facts_(volume::float_facts(mesh)),
+      interval_(device),
       orderings_(std::make_unique<Orderings>()), recorded_(std::make_unique<Recorded>()), offscreen_timer_(device, 16) {
   orderings_->geometry.name = mesh.name;
   orderings_->geometry.points = mesh.points;
@@ -87,6 +88,10 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
   for (const vk::Buffer* b : {&mesh_.positions, &mesh_.tets, &mesh_.cell_sigma, &mesh_.point_sigma, &mesh_.cell_scalar, &mesh_.point_scalar})
     report.mesh_bytes += b->size();
   interval_.prepare(mesh_, settings.resolve);  // checks the settings before anything is planned
+  report.warnings =
+      volume::check_float_limits(float_facts_, camera, targets_.extent.width, targets_.extent.height, settings.resolve, true,
+                                 &orderings_->geometry.points)
+          .warnings;
   report.plan = plan_frame(scene_contents(camera, settings), settings);
   Orderings& o = *orderings_;
   o.order = nullptr;

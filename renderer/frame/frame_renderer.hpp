@@ -10,6 +10,7 @@
 
 #include "renderer/frame/frame_plan.hpp"
 #include "renderer/vk/timer.hpp"
+#include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/interval_shading.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
@@ -32,6 +33,9 @@ struct FrameReport {
   bool counted = false;
   uint64_t primitives = 0;  // proxy triangles that reached the rasterizer's clipper
   uint64_t fragments = 0;   // fragment-shader invocations: (pixel, segment) pairs shaded
+  // What float32 renders only approximately in this frame, and by how much
+  // (volume::check_float_limits); empty when the frame is exact to its tolerances.
+  std::vector<std::string> warnings;
 };
 
 struct OffscreenFrame {
@@ -58,6 +62,8 @@ class FrameRenderer {
   SceneContents scene_contents(const Camera& camera, const FrameSettings& settings) const;
   // Plans the frame and runs the plan's CPU passes (pre-integration table, tetlets, exact
   // visibility order), outside any command buffer, with no frame of this renderer in flight.
+  // Throws InputError for a frame float32 cannot represent (volume::check_float_limits, at the
+  // targets' current size).
   FrameReport prepare(const Camera& camera, const FrameSettings& settings);
   // Records exactly the GPU passes prepare() planned, for the same camera and settings; the
   // display and quantity images end in TRANSFER_SRC layout.
@@ -83,6 +89,7 @@ class FrameRenderer {
   const vk::Device& device_;
   volume::GpuTetMesh mesh_;
   Bounds bounds_;
+  volume::MeshFloatFacts float_facts_;
   volume::IntervalShadingPass interval_;
   std::unique_ptr<Orderings> orderings_;
   struct Recorded;  // what the last recorded frame left behind

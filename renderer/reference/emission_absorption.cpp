@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/segment_integral.hpp"
@@ -41,27 +43,49 @@ ColorImage emission_absorption_image(const TetMesh& mesh, const volume::Transfer
   const std::vector<volume::TfSample> samples = volume::breakpoints(tf);
   const size_t pixels = size_t(width) * height;
   std::vector<std::vector<Segment>> along(pixels);
+  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+  const glm::dvec3 origin = bounds_of(mesh).center();
+  double mesh_radius = 0.0;
+  if (perturbation)
+    for (const auto& p : mesh.points) mesh_radius = std::max(mesh_radius, glm::length(p - origin));
+  const double near_from_origin = std::abs(camera.near_distance - glm::dot(origin - camera.eye, forward));
+  const double footprint_per_depth = 2.0 * std::tan(glm::radians(camera.fovy_degrees) * 0.5) / height;
   trace_cells(mesh, camera, width, height, offset_x, offset_y, [](size_t) { return true; },
               [&](size_t pixel, size_t c, const Interval& in, const glm::dvec3& dir) {
                 Segment s{in.enter, in.exit, 0.0, 0.0};
+                std::array<glm::dvec3, 4> v;
+                std::array<double, 4> x{};
+                for (int i = 0; i < 4; ++i) {
+                  v[i] = mesh.points[mesh.tets[c][i]];
+                  x[i] = volume::normalized(tf, linear ? mesh.point_scalars[mesh.tets[c][i]] : mesh.cell_scalars[c]);
+                }
                 if (linear) {
-                  std::array<glm::dvec3, 4> v;
                   std::array<double, 4> values;
-                  for (int i = 0; i < 4; ++i) {
-                    v[i] = mesh.points[mesh.tets[c][i]];
-                    values[i] = mesh.point_scalars[mesh.tets[c][i]];
-                  }
+                  for (int i = 0; i < 4; ++i) values[i] = mesh.point_scalars[mesh.tets[c][i]];
                   s.x_front = volume::normalized(tf, interpolate_linear(v, values, camera.eye + in.enter * dir));
                   s.x_back = volume::normalized(tf, interpolate_linear(v, values, camera.eye + in.exit * dir));
-                  if (perturbation) {
-                    const double g = gradient_length(v, values) / (tf.range_hi - tf.range_lo);
-                    s.x_slack = perturbation->x_absolute + perturbation->x_relative * g * in.exit;
-                  }
                 } else {
-                  s.x_front = s.x_back = volume::normalized(tf, mesh.cell_scalars[c]);
-                  if (perturbation) s.x_slack = perturbation->x_absolute;
+                  s.x_front = s.x_back = x[0];
                 }
-                if (perturbation) s.length_slack = perturbation->length_relative * in.exit;
+                if (perturbation) {
+                  double d_lo = 1e300, d_hi = -1e300;
+                  for (const auto& p : v) {
+                    d_lo = std::min(d_lo, glm::dot(p - camera.eye, forward));
+                    d_hi = std::max(d_hi, glm::dot(p - camera.eye, forward));
+                  }
+                  const double ratio = d_hi / std::max(d_lo, camera.near_distance);
+                  const double length_per_depth = 1.0 / glm::dot(dir, forward);
+                  const double px = double(pixel % width) + 0.5 + offset_x, py = double(pixel / width) + 0.5 + offset_y;
+                  const glm::dvec2 g = surface_depth_gradients(v, camera, width, height, px, py, perturbation->step);
+                  const double window = perturbation->window * (double(pixel % width) + double(pixel / width) + 1.0);
+                  s.length_slack = (perturbation->relative * 2.0 * (d_hi - d_lo) * ratio + window * (g.x + g.y)) * length_per_depth;
+                  if (d_lo < camera.near_distance)
+                    s.length_slack = 3.0 * (s.length_slack + perturbation->relative * 2.0 * (near_from_origin + mesh_radius) * length_per_depth);
+                  const double x_spread = *std::max_element(x.begin(), x.end()) - *std::min_element(x.begin(), x.end());
+                  const double x_gradient = linear ? gradient_length(v, x) : 0.0;
+                  s.x_slack = perturbation->x_absolute + perturbation->relative * ratio * x_spread +
+                              window * x_gradient * (0.5 * (g.x + g.y) * length_per_depth + footprint_per_depth * in.exit);
+                }
                 along[pixel].push_back(s);
               });
   ColorImage image;

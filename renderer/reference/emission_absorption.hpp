@@ -24,13 +24,19 @@ struct ColorImage {
   std::vector<double> sensitivity;
 };
 
-// How far a renderer's float inputs to a segment may stray: the normalized scalar at each end
-// by x_absolute + x_relative * (|gradient of x| * distance from the eye), the length by
-// length_relative * (distance of the far end from the eye).
+// How far a renderer's float inputs to a segment may stray, in the model of interval shading's
+// float arithmetic (derived in tests/volume/interval_comparison.cpp): each end's depth relative
+// to the cell's reference point by `relative` of the cell's depth extent Dz times its depth
+// ratio d_max / d_min (and, for a cell the near plane cuts, of the plane's offset from the mesh
+// centre plus the mesh's radius), plus `window` of (x + y + 1) pixels times that surface's
+// screen gradient (a rasterizer's plane equations in window coordinates); the normalized scalar
+// at each end by x_absolute, plus `relative` of the cell's spread of it times d_max / d_min,
+// plus `window` of (x + y + 1) pixels times how fast it changes along that surface.
 struct InputPerturbation {
   double x_absolute = 0.0;
-  double x_relative = 0.0;
-  double length_relative = 0.0;
+  double relative = 0.0;
+  double window = 0.0;
+  double step = 0.0;  // finite differences for the surfaces' gradients, in pixels
 };
 
 // The scalar the transfer function reads is mesh.point_scalars (linear in each cell) when

@@ -223,4 +223,71 @@ std::vector<double> snapping_variation_image(const TetMesh& mesh, const Camera& 
   return image;
 }
 
+glm::dvec2 surface_depth_gradients(const std::array<glm::dvec3, 4>& v, const Camera& camera, uint32_t width, uint32_t height,
+                                   double px, double py, double step) {
+  const CameraFrame f = frame_of(camera, width, height);
+  auto depths_at = [&](double x, double y, glm::dvec2& depths) {
+    const glm::dvec3 dir = ray_direction(camera, width, height, x, y);
+    const double cos = glm::dot(dir, f.forward);
+    const Interval in = ray_tetrahedron(v, camera.eye, dir, camera.near_distance / cos, std::numeric_limits<double>::infinity());
+    depths = glm::dvec2(in.enter, in.exit) * cos;
+    return !in.empty();
+  };
+  glm::dvec2 here;
+  if (!depths_at(px, py, here)) return glm::dvec2(0.0);
+  glm::dvec2 gradient2(0.0);  // squared, per surface
+  for (int axis = 0; axis < 2; ++axis) {
+    glm::dvec2 change(0.0);
+    for (double sign : {1.0, -1.0}) {
+      glm::dvec2 other;
+      if (depths_at(px + (axis == 0 ? sign * step : 0.0), py + (axis == 1 ? sign * step : 0.0), other))
+        change = glm::max(change, glm::abs(other - here) / step);
+    }
+    gradient2 += change * change;
+  }
+  return glm::sqrt(gradient2);
+}
+
+std::vector<double> surface_sensitivity_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
+                                              double radius) {
+  std::vector<double> image(size_t(width) * height, 0.0);
+  const CameraFrame f = frame_of(camera, width, height);
+  const double step = 0.25 * radius;  // finite differences within a proxy triangle, mostly
+  const double footprint_per_depth = 2.0 * f.tan_half_fovy / height;  // a pixel's world size at depth 1
+  for_each_cell(mesh, camera, f, width, height, absorbs, [&](size_t, const Cell& cell, double x0, double x1, double y0, double y1, const auto&) {
+    // |grad sigma| of the cell's linear field (0 when constant), from its barycentric gradients.
+    double field_gradient = 0.0;
+    if (cell.linear) {
+      const glm::dvec3 e1 = cell.v[1] - cell.v[0], e2 = cell.v[2] - cell.v[0], e3 = cell.v[3] - cell.v[0];
+      const double det = glm::dot(e1, glm::cross(e2, e3));
+      if (det != 0.0)
+        field_gradient = glm::length(((cell.point_sigma[1] - cell.point_sigma[0]) * glm::cross(e2, e3) +
+                                      (cell.point_sigma[2] - cell.point_sigma[0]) * glm::cross(e3, e1) +
+                                      (cell.point_sigma[3] - cell.point_sigma[0]) * glm::cross(e1, e2)) / det);
+    }
+    const double sigma_max = cell.linear ? std::max({cell.point_sigma[0], cell.point_sigma[1], cell.point_sigma[2], cell.point_sigma[3]})
+                                         : cell.sigma;
+    for (double yd = y0; yd <= y1; ++yd)
+      for (double xd = x0; xd <= x1; ++xd) {
+        // The first of the centre and the 8 points at `radius` around it where the ray meets
+        // the cell: a drawn proxy can cover the pixel where the centre's ray just misses.
+        static const int kAround[9][2] = {{0, 0}, {-1, -1}, {0, -1}, {1, -1}, {-1, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+        for (const auto& k : kAround) {
+          const double px = xd + 0.5 + k[0] * radius, py = yd + 0.5 + k[1] * radius;
+          const glm::dvec3 dir = ray_direction(camera, width, height, px, py);
+          const double cos = glm::dot(dir, f.forward);
+          const Interval in = ray_tetrahedron(cell.v, camera.eye, dir, camera.near_distance / cos, std::numeric_limits<double>::infinity());
+          if (in.empty()) continue;
+          const glm::dvec2 g = surface_depth_gradients(cell.v, camera, width, height, px, py, step);
+          const double surface_change = g.x + g.y, length_per_depth = 1.0 / cos;
+          const double footprint = footprint_per_depth * in.exit * cos;
+          image[size_t(yd) * width + size_t(xd)] += sigma_max * surface_change * length_per_depth +
+                                                    field_gradient * in.length() * (0.5 * surface_change * length_per_depth + footprint);
+          break;
+        }
+      }
+  });
+  return image;
+}
+
 }  // namespace prismoid::reference

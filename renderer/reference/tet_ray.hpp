@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "scene/camera.hpp"
@@ -59,5 +60,24 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
 // vertices independently by up to `radius` stays within this of the exact image.
 std::vector<double> snapping_variation_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
                                              double radius);
+
+// Per pixel of displacement of the image point (px, py), how fast the depths along the viewing
+// axis of the entry (x) and exit (y) surfaces of its ray in the tetrahedron v change (finite
+// differences at `step` pixels, forward or backward, whichever stays in the cell; the near
+// plane, where it cuts, has constant depth). Zero where the ray misses.
+glm::dvec2 surface_depth_gradients(const std::array<glm::dvec3, 4>& v, const Camera& camera, uint32_t width, uint32_t height,
+                                   double px, double py, double step);
+
+// Per pixel, the sum over cells of how fast the cell's optical depth changes per pixel of
+// displacement of one of its two bounding surfaces alone: sigma_max * (|grad d_entry| +
+// |grad d_exit|) * (ray length per unit depth), with d the surfaces' depths along the viewing
+// axis as functions of the image point (finite differences), plus the field's change with them
+// (|grad sigma| times the segment's length times how far the surface points move). Cells whose
+// ray misses at the pixel centre count where one of the 8 points at `radius` around it hits. A
+// rasterizer that interpolates each surface's attributes as if at a point displaced by up to
+// e pixels (rounding of plane equations evaluated far from the vertices) errs by at most e
+// times this.
+std::vector<double> surface_sensitivity_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
+                                              double radius);
 
 }  // namespace prismoid::reference

@@ -43,6 +43,7 @@ glm::dvec3 winding_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::d
 
 GpuSurfaceScene upload(const vk::Device& device, const SurfaceScene& scene) {
   validate(scene);
+  validate_float_range(scene);  // radiance is uploaded and summed in float32
   GpuSurfaceScene gpu;
   const Bounds bounds = bounds_of(scene);
   gpu.origin = bounds.center();

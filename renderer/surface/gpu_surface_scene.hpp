@@ -44,8 +44,9 @@ struct GpuSurfaceScene {
 using SceneBufferKey = std::array<uint64_t, 9>;
 SceneBufferKey buffer_key(const GpuSurfaceScene& scene);
 
-// Throws InputError for an invalid scene (validate), or one whose triangle count does not fit
-// the device's storage-buffer range.
+// Throws InputError for an invalid scene (validate), radiometric values beyond what float32
+// holds with its headroom (validate_float_range), or a triangle count that does not fit the
+// device's storage-buffer range.
 GpuSurfaceScene upload(const vk::Device& device, const SurfaceScene& scene);
 
 }  // namespace prismoid::surface

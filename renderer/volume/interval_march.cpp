@@ -30,13 +30,16 @@ void validate_march(const GpuTetMesh& mesh, const ResolveSettings& settings) {
 }
 
 void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& settings, const Camera& camera,
-                         const glm::dvec3& mesh_origin) {
+                         const glm::dvec3& mesh_origin, double extinction_cap) {
   const MarchSettings& m = settings.march;
   frame.camera_to_mesh = glm::mat4(glm::inverse(view_matrix(camera, mesh_origin)));
   // The shader samples at mesh-local points (small: the mesh's size and the eye's distance
   // to it); a field moved into the mesh frame in double needs no world offset, one that
   // cannot be moved adds the origin in float (precise only near the world origin).
-  frame.march = glm::vec4(float(m.step), float(m.isovalue), float(m.density_scale), 0.0f);
+  // A density scale beyond float is stored as its largest value: the shader holds each
+  // sample's density_scale * field to the cap first (inf * 0 would be NaN).
+  frame.march = glm::vec4(float(m.step), float(m.isovalue), float(std::min(m.density_scale, 3.4028234663852886e38)),
+                          float(extinction_cap));
   const uint32_t what = settings.quantity == Quantity::Color        ? PRISMOID_MARCH_COLOR
                         : settings.quantity == Quantity::Isosurface ? PRISMOID_MARCH_ISOSURFACE
                                                                     : PRISMOID_MARCH_OPTICAL_DEPTH;

@@ -13,9 +13,10 @@ namespace prismoid::volume {
 // an isosurface without marching, a mesh without the scalar arrays the mesh shader reads.
 void validate_march(const GpuTetMesh& mesh, const ResolveSettings& settings);
 
-// The uniforms march.frag and isosurface.frag read beyond the interval pass's own.
+// The uniforms march.frag and isosurface.frag read beyond the interval pass's own; each
+// sample's extinction is held to `extinction_cap` (volume::extinction_cap).
 void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& settings, const Camera& camera,
-                         const glm::dvec3& mesh_origin);
+                         const glm::dvec3& mesh_origin, double extinction_cap);
 
 // Moves the depth target to attachment layout and describes it, cleared to 0 (no hit).
 VkRenderingAttachmentInfo begin_isosurface_depth(VkCommandBuffer cmd, const VolumeTargets& targets);

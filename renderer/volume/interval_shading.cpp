@@ -13,6 +13,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/timer.hpp"
+#include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/tetlets.hpp"
 #include "renderer/volume/interval_march.hpp"
 #include "scene/input_error.hpp"
@@ -67,7 +68,15 @@ glm::mat4 to_float(const glm::dmat4& m) { return glm::mat4(m); }
 GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   validate(mesh);
   GpuTetMesh gpu;
-  gpu.origin = bounds_of(mesh).center();
+  const Bounds bounds = bounds_of(mesh);
+  gpu.origin = bounds.center();
+  gpu.extinction_cap = extinction_cap(glm::length(bounds.max - bounds.min));
+  auto capped = [&](const std::vector<double>& v) {
+    std::vector<float> out(v.size());
+    for (size_t i = 0; i < v.size(); ++i) out[i] = float(std::min(v[i], gpu.extinction_cap));
+    if (out.empty()) out.push_back(0.0f);
+    return out;
+  };
   gpu.tet_count = static_cast<uint32_t>(mesh.tets.size());
   std::vector<glm::vec4> positions;
   positions.reserve(mesh.points.size());
@@ -75,8 +84,7 @@ GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   std::vector<glm::uvec4> tets;
   tets.reserve(mesh.tets.size());
   for (const auto& t : mesh.tets) tets.emplace_back(t[0], t[1], t[2], t[3]);
-  std::vector<float> sigma(mesh.cell_extinction.begin(), mesh.cell_extinction.end());
-  if (sigma.empty()) sigma.push_back(0.0f);
+  const std::vector<float> sigma = capped(mesh.cell_extinction);
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   gpu.positions = vk::upload_buffer(device, bytes_of(positions), usage);
   gpu.tets = vk::upload_buffer(device, bytes_of(tets), usage);
@@ -86,7 +94,7 @@ GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   auto floats = [](const std::vector<double>& v) {
     return v.empty() ? std::vector<float>{0.0f} : std::vector<float>(v.begin(), v.end());
   };
-  gpu.point_sigma = vk::upload_buffer(device, bytes_of(floats(mesh.point_extinction)), usage);
+  gpu.point_sigma = vk::upload_buffer(device, bytes_of(capped(mesh.point_extinction)), usage);
   gpu.scalar_per_point = !mesh.point_scalars.empty();
   gpu.has_scalars = gpu.scalar_per_point || !mesh.cell_scalars.empty();
   gpu.cell_scalar = vk::upload_buffer(device, bytes_of(floats(mesh.cell_scalars)), usage);
@@ -309,7 +317,7 @@ double IntervalShadingPass::upload_transfer(const GpuTetMesh& mesh, const Resolv
   if (!same_tf || tf_buffer_.get() == VK_NULL_HANDLE) {
     std::vector<glm::vec4> packed;
     for (const TfSample& t : tf) {
-      packed.emplace_back(float(t.x), float(t.sigma), 0.0f, 0.0f);
+      packed.emplace_back(float(t.x), float(std::min(t.sigma, mesh.extinction_cap)), 0.0f, 0.0f);
       packed.emplace_back(glm::vec3(t.rgb), 0.0f);
     }
     tf_buffer_ = vk::upload_buffer(device_, bytes_of(packed), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -392,20 +400,24 @@ void IntervalShadingPass::record_intervals(VkCommandBuffer cmd, const GpuTetMesh
   const glm::dmat4 proj = projection_matrix(camera, aspect);
 
   gpu::FrameUniforms frame{};
-  frame.view = to_float(view_matrix(camera, mesh.origin));
+  const glm::dmat4 view = view_matrix(camera, mesh.origin);
+  frame.view = to_float(view);
   frame.projection = to_float(proj);
   frame.viewport = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
-  frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance), 0.0f);
+  // The near plane's depth minus the mesh origin's (view[3].z is minus that depth), in double:
+  // the mesh shader clips relative to each cell's reference point, at any distance from the eye.
+  frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance),
+                              float(camera.near_distance + view[3][2]));
   // Marching draws every cell (the mesh shader's emission path: no cell is culled by its
   // extinction, near-clipped pieces in order) and ignores the proxy's linear field.
   const bool per_point = emission || march ? mesh.scalar_per_point : mesh.linear;
   frame.counts = glm::uvec4(mesh.tet_count, per_point ? 1u : 0u,
                             emission || march ? PRISMOID_INTEGRAND_EMISSION : PRISMOID_INTEGRAND_OPTICAL_DEPTH, order ? 1u : 0u);
   const TransferFunction& tf = settings.transfer;
-  frame.transfer = glm::vec4(float(tf.range_lo), float(1.0 / (tf.range_hi - tf.range_lo)), float(table_.max_length),
-                             float(table_.size));
+  const ScalarMapping mapping = scalar_mapping(tf);
+  frame.transfer = glm::vec4(float(mapping.scale), float(mapping.offset), float(table_.max_length), float(table_.size));
   frame.options = glm::uvec4(uint32_t(table_tf_.size()), use_table ? PRISMOID_SEGMENTS_TABLE : PRISMOID_SEGMENTS_EXACT, 0u, 0u);
-  if (march) fill_march_uniforms(frame, settings, camera, mesh.origin);
+  if (march) fill_march_uniforms(frame, settings, camera, mesh.origin, mesh.extinction_cap);
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
 
   const bool to_emission = emission || isosurface;

@@ -25,7 +25,8 @@ class GpuTimer;
 namespace prismoid::volume {
 
 // A TetMesh on the GPU. Positions are stored as float relative to `origin` (the mesh's
-// bounds centre, kept in double), so far-from-origin data loses no precision.
+// bounds centre, kept in double), so far-from-origin data loses no precision. Extinction is
+// stored up to volume::extinction_cap of the mesh's diagonal (float_limits.hpp).
 struct GpuTetMesh {
   vk::Buffer positions;
   vk::Buffer tets;
@@ -39,6 +40,7 @@ struct GpuTetMesh {
   bool has_scalars = false;
   bool scalar_per_point = false;
   double longest_edge = 0.0;  // bounds every segment inside a cell (the table's length axis)
+  double extinction_cap = 0.0;  // extinction above this is stored as this (volume::extinction_cap)
   double scalar_min = 0.0, scalar_max = 0.0;  // the scalar field's range (0, 0 when absent)
 };
 GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
@@ -203,6 +204,13 @@ void VisibilitySort::reserve(uint32_t tet_count) {
       {keys_set_.set, PRISMOID_SORT_KEYS_BINDING_VALUES, order_.get()},
   });
 }
+
+uint32_t sort_key_bits(float key) {
+  const auto bits = std::bit_cast<uint32_t>(key);
+  return (bits & 0x80000000u) != 0u ? ~bits : bits | 0x80000000u;
+}
+
+float sort_key_value(uint32_t bits) { return std::bit_cast<float>((bits & 0x80000000u) != 0u ? bits & 0x7fffffffu : ~bits); }
 
 void VisibilitySort::record(VkCommandBuffer cmd, const vk::Buffer& positions, const vk::Buffer& tets, uint32_t tet_count,
                             const glm::vec3& eye_local, vk::GpuTimer& timer) {

@@ -58,11 +58,17 @@ class GpuRadixSort {
   uint32_t capacity_ = 0;
 };
 
-// Front-to-back order of a tetrahedral mesh: key = float bits of the squared distance from
-// the eye to each tetrahedron's centroid (non-negative floats order like their bit
-// patterns), value = tet index; then the radix sort. `positions` (vec4 per point, xyz in the
+// Front-to-back order of a tetrahedral mesh: key = each tetrahedron's centroid's squared
+// distance from the eye minus the mesh origin's (|m|^2 - 2 m.e, mesh-local: no cancellation
+// however far the eye), as order-preserving unsigned bits (sort_key_bits), value = tet index;
+// then the radix sort. `positions` (vec4 per point, xyz in the
 // mesh's local frame) and `tets` (uvec4 per cell) are the buffers of volume::GpuTetMesh;
 // `eye_local` is the eye in that same local frame.
+// The unsigned key that orders like the float `key` (negative floats bit-inverted, the others
+// with the sign bit set), and back: what the keys pass writes.
+uint32_t sort_key_bits(float key);
+float sort_key_value(uint32_t bits);
+
 class VisibilitySort {
  public:
   explicit VisibilitySort(const vk::Device& device);

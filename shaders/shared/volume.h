@@ -72,11 +72,12 @@ struct FrameUniforms {
   mat4 view;        // mesh-local coordinates -> camera space (camera looks along -z)
   mat4 projection;  // camera space -> clip space (Vulkan: y down, depth 0..1)
   vec4 viewport;    // width, height, 1/width, 1/height
-  vec4 ray_scale;   // 1/P[0][0], 1/P[1][1], near distance (cells are clipped there), unused
+  vec4 ray_scale;   // 1/P[0][0], 1/P[1][1], near distance (cells are clipped there), near distance
+                    // minus the depth of the mesh origin (mesh-local 0)
   uvec4 counts;     // x: tetrahedron count, y: 1 when the field is linear per cell (point values),
                     // z: PRISMOID_INTEGRAND_*, w: 1 when cells are drawn in the order of PRISMOID_BINDING_ORDER
-  vec4 transfer;    // x: scalar at the range's low end, y: 1 / (range width), z: table's longest
-                    // length, w: table size per axis (texels)
+  vec4 transfer;    // x, y: the transfer function's x = scalar * x + y (volume::scalar_mapping),
+                    // z: table's longest length, w: table size per axis (texels)
   uvec4 options;    // x: transfer-function sample count, y: PRISMOID_SEGMENTS_*
   // Marching inside intervals (march.frag): an analytic field in world coordinates.
   mat4 camera_to_mesh;  // inverse of `view`: camera space -> mesh-local coordinates
@@ -84,7 +85,8 @@ struct FrameUniforms {
   // when the field's parameters are uploaded moved into the mesh frame (exactly, in double:
   // volume::translated), so a field far from the world origin keeps float precision.
   vec4 field_origin;
-  vec4 march;           // x: largest step (world length), y: isovalue, z: density scale, w: unused
+  vec4 march;           // x: largest step (world length), y: isovalue, z: density scale, w: the
+                        // largest extinction a sample may have (volume::extinction_cap)
   uvec4 field;          // x: PRISMOID_FIELD_*, y: parameter count, z: PRISMOID_MARCH_*, w: unused
   vec4 field_params[PRISMOID_FIELD_MAX_PARAMS];  // per field kind, see analytic_field.glsl
 };

@@ -14,9 +14,11 @@ layout(std430, set = 0, binding = PRISMOID_BINDING_PREINTEGRATED) readonly buffe
 layout(std430, set = 0, binding = PRISMOID_BINDING_TRANSFER) readonly buffer Transfer { vec4 tf_samples[]; };
 
 layout(location = 0) in vec2 v_inv_depth;
-layout(location = 1) perprimitiveEXT flat in vec4 p_field;  // x(p) = dot(xyz, p) + w, camera space
+layout(location = 2) in vec4 v_relative;
+layout(location = 1) perprimitiveEXT flat in vec4 p_reference;  // w: the normalized scalar at the cell's reference point
 layout(location = 0) out vec4 out_color;
 
+#include "interval_ray.glsl"
 #include "transfer_lookup.glsl"
 
 vec4 texel(uint i, uint j, uint k, uint n) { return texels[(k * n + j) * n + i]; }
@@ -60,19 +62,13 @@ vec4 exact_segment(float x_front, float x_back, float len) {
 }
 
 void main() {
-  float depth_a = 1.0 / v_inv_depth.x;
-  float depth_b = 1.0 / v_inv_depth.y;
-  float front = min(depth_a, depth_b), back = max(depth_a, depth_b);
-  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
-  vec3 ray = vec3(ndc * frame.ray_scale.xy, -1.0);  // the point at depth d is d * ray
-  float len = (back - front) * length(ray);
-  float slope = dot(p_field.xyz, ray);
+  IntervalRay r = interval_ray(v_inv_depth, v_relative, p_reference);
+  float len = interval_length(r);
   // A non-finite interval (cannot happen for proxies that pass the area test) adds nothing.
   if (!(len > 0.0) || isinf(len)) {
     out_color = vec4(0.0);
     return;
   }
-  float x_front = front * slope + p_field.w, x_back = back * slope + p_field.w;
-  out_color = frame.options.y == PRISMOID_SEGMENTS_TABLE ? preintegrated(x_front, x_back, len)
-                                                         : exact_segment(x_front, x_back, len);
+  out_color = frame.options.y == PRISMOID_SEGMENTS_TABLE ? preintegrated(r.field_front, r.field_back, len)
+                                                         : exact_segment(r.field_front, r.field_back, len);
 }

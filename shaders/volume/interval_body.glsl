@@ -6,7 +6,6 @@
 #include "../shared/volume.h"
 #include "near_clip.glsl"
 #include "tet_projection.glsl"
-#include "linear_field.glsl"
 
 layout(local_size_x = PRISMOID_TETS_PER_WORKGROUP) in;
 layout(triangles, max_vertices = PRISMOID_WORKGROUP_MAX_VERTICES, max_primitives = PRISMOID_WORKGROUP_MAX_TRIANGLES) out;
@@ -20,16 +19,18 @@ layout(std430, set = 0, binding = PRISMOID_BINDING_CELL_SCALAR) readonly buffer 
 layout(std430, set = 0, binding = PRISMOID_BINDING_POINT_SCALAR) readonly buffer PointScalar { float point_scalar[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_ORDER) readonly buffer Order { uint draw_order[]; };
 
-// 1/depth of the two bounding surfaces. Every proxy vertex has w = 1, so perspective-correct
-// interpolation is exactly screen-space interpolation; we do not declare `noperspective`
-// because lavapipe (Mesa 25.0) interpolates noperspective attributes wrongly on triangles its
-// clipper cuts (proxies reaching far outside the viewport: camera inside or close to big
-// cells), which gave optical-depth errors of 20% there while the H100 was exact.
+// Per bounding surface a, b: 1/depth, and relative to the cell's reference point c (its first
+// vertex): (depth - depth_c)/depth and (field - field_c)/depth (tet_projection.glsl). Every
+// proxy vertex has w = 1, so perspective-correct interpolation is exactly screen-space
+// interpolation; we do not declare `noperspective` because lavapipe (Mesa 25.0) interpolates
+// noperspective attributes wrongly on triangles its clipper cuts (proxies reaching far outside
+// the viewport: camera inside or close to big cells), which gave optical-depth errors of 20%
+// there while the H100 was exact.
 layout(location = 0) out vec2 v_inv_depth[];
-// f(p) = dot(field.xyz, p) + field.w for p in camera space: the cell's linear field (constant
-// cells: xyz = 0), sigma for optical depth, the transfer function's normalized scalar for
-// emission. The fragment evaluates it at both ends of its interval.
-layout(location = 1) perprimitiveEXT flat out vec4 p_field[];
+layout(location = 2) out vec4 v_relative[];
+// c in mesh-local coordinates (xyz) and the cell's field at c (w): sigma for optical depth,
+// the transfer function's normalized scalar for emission (linear in the cell, or constant).
+layout(location = 1) perprimitiveEXT flat out vec4 p_reference[];
 
 shared uint s_vertex_base[PRISMOID_TETS_PER_WORKGROUP];
 shared uint s_triangle_base[PRISMOID_TETS_PER_WORKGROUP];
@@ -40,7 +41,7 @@ shared uint s_triangle_base[PRISMOID_TETS_PER_WORKGROUP];
 layout(std430, set = 0, binding = PRISMOID_BINDING_TETLETS) readonly buffer Tetlets { uvec4 tetlets[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_TETLET_POINTS) readonly buffer TetletPoints { uint tetlet_points[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_TETLET_CELLS) readonly buffer TetletCells { uvec2 tetlet_cells[]; };
-shared vec3 s_cam[PRISMOID_TETLET_MAX_POINTS];
+shared vec3 s_position[PRISMOID_TETLET_MAX_POINTS];  // mesh-local, as in Positions
 shared float s_value[PRISMOID_TETLET_MAX_POINTS];  // the point field (sigma or scalar), if any
 #endif
 
@@ -58,7 +59,7 @@ void main() {
   uvec4 header = tetlets[gl_WorkGroupID.x];
   for (uint v = local; v < header.y; v += PRISMOID_TETS_PER_WORKGROUP) {
     uint point = tetlet_points[header.x + v];
-    s_cam[v] = (frame.view * vec4(positions[point].xyz, 1.0)).xyz;
+    s_position[v] = positions[point].xyz;
     if (per_point) s_value[v] = emission ? point_scalar[point] : point_sigma[point];
   }
   barrier();
@@ -75,47 +76,57 @@ void main() {
   TetProxy proxies[3];
   uint piece_count = 0u;
   uint vertex_count = 0u, triangle_count = 0u;
-  vec4 field = vec4(0.0);
+  vec4 reference = vec4(0.0);
   if (valid) {
-    vec3 cam[4];
-    float value[4];  // the point field at the corners (per_point only)
+    vec3 position[4];  // mesh-local
+    float value[4];    // the point field at the corners (per_point only)
 #ifdef PRISMOID_SHARED_VERTICES
     for (int i = 0; i < 4; ++i) {
-      cam[i] = s_cam[corner[i]];
+      position[i] = s_position[corner[i]];
       value[i] = per_point ? s_value[corner[i]] : 0.0;
     }
 #else
     uvec4 idx = tets[tet_index];
     for (int i = 0; i < 4; ++i) {
-      cam[i] = (frame.view * vec4(positions[idx[i]].xyz, 1.0)).xyz;
+      position[i] = positions[idx[i]].xyz;
       value[i] = per_point ? (emission ? point_scalar[idx[i]] : point_sigma[idx[i]]) : 0.0;
     }
 #endif
     float sigma_max;
+    float field[4];  // the cell's field at its corners
     if (emission) {
       // The transfer function decides what is transparent; every cell is drawn.
       sigma_max = 1.0;
-      float lo = frame.transfer.x, inv_width = frame.transfer.y;
-      if (per_point) {
-        float x[4];
-        for (int i = 0; i < 4; ++i) x[i] = (value[i] - lo) * inv_width;
-        field = linear_field(cam, x);
-      } else {
-        field = vec4(0.0, 0.0, 0.0, (cell_scalar[tet_index] - lo) * inv_width);
-      }
+      // x = value * scale + offset, both rounded from double once (volume::scalar_mapping): a
+      // range far wider than the data or far from zero still maps it without overflow.
+      float scale = frame.transfer.x, offset = frame.transfer.y;
+      float cell_x = per_point ? 0.0 : cell_scalar[tet_index] * scale + offset;
+      for (int i = 0; i < 4; ++i) field[i] = per_point ? value[i] * scale + offset : cell_x;
     } else if (per_point) {
-      field = linear_field(cam, value);
+      for (int i = 0; i < 4; ++i) field[i] = value[i];
       sigma_max = max(max(value[0], value[1]), max(value[2], value[3]));
     } else {
       sigma_max = cell_sigma[tet_index];
-      field = vec4(0.0, 0.0, 0.0, sigma_max);
+      for (int i = 0; i < 4; ++i) field[i] = sigma_max;
     }
     if (sigma_max > 0.0) {
-      vec3 pieces[3][4];
-      piece_count = clip_near(cam, frame.ray_scale.z, pieces);
-      if (emission) order_pieces_front_to_back(pieces, piece_count);
+      // Everything is measured from the reference point c = the first corner: the corners'
+      // offsets from it are rotated differences of nearby positions, exact to the cell's size,
+      // where camera-space positions are only exact to their distance from the eye. The depth
+      // of the near plane relative to c comes from (near - depth of the mesh origin), computed in
+      // double, plus c's depth below the origin's.
+      mat3 rotation = mat3(frame.view);
+      vec3 cam_c = (frame.view * vec4(position[0], 1.0)).xyz;
+      vec4 cell[4];
+      for (int i = 0; i < 4; ++i) cell[i] = vec4(rotation * (position[i] - position[0]), field[i]);
+      cell[0].xyz = vec3(0.0);
+      float near_c = frame.ray_scale.w + (rotation * position[0]).z;
+      reference = vec4(position[0], field[0]);
+      ClipPiece pieces[3];
+      piece_count = clip_near(cell, near_c, pieces);
+      if (emission) order_pieces_front_to_back(pieces, piece_count, -cam_c);
       for (uint p = 0u; p < piece_count; ++p) {
-        proxies[p] = project_tetrahedron(pieces[p], frame.projection);
+        proxies[p] = project_tetrahedron(pieces[p].v, cam_c, field[0], frame.projection);
         vertex_count += proxies[p].vertex_count;
         triangle_count += proxies[p].triangle_count;
       }
@@ -141,10 +152,11 @@ void main() {
     for (uint v = 0u; v < proxies[p].vertex_count; ++v) {
       gl_MeshVerticesEXT[vertex_base + v].gl_Position = vec4(proxies[p].ndc[v], 0.0, 1.0);
       v_inv_depth[vertex_base + v] = proxies[p].inv_depth[v];
+      v_relative[vertex_base + v] = proxies[p].relative[v];
     }
     for (uint t = 0u; t < proxies[p].triangle_count; ++t) {
       gl_PrimitiveTriangleIndicesEXT[triangle_base + t] = proxies[p].triangles[t] + uvec3(vertex_base);
-      p_field[triangle_base + t] = field;
+      p_reference[triangle_base + t] = reference;
     }
     vertex_base += proxies[p].vertex_count;
     triangle_base += proxies[p].triangle_count;

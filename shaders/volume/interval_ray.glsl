@@ -1,39 +1,42 @@
-// The fragment's interval on its pixel ray (between the two bounding surfaces its proxy
-// interpolates) and where its points lie in the field's coordinates: mesh-local plus
-// frame.field_origin, which is 0 for fields whose parameters can be moved into the mesh
-// frame; all terms then stay of the size of the mesh and the eye's distance to it, however
-// far from the world origin both are. The caller declares `frame`.
+// The fragment's interval on its pixel ray, between the two bounding surfaces its proxy
+// interpolates (tet_projection.glsl), measured from the cell's reference point c: the depths
+// of its ends relative to c's depth (exact to the cell's size, however far the eye is), the
+// cell's field there, and where points of the ray lie in the field's coordinates (mesh-local
+// plus frame.field_origin, which is 0 for fields whose parameters can be moved into the mesh
+// frame). All terms stay of the size of the cell and of its offset from the pixel ray, however
+// far from the eye or the world origin both are. The caller declares `frame`.
 #ifndef PRISMOID_INTERVAL_RAY_GLSL
 #define PRISMOID_INTERVAL_RAY_GLSL
 
 struct IntervalRay {
-  float front, back;      // depths along the viewing axis, front <= back
-  float length_per_depth; // world length of one unit of depth along this ray
-  vec3 field_eye;         // the field's coordinates at depth 0 (the eye)
-  vec3 field_per_depth;   // displacement per unit of depth (world lengths)
+  float front, back;          // depths along the viewing axis, front <= back (relative precision)
+  float rel_front, rel_back;  // the same minus c's depth (absolute precision of the cell's size)
+  float field_front, field_back;  // the cell's linear field at both ends
+  float length_per_depth;     // world length of one unit of depth along this ray
+  vec3 ray;                   // the camera-space point at depth d is d * ray
 };
 
-IntervalRay interval_ray(vec2 inv_depth) {
+// inv_depth, relative: the interpolated attributes of surfaces a and b (v_inv_depth,
+// v_relative); reference: c and the field there (p_reference).
+IntervalRay interval_ray(vec2 inv_depth, vec4 relative, vec4 reference) {
   IntervalRay r;
   float depth_a = 1.0 / inv_depth.x, depth_b = 1.0 / inv_depth.y;
-  r.front = min(depth_a, depth_b);
-  r.back = max(depth_a, depth_b);
+  float rel_a = relative.x * depth_a, rel_b = relative.y * depth_b;
+  float field_a = reference.w + relative.z * depth_a, field_b = reference.w + relative.w * depth_b;
+  bool a_first = rel_a <= rel_b;
+  r.front = a_first ? depth_a : depth_b;
+  r.back = a_first ? depth_b : depth_a;
+  r.rel_front = a_first ? rel_a : rel_b;
+  r.rel_back = a_first ? rel_b : rel_a;
+  r.field_front = a_first ? field_a : field_b;
+  r.field_back = a_first ? field_b : field_a;
   vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
-  vec3 ray = vec3(ndc * frame.ray_scale.xy, -1.0);  // the camera-space point at depth d is d * ray
-  r.length_per_depth = length(ray);
-  r.field_eye = frame.field_origin.xyz + frame.camera_to_mesh[3].xyz;
-  r.field_per_depth = mat3(frame.camera_to_mesh) * ray;
+  r.ray = vec3(ndc * frame.ray_scale.xy, -1.0);
+  r.length_per_depth = length(r.ray);
   return r;
 }
 
-vec3 field_point(IntervalRay r, float depth) { return r.field_eye + r.field_per_depth * depth; }
-
-float field_at(vec3 p) { return analytic_field(frame.field.x, frame.field.y, frame.field_params, p); }
-
-// Equal steps of at most frame.march.x (world length) over `len`; never more than
-// PRISMOID_MARCH_MAX_STEPS (the renderer refuses steps that would need more in any cell).
-uint march_steps(float len) {
-  return uint(clamp(ceil(len / frame.march.x), 1.0, float(PRISMOID_MARCH_MAX_STEPS)));
-}
+// The interval's length in world units.
+float interval_length(IntervalRay r) { return (r.rel_back - r.rel_front) * r.length_per_depth; }
 
 #endif

@@ -1,6 +1,9 @@
 #version 460
-// Visibility sort keys: for each tetrahedron, the float bits of the squared distance from the
-// eye to its centroid (non-negative floats order like their bit patterns), and its index.
+// Visibility sort keys: for each tetrahedron, its centroid m's squared distance from the eye e
+// minus the mesh origin's, |m - e|^2 - |e|^2 = |m|^2 - 2 m.e (all mesh-local), and its index.
+// The difference orders like the distance, and never forms m - e, which for an eye far away
+// (2e8 at --fovy 1e-6) rounds every cell to the same few floats. Signed floats become
+// unsigned keys that order alike: negative ones bit-inverted, positive ones with the sign set.
 #extension GL_GOOGLE_include_directive : require
 #include "../shared/sort.h"
 
@@ -18,8 +21,8 @@ void main() {
     if (cell >= push.counts.x) return;
     const uvec4 tet = tets[cell];
     const vec3 center = 0.25 * (positions[tet.x].xyz + positions[tet.y].xyz + positions[tet.z].xyz + positions[tet.w].xyz);
-    const vec3 d = center - push.eye.xyz;
-    keys[cell] = floatBitsToUint(dot(d, d));
+    const uint bits = floatBitsToUint(dot(center, center) - 2.0 * dot(center, push.eye.xyz));
+    keys[cell] = (bits & 0x80000000u) != 0u ? ~bits : bits | 0x80000000u;
     values[cell] = cell;
   }
 }

@@ -17,7 +17,7 @@
 namespace prismoid {
 namespace {
 
-constexpr uint32_t kSentinel = 0xFFFFFFFFu;  // no squared distance's float bits (a NaN pattern)
+constexpr uint32_t kSentinel = 0xFFFFFFFFu;  // no key the keys pass writes (it would encode a NaN)
 
 class FramePlanGpuTest : public test::GpuTest {
  protected:

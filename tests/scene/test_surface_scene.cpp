@@ -129,6 +129,32 @@ TEST(SurfaceScene, ValidateNamesTheProblem) {
   expect_error(s, "no material");
 }
 
+// Radiometric values beyond float32's largest value over 2^32 (the headroom for what shading
+// multiplies them by) are refused before anything is shaded, each named with its size and the
+// limit; the limit itself is accepted.
+TEST(SurfaceScene, RadiometricValuesBeyondFloatsHeadroomAreRefused) {
+  auto expect_error = [](const SurfaceScene& s, const std::string& words) {
+    try {
+      validate_float_range(s);
+      ADD_FAILURE() << "no error for: " << words;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("is beyond 7.92e+28"), std::string::npos) << e.what();
+    }
+  };
+  expect_error(make_furnace(0.5, 1e300, 1), "material 0 (furnace): emission 1e+300");
+  EXPECT_NO_THROW(validate_float_range(make_furnace(0.5, kMaxRadiometricValue, 1)));
+  SurfaceScene s = unlit_quad();
+  s.point_lights.push_back({glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(1.0, 2e29, 1.0)});
+  expect_error(s, "point light 0: intensity 2e+29");
+  s = unlit_quad();
+  s.directional_lights.push_back({glm::dvec3(0.0, 0.0, -1.0), glm::dvec3(1e35)});
+  expect_error(s, "directional light 0: irradiance 1e+35");
+  s = unlit_quad();
+  s.sky.bottom = glm::dvec3(1e30);
+  expect_error(s, "the sky: radiance 1e+30");
+}
+
 TEST(SurfaceGenerators, CornellBoxMatchesThePublishedData) {
   const SurfaceScene s = make_cornell_box();
   EXPECT_NO_THROW(validate(s));

@@ -16,6 +16,7 @@
 #include "renderer/rt/acceleration_structure.hpp"
 #include "renderer/surface/forward/forward_pass.hpp"
 #include "renderer/surface/forward/shadowed_forward_pass.hpp"
+#include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
 #include "support/gpu_fixture.hpp"
 #include "surface/forward_comparison.hpp"
@@ -88,6 +89,17 @@ TEST_F(ForwardTest, FurnaceFromInsideIsEmissionTimesOnePlusAlbedo) {
   expect_agreement(r, "furnace");
   for (size_t i = 0; i < r.pixels; ++i)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.gpu.rgba[i * 4 + c], 3.0, 3.0 * 1e-4) << "pixel " << i;
+}
+
+// At the largest emission the scene may hold (float32's largest value over 2^32), the furnace's
+// Le (1 + A) still matches the reference; beyond it the upload refuses the scene, naming the
+// material and the limit (float would upload Le = 1e300 as inf).
+TEST_F(ForwardTest, FurnaceAtTheLargestEmissionFloatHoldsMatchesAndBeyondIsRefused) {
+  const ForwardComparison r = compare(make_furnace(0.5, kMaxRadiometricValue, 3), 32, 32);
+  expect_agreement(r, "furnace at the largest emission");
+  for (size_t i = 0; i < r.pixels; ++i) EXPECT_NEAR(r.gpu.rgba[i * 4], 1.5 * kMaxRadiometricValue, 1.5e-4 * kMaxRadiometricValue);
+  EXPECT_THROW(surface::upload(device(), make_furnace(0.5, 1e300, 1)), InputError);
+  EXPECT_THROW(surface::upload(device(), make_furnace(0.5, 2.0 * kMaxRadiometricValue, 1)), InputError);
 }
 
 // Next to a corner of the emitters the area-light sum is ill-conditioned in float: a corner a

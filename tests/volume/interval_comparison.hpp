@@ -26,6 +26,11 @@ class IntervalShadingTest : public GpuTest {
   };
 
   Comparison compare(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h);
+  // The same comparison for an optical-depth image the caller rendered (a march of a linear
+  // field, which the midpoint rule integrates exactly), with `extra` added to each pixel's
+  // tolerance (none when empty).
+  Comparison compare_image(const std::vector<float>& gpu, const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h,
+                           const std::vector<double>& extra = {});
 };
 
 }  // namespace prismoid::test

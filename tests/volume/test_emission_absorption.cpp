@@ -8,13 +8,15 @@
 // the tolerance covers only what the GPU adds, per pixel and channel:
 //  1. rasterizer snapping, as for optical depth (see test_interval_shading.cpp): the largest
 //     change of the reference when the pixel's ray moves by 2 * 2^-subPixelPrecisionBits;
-//  2. float32 inputs of each segment: the normalized scalar x at both ends comes from a float
-//     plane through camera-space positions (the gradient from a 3x3 solve, times depths), the
-//     length from two reciprocals of interpolated 1/depth. We allow x to move by
-//     2^-20 + 2^-17 * |grad x| * depth (a 128-ulp budget on the plane's large terms) and the
-//     length by 2^-18 of the far end's distance (32 ulp per surface, as for optical depth),
-//     and the reference sums, over the pixel's segments, how much each segment changes when
-//     its inputs move that far (finite differences of the same integral);
+//  2. float32 inputs of each segment: the normalized scalar x at both ends and the segment's
+//     length come from values relative to the cell's reference point, as for optical depth
+//     (interval_comparison.cpp derives the budget): each end's depth moves by 2^-19 of the
+//     cell's depth extent times its depth ratio (more for cells the near plane cuts), plus 2^-19
+//     of (x + y + 1) pixels times the surface's screen gradient (plane equations in window
+//     coordinates); x by 2^-20 (its own mapping into [0, 1]) plus 2^-19 of the cell's spread of
+//     x times the depth ratio plus the same window term. The reference sums, over the pixel's
+//     segments, how much each segment changes when its inputs move that far (finite differences
+//     of the same integral);
 //  3. the blend: one rounding (2^-24 relative) per segment composited, and the table's float
 //     texels (2^-24 relative), per segment; for exact integration in float, 2^-18 per piece
 //     of the transfer function (the Gauss-Legendre sums and the cancelling terms of the
@@ -56,12 +58,13 @@ class EmissionAbsorptionTest : public test::GpuTest {
     const frame::OffscreenFrame gpu = renderer.render_offscreen(camera, settings, {w, h});
     const volume::PreintegrationTable* table = table_size > 0 ? &renderer.interval_pass().table() : nullptr;
     reference::InputPerturbation perturbation;
+    const double s = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
     perturbation.x_absolute = std::ldexp(1.0, -20);
-    perturbation.x_relative = std::ldexp(1.0, -17);
-    perturbation.length_relative = std::ldexp(1.0, -18);
+    perturbation.relative = std::ldexp(1.0, -19);
+    perturbation.window = std::ldexp(1.0, -19);
+    perturbation.step = 0.25 * s;
     const auto ref = reference::emission_absorption_image(mesh, tf, camera, w, h, 0.0, 0.0, table, &perturbation);
 
-    const double s = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
     std::vector<double> snap_tol(size_t(w) * h, 0.0);
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
@@ -199,6 +202,58 @@ TEST_F(EmissionAbsorptionTest, ExactOrderOnConvexMeshMatchesReference) {
     std::printf("  mesh order: max error %.3g, %zu pixels beyond tolerance\n", unsorted.max_error, unsorted.failures);
     EXPECT_GT(unsorted.failures, 0u) << "the tolerance cannot tell a wrong order from the right one";
     ::testing::Test::RecordProperty("exact_order_max_error", std::to_string(c.max_error));
+  }
+}
+
+// A field of view of 1e-6 degrees: the camera framing the data stands 2e8 from it, where floats
+// are 16 apart. Each segment's ends and scalars come relative to its cell (interval_ray.glsl),
+// so the composited colour in exact order still matches the reference (depths themselves are
+// 16 apart there: differences of them are no lengths).
+TEST_F(EmissionAbsorptionTest, MicroDegreeFieldOfViewMatchesReferenceInExactOrder) {
+  const TetMesh mesh = default_with_scalars();
+  const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
+  ASSERT_GT(glm::length(camera.eye - camera.target), 1e8);
+  const auto c = compare(mesh, blob_tf(), camera, 40, 30, frame::Ordering::Exact);
+  EXPECT_TRUE(c.order_exact) << c.ordering;
+  EXPECT_GT(c.covered, 200u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+  std::printf("fovy 1e-6, exact order: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.worst_over_tolerance);
+}
+
+// One cell 10^6 tall seen from beside it: its faces project to long slivers whose areas are
+// tiny next to the square of the cell's projected size; every face still votes with its sign
+// (tet_projection.glsl), so the colour matches the reference.
+TEST_F(EmissionAbsorptionTest, CellAMillionTimesTallerThanWideMatchesReference) {
+  TetMesh mesh = single_tet_with_scalars();
+  mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1e6}};
+  Camera camera;
+  camera.eye = {0.2, -5.0, 0.5};
+  camera.target = {0.2, 0.0, 0.5};
+  camera.up = {0.0, 0.0, 1.0};
+  camera.near_distance = 0.01;
+  const auto c = compare(mesh, test_tf(2.0), camera, 48, 48, frame::Ordering::Exact);
+  EXPECT_GT(c.covered, 150u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+}
+
+// Beyond float: an extinction of 1e300 at opacity 1 (stored up to volume::extinction_cap: every
+// segment the GPU can resolve is opaque either way), and a range of -1e300..1e300 (mapped as
+// x = s * scale + offset with both rounded once: scale is 0 in float and every value lands at
+// 0.5, as in double; (s - lo) / width with float(lo) = -inf would give inf * 0).
+TEST_F(EmissionAbsorptionTest, ExtinctionAndRangeBeyondFloatMatchReference) {
+  const TetMesh mesh = default_with_scalars();
+  Camera camera = fit_camera(bounds_of(mesh));
+  camera.eye = camera.target + glm::dvec3(2.0, 1.5, 4.5);
+  volume::TransferFunction dense = blob_tf();
+  dense.density_scale = 1e300;
+  volume::TransferFunction wide = blob_tf();
+  wide.range_lo = -1e300;
+  wide.range_hi = 1e300;
+  for (const auto& tf : {dense, wide}) {
+    const auto c = compare(mesh, tf, camera, 40, 30, frame::Ordering::Exact);
+    EXPECT_GT(c.covered, 300u);
+    EXPECT_EQ(c.failures, 0u) << "density " << tf.density_scale << ", range " << tf.range_lo << ".." << tf.range_hi << ": "
+                              << c.first_failure << " (max error " << c.max_error << ")";
   }
 }
 

@@ -1,6 +1,8 @@
 // Hard cases of interval shading against the CPU double-precision reference (tolerances:
 // interval_comparison.cpp): one tetrahedron under thousands of orientations, exact edge-on
-// and face-on views among them, and a mesh of 10^5+ cells.
+// and face-on views among them, a mesh of 10^5+ cells, and numbers at the edge of float
+// precision (a field of view of 1e-6 degrees, a cell 10^6 times taller than wide, extinction
+// beyond float; what is refused instead is tested in test_float_limits.cpp).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -14,7 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "renderer/volume/analytic_field.hpp"
 #include "scene/generators.hpp"
 #include "volume/interval_comparison.hpp"
 
@@ -388,6 +392,153 @@ TEST_F(IntervalHardCaseTest, QuarterMillionCellsWithPointSigmaMatchReference) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
   std::printf("215,622 cells, point sigma: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error,
               c.max_relative_to_tolerance);
+}
+
+// ---- Numbers at the edge of float precision ----------------------------------------------
+
+// A field of view of 1e-6 degrees: the camera that frames a unit ball stands 2e8 from it, where
+// floats are 16 apart, so a surface's depth (or its 1/depth) pins it only to +-8 units while the
+// ball's chords are at most 2. The interval's ends are measured from each cell's reference point
+// instead.
+TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMatchesReference) {
+  const TetMesh mesh = make_ball_mesh(glm::dvec3(0.0), 1.0, 3, 1.0);
+  const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
+  ASSERT_GT(glm::length(camera.eye - camera.target), 1e8);
+  const auto c = compare(mesh, camera, 64, 64);
+  EXPECT_GT(c.covered, 800u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+  std::printf("fovy 1e-6: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.max_relative_to_tolerance);
+}
+
+// The same view marched: a linear field (the midpoint rule integrates it exactly, so the march
+// must give the mesh's exact optical depth) sampled at points placed from each cell's reference
+// point, not from the eye 2e8 away. On top of interval shading's tolerance, the march's float
+// arithmetic: its sum of n samples (n + 16 roundings of the running total) and each sample's
+// position, mesh-local (8 roundings of the mesh's radius plus the cell's size) times |grad f|,
+// over the ray's length inside the mesh (at most the diagonal).
+TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMarchMatchesReference) {
+  const volume::AnalyticField field = volume::field_from_name("linear");
+  const TetMesh mesh = volume::make_field_mesh(field, 4);
+  const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
+  const uint32_t w = 48, h = 48;
+  frame::FrameRenderer renderer(device(), mesh);
+  frame::FrameSettings settings;
+  settings.resolve.quantity = volume::Quantity::OpticalDepth;
+  settings.resolve.march.enabled = true;
+  settings.resolve.march.field = field;
+  settings.resolve.march.step = 0.05;
+  const std::vector<float> gpu = renderer.render_offscreen(camera, settings, {w, h}).quantity;
+  const double diagonal = 2.0 * std::sqrt(3.0), longest = diagonal / 4.0, radius = diagonal / 2.0;
+  const double n = std::ceil(longest / settings.resolve.march.step), ulp = std::ldexp(1.0, -24);
+  const double gradient = glm::length(glm::dvec3(field.params[0]));
+  const std::vector<double> exact = reference::optical_depth_image(mesh, camera, w, h);
+  std::vector<double> march_tolerance(exact.size());
+  for (size_t i = 0; i < exact.size(); ++i)
+    march_tolerance[i] = exact[i] * (n + 16.0) * 2.0 * ulp + gradient * 8.0 * ulp * (radius + longest) * diagonal;
+  const auto c = compare_image(gpu, mesh, camera, w, h, march_tolerance);
+  EXPECT_GT(c.covered, 500u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+  std::printf("fovy 1e-6, marched: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.max_relative_to_tolerance);
+}
+
+// One cell 10^6 tall seen from 5 units beside it: its top vertex projects 5.5e5 NDC units off
+// screen, so every face's projected area is a long sliver; a face is edge-on only when its area
+// is within the rounding of its own projected corners (a tolerance relative to the cell's
+// whole projected size would call all four edge-on).
+TetMesh tall_cell() {
+  TetMesh mesh;
+  mesh.name = "tall cell";
+  mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1e6}};
+  mesh.tets = {{0, 1, 2, 3}};
+  mesh.cell_extinction = {1.0};
+  return mesh;
+}
+
+Camera beside_tall_cell() {
+  Camera camera;
+  camera.eye = {0.2, -5.0, 0.5};
+  camera.target = {0.2, 0.0, 0.5};
+  camera.up = {0.0, 0.0, 1.0};
+  camera.near_distance = 0.01;
+  return camera;
+}
+
+TEST_F(IntervalHardCaseTest, CellAMillionTimesTallerThanWideMatchesReference) {
+  const auto c = compare(tall_cell(), beside_tall_cell(), 64, 64);
+  EXPECT_GT(c.covered, 300u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+  std::printf("tall cell: max error %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.max_relative_to_tolerance);
+}
+
+// Extinction 1e300 (--density-scale 1e300): float holds neither it nor the optical depths it
+// makes, so optical depth is refused (test_float_limits.cpp); transmittance is still exactly
+// representable: 0 wherever a ray crosses the data, 1 elsewhere. The GPU stores extinction up
+// to volume::extinction_cap, which saturates e^-tau for any segment longer than 2e-32 of the
+// data's diagonal. Every pixel must be 0 or 1 as the reference says, except where the rays
+// within the rasterizer's snapping reach (2 * 2^-b pixels) disagree on coverage. (Extinction
+// stored as float inf would give inf * 0 and inf - inf: NaN.)
+std::vector<bool> covered_by(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h, double ox, double oy) {
+  TetMesh unit = mesh;
+  unit.point_extinction.clear();
+  unit.cell_extinction.assign(mesh.tets.size(), 1.0);
+  const std::vector<double> tau = reference::optical_depth_image(unit, camera, w, h, ox, oy);
+  std::vector<bool> covered(tau.size());
+  for (size_t i = 0; i < tau.size(); ++i) covered[i] = tau[i] > 0.0;
+  return covered;
+}
+
+void expect_saturated_transmittance(const std::vector<float>& gpu, const TetMesh& mesh, const Camera& camera, uint32_t w,
+                                    uint32_t h, double radius) {
+  const std::vector<bool> centre = covered_by(mesh, camera, w, h, 0.0, 0.0);
+  std::vector<bool> ambiguous(centre.size(), false);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const std::vector<bool> moved = covered_by(mesh, camera, w, h, dx * radius, dy * radius);
+      for (size_t i = 0; i < centre.size(); ++i) ambiguous[i] = ambiguous[i] || moved[i] != centre[i];
+    }
+  size_t opaque = 0, clear = 0, failures = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(gpu[i])) << "pixel " << i;
+    if (ambiguous[i]) {
+      EXPECT_TRUE(gpu[i] >= 0.0f && gpu[i] <= 1.0f) << "pixel " << i << ": " << gpu[i];
+      continue;
+    }
+    const float expected = centre[i] ? 0.0f : 1.0f;
+    (centre[i] ? opaque : clear) += 1;
+    if (gpu[i] != expected && failures++ < 8)
+      ADD_FAILURE() << "pixel (" << i % w << "," << i / w << "): " << gpu[i] << ", the reference " << expected;
+  }
+  EXPECT_GT(opaque, 200u);
+  EXPECT_GT(clear, 200u);
+}
+
+TEST_F(IntervalHardCaseTest, ExtinctionBeyondFloatGivesTheReferencesTransmittance) {
+  const double radius = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
+  const uint32_t w = 48, h = 40;
+  {
+    const TetMesh ball = make_ball_mesh(glm::dvec3(0.0), 1.0, 2, 1e300);
+    Camera camera = fit_camera(bounds_of(ball));
+    camera.eye = camera.target + glm::dvec3(1.5, 1.0, 4.0);
+    frame::FrameRenderer renderer(device(), ball);
+    frame::FrameSettings settings;
+    settings.resolve.quantity = volume::Quantity::Transmittance;
+    expect_saturated_transmittance(renderer.render_offscreen(camera, settings, {w, h}).quantity, ball, camera, w, h, radius);
+  }
+  {
+    // Marched: each sample's density_scale * field held to the cap before the sum.
+    const volume::AnalyticField field = volume::field_from_name("blobs");
+    const TetMesh mesh = volume::make_field_mesh(field, 4, 1e300);
+    Camera camera = fit_camera(bounds_of(mesh));
+    camera.eye = camera.target + glm::dvec3(1.5, 1.0, 5.0);
+    frame::FrameRenderer renderer(device(), mesh);
+    frame::FrameSettings settings;
+    settings.resolve.quantity = volume::Quantity::Transmittance;
+    settings.resolve.march.enabled = true;
+    settings.resolve.march.field = field;
+    settings.resolve.march.step = 0.05;
+    settings.resolve.march.density_scale = 1e300;
+    expect_saturated_transmittance(renderer.render_offscreen(camera, settings, {w, h}).quantity, mesh, camera, w, h, radius);
+  }
 }
 
 }  // namespace

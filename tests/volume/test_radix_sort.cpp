@@ -147,37 +147,41 @@ TEST_F(RadixSortTest, CountAboveCapacityIsRefused) {
   });
 }
 
-// The visibility keys are float32 squared distances computed on the GPU from float32
-// positions; we bound how far each can be from the exact squared distance D, in the standard
-// model of float arithmetic (every +, -, * correctly rounded with relative error <= u = 2^-24,
-// as Vulkan requires; gamma_n = n u / (1 - n u)), per axis k:
-//  - stored positions and eye (local frame, float): |error| <= u |x|, at most u M and u E,
-//    M = the largest coordinate of the cell's points, E = the eye's;
+// The visibility keys are float32 values of K = |c|^2 - 2 c.e (the centroid c's squared
+// distance from the eye e minus the mesh origin's, both mesh-local), computed on the GPU from
+// float32 positions; we bound how far each can be from the exact K, in the standard model of
+// float arithmetic (every +, -, * correctly rounded with relative error <= u = 2^-24, as Vulkan
+// requires; gamma_n = n u / (1 - n u)), per axis k:
+//  - stored positions and eye (local frame, float): |error| <= u |x|, at most u M for the
+//    cell's points (M = their largest coordinate) and u |e_k| for the eye;
 //  - centroid: a sum of 4 terms (any order, fused or not) errs by <= gamma_3 * 4M (1 + u), and
-//    * 0.25 is exact: with the inputs' rounding, |c^ - c| <= (u + gamma_3 (1 + u)) M;
-//  - d = c - eye, one more rounding: eps_k = |c^ - c| + u E + u (|d_k| + |c^ - c| + u E);
-//  - d^2 summed: |sum d^_k^2 - D| <= sum (2 |d_k| eps_k + eps_k^2), then the 3 products and 2
-//    sums of non-negative terms add gamma_3 of the computed sum, and flushing a denormal to
-//    zero costs at most 2^-126 per operation (5 of them).
-// Our D is itself evaluated in double along the same steps (with the local frame's
-// subtraction of the origin first); every step's double error is at most 2^-53 relative, so
-// running the same bound with u = 2^-24 + 2^-52 covers the float and the double error at once.
-// Sorted keys then satisfy key_i <= key_j for i < j, so D_i <= D_j + B_i + B_j: the order is
-// exact except between cells whose distances are within their rounding of each other.
-double squared_distance_bound(const glm::dvec3 (&points)[4], const glm::dvec3& eye) {
+//    * 0.25 is exact: with the inputs' rounding, eps = |c^ - c| <= (u + gamma_3 (1 + u)) M;
+//  - |c^|^2: sum (2 |c_k| eps + eps^2), then gamma_3 of the computed sum (3 products, 2 sums);
+//  - c^.e^: sum (|e_k| eps + (|c_k| + eps) u |e_k|), then gamma_3 of sum |c^_k| |e^_k|; doubled;
+//  - the difference: one more rounding, u of (|c^|^2 + 2 |c^.e^|); and flushing a denormal to
+//    zero costs at most 2^-126 per operation (12 of them).
+// Our K is itself evaluated in double along the same steps (with the local frame's subtraction
+// of the origin first); every step's double error is at most 2^-53 relative, so running the
+// same bound with u = 2^-24 + 2^-52 covers the float and the double error at once. Sorted keys
+// then satisfy key_i <= key_j for i < j, so K_i <= K_j + B_i + B_j: the order is exact except
+// between cells whose distances are within their rounding of each other.
+double relative_key_bound(const glm::dvec3 (&points)[4], const glm::dvec3& eye) {
   const double u = std::ldexp(1.0, -24) + std::ldexp(1.0, -52);
   const double gamma3 = 3 * u / (1 - 3 * u);
   double m = 0.0;
   for (const auto& p : points) m = std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  const double e = std::max({std::abs(eye.x), std::abs(eye.y), std::abs(eye.z)});
-  const glm::dvec3 d = 0.25 * (points[0] + points[1] + points[2] + points[3]) - eye;
-  const double centroid_error = (u + gamma3 * (1 + u)) * m;
-  double difference = 0.0;
+  const glm::dvec3 c = 0.25 * (points[0] + points[1] + points[2] + points[3]);
+  const double eps = (u + gamma3 * (1 + u)) * m;
+  double square = 0.0, square_sum = 0.0, dot = 0.0, dot_sum = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const double eps = centroid_error + u * e + u * (std::abs(d[k]) + centroid_error + u * e);
-    difference += 2 * std::abs(d[k]) * eps + eps * eps;
+    const double ck = std::abs(c[k]), ek = std::abs(eye[k]) * (1 + u);
+    square += 2 * ck * eps + eps * eps;
+    square_sum += (ck + eps) * (ck + eps);
+    dot += std::abs(eye[k]) * eps + (ck + eps) * u * std::abs(eye[k]);
+    dot_sum += (ck + eps) * ek;
   }
-  return difference + gamma3 * (glm::dot(d, d) + difference) + 5 * std::ldexp(1.0, -126);
+  const double squared = square + gamma3 * square_sum, product = 2.0 * (dot + gamma3 * dot_sum);
+  return squared + product + u * (square_sum + squared + 2.0 * (dot_sum + product)) + 12 * std::ldexp(1.0, -126);
 }
 
 class VisibilitySortTest : public RadixSortTest {
@@ -201,18 +205,19 @@ class VisibilitySortTest : public RadixSortTest {
       seen[cell] = true;
     }
 
-    // Exact distances and their float bounds, in the local frame the GPU works in.
+    // Exact keys (squared distances minus the origin's) and their float bounds, in the local
+    // frame the GPU works in.
     std::vector<double> distance(mesh.tets.size()), bound(mesh.tets.size());
     for (size_t c = 0; c < mesh.tets.size(); ++c) {
       glm::dvec3 points[4];
       for (int v = 0; v < 4; ++v) points[v] = mesh.points[mesh.tets[c][v]] - gpu.origin;
-      const glm::dvec3 d = 0.25 * (points[0] + points[1] + points[2] + points[3]) - eye_local;
-      distance[c] = glm::dot(d, d);
-      bound[c] = squared_distance_bound(points, eye_local);
+      const glm::dvec3 m = 0.25 * (points[0] + points[1] + points[2] + points[3]);
+      distance[c] = glm::dot(m, m) - 2.0 * glm::dot(m, eye_local);
+      bound[c] = relative_key_bound(points, eye_local);
     }
     size_t exact_inversions = 0;
     for (size_t i = 0; i < order.size(); ++i) {
-      const double key = double(std::bit_cast<float>(keys[i]));
+      const double key = double(volume::sort_key_value(keys[i]));
       ASSERT_LE(std::abs(key - distance[order[i]]), bound[order[i]]) << "place " << i << ", cell " << order[i];
       if (i == 0) continue;
       ASSERT_LE(keys[i - 1], keys[i]) << "keys out of order at place " << i;
@@ -241,6 +246,17 @@ TEST_F(VisibilitySortTest, BoxMeshFromOutsideAndInside) {
       {500.0, -300.0, 40.0} // far away: distances differ in their last bits
   };
   for (const auto& eye : eyes) expect_front_to_back(sort, mesh, gpu, eye);
+}
+
+// --fovy 1e-6 frames a unit-sized mesh from about 2e8 away, where squared distances (4e16) are
+// floats 4e9 apart: keys of |c - e|^2 gave most cells the same few values, and the stable sort
+// left them in mesh order (colour composited out of order). Relative keys keep their spread.
+TEST_F(VisibilitySortTest, AnEyeTwoHundredMillionAwayStillOrdersCellsByDistance) {
+  const TetMesh mesh = make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 8, [](const glm::dvec3&) { return 1.0; });
+  const volume::GpuTetMesh gpu = volume::upload(device(), mesh);
+  volume::VisibilitySort sort(device());
+  expect_front_to_back(sort, mesh, gpu, glm::dvec3(1.2e8, -0.9e8, 1.3e8));
+  expect_front_to_back(sort, mesh, gpu, glm::dvec3(0.0, 0.0, 2.08e8));
 }
 
 TEST_F(VisibilitySortTest, GrowsForALargerMesh) {
