@@ -168,22 +168,26 @@ void draw_surface_panel(SurfaceSession& s) {
               s.renderer.gpu_scene().emitter_count);
   ImGui::Separator();
   ImGui::TextUnformatted("Mode (M cycles)");
-  for (const std::string& m : s.renderer.modes())
+  for (const std::string& m : s.renderer.modes()) {
     if (ImGui::RadioButton(m.c_str(), s.mode == m)) s.set_mode(m);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(surface::find_surface_mode(m)->summary).c_str());
+  }
   if (s.renderer.can_shadow()) {
     bool shadows = s.renderer.shadows();
     if (ImGui::Checkbox("ray-traced shadows (L)", &shadows)) s.set_shadows(shadows);
   } else {
     ImGui::TextDisabled("no shadows: the device has no ray tracing");
   }
-  if (s.mode == "msa") {
+  const uint32_t knobs = surface::find_surface_mode(s.mode)->backend->tuning;
+  if (knobs & surface::kTuneAmortize) {
     const uint32_t n = s.renderer.msa_amortization();
     if (n == 0)
-      ImGui::Text("msa shades every moved frame (T: amortize)");
+      ImGui::Text("%s shades every moved frame (T: amortize)", s.mode.c_str());
     else
-      ImGui::Text("msa shades every %u frames while moving (T)", n);
-    ImGui::Text("meshlet charts: %s (K)", s.renderer.msa_charts() == msa::Parametrization::Conformal ? "conformal" : "projected");
+      ImGui::Text("%s shades every %u frames while moving (T)", s.mode.c_str(), n);
   }
+  if (knobs & surface::kTuneCharts)
+    ImGui::Text("meshlet charts: %s (K)", s.renderer.msa_charts() == msa::Parametrization::Conformal ? "conformal" : "projected");
   ImGui::Separator();
   double total = 0.0;
   for (const auto& p : s.passes) {
@@ -191,9 +195,16 @@ void draw_surface_panel(SurfaceSession& s) {
     total += p.gpu_ms;
   }
   ImGui::Text("GPU total %.3f ms, frame (CPU) %.2f ms", total, s.cpu_frame_ms);
-  ImGui::Text("shaded %llu %s", static_cast<unsigned long long>(s.counts.shaded), s.mode == "forward" ? "pixels" : "texels");
+  ImGui::Text("shaded %llu %s", static_cast<unsigned long long>(s.counts.shaded), s.counts.shaded_what.c_str());
   if (s.counts.mode_bytes) ImGui::Text("%s memory %.2f MiB", s.mode.c_str(), double(s.counts.mode_bytes) / (1024.0 * 1024.0));
   if (!s.counts.detail.empty()) ImGui::TextWrapped("%s", s.counts.detail.c_str());
+  if (ImGui::TreeNode("Frame plan")) {  // the planner's passes for this scene and mode, each with why
+    const frame::FramePlan& plan = s.renderer.last_plan();
+    for (const frame::PlannedPass& p : plan.passes)
+      ImGui::TextWrapped("%s (%s): %s", p.name.c_str(), frame::pass_kind_text(p.kind), p.reason.c_str());
+    for (const frame::SkippedPass& p : plan.skipped) ImGui::TextWrapped("%s: skipped, %s", p.name.c_str(), p.reason.c_str());
+    ImGui::TreePop();
+  }
   if (ImGui::Button("Fit (R)")) s.camera.reset(s.aspect());
   ImGui::SameLine();
   if (ImGui::Button("Copy camera (C)")) s.copy_camera();
