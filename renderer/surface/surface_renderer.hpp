@@ -96,6 +96,7 @@ class SurfaceRenderer {
   void set_msa_charts(msa::Parametrization charts);
   msa::Parametrization msa_charts() const;
 
+  const vk::Device& device() const { return device_; }
   const GpuSurfaceScene& gpu_scene() const { return shared_.gpu(); }
   const SurfaceScene& scene() const { return shared_.scene(); }
 
