@@ -1,14 +1,55 @@
-// `prismoid info FILE --plan`: the frame plan for the volume options, without a GPU.
+// `prismoid info FILE --plan`: the frame plan for the volume options, or for a surface scene and
+// a surface mode, without a GPU.
 #include <iostream>
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/surface_args.hpp"
 #include "app/volume_options.hpp"
 #include "renderer/frame/frame_plan.hpp"
+#include "renderer/surface/surface_modes.hpp"
+#include "scene/surface_generators.hpp"
 
 namespace prismoid::app {
 
+namespace {
+
+// A surface frame as the surface renderer plans it: the scene's lights (a file without lights
+// gets the default headlight and sky, as render and the window give it), shadows on where a light
+// casts them, on a device that traces rays (without one, the plan skips the shadow rays).
+int surface_plan(const ParsedArgs& a, const surface::SurfaceMode& mode) {
+  const std::string name(mode.name);
+  const SurfaceScene scene = surface_scene_from(a, name);
+  const SurfaceScene lit = with_default_lighting(scene, surface_camera(a, scene.camera));
+  const frame::SurfaceContents c = surface::surface_contents(lit);
+  std::cout << scene.name << ": " << c.triangles << " triangles, " << c.point_lights << " point and " << c.directional_lights
+            << " directional lights, " << c.emissive_triangles << " emissive triangles, " << (c.sky ? "a sky" : "no sky")
+            << (lit.directional_lights.size() != scene.directional_lights.size() ? " (no lights of its own: the default headlight and sky)" : "")
+            << "; mode " << name << "\n";
+  if (!mode.gpu()) {
+    std::cout << "plan: " << mode.summary << ", on the CPU (no GPU passes)\n";
+    return kOk;
+  }
+  frame::SurfaceFrameSettings settings;
+  settings.mode = name;
+  settings.passes = mode.backend->passes;
+  settings.gi = mode.gi;
+  settings.shadows = true;
+  settings.device_traces_rays = true;
+  std::cout << "plan (a frame on a device that traces rays; " << mode.backend->name << " needs " << mode.backend->needs << "):\n";
+  const frame::FramePlan plan = frame::plan_surface_frame(c, settings);
+  for (const frame::PlannedPass& p : plan.passes) std::cout << "  " << p.name << " (" << frame::pass_kind_text(p.kind) << "): " << p.reason << "\n";
+  std::cout << "skipped:" << (plan.skipped.empty() ? " none\n" : "\n");
+  for (const frame::SkippedPass& s : plan.skipped) std::cout << "  " << s.name << ": " << s.reason << "\n";
+  return kOk;
+}
+
+}  // namespace
+
 int info_plan(const ParsedArgs& a) {
+  const surface::SurfaceMode* surface = a.has("mode") ? surface::find_surface_mode(a.values.at("mode")) : nullptr;
+  if (!a.has("mode") && a.files.size() == 1 && is_named_surface_scene(a.files.front())) surface = &surface::surface_mode_table().front();
+  if (surface) return surface_plan(a, *surface);
   const VolumeChoice choice = volume_choice(a);
   std::cout << choice.mesh.name << ": " << choice.mesh.tets.size() << " cells, mode " << choice.mode << ", quantity "
             << quantity_name(choice.quantity) << "\n";
@@ -23,7 +64,7 @@ int info_plan(const ParsedArgs& a) {
   std::cout << "plan (first frame):\n";
   for (const frame::PlannedPass& p : plan.passes)
     std::cout << "  " << p.name << " (" << (p.kind == frame::PassKind::Gpu ? "GPU" : "CPU") << "): " << p.reason << "\n";
-  std::cout << "skipped:\n";
+  std::cout << "skipped:" << (plan.skipped.empty() ? " none\n" : "\n");
   for (const frame::SkippedPass& s : plan.skipped) std::cout << "  " << s.name << ": " << s.reason << "\n";
   return kOk;
 }

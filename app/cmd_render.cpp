@@ -17,6 +17,7 @@
 #include "app/volume_options.hpp"
 #include "io/image_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/surface/surface_modes.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
@@ -44,48 +45,7 @@ const char* const kRenderHelp =
     "                       interval-march-exact-order  ... cells in topological visibility order\n"
     "                       reference              CPU, double precision, exact per-pixel order (with a\n"
     "                                              field: dataset, of the analytic field itself)\n"
-    "                       path-reference         CPU path tracer of a surface scene: FILE is cornell-box,\n"
-    "                                              furnace:A[:LE] or a surface file (default headlight and\n"
-    "                                              sky when it has no lights); linear RGB; --spp N (default\n"
-    "                                              64), --max-bounces N, --seed N, --variance OUT.pfm (per-\n"
-    "                                              pixel sample variance); --size default 256x256\n"
-    "                       forward                GPU forward shading of a surface scene (the same FILEs\n"
-    "                                              and default lighting): direct light from point,\n"
-    "                                              directional and emissive-triangle lights and the sky,\n"
-    "                                              linear RGB; --shadows on|off (ray-traced shadows; on\n"
-    "                                              by default where the device traces rays and a light\n"
-    "                                              casts shadows); --supersample K averages K x K sub-\n"
-    "                                              pixel positions; --frames N; --size default 256x256\n"
-    "                       htex                   GPU Htex object-space shading of a surface scene (the same\n"
-    "                                              FILEs): shading on per-edge texture quads, with shadows\n"
-    "                                              (--no-shadows: without), gathered per pixel;\n"
-    "                                              --texels-per-unit D (default 128), --pool-pages N (64 KiB\n"
-    "                                              each, default 1024); --size default 256x256\n"
-    "                                              --gi off|biased|unbiased: one-bounce ReSTIR GI over the\n"
-    "                                              shaded texels (reservoirs per pool texel, 256 B each:\n"
-    "                                              default pool 64 pages with GI), the sky then lit\n"
-    "                                              through GI's rays; --gi-frames N (default 8, the image\n"
-    "                                              is their mean), --gi-neighbours K (0..16, default 4),\n"
-    "                                              --gi-fallback on|off (persistent layer, default on)\n"
-    "                       texel                  GPU texel shading of a surface scene (the same FILEs):\n"
-    "                                              a static mip-mapped atlas of planar charts, 8x8 tiles\n"
-    "                                              queued per frame, shaded with shadows (--no-shadows:\n"
-    "                                              without), gathered bilinearly; --texel-density D (level-0\n"
-    "                                              texels per unit; default: about 4M texels in all, fewer\n"
-    "                                              where the device's buffers are smaller),\n"
-    "                                              --texel-levels N (default 4), --mip-bias B (shading rate:\n"
-    "                                              +1 shades a quarter); --size default 256x256\n"
-    "                       msa                    GPU meshlet shading atlas (the same FILEs): meshlets of\n"
-    "                                              up to 84 triangles with planar charts, a block per seen\n"
-    "                                              meshlet sized from its pixels, shaded with shadows\n"
-    "                                              (--no-shadows: without), displayed bilinearly;\n"
-    "                                              --meshlets normal-cone|meshoptimizer (default normal-\n"
-    "                                              cone), --msa-charts projection|conformal (the\n"
-    "                                              meshlets' charts: orthogonal projection, default, or\n"
-    "                                              least-squares conformal maps, the paper's LSCM),\n"
-    "                                              --msa-superblocks N (256x256 texels each,\n"
-    "                                              default 64), --shading-budget TEXELS (block texels per\n"
-    "                                              frame; default none); --size default 256x256\n"
+    "                       SURFACE                a surface mode (listed below)\n"
     "                       (default: interval; interval-sorted for --quantity color)\n"
     "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
     "                       color: emission-absorption of a scalar field through a transfer function\n"
@@ -179,14 +139,12 @@ std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::v
 }  // namespace
 
 int cmd_render(const std::vector<std::string>& args) {
-  if (wants_path_reference(args)) return cmd_render_path_reference(args);
-  if (wants_forward(args)) return cmd_render_forward(args);
-  if (wants_htex(args)) return cmd_render_htex(args);
-  if (wants_atlas_mode(args)) return cmd_render_atlas(args);
+  if (const surface::SurfaceMode* surface = surface_mode_named(args))
+    return surface->gpu() ? cmd_render_surface(args, *surface) : cmd_render_path_reference(args, *surface);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});
-  if (a.flags.count("help")) { std::cout << kRenderHelp; return kOk; }
+  if (a.flags.count("help")) { std::cout << kRenderHelp << surface_render_help(); return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");
   OutputFiles files;

@@ -11,6 +11,7 @@
 #include "app/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/reference/path_tracer.hpp"
+#include "renderer/surface/surface_modes.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -28,19 +29,16 @@ io::FloatImage rgb_image(const reference::PathTracedImage& r, const std::vector<
 
 }  // namespace
 
-bool wants_path_reference(const std::vector<std::string>& args) {
-  for (size_t i = 1; i + 1 < args.size(); ++i)
-    if (args[i] == "--mode" && args[i + 1] == "path-reference") return true;
-  return false;
-}
+const char* const kPathTracerOptionsHelp =
+    "--spp N (default 64), --max-bounces N, --seed N, --variance OUT.pfm (per-pixel sample variance)\n";
 
-int cmd_render_path_reference(const std::vector<std::string>& args) {
+int cmd_render_path_reference(const std::vector<std::string>& args, const surface::SurfaceMode& mode) {
   const ParsedArgs a = parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "spp", "max-bounces", "seed", "variance", "stats"})), {});
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
   OutputFiles files;
   declare_render_files(files, a);
-  const SurfaceScene scene = surface_scene_from(a, "path-reference");
+  const SurfaceScene scene = surface_scene_from(a, std::string(mode.name));
   const Camera camera = surface_camera(a, scene.camera);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
   validate_float_range(lit);  // double arithmetic, but the image is float32
@@ -69,7 +67,7 @@ int cmd_render_path_reference(const std::vector<std::string>& args) {
   if (a.has("stats")) {
     std::ostringstream js;
     js << "{\n  \"device\": \"CPU path tracer (double precision)\",\n  \"dataset\": \"" << json_escape(scene.name)
-       << "\",\n  \"mode\": \"path-reference\",\n  \"width\": " << image.width << ",\n  \"height\": " << image.height
+       << "\",\n  \"mode\": \"" << mode.name << "\",\n  \"width\": " << image.width << ",\n  \"height\": " << image.height
        << ",\n  \"samples_per_pixel\": " << settings.samples_per_pixel << ",\n  \"max_bounces\": " << settings.max_bounces
        << ",\n  \"seed\": " << settings.seed << ",\n  \"seconds\": " << json_number(image.seconds) << ",\n  \"rays\": " << c.rays
        << ",\n  \"zero_pdf\": " << c.zero_pdf << ",\n  \"non_finite\": " << c.non_finite << ",\n  \"backfacing_normals\": "

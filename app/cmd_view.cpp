@@ -14,6 +14,7 @@
 #include "app/viewer/surface_viewer.hpp"
 #include "scene/surface_generators.hpp"
 #include "app/viewer/viewer.hpp"
+#include "renderer/surface/surface_modes.hpp"
 #include "app/volume_options.hpp"
 #include "scene/input_error.hpp"
 
@@ -52,8 +53,9 @@ Bounds union_bounds(const std::vector<Dataset>& datasets) {
 const char* const kViewHelp =
     "usage: prismoid view [FILE...] [options]\n"
     "\n"
-    "Surface scenes (cornell-box, furnace:A, or a surface FILE with --mode forward) open the\n"
-    "surface window: its panel lists the surface modes (M cycles them) with each pass's GPU time.\n"
+    "Surface scenes (cornell-box, furnace:A, or a surface FILE with a surface --mode, as listed by\n"
+    "render --help) open the surface window: its panel lists the surface modes this device draws\n"
+    "(M cycles them) with each pass's GPU time and the frame plan.\n"
     "\n"
     "Several FILEs open together in one scene (drawn as their union; each can be hidden in the\n"
     "panel's Data section). More can be opened from the window: the path box, the recent files,\n"
@@ -77,10 +79,10 @@ const char* const kViewHelp =
 namespace {
 
 // A surface scene opens the surface window: a built-in one (cornell-box, furnace:A), or any
-// FILE with a surface mode (--mode forward; a surface file without it is tetrahedralized for
-// the volume modes, as render does).
+// FILE with a surface mode (--mode forward, htex...; a surface file without it is tetrahedralized
+// for the volume modes, as render does).
 bool wants_surface_window(const ParsedArgs& a) {
-  if (a.has("mode")) return a.values.at("mode") == "forward";
+  if (a.has("mode")) return surface::find_surface_mode(a.values.at("mode")) != nullptr;
   return !a.files.empty() && is_named_surface_scene(a.files.front());
 }
 
@@ -119,7 +121,10 @@ int report_window(const ViewerReport& report, const ViewerOptions& options, doub
 
 int view_surface(const ParsedArgs& a) {
   if (a.files.size() != 1) throw InputError("view", "the surface window shows one scene: give one FILE");
-  const SurfaceScene scene = surface_scene_from(a, a.has("mode") ? a.values.at("mode") : "forward");
+  const std::string mode = a.has("mode") ? a.values.at("mode") : std::string(surface::surface_mode_table().front().name);
+  if (!surface::find_surface_mode(mode)->gpu())
+    throw InputError("--mode " + mode, "runs on the CPU: use `prismoid render --mode " + mode + " --output OUT.pfm`");
+  const SurfaceScene scene = surface_scene_from(a, mode);
   ViewerOptions options = window_options(a);
   options.inputs = window_inputs(a);
   options.mode = a.has("mode") ? a.values.at("mode") : "";

@@ -3,6 +3,10 @@
 #include <string>
 #include <vector>
 
+namespace prismoid::surface {
+struct SurfaceMode;
+}  // namespace prismoid::surface
+
 namespace prismoid::app {
 
 // args[0] is the verb; each returns an ExitCode (app/cli.hpp) or throws InputError.
@@ -13,22 +17,21 @@ int cmd_info(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);
 int cmd_bench(const std::vector<std::string>& args);
 
+// The surface mode `--mode` names (either --mode M or --mode=M), from the surface mode table;
+// nullptr when it names none (then the volume modes apply).
+const surface::SurfaceMode* surface_mode_named(const std::vector<std::string>& args);
+// `render --mode M` for a GPU surface mode: through surface::SurfaceRenderer (app/cmd_render_surface.cpp).
+int cmd_render_surface(const std::vector<std::string>& args, const surface::SurfaceMode& mode);
 // `render --mode path-reference`: a surface scene through the CPU path tracer (app/cmd_render_path.cpp).
-bool wants_path_reference(const std::vector<std::string>& args);
-int cmd_render_path_reference(const std::vector<std::string>& args);
-// `render --mode forward`: a surface scene through the forward GPU backend (app/cmd_render_forward.cpp).
-bool wants_forward(const std::vector<std::string>& args);
-int cmd_render_forward(const std::vector<std::string>& args);
-// `render --mode htex`: a surface scene through the Htex object-space backend (app/cmd_render_htex.cpp).
-bool wants_htex(const std::vector<std::string>& args);
-int cmd_render_htex(const std::vector<std::string>& args);
-// `render --mode texel|msa`: a surface scene through an atlas-based texture-space backend
-// (app/cmd_render_atlas.cpp).
-bool wants_atlas_mode(const std::vector<std::string>& args);
-int cmd_render_atlas(const std::vector<std::string>& args);
+int cmd_render_path_reference(const std::vector<std::string>& args, const surface::SurfaceMode& mode);
+// The surface modes' part of render's help, from the table.
+std::string surface_render_help();
+// The CPU path tracer's options, for that help (app/cmd_render_path.cpp).
+extern const char* const kPathTracerOptionsHelp;
 
 struct ParsedArgs;
-// `info --plan`: prints the frame plan the volume options give (app/cmd_plan.cpp).
+// `info --plan`: prints the frame plan the volume options give, or for a surface scene or a
+// surface --mode the surface frame's (app/cmd_plan.cpp).
 int info_plan(const ParsedArgs& a);
 
 extern const char* const kRenderHelp;

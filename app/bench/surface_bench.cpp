@@ -12,6 +12,7 @@
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "renderer/reference/path_tracer.hpp"
+#include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/memory.hpp"
@@ -118,7 +119,14 @@ SurfaceScene with_point_lights(SurfaceScene scene, uint32_t n) {
   return scene;
 }
 
-bool gi_mode(const std::string& mode) { return mode == "htex-gi" || mode == "htex-gi-unbiased" || mode == "htex-pt"; }
+const surface::SurfaceMode& mode_of(const std::string& name) { return *surface::find_surface_mode(name); }
+// The modes with indirect light are held to the path tracer and accumulate over still frames.
+bool gi_mode(const std::string& mode) {
+  const surface::SurfaceMode* m = surface::find_surface_mode(mode);
+  return m && m->gi != frame::SurfaceGi::None;
+}
+// What of SurfaceTuning the mode's backend honours (surface::TuningKnob).
+uint32_t knobs(const std::string& mode) { return mode_of(mode).backend->tuning; }
 
 // The camera turned about its target and up axis by `degrees`.
 Camera orbited(const Camera& camera, double degrees) {
@@ -161,14 +169,16 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     std::vector<Run> runs;
     for (const std::string& mode : renderer.modes()) {
       if (!options.modes.empty() && std::find(options.modes.begin(), options.modes.end(), mode) == options.modes.end()) continue;
-      const bool texture_space = mode == "htex" || mode == "texel" || mode == "msa";
-      const std::vector<msa::Parametrization> chart_kinds = mode == "msa" ? options.msa_charts : std::vector{msa::Parametrization::Projection};
+      // Shading-rate rows for the modes whose backend takes a rate (texture space, without GI).
+      const bool texture_space = !gi_mode(mode) && (knobs(mode) & (surface::kTuneLodBias | surface::kTuneBlockBudget)) != 0;
+      const std::vector<msa::Parametrization> chart_kinds =
+          knobs(mode) & surface::kTuneCharts ? options.msa_charts : std::vector{msa::Parametrization::Projection};
       for (const msa::Parametrization charts : chart_kinds) {
         runs.push_back({mode, 0u, false, false, 0u, charts});
         if (options.shading_budget > 0 && texture_space) runs.push_back({mode, options.shading_budget, false, false, 0u, charts});
         if (options.still_rows && texture_space) runs.push_back({mode, 0u, true, false, 0u, charts});
-        if (options.motion_degrees > 0.0 && (texture_space || mode == "forward")) runs.push_back({mode, 0u, false, true, 0u, charts});
-        if (options.motion_degrees > 0.0 && mode == "msa")
+        if (options.motion_degrees > 0.0 && !gi_mode(mode)) runs.push_back({mode, 0u, false, true, 0u, charts});
+        if (options.motion_degrees > 0.0 && (knobs(mode) & surface::kTuneAmortize))
           for (const uint32_t n : options.msa_amortization) runs.push_back({mode, 0u, false, true, n, charts});
       }
     }
@@ -182,9 +192,10 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       renderer.set_shadows(shadows);
       const std::string rate_key = mode + (shadows ? "/on" : "/off");
       float lod_bias = 0.0f;
-      if (budget > 0 && mode != "msa" && unbiased_shaded.count(rate_key) && unbiased_shaded.at(rate_key) > budget)
+      const bool block_budget = (knobs(mode) & surface::kTuneBlockBudget) != 0;  // a budget of block texels, not a level bias
+      if (budget > 0 && !block_budget && unbiased_shaded.count(rate_key) && unbiased_shaded.at(rate_key) > budget)
         lod_bias = float(0.5 * std::log2(double(unbiased_shaded.at(rate_key)) / double(budget)));
-      renderer.set_shading_rate(lod_bias, mode == "msa" ? budget : 0u);
+      renderer.set_shading_rate(lod_bias, block_budget ? budget : 0u);
       renderer.set_msa_amortization(run.amortize);
       renderer.set_msa_charts(run.charts);
       // The CPU reference of what the mode computes, once per shadow setting.
@@ -239,7 +250,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (run.moving) m.settings += " camera=moving(" + app::json_number(options.motion_degrees) + "deg/frame)";
       if (run.amortize > 0) m.settings += " amortize=" + std::to_string(run.amortize);
       if (run.charts == msa::Parametrization::Conformal) m.settings += " charts=conformal";
-      if (budget > 0) m.settings += " budget=" + std::to_string(budget) + (mode == "msa" ? "" : " lod-bias=" + std::to_string(lod_bias));
+      if (budget > 0) m.settings += " budget=" + std::to_string(budget) + (block_budget ? "" : " lod-bias=" + std::to_string(lod_bias));
       if (gi_mode(mode)) m.settings += " frames=" + std::to_string(renderer.gi_frames());
       m.ordering = "-";
       m.width = extent.width;

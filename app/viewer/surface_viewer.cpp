@@ -3,8 +3,6 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -16,6 +14,7 @@
 #include "app/viewer/viewer_session.hpp"
 #include "app/viewer/window.hpp"
 #include "app/viewer/window_input.hpp"
+#include "app/viewer/window_loop.hpp"
 #include "io/image_io.hpp"
 #include "renderer/surface/surface_renderer.hpp"
 #include "renderer/vk/error.hpp"
@@ -169,22 +168,26 @@ void draw_surface_panel(SurfaceSession& s) {
               s.renderer.gpu_scene().emitter_count);
   ImGui::Separator();
   ImGui::TextUnformatted("Mode (M cycles)");
-  for (const std::string& m : s.renderer.modes())
+  for (const std::string& m : s.renderer.modes()) {
     if (ImGui::RadioButton(m.c_str(), s.mode == m)) s.set_mode(m);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(surface::find_surface_mode(m)->summary).c_str());
+  }
   if (s.renderer.can_shadow()) {
     bool shadows = s.renderer.shadows();
     if (ImGui::Checkbox("ray-traced shadows (L)", &shadows)) s.set_shadows(shadows);
   } else {
     ImGui::TextDisabled("no shadows: the device has no ray tracing");
   }
-  if (s.mode == "msa") {
+  const uint32_t knobs = surface::find_surface_mode(s.mode)->backend->tuning;
+  if (knobs & surface::kTuneAmortize) {
     const uint32_t n = s.renderer.msa_amortization();
     if (n == 0)
-      ImGui::Text("msa shades every moved frame (T: amortize)");
+      ImGui::Text("%s shades every moved frame (T: amortize)", s.mode.c_str());
     else
-      ImGui::Text("msa shades every %u frames while moving (T)", n);
-    ImGui::Text("meshlet charts: %s (K)", s.renderer.msa_charts() == msa::Parametrization::Conformal ? "conformal" : "projected");
+      ImGui::Text("%s shades every %u frames while moving (T)", s.mode.c_str(), n);
   }
+  if (knobs & surface::kTuneCharts)
+    ImGui::Text("meshlet charts: %s (K)", s.renderer.msa_charts() == msa::Parametrization::Conformal ? "conformal" : "projected");
   ImGui::Separator();
   double total = 0.0;
   for (const auto& p : s.passes) {
@@ -192,9 +195,16 @@ void draw_surface_panel(SurfaceSession& s) {
     total += p.gpu_ms;
   }
   ImGui::Text("GPU total %.3f ms, frame (CPU) %.2f ms", total, s.cpu_frame_ms);
-  ImGui::Text("shaded %llu %s", static_cast<unsigned long long>(s.counts.shaded), s.mode == "forward" ? "pixels" : "texels");
+  ImGui::Text("shaded %llu %s", static_cast<unsigned long long>(s.counts.shaded), s.counts.shaded_what.c_str());
   if (s.counts.mode_bytes) ImGui::Text("%s memory %.2f MiB", s.mode.c_str(), double(s.counts.mode_bytes) / (1024.0 * 1024.0));
   if (!s.counts.detail.empty()) ImGui::TextWrapped("%s", s.counts.detail.c_str());
+  if (ImGui::TreeNode("Frame plan")) {  // the planner's passes for this scene and mode, each with why
+    const frame::FramePlan& plan = s.renderer.last_plan();
+    for (const frame::PlannedPass& p : plan.passes)
+      ImGui::TextWrapped("%s (%s): %s", p.name.c_str(), frame::pass_kind_text(p.kind), p.reason.c_str());
+    for (const frame::SkippedPass& p : plan.skipped) ImGui::TextWrapped("%s: skipped, %s", p.name.c_str(), p.reason.c_str());
+    ImGui::TreePop();
+  }
   if (ImGui::Button("Fit (R)")) s.camera.reset(s.aspect());
   ImGui::SameLine();
   if (ImGui::Button("Copy camera (C)")) s.copy_camera();
@@ -214,9 +224,60 @@ void blit_to_swapchain(VkCommandBuffer cmd, const vk::Image& source, VkImage tar
                  VK_FILTER_NEAREST);
 }
 
+// The surface window's content in the shared frame loop: the SurfaceRenderer's frame of the
+// chosen mode blitted to the swapchain, and the surface panel.
+class SurfaceWindow final : public WindowContent {
+ public:
+  SurfaceWindow(SurfaceSession& s, const std::vector<ScriptCommand>& script) : s_(s), script_(script) {}
+
+  CameraController& camera() override { return s_.camera; }
+  bool show_ui() const override { return s_.show_ui; }
+  void run_due() override {
+    for (; next_command_ < script_.size() && script_[next_command_].frame <= frame_index_; ++next_command_) {
+      try {
+        s_.run(script_[next_command_]);
+      } catch (const std::exception& e) {  // whatever a command meets, the window goes on
+        s_.message(script_[next_command_].where + ": " + e.what());
+      }
+    }
+  }
+  void frame_started(double cpu_frame_ms) override { s_.cpu_frame_ms = cpu_frame_ms; }
+  void on_key(const KeyPress& key) override { s_.on_key(key); }
+  void frame_finished(std::vector<vk::PassTiming> passes, bool last) override {
+    s_.passes = std::move(passes);
+    if (!last) s_.counts = s_.renderer.read_counts();
+  }
+  std::string timings_line() const override {
+    std::ostringstream title;
+    title << "Prismoid - " << s_.report.device_name << " - " << s_.mode;
+    for (const auto& t : s_.passes) title << " " << t.name << " " << t.gpu_ms << " ms";
+    return title.str();
+  }
+  void draw_ui() override {
+    if (s_.show_ui) draw_surface_panel(s_);
+  }
+  void prepare_frame(VkExtent2D extent) override { s_.renderer.resize(extent); }
+  void record(VkCommandBuffer cmd, vk::GpuTimer& timer, VkImage target, VkExtent2D extent) override {
+    s_.renderer.record(cmd, s_.camera.camera(), s_.mode, timer);
+    vk::ScopedPass pass(timer, cmd, "present-blit");
+    blit_to_swapchain(cmd, s_.renderer.display(), target, extent);
+  }
+  std::optional<std::string> take_capture() override { return std::exchange(s_.capture_path, std::nullopt); }
+  void capture_failed(const std::string& message) override { s_.message(message); }
+  uint32_t& frame_index() override { return frame_index_; }
+  const std::vector<std::string>& inputs() const override { return s_.inputs; }
+
+ private:
+  SurfaceSession& s_;
+  const std::vector<ScriptCommand>& script_;
+  size_t next_command_ = 0;
+  uint32_t frame_index_ = 0;
+};
+
 }  // namespace
 
 ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& options) {
+  const TerminateSignals signals;
   PresentingDevice presenting(options.validation, options.device_index);
   const vk::Instance& instance = presenting.instance;
   const vk::DeviceCapabilities& caps = presenting.caps;
@@ -242,103 +303,10 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
     s.mode = options.mode;
   }
 
-  vk::GpuTimer timer(device, 16);
-  FrameResources frame_resources(device);
-  const VkSemaphore image_available = frame_resources.image_available.get();
-  const vk::UniqueFence& in_flight = frame_resources.in_flight;
-  const VkCommandBuffer cmd = frame_resources.cmd;
+  SurfaceWindow content(s, options.script);
+  WindowParts parts{window, device, swapchain, ui, capture};
+  run_window_loop(parts, content, options, report);
 
-  auto recreate = [&] { recreate_swapchain(swapchain, window, ui, report); };
-  auto finish_frame_capture = [&] { finish_capture(capture, report, s.inputs, [&](const std::string& m) { s.message(m); }); };
-
-  bool frame_in_flight = false;
-  MouseState mouse;
-  glfwGetCursorPos(window.get(), &mouse.last.x, &mouse.last.y);
-  auto last_frame = std::chrono::steady_clock::now();
-  auto last_print = last_frame;
-  size_t next_command = 0;
-  uint32_t frame_index = 0;
-  while (!glfwWindowShouldClose(window.get())) {
-    for (; next_command < options.script.size() && options.script[next_command].frame <= frame_index; ++next_command) {
-      try {
-        s.run(options.script[next_command]);
-      } catch (const std::exception& e) {  // whatever a command meets, the window goes on
-        s.message(options.script[next_command].where + ": " + e.what());
-      }
-    }
-    ++frame_index;
-    if (options.max_frames && frame_index > options.max_frames) break;
-    glfwPollEvents();
-    const auto now = std::chrono::steady_clock::now();
-    const double seconds = std::min(std::chrono::duration<double>(now - last_frame).count(), 0.1);
-    s.cpu_frame_ms = std::chrono::duration<double, std::milli>(now - last_frame).count();
-    last_frame = now;
-    handle_mouse(window, s.camera, mouse, swapchain.extent(), s.show_ui && ui.wants_mouse(), s.show_ui && ui.wants_keyboard(), seconds);
-    for (const KeyPress& key : window.take_keys())
-      if (!(s.show_ui && ui.wants_keyboard())) s.on_key(key);
-
-    const VkExtent2D fb = window.framebuffer_extent();
-    if (fb.width == 0 || fb.height == 0 || glfwGetWindowAttrib(window.get(), GLFW_ICONIFIED)) {
-      ++report.frames_skipped_minimized;
-      glfwWaitEventsTimeout(0.05);
-      continue;
-    }
-    if (fb.width != swapchain.extent().width || fb.height != swapchain.extent().height) recreate();
-
-    vk::check(vkWaitForFences(device.get(), 1, in_flight.ptr(), VK_TRUE, UINT64_MAX), "vkWaitForFences");
-    if (frame_in_flight) {
-      s.passes = timer.read();
-      s.counts = renderer.read_counts();
-      finish_frame_capture();
-      frame_in_flight = false;
-      if (options.print_timings && now - last_print > std::chrono::seconds(1)) {
-        std::ostringstream title;
-        title << "Prismoid - " << caps.name << " - " << s.mode;
-        for (const auto& t : s.passes) title << " " << t.name << " " << t.gpu_ms << " ms";
-        glfwSetWindowTitle(window.get(), title.str().c_str());
-        std::printf("%s\n", title.str().c_str());
-        std::fflush(stdout);
-        last_print = now;
-      }
-    }
-    ui.begin_frame();
-    if (s.show_ui) draw_surface_panel(s);
-    ui.finish_frame();
-    renderer.resize(swapchain.extent());
-
-    const auto index = swapchain.acquire(image_available);
-    if (!index) {
-      recreate();
-      continue;
-    }
-    vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
-    vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
-    timer.reset(cmd);
-    renderer.record(cmd, s.camera.camera(), s.mode, timer);
-    {
-      vk::ScopedPass pass(timer, cmd, "present-blit");
-      blit_to_swapchain(cmd, renderer.display(), swapchain.image(*index), swapchain.extent());
-    }
-    {
-      vk::ScopedPass pass(timer, cmd, "ui");
-      ui.record(cmd, *index, s.show_ui);
-    }
-    if (s.capture_path)
-      capture.record(cmd, swapchain.image(*index), swapchain.extent(), swapchain.format(), *std::exchange(s.capture_path, std::nullopt));
-    vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-    submit_frame(device, cmd, image_available, swapchain.render_finished(*index), in_flight.get());
-    frame_in_flight = true;
-    if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
-    ++report.frames_presented;
-  }
-  device.wait_idle();
-  if (frame_in_flight) {
-    s.passes = timer.read();
-    finish_frame_capture();
-  }
   report.last_frame.device_name = caps.name;
   report.last_frame.gpu_passes = s.passes;
   report.last_frame.counted = true;

@@ -1,9 +1,10 @@
 #pragma once
-// The window for surface scenes: the same window, camera, panels, screenshots and scripts as
-// the volume window (viewer.hpp), drawing through surface::SurfaceRenderer, whose modes
-// (forward, ...) are switched in the panel, with the M key or the script's `mode` verb, and
-// ray-traced shadows with L or `shadows on|off`. The
-// panel shows each pass's GPU time, so switching modes shows what each costs.
+// The window for surface scenes: the same window, frame loop (window_loop.hpp), camera, panels,
+// screenshots and scripts as the volume window (viewer.hpp), drawing through
+// surface::SurfaceRenderer, whose modes (the surface mode table's, those the device draws) are
+// switched in the panel, with the M key or the script's `mode` verb, and ray-traced shadows with
+// L or `shadows on|off`. The panel shows each pass's GPU time, so switching modes shows what each
+// costs, and the frame's plan.
 #include "app/viewer/viewer.hpp"
 #include "scene/surface_scene.hpp"
 

@@ -3,10 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <csignal>
-#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
@@ -15,6 +12,7 @@
 #include "app/viewer/compare_panel.hpp"
 #include "app/viewer/compare_view.hpp"
 #include "app/viewer/window_input.hpp"
+#include "app/viewer/window_loop.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
@@ -24,33 +22,6 @@
 namespace prismoid::app {
 
 namespace {
-
-std::atomic<bool> g_terminate{false};
-extern "C" void on_terminate_signal(int) { g_terminate = true; }
-
-// The frame's passes (A's, and B's in split view), the view into swapchain image `index`, the
-// UI over it, a screenshot.
-void record_frame(VkCommandBuffer cmd, ViewerSession& s, CompareView& compare, ImGuiLayer& ui, SwapchainCapture& capture,
-                  vk::GpuTimer& timer, uint32_t index) {
-  vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
-  timer.reset(cmd);
-  s.renderer.record(cmd, s.camera.camera(), s.state.settings, timer);
-  compare.record(cmd, s);
-  {
-    vk::ScopedPass pass(timer, cmd, "present-blit");
-    compare.present(cmd, s, s.renderer.display(), s.swapchain.image(index), s.swapchain.extent());
-  }
-  {
-    vk::ScopedPass pass(timer, cmd, "ui");
-    ui.record(cmd, index, s.state.show_ui);
-  }
-  if (s.capture_path)
-    capture.record(cmd, s.swapchain.image(index), s.swapchain.extent(), s.swapchain.format(), *std::exchange(s.capture_path, std::nullopt));
-  vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-}
 
 // Runs the script's commands that are due, unless a wait-reference holds them.
 void run_script(ViewerSession& s, const CompareView& compare, const std::vector<ScriptCommand>& script, size_t& next) {
@@ -78,14 +49,86 @@ void run_script(ViewerSession& s, const CompareView& compare, const std::vector<
   if (!held()) ++s.script_frame;
 }
 
-void print_timings(GLFWwindow* window, const FrameStats& stats) {
-  std::ostringstream title;
-  title << "Prismoid - " << stats.device_name << " -";
-  for (const auto& t : stats.gpu_passes) title << " " << t.name << " " << t.gpu_ms << " ms";
-  glfwSetWindowTitle(window, title.str().c_str());
-  std::printf("%s\n", title.str().c_str());
-  std::fflush(stdout);
-}
+// The volume window's content in the shared frame loop: the FrameRenderer's planned frame
+// (and split view's B) blitted to the swapchain, the side panel, HUD and compare overlay.
+class VolumeWindow final : public WindowContent {
+ public:
+  VolumeWindow(ViewerSession& s, CompareView& compare, const std::vector<ScriptCommand>& script, uint32_t max_tetlet)
+      : s_(s), compare_(compare), script_(script), max_tetlet_(max_tetlet) {}
+
+  CameraController& camera() override { return s_.camera; }
+  bool show_ui() const override { return s_.state.show_ui; }
+  void run_due() override {
+    poll_loads(s_);
+    run_script(s_, compare_, script_, next_command_);
+  }
+  void frame_started(double cpu_frame_ms) override { s_.stats.cpu_frame_ms = cpu_frame_ms; }
+  void on_key(const KeyPress& key) override { s_.on_key(key); }
+  void on_drop(const std::vector<std::string>& paths) override { open_datasets(s_, paths, s_.panel.data.array); }
+  void frame_finished(std::vector<vk::PassTiming> passes, bool last) override {
+    s_.stats.gpu_passes = std::move(passes);
+    if (!last && s_.renderer.interval_pass().counts_draws()) {
+      const auto counts = s_.renderer.interval_pass().read_counts();
+      s_.stats.counted = true;
+      s_.stats.fragments = counts.fragments;
+      s_.stats.primitives = counts.primitives;
+    }
+    compare_.frame_finished();
+  }
+  std::string timings_line() const override {
+    std::ostringstream title;
+    title << "Prismoid - " << s_.stats.device_name << " -";
+    for (const auto& t : s_.stats.gpu_passes) title << " " << t.name << " " << t.gpu_ms << " ms";
+    return title.str();
+  }
+  void draw_ui() override {
+    if (!s_.state.show_ui) return;
+    const UiRequests requests = draw_side_panel(s_.state, s_.panel, s_.stats, s_.camera, max_tetlet_);
+    draw_hud(s_.stats, s_.state);
+    draw_compare_overlay(compare_.status(), s_.state, s_.stats);
+    s_.apply(requests);
+  }
+  void prepare_frame(VkExtent2D extent) override {
+    sync_renderer(s_);
+    s_.renderer.resize(extent);
+    try {
+      s_.stats.report = s_.renderer.prepare(s_.camera.camera(), s_.state.settings);
+      s_.last_good = s_.state.settings;
+    } catch (const InputError& e) {  // a setting this data or device refuses: say so, keep the last good one
+      s_.message(e.what());
+      s_.state.settings = s_.last_good;
+      s_.stats.report = s_.renderer.prepare(s_.camera.camera(), s_.state.settings);
+    }
+    compare_.update(s_);
+    s_.renderer.resize(extent);  // the difference view's GPU frame may have left the reference's size
+  }
+  void record(VkCommandBuffer cmd, vk::GpuTimer& timer, VkImage target, VkExtent2D extent) override {
+    s_.renderer.record(cmd, s_.camera.camera(), s_.state.settings, timer);
+    compare_.record(cmd, s_);
+    vk::ScopedPass pass(timer, cmd, "present-blit");
+    compare_.present(cmd, s_, s_.renderer.display(), target, extent);
+  }
+  std::optional<std::string> take_capture() override { return std::exchange(s_.capture_path, std::nullopt); }
+  void capture_failed(const std::string& message) override { s_.failed("Could not write", message); }
+  void stopping() override {
+    if (s_.loading.job) {  // closed mid-load: stop it and wait (promptly: the io layer checks often)
+      const auto stop = std::chrono::steady_clock::now();
+      s_.loading.job->cancel();
+      s_.loading.job.reset();
+      ++s_.report.loads_cancelled;
+      s_.report.seconds_to_stop_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - stop).count();
+    }
+  }
+  uint32_t& frame_index() override { return s_.frame_index; }
+  const std::vector<std::string>& inputs() const override { return s_.inputs; }
+
+ private:
+  ViewerSession& s_;
+  CompareView& compare_;
+  const std::vector<ScriptCommand>& script_;
+  uint32_t max_tetlet_;
+  size_t next_command_ = 0;
+};
 
 }  // namespace
 
@@ -114,13 +157,7 @@ ViewerReport run_viewer(const TetMesh& mesh, const ViewerOptions& options) {
 }
 
 ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
-  g_terminate = false;
-  auto previous_term = std::signal(SIGTERM, on_terminate_signal);
-  auto previous_int = std::signal(SIGINT, on_terminate_signal);
-  struct RestoreSignals {
-    decltype(previous_term) term, intr;
-    ~RestoreSignals() { std::signal(SIGTERM, term); std::signal(SIGINT, intr); }
-  } restore{previous_term, previous_int};
+  const TerminateSignals signals;
 
   state.settings = options.settings;
   state.mode = options.mode.empty() ? mode_of(options.settings) : options.mode;
@@ -158,111 +195,10 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   s.inputs = options.inputs;
   const uint32_t max_tetlet = volume::max_tetlet_size(device);
 
-  vk::GpuTimer timer(device, 16);
-  FrameResources frame_resources(device);
-  const VkSemaphore image_available = frame_resources.image_available.get();
-  const vk::UniqueFence& in_flight = frame_resources.in_flight;
-  const VkCommandBuffer cmd = frame_resources.cmd;
+  VolumeWindow content(s, compare, options.script, max_tetlet);
+  WindowParts parts{window, device, swapchain, ui, capture};
+  run_window_loop(parts, content, options, report);
 
-  auto recreate = [&] { recreate_swapchain(swapchain, window, ui, report); };
-  auto finish_frame_capture = [&] { finish_capture(capture, report, s.inputs, [&](const std::string& m) { s.failed("Could not write", m); }); };
-
-  bool frame_in_flight = false;
-  MouseState mouse;
-  glfwGetCursorPos(window.get(), &mouse.last.x, &mouse.last.y);
-  auto last_frame = std::chrono::steady_clock::now();
-  auto last_print = last_frame;
-  size_t next_command = 0;
-
-  while (!glfwWindowShouldClose(window.get()) && !g_terminate) {
-    poll_loads(s);
-    run_script(s, compare, options.script, next_command);
-    ++s.frame_index;
-    if (options.max_frames && s.frame_index > options.max_frames) break;
-    glfwPollEvents();
-    const auto now = std::chrono::steady_clock::now();
-    const double seconds = std::min(std::chrono::duration<double>(now - last_frame).count(), 0.1);
-    s.stats.cpu_frame_ms = std::chrono::duration<double, std::milli>(now - last_frame).count();
-    last_frame = now;
-    handle_mouse(s.window, s.camera, mouse, s.swapchain.extent(), s.state.show_ui && ui.wants_mouse(),
-                 ImGui::GetIO().WantCaptureKeyboard, seconds);
-    for (const KeyPress& key : window.take_keys())
-      if (!(s.state.show_ui && ui.wants_keyboard())) s.on_key(key);
-    for (const auto& dropped : window.take_drops()) open_datasets(s, dropped, s.panel.data.array);
-
-    const VkExtent2D fb = window.framebuffer_extent();
-    if (fb.width == 0 || fb.height == 0 || glfwGetWindowAttrib(window.get(), GLFW_ICONIFIED)) {
-      ++report.frames_skipped_minimized;
-      glfwWaitEventsTimeout(0.05);
-      continue;
-    }
-    if (fb.width != swapchain.extent().width || fb.height != swapchain.extent().height) recreate();
-
-    vk::check(vkWaitForFences(device.get(), 1, in_flight.ptr(), VK_TRUE, UINT64_MAX), "vkWaitForFences");
-    if (frame_in_flight) {  // the last frame finished: its numbers and its screenshot
-      s.stats.gpu_passes = timer.read();
-      if (renderer.interval_pass().counts_draws()) {
-        const auto counts = renderer.interval_pass().read_counts();
-        s.stats.counted = true;
-        s.stats.fragments = counts.fragments;
-        s.stats.primitives = counts.primitives;
-      }
-      compare.frame_finished();
-      finish_frame_capture();
-      frame_in_flight = false;
-      if (options.print_timings && now - last_print > std::chrono::seconds(1)) {
-        print_timings(window.get(), s.stats);
-        last_print = now;
-      }
-    }
-
-    ui.begin_frame();
-    if (s.state.show_ui) {
-      const UiRequests requests = draw_side_panel(s.state, s.panel, s.stats, s.camera, max_tetlet);
-      draw_hud(s.stats, s.state);
-      draw_compare_overlay(compare.status(), s.state, s.stats);
-      s.apply(requests);
-    }
-    ui.finish_frame();
-
-    sync_renderer(s);
-    renderer.resize(swapchain.extent());
-    try {
-      s.stats.report = renderer.prepare(s.camera.camera(), s.state.settings);
-      s.last_good = s.state.settings;
-    } catch (const InputError& e) {  // a setting this data or device refuses: say so, keep the last good one
-      s.message(e.what());
-      s.state.settings = s.last_good;
-      s.stats.report = renderer.prepare(s.camera.camera(), s.state.settings);
-    }
-    compare.update(s);
-    renderer.resize(swapchain.extent());  // the difference view's GPU frame may have left the reference's size
-
-    const auto index = swapchain.acquire(image_available);
-    if (!index) {
-      recreate();
-      continue;
-    }
-    vk::check(vkResetFences(device.get(), 1, in_flight.ptr()), "vkResetFences");
-    record_frame(cmd, s, compare, ui, capture, timer, *index);
-    submit_frame(device, cmd, image_available, swapchain.render_finished(*index), in_flight.get());
-    frame_in_flight = true;
-    if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
-    ++report.frames_presented;
-  }
-  if (s.loading.job) {  // closed mid-load: stop it and wait (promptly: the io layer checks often)
-    const auto stop = std::chrono::steady_clock::now();
-    s.loading.job->cancel();
-    s.loading.job.reset();
-    ++report.loads_cancelled;
-    report.seconds_to_stop_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - stop).count();
-  }
-  device.wait_idle();
-  if (frame_in_flight) {
-    s.stats.gpu_passes = timer.read();
-    compare.frame_finished();
-    finish_frame_capture();
-  }
   report.last_frame = s.stats;
   report.camera = s.camera.camera();
   report.mode = s.state.mode;

@@ -208,12 +208,116 @@ FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings) 
   return result;
 }
 
+const char* pass_kind_text(PassKind kind) {
+  switch (kind) {
+    case PassKind::Gpu: return "GPU";
+    case PassKind::Cpu: return "CPU";
+    case PassKind::Within: return "GPU, within the pass above";
+  }
+  return "?";
+}
+
 std::string format_plan(const FramePlan& plan) {
   std::ostringstream out;
-  for (const PlannedPass& p : plan.passes)
-    out << "  " << p.name << " (" << (p.kind == PassKind::Gpu ? "GPU" : "CPU") << "): " << p.reason << "\n";
+  for (const PlannedPass& p : plan.passes) out << "  " << p.name << " (" << pass_kind_text(p.kind) << "): " << p.reason << "\n";
   for (const SkippedPass& s : plan.skipped) out << "  " << s.name << ": skipped, " << s.reason << "\n";
   return out.str();
+}
+
+const char* surface_gi_name(SurfaceGi gi) {
+  switch (gi) {
+    case SurfaceGi::None: return "off";
+    case SurfaceGi::RestirBiased: return "biased";
+    case SurfaceGi::RestirUnbiased: return "unbiased";
+    case SurfaceGi::PathTraced: return "path-traced";
+  }
+  return "?";
+}
+
+namespace {
+
+std::string count_of(uint64_t n, const std::string& one, const std::string& many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+// "2 point lights, 1 directional light and 1280 emissive triangles": what casts shadows.
+std::string shadow_casters(const SurfaceContents& scene) {
+  std::vector<std::string> parts;
+  if (scene.point_lights) parts.push_back(count_of(scene.point_lights, "point light", "point lights"));
+  if (scene.directional_lights) parts.push_back(count_of(scene.directional_lights, "directional light", "directional lights"));
+  if (scene.emissive_triangles) parts.push_back(count_of(scene.emissive_triangles, "emissive triangle", "emissive triangles"));
+  std::string text;
+  for (size_t i = 0; i < parts.size(); ++i) text += (i == 0 ? "" : i + 1 == parts.size() ? " and " : ", ") + parts[i];
+  return text;
+}
+
+bool casters_are_one(const SurfaceContents& scene) { return uint64_t(scene.point_lights) + scene.directional_lights + scene.emissive_triangles == 1; }
+
+// What lights the scene for a bounce: the shadow casters and the sky.
+std::string light_sources(const SurfaceContents& scene) {
+  const std::string casters = shadow_casters(scene);
+  if (!scene.sky) return casters;
+  return casters.empty() ? "the sky" : casters + " and the sky";
+}
+
+const char* gi_words(SurfaceGi gi) {
+  switch (gi) {
+    case SurfaceGi::None: return "none";
+    case SurfaceGi::RestirBiased: return "ReSTIR GI, biased";
+    case SurfaceGi::RestirUnbiased: return "ReSTIR GI, unbiased";
+    case SurfaceGi::PathTraced: return "one bounce path traced per sample and frame, no reuse";
+  }
+  return "?";
+}
+
+}  // namespace
+
+FramePlan plan_surface_frame(const SurfaceContents& scene, const SurfaceFrameSettings& settings) {
+  const SurfacePasses& passes = settings.passes;
+  if (settings.gi != SurfaceGi::None && passes.gi.empty())
+    throw std::logic_error("plan_surface_frame: mode " + settings.mode + " asks for GI its backend does not host");
+  PlanBuilder plan;
+  if (scene.triangles == 0) {
+    for (const char* role : {"pre-z", "allocation", "shading", "shadow rays", "gi", "display"}) plan.skip(role, "no surfaces in the scene");
+    FramePlan result;
+    result.skipped = std::move(plan.skipped);
+    return result;
+  }
+  // Shadow rays: asked for, traceable, and something to cast them.
+  std::string no_shadows;
+  if (passes.shadow_rays.name.empty()) no_shadows = passes.shadow_rays.what;
+  else if (!settings.device_traces_rays) no_shadows = "the device traces no rays (no ray-tracing pipeline)";
+  else if (!settings.shadows) no_shadows = "shadows are off";
+  else if (!scene.casts_shadows()) no_shadows = "no light casts shadows";
+  const bool shadows = no_shadows.empty();
+  const auto what = [&](const SurfaceStep& step) { return shadows && !step.with_shadows.empty() ? step.with_shadows : step.what; };
+  const auto role = [&](PassId id, const SurfaceStep& step, const char* role_name) {
+    if (step.name.empty()) plan.skip(role_name, step.what);
+    else plan.run(id, step.name, PassKind::Gpu, what(step));
+  };
+  role(PassId::SurfacePreZ, passes.pre_z, "pre-z");
+  role(PassId::SurfaceAllocation, passes.allocation, "allocation");
+  role(PassId::SurfaceShading, passes.shading, "shading");
+  if (shadows)
+    plan.run(PassId::ShadowRays, passes.shadow_rays.name, PassKind::Within,
+             shadow_casters(scene) + (casters_are_one(scene) ? " casts" : " cast") + " shadows: " + passes.shadow_rays.what);
+  else
+    plan.skip("shadow rays", no_shadows);
+  // GI: asked for, and light to bounce.
+  if (settings.gi == SurfaceGi::None) {
+    plan.skip("gi", "no indirect light asked for (mode " + settings.mode + ")");
+  } else if (!scene.lit()) {
+    plan.skip("gi", "indirect light asked for, but no light, emitter or sky lights the scene: nothing to bounce");
+  } else {
+    const std::string why = std::string("one-bounce indirect light asked for (mode ") + settings.mode + ": " + gi_words(settings.gi) +
+                            "), bouncing the light of " + light_sources(scene) + " off " + count_of(scene.triangles, "triangle", "triangles");
+    for (const SurfaceStep& step : passes.gi) plan.run(PassId::GlobalIllumination, step.name, PassKind::Gpu, why + ": " + step.what);
+  }
+  role(PassId::SurfaceDisplay, passes.display, "display");
+  FramePlan result;
+  result.passes = std::move(plan.gpu);
+  result.skipped = std::move(plan.skipped);
+  return result;
 }
 
 }  // namespace prismoid::frame

@@ -78,10 +78,16 @@ enum class PassId {
   UploadOrder,      // "upload-order" (GPU): the CPU's order into device memory
   Intervals,        // volume::interval_pass_name(settings) (GPU)
   Resolve,          // "resolve" (GPU)
-  SurfaceShading,   // "surface-shading": never planned yet
-  GlobalIllumination,  // "gi": never planned yet
+  SurfaceShading,   // "surface-shading" in volume plans (never planned there); a surface backend's shading pass
+  GlobalIllumination,  // "gi" in volume plans (never planned there); a surface backend's indirect-light passes
+  SurfacePreZ,      // a surface backend's depth pre-pass (with its visibility or marking where it fuses them)
+  SurfaceAllocation,  // where a texture-space backend's shading lives this frame (pages, blocks)
+  ShadowRays,       // traced by the surface shading pass (PassKind::Within)
+  SurfaceDisplay,   // the image from the shaded samples (gather, display)
 };
-enum class PassKind { Gpu, Cpu };
+// Within: work done inside the GPU pass listed before it (shadow rays traced by the shading
+// pass's shaders): planned and explained like a pass, but not timed on its own.
+enum class PassKind { Gpu, Cpu, Within };
 
 struct PlannedPass {
   PassId id;
@@ -106,7 +112,69 @@ struct FramePlan {
 // Throws InputError for settings no plan satisfies (tetlets with an ordered colour mode).
 FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings);
 
-// One line per pass: "  NAME (GPU|CPU): REASON", then "  NAME: skipped, REASON".
+// One line per pass: "  NAME (GPU|CPU): REASON" ("(GPU, within the pass above)" for
+// PassKind::Within), then "  NAME: skipped, REASON".
 std::string format_plan(const FramePlan& plan);
+// "GPU", "CPU" or "GPU, within the pass above": how a pass runs, for people.
+const char* pass_kind_text(PassKind kind);
+
+// ---- Surfaces: a frame of one surface scene drawn by one surface backend ----
+
+// What a surface scene holds, for the planner.
+struct SurfaceContents {
+  uint64_t triangles = 0;
+  uint32_t point_lights = 0;
+  uint32_t directional_lights = 0;
+  uint32_t emissive_triangles = 0;
+  bool sky = false;  // the sky is not black (it lights the scene as ambient light, or through GI's rays)
+  bool casts_shadows() const { return point_lights + directional_lights + emissive_triangles > 0; }
+  bool lit() const { return casts_shadows() || sky; }
+};
+
+// The indirect light a surface mode asks for (renderer/surface/surface_modes.hpp). Hosted by a
+// backend whose SurfacePasses has GI passes.
+enum class SurfaceGi {
+  None,
+  RestirBiased,    // ReSTIR GI as the paper ships it (biased)
+  RestirUnbiased,  // with the bias-correcting shadow ray and count normalization
+  PathTraced,      // one fresh bounce sample per sample and frame, nothing reused: the baseline
+};
+// The --gi word of each: off, biased, unbiased, path-traced.
+const char* surface_gi_name(SurfaceGi gi);
+
+// One GPU pass of a surface backend: its timestamp name and what it does (the plan's reason when
+// it runs; `with_shadows` instead when the frame traces shadow rays, if not empty). A role the
+// backend has no pass for has an empty name, and `what` says why it needs none.
+struct SurfaceStep {
+  std::string name;
+  std::string what;
+  std::string with_shadows;
+};
+
+// A surface backend's GPU passes by the role each plays in a frame, in the order they run: what
+// the backend records (SurfaceBackend), plain data the planner composes a frame from.
+struct SurfacePasses {
+  SurfaceStep pre_z;       // the depth pre-pass, with visibility or marking where the backend fuses them
+  SurfaceStep allocation;  // where shading lives this frame (pages, blocks)
+  SurfaceStep shading;     // the shading code over the visible samples (it traces the shadow rays)
+  SurfaceStep shadow_rays; // within shading: how its shadow rays are cast (empty name: it cannot trace them)
+  std::vector<SurfaceStep> gi;  // the indirect-light passes it hosts, after shading (none: it hosts no GI)
+  SurfaceStep display;     // the image from the shaded samples
+};
+
+struct SurfaceFrameSettings {
+  std::string mode;        // the mode's name, for the reasons
+  SurfacePasses passes;    // its backend's
+  SurfaceGi gi = SurfaceGi::None;  // the indirect light the mode asks for
+  bool shadows = true;     // shadows asked for (the renderer's setting: on by default where rays are traced)
+  bool device_traces_rays = false;
+};
+
+// The GPU passes of a surface frame, each with why, and each role left out with why (named by
+// its role: "pre-z", "allocation", "shading", "shadow rays", "gi", "display"): shadow rays only
+// where shadows are asked for, the device traces rays and a light casts them; GI passes only
+// where the mode asks for indirect light and something lights the scene to bounce. Pure, like
+// plan_frame. Throws std::logic_error when the mode asks for GI its backend does not host.
+FramePlan plan_surface_frame(const SurfaceContents& scene, const SurfaceFrameSettings& settings);
 
 }  // namespace prismoid::frame

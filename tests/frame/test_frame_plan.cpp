@@ -216,5 +216,147 @@ TEST(FramePlan, VolumeContentsFollowTheFieldTheFrameIntegrates) {
   EXPECT_EQ(frame::volume_contents(1, false, true, r).field, frame::FieldModel::Marched);
 }
 
+// ---- Surface frames ----
+
+// Two backends as the planner sees them: a per-pixel one (pre-pass and shading, no atlas, no
+// display pass, no GI) and a texture-space one hosting GI (every role a pass).
+frame::SurfacePasses per_pixel_passes() {
+  frame::SurfacePasses p;
+  p.pre_z = {"depth pre-pass", "depth only", "depth and each pixel's triangle"};
+  p.allocation = {"", "per pixel: no texture-space samples to allocate", ""};
+  p.shading = {"pixel shading", "raster shading", "ray-generation shading"};
+  p.shadow_rays = {"shadow rays", "one ray per light", ""};
+  p.display = {"", "the shading pass writes the image", ""};
+  return p;
+}
+frame::SurfacePasses texture_space_passes() {
+  frame::SurfacePasses p;
+  p.pre_z = {"pre-z + marking", "marks", ""};
+  p.allocation = {"allocation", "pages", ""};
+  p.shading = {"shading", "texels", ""};
+  p.shadow_rays = {"shadow rays", "one ray per light", ""};
+  p.gi = {{"gi samples", "samples", ""}, {"gi reuse", "reservoirs", ""}};
+  p.display = {"gather", "pixels", ""};
+  return p;
+}
+
+struct SurfaceCase {
+  const char* what;
+  frame::SurfacePasses passes;
+  frame::SurfaceGi gi;
+  frame::SurfaceContents scene;
+  bool shadows;
+  bool traces;
+  std::vector<std::string> planned;  // exactly, in order (shadow rays: within the pass before)
+  std::vector<std::string> skipped;  // exactly, in order
+};
+
+frame::SurfaceContents surface_scene(uint32_t point, uint32_t directional, uint32_t emissive, bool sky, uint64_t triangles = 36) {
+  frame::SurfaceContents c;
+  c.triangles = triangles;
+  c.point_lights = point;
+  c.directional_lights = directional;
+  c.emissive_triangles = emissive;
+  c.sky = sky;
+  return c;
+}
+
+const std::vector<SurfaceCase> kSurfaceCases = {
+    {"per pixel, a light that casts shadows, ray tracing", per_pixel_passes(), frame::SurfaceGi::None, surface_scene(1, 0, 0, false), true, true,
+     {"depth pre-pass", "pixel shading", "shadow rays"}, {"allocation", "gi", "display"}},
+    {"per pixel, no ray tracing", per_pixel_passes(), frame::SurfaceGi::None, surface_scene(1, 0, 0, false), true, false,
+     {"depth pre-pass", "pixel shading"}, {"allocation", "shadow rays", "gi", "display"}},
+    {"per pixel, shadows off", per_pixel_passes(), frame::SurfaceGi::None, surface_scene(0, 1, 0, true), false, true,
+     {"depth pre-pass", "pixel shading"}, {"allocation", "shadow rays", "gi", "display"}},
+    {"per pixel, only the sky: nothing casts shadows", per_pixel_passes(), frame::SurfaceGi::None, surface_scene(0, 0, 0, true), true, true,
+     {"depth pre-pass", "pixel shading"}, {"allocation", "shadow rays", "gi", "display"}},
+    {"texture space, emitters cast shadows", texture_space_passes(), frame::SurfaceGi::None, surface_scene(0, 0, 4, false), true, true,
+     {"pre-z + marking", "allocation", "shading", "shadow rays", "gather"}, {"gi"}},
+    {"texture space, no lights at all", texture_space_passes(), frame::SurfaceGi::None, surface_scene(0, 0, 0, false), true, true,
+     {"pre-z + marking", "allocation", "shading", "gather"}, {"shadow rays", "gi"}},
+    {"GI asked, a light to bounce", texture_space_passes(), frame::SurfaceGi::RestirBiased, surface_scene(0, 1, 0, false), true, true,
+     {"pre-z + marking", "allocation", "shading", "shadow rays", "gi samples", "gi reuse", "gather"}, {}},
+    {"GI asked, only emitters to bounce, shadows off", texture_space_passes(), frame::SurfaceGi::RestirUnbiased, surface_scene(0, 0, 2, false), false, true,
+     {"pre-z + marking", "allocation", "shading", "gi samples", "gi reuse", "gather"}, {"shadow rays"}},
+    {"GI asked, only the sky to bounce", texture_space_passes(), frame::SurfaceGi::PathTraced, surface_scene(0, 0, 0, true), true, true,
+     {"pre-z + marking", "allocation", "shading", "gi samples", "gi reuse", "gather"}, {"shadow rays"}},
+    {"GI asked, nothing lights the scene", texture_space_passes(), frame::SurfaceGi::RestirBiased, surface_scene(0, 0, 0, false), true, true,
+     {"pre-z + marking", "allocation", "shading", "gather"}, {"shadow rays", "gi"}},
+    {"no surfaces", texture_space_passes(), frame::SurfaceGi::RestirBiased, surface_scene(1, 1, 1, true, 0), true, true,
+     {}, {"pre-z", "allocation", "shading", "shadow rays", "gi", "display"}},
+};
+
+TEST(SurfaceFramePlan, PlansExactlyThePassesEachSceneAndSettingCallFor) {
+  for (const SurfaceCase& c : kSurfaceCases) {
+    frame::SurfaceFrameSettings s;
+    s.mode = "test-mode";
+    s.passes = c.passes;
+    s.gi = c.gi;
+    s.shadows = c.shadows;
+    s.device_traces_rays = c.traces;
+    const frame::FramePlan plan = frame::plan_surface_frame(c.scene, s);
+    EXPECT_EQ(names(plan), c.planned) << c.what;
+    std::vector<std::string> skipped;
+    for (const auto& p : plan.skipped) {
+      skipped.push_back(p.name);
+      EXPECT_FALSE(p.reason.empty()) << c.what << ": " << p.name;
+    }
+    EXPECT_EQ(skipped, c.skipped) << c.what;
+    for (const auto& p : plan.passes) {
+      EXPECT_FALSE(p.reason.empty()) << c.what << ": " << p.name;
+      // Shadow rays run inside the shading pass: planned and explained, never timed on their own.
+      EXPECT_EQ(p.kind, p.name == "shadow rays" ? frame::PassKind::Within : frame::PassKind::Gpu) << c.what << ": " << p.name;
+    }
+    std::vector<std::string> timed = names(plan);
+    timed.erase(std::remove(timed.begin(), timed.end(), "shadow rays"), timed.end());
+    EXPECT_EQ(plan.gpu_pass_names(), timed) << c.what;
+  }
+}
+
+TEST(SurfaceFramePlan, ReasonsNameWhatTheSceneAndSettingsSay) {
+  frame::SurfaceFrameSettings s;
+  s.mode = "test-gi";
+  s.passes = per_pixel_passes();
+  s.device_traces_rays = true;
+  const frame::SurfaceContents lit = surface_scene(2, 1, 1280, true);
+  frame::FramePlan plan = frame::plan_surface_frame(lit, s);
+  // The pass's words with shadows, and the casters counted.
+  EXPECT_EQ(plan.passes.at(0).reason, "depth and each pixel's triangle");
+  EXPECT_EQ(plan.passes.at(1).reason, "ray-generation shading");
+  EXPECT_EQ(plan.passes.at(2).reason, "2 point lights, 1 directional light and 1280 emissive triangles cast shadows: one ray per light");
+  EXPECT_EQ(skip_reason(plan, "gi"), "no indirect light asked for (mode test-gi)");
+  EXPECT_EQ(skip_reason(plan, "display"), "the shading pass writes the image");
+  s.shadows = false;
+  plan = frame::plan_surface_frame(lit, s);
+  EXPECT_EQ(plan.passes.at(1).reason, "raster shading");
+  EXPECT_EQ(skip_reason(plan, "shadow rays"), "shadows are off");
+  s.device_traces_rays = false;
+  EXPECT_EQ(skip_reason(frame::plan_surface_frame(lit, s), "shadow rays"), "the device traces no rays (no ray-tracing pipeline)");
+  s.shadows = true;
+  s.device_traces_rays = true;
+  EXPECT_EQ(skip_reason(frame::plan_surface_frame(surface_scene(0, 0, 0, true), s), "shadow rays"), "no light casts shadows");
+
+  s.passes = texture_space_passes();
+  s.gi = frame::SurfaceGi::RestirUnbiased;
+  plan = frame::plan_surface_frame(surface_scene(0, 0, 3, true, 10), s);
+  ASSERT_NE(plan.find(frame::PassId::GlobalIllumination), nullptr);
+  EXPECT_EQ(plan.find(frame::PassId::GlobalIllumination)->reason,
+            "one-bounce indirect light asked for (mode test-gi: ReSTIR GI, unbiased), bouncing the light of 3 emissive triangles and the "
+            "sky off 10 triangles: samples");
+  EXPECT_NE(skip_reason(frame::plan_surface_frame(surface_scene(0, 0, 0, false), s), "gi").find("nothing to bounce"), std::string::npos);
+  const std::string text = frame::format_plan(frame::plan_surface_frame(surface_scene(1, 0, 0, false), s));
+  EXPECT_NE(text.find("\n  shadow rays (GPU, within the pass above): 1 point light casts shadows: one ray per light\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\n  gi samples (GPU): "), std::string::npos) << text;
+}
+
+// A mode that asks for GI its backend does not host is a table error, not a plan.
+TEST(SurfaceFramePlan, GiTheBackendDoesNotHostIsRefused) {
+  frame::SurfaceFrameSettings s;
+  s.mode = "test-mode";
+  s.passes = per_pixel_passes();
+  s.gi = frame::SurfaceGi::RestirBiased;
+  EXPECT_THROW(frame::plan_surface_frame(surface_scene(1, 0, 0, false), s), std::logic_error);
+}
+
 }  // namespace
 }  // namespace prismoid

@@ -1,0 +1,256 @@
+// `prismoid render SCENE --mode M` for the surface modes of renderer/surface/surface_modes.hpp: a
+// GPU mode through surface::SurfaceRenderer (the object the window and the bench draw with),
+// whose frame the planner plans; linear RGB to PFM (or display sRGB to PNG), the passes, the
+// plan and the backend's counters in the stats. The CPU mode (the path tracer) is
+// cmd_render_path.cpp's.
+#include <algorithm>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/bench/bench_cases.hpp"
+#include "app/cli.hpp"
+#include "app/cli_args.hpp"
+#include "app/commands.hpp"
+#include "app/output_files.hpp"
+#include "app/surface_args.hpp"
+#include "io/image_io.hpp"
+#include "renderer/surface/surface_modes.hpp"
+#include "renderer/surface/surface_renderer.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
+#include "renderer/vk/instance.hpp"
+#include "scene/input_error.hpp"
+#include "scene/surface_generators.hpp"
+
+namespace prismoid::app {
+
+namespace {
+
+// The median of each pass's time over the frames.
+std::vector<vk::PassTiming> median_passes(const std::vector<std::vector<vk::PassTiming>>& frames) {
+  std::vector<vk::PassTiming> out = frames.front();
+  for (size_t p = 0; p < out.size(); ++p) {
+    std::vector<double> ms;
+    for (const auto& f : frames) ms.push_back(f[p].gpu_ms);
+    std::sort(ms.begin(), ms.end());
+    const size_t n = ms.size();
+    out[p].gpu_ms = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+  }
+  return out;
+}
+
+bool takes(const surface::SurfaceBackendInfo& backend, const std::string& option) {
+  return std::any_of(backend.options.begin(), backend.options.end(), [&](const surface::SurfaceOption& o) { return o.name == option; });
+}
+
+// The first mode of the table whose backend takes `option` (nullptr: none does).
+const surface::SurfaceMode* mode_taking(const std::string& option) {
+  for (const surface::SurfaceMode& m : surface::surface_mode_table())
+    if (m.gpu() && takes(*m.backend, option)) return &m;
+  return nullptr;
+}
+
+// --gi picks the mode of the same backend with that indirect light.
+const surface::SurfaceMode& mode_with_gi(const surface::SurfaceMode& mode, const std::string& word) {
+  std::vector<std::string> words;
+  for (const frame::SurfaceGi gi :
+       {frame::SurfaceGi::None, frame::SurfaceGi::RestirBiased, frame::SurfaceGi::RestirUnbiased, frame::SurfaceGi::PathTraced}) {
+    const surface::SurfaceMode* m = surface::find_surface_mode(*mode.backend, gi);
+    if (!m) continue;
+    if (word == frame::surface_gi_name(gi)) return *m;
+    words.emplace_back(frame::surface_gi_name(gi));
+  }
+  std::string list;
+  for (size_t i = 0; i < words.size(); ++i) list += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+  throw InputError("--gi", "must be " + list + ", got '" + word + "'");
+}
+
+// Numbers as every stats file writes them (json_number: 9 significant digits).
+std::string json_of(const surface::StatValue& v) {
+  if (const double* d = std::get_if<double>(&v)) return json_number(*d);
+  return std::visit([](const auto& x) { return nlohmann::json(x).dump(); }, v);
+}
+
+// The plan as the volume modes' stats give it: each planned pass with its kind and reason, each
+// skipped one with why.
+std::string plan_fields(const frame::FramePlan& plan) {
+  auto text = [](const std::string& s) { return nlohmann::json(s).dump(); };
+  std::ostringstream js;
+  js << ",\n  \"plan\": [";
+  for (size_t i = 0; i < plan.passes.size(); ++i) {
+    const frame::PlannedPass& p = plan.passes[i];
+    const char* kind = p.kind == frame::PassKind::Gpu ? "gpu" : p.kind == frame::PassKind::Cpu ? "cpu" : "within";
+    js << (i ? ",\n" : "\n") << "    {\"name\": " << text(p.name) << ", \"kind\": \"" << kind << "\", \"reason\": " << text(p.reason) << "}";
+  }
+  js << "\n  ],\n  \"skipped\": [";
+  for (size_t i = 0; i < plan.skipped.size(); ++i)
+    js << (i ? ",\n" : "\n") << "    {\"pass\": " << text(plan.skipped[i].name) << ", \"reason\": " << text(plan.skipped[i].reason) << "}";
+  js << "\n  ]";
+  return js.str();
+}
+
+}  // namespace
+
+const surface::SurfaceMode* surface_mode_named(const std::vector<std::string>& args) {
+  std::optional<std::string> name;
+  for (size_t i = 1; i < args.size(); ++i) {
+    if (args[i] == "--mode" && i + 1 < args.size()) name = args[i + 1];
+    else if (args[i].rfind("--mode=", 0) == 0) name = args[i].substr(7);
+  }
+  return name ? surface::find_surface_mode(*name) : nullptr;
+}
+
+std::string surface_render_help() {
+  std::ostringstream out;
+  out << "\nSurface modes (FILE: cornell-box, furnace:A[:LE] or a surface file .vtp .stl .obj .ply .off; a file\n"
+         "without lights gets a headlight and a sky; linear RGB; --size default 256x256; --array, --component,\n"
+         "--tf and --tf-range colour a surface file by a data array, as in the window):\n";
+  for (const surface::SurfaceMode& m : surface::surface_mode_table()) out << "  " << m.name << ": " << m.summary << "\n";
+  out << "Their options, by backend (the modes of one backend share them):\n";
+  const surface::SurfaceBackendInfo* last = nullptr;
+  for (const surface::SurfaceMode& m : surface::surface_mode_table()) {
+    if (!m.gpu() || m.backend == last) continue;
+    last = m.backend;
+    std::string modes;
+    for (const surface::SurfaceMode& n : surface::surface_mode_table())
+      if (n.backend == m.backend) modes += (modes.empty() ? "" : ", ") + std::string(n.name);
+    out << "  " << modes << " (needs " << m.backend->needs << "):\n";
+    std::istringstream lines{std::string(m.backend->options_help)};
+    for (std::string line; std::getline(lines, line);) out << "    " << line << "\n";
+  }
+  for (const surface::SurfaceMode& m : surface::surface_mode_table())
+    if (!m.gpu()) out << "  " << m.name << " (on the CPU):\n    " << kPathTracerOptionsHelp;
+  return out.str();
+}
+
+int cmd_render_surface(const std::vector<std::string>& args, const surface::SurfaceMode& chosen) {
+  // Every GPU backend's options parse, so that another mode's is refused naming that mode.
+  std::vector<std::string> values = with_surface_color(with_camera({"output", "size", "mode", "quantity", "stats", "device"}));
+  std::vector<std::string> flags = {"validate", "help"};
+  std::vector<std::string> backend_options;
+  for (const surface::SurfaceMode& m : surface::surface_mode_table())
+    if (m.gpu())
+      for (const surface::SurfaceOption& o : m.backend->options) {
+        std::vector<std::string>& list = o.flag ? flags : values;
+        if (std::find(list.begin(), list.end(), o.name) == list.end()) list.emplace_back(o.name);
+        backend_options.emplace_back(o.name);
+      }
+  const ParsedArgs a = parse(args, 1, values, flags);
+  if (a.flags.count("help")) {
+    std::cout << kRenderHelp << surface_render_help();
+    return kOk;
+  }
+  const surface::SurfaceBackendInfo& backend = *chosen.backend;
+  surface::SurfaceOptions given;
+  auto take = [&](const std::string& name, const std::string& value) {
+    if (std::find(backend_options.begin(), backend_options.end(), name) == backend_options.end()) return;
+    if (!takes(backend, name)) throw InputError("--" + name, "is an option of --mode " + std::string(mode_taking(name)->name));
+    given[name] = value;
+  };
+  for (const auto& [name, value] : a.values) take(name, value);
+  for (const auto& [name, on] : a.flags) take(name, "");
+  const surface::SurfaceMode& mode = given.count("gi") ? mode_with_gi(chosen, given.at("gi")) : chosen;
+  given.erase("gi");
+  given = backend.command_options(given, mode.gi);
+  const std::string name(mode.name);
+
+  if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
+  const std::string output = a.values.at("output");
+  OutputFiles files;
+  declare_render_files(files, a);
+  if (a.has("quantity") && a.values.at("quantity") != "color")
+    throw InputError("--quantity", "--mode " + name + " renders linear colour: use --quantity color");
+  const uint32_t k = given.count("supersample") ? parse_uint("supersample", given.at("supersample")) : 1;
+  if (k == 0 || k > 16) throw InputError("--supersample", "must be between 1 and 16 samples per pixel side");
+  const uint32_t frames = given.count("frames") ? parse_uint("frames", given.at("frames")) : 1;
+  if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
+  std::optional<bool> shadows_asked;
+  if (given.count("no-shadows")) shadows_asked = false;
+  if (given.count("shadows")) {
+    const std::string& v = given.at("shadows");
+    if (v != "on" && v != "off") throw InputError("--shadows", "'" + v + "' is not on or off");
+    shadows_asked = v == "on";
+  }
+  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
+  const SurfaceScene scene = surface_scene_from(a, name);
+  const Camera camera = surface_camera(a, scene.camera);
+  const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
+
+  vk::Instance instance(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
+  const auto devices = vk::query_devices(instance.get());
+  const auto& caps = vk::select_device(devices, parse_device(a));
+  vk::Device device(instance, caps, {});
+  if (const std::string problem = backend.device_problem(device); !problem.empty())
+    throw vk::NoSuitableDevice(problem + ": --mode " + name + " needs " + std::string(backend.needs));
+  surface::SurfaceRenderer renderer(device, lit, given);
+  if (shadows_asked && *shadows_asked && !renderer.can_shadow())
+    throw vk::NoSuitableDevice(caps.name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure): "
+                               "shadows need it; use " + std::string(takes(backend, "shadows") ? "--shadows off" : "--no-shadows"));
+  if (shadows_asked) renderer.set_shadows(*shadows_asked);
+
+  auto render = [&] { return renderer.render_offscreen(camera, name, size, k); };
+  if (frames > 1) bench::warm_up([&] { return vk::total_gpu_ms(render().passes); }, bench::kTimedWarmUpSeconds);
+  surface::SurfaceRenderer::Offscreen image;
+  std::vector<std::vector<vk::PassTiming>> timings;
+  for (uint32_t i = 0; i < frames; ++i) {
+    renderer.forget_shading();  // each timed frame costs what a moving camera's does
+    image = render();
+    timings.push_back(image.passes);
+  }
+  image.passes = median_passes(timings);
+  io::FloatImage out;
+  out.width = image.width;
+  out.height = image.height;
+  out.channels = 3;
+  for (size_t i = 0; i < image.rgba.size(); i += 4) out.pixels.insert(out.pixels.end(), {image.rgba[i], image.rgba[i + 1], image.rgba[i + 2]});
+  files.write(output, [&](const std::string& file) { io::write_image(file, out); });
+
+  const surface::GpuSurfaceScene& gpu = renderer.gpu_scene();
+  const surface::SurfaceRenderer::FrameCounts& c = image.counts;
+  const bool shadows = image.plan.find(frame::PassId::ShadowRays) != nullptr;
+  const bool default_lighting = lit.directional_lights.size() != scene.directional_lights.size();
+  size_t covered = 0;
+  for (size_t i = 3; i < image.rgba.size(); i += 4) covered += image.rgba[i] == 1.0f;
+  std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count
+            << " triangles, " << gpu.emitter_count << " emissive" << (c.space.empty() ? "" : ", " + c.space)
+            << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "") << ") on " << caps.name << "\n";
+  const double total = print_pass_times(std::cout, image.passes);
+  std::cout << "  total: " << json_number(total) << " ms GPU" << (frames > 1 ? " (median of " + std::to_string(frames) + " frames)" : "") << "\n";
+  std::cout << "  covered: " << covered << " pixels" << (c.shaded_field.empty() ? "" : ", " + std::to_string(c.shaded) + " shading invocations")
+            << (c.summary.empty() ? "" : c.summary.front()) << "\n";
+  for (size_t i = 1; i < c.summary.size(); ++i) std::cout << "  " << c.summary[i] << "\n";
+  if (default_lighting) std::cout << "  no lights in the scene: default headlight and sky\n";
+
+  if (a.has("stats")) {
+    nlohmann::ordered_json js;
+    js["device"] = caps.name;
+    js["driver"] = caps.driver_info;
+    js["dataset"] = scene.name;
+    js["mode"] = std::string(chosen.name);  // as given (--gi may have picked another mode of its backend: "gi" says which light)
+    js["quantity"] = "color";
+    js["width"] = size.width;
+    js["height"] = size.height;
+    if (takes(backend, "supersample")) js["supersample"] = k;
+    js["triangles"] = gpu.triangle_count;
+    js["emitters"] = gpu.emitter_count;
+    js["gpu_scene_bytes"] = gpu.bytes;
+    js["covered_pixels"] = covered;
+    js["default_lighting"] = default_lighting;
+    js["shadows"] = shadows;
+    if (!c.shaded_field.empty()) js[c.shaded_field] = c.shaded;
+    if (takes(backend, "frames")) js["frames"] = frames;
+    std::string fields;
+    for (const auto& [key, value] : js.items()) fields += ",\n  " + nlohmann::json(key).dump() + ": " + value.dump();
+    for (const auto& [key, value] : c.stats) fields += ",\n  " + nlohmann::json(key).dump() + ": " + json_of(value);
+    fields += plan_fields(image.plan);
+    files.write(a.values.at("stats"), [&](const std::string& file) {
+      write_stats_json(file, fields, image.passes, instance.validation_log().count());
+    });
+  }
+  files.commit();
+  return validation_exit(instance);
+}
+
+}  // namespace prismoid::app

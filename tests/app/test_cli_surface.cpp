@@ -1,0 +1,134 @@
+// End-to-end: the surface modes of the mode table through the command line as a user runs it:
+// every mode renders by its name, `info --plan` and `render --stats` give the surface frame's
+// plan with its reasons, and render's help lists the table.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "io/image_io.hpp"
+#include "renderer/surface/surface_modes.hpp"
+#include "support/cli_run.hpp"
+
+namespace prismoid {
+namespace {
+
+namespace fs = std::filesystem;
+
+using test::CliRun;
+using test::slurp;
+using test::cli::run;
+using test::cli::work_dir;
+
+TEST(CliSurface, RenderHelpListsEverySurfaceModeOfTheTable) {
+  const CliRun r = run("render --help");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const surface::SurfaceMode& m : surface::surface_mode_table())
+    EXPECT_NE(r.out.find("  " + std::string(m.name) + ": " + std::string(m.summary) + "\n"), std::string::npos) << m.name;
+  EXPECT_EQ(run("help render").out, r.out);
+}
+
+// The planner's surface frame without a GPU: cornell-box's default mode (the table's first),
+// a GI mode, and a surface file, which has no lights and so gets the headlight (which casts
+// shadows) and the sky (which GI bounces).
+TEST(CliSurface, InfoPlanGivesTheSurfaceFramesPassesWithReasons) {
+  CliRun r = run("info cornell-box --plan");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string first(surface::surface_mode_table().front().name);
+  EXPECT_NE(r.out.find("cornell-box: 32 triangles, 0 point and 0 directional lights, 2 emissive triangles, no sky; mode " + first + "\n"),
+            std::string::npos) << r.out;
+  for (const std::string line : {"\n  depth pre-pass (GPU): ", "\n  forward shading (GPU): ",
+                                 "\n  shadow rays (GPU, within the pass above): 2 emissive triangles cast shadows: ",
+                                 "\n  allocation: forward shades per pixel", "\n  gi: no indirect light asked for (mode forward)\n",
+                                 "\n  display: forward shading writes the image itself\n"})
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << " in\n" << r.out;
+
+  r = run("info cornell-box --plan --mode htex-gi-unbiased");
+  ASSERT_EQ(r.code, 0) << r.err;
+  size_t at = 0;
+  for (const std::string line : {"\n  pre-z + marking (GPU): ", "\n  allocation (GPU): ", "\n  shading (GPU): ", "\n  shadow rays (GPU, within",
+                                 "\n  gi samples (GPU): one-bounce indirect light asked for (mode htex-gi-unbiased: ReSTIR GI, unbiased), "
+                                 "bouncing the light of 2 emissive triangles off 32 triangles: ",
+                                 "\n  gi initial+temporal (GPU): ", "\n  gi spatial (GPU): ", "\n  gather (GPU): ", "\nskipped: none\n"}) {
+    const size_t found = r.out.find(line, at);
+    EXPECT_NE(found, std::string::npos) << line << " in order in\n" << r.out;
+    if (found != std::string::npos) at = found;
+  }
+
+  const fs::path off = work_dir() / "plan_cube.off";
+  {
+    std::ofstream out(off);
+    out << "OFF\n8 12 0\n";
+    for (int i = 0; i < 8; ++i) out << (i & 1) << " " << ((i >> 1) & 1) << " " << ((i >> 2) & 1) << "\n";
+    for (const char* f : {"0 1 3", "0 3 2", "4 6 7", "4 7 5", "0 4 5", "0 5 1", "2 3 7", "2 7 6", "0 2 6", "0 6 4", "1 5 7", "1 7 3"})
+      out << "3 " << f << "\n";
+  }
+  r = run("info " + off.string() + " --plan --mode texel");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const std::string line : {"12 triangles, 0 point and 1 directional lights, 0 emissive triangles, a sky (no lights of its own",
+                                 "\n  pre-z + queue (GPU): ", "\n  shadow rays (GPU, within the pass above): 1 directional light casts shadows: ",
+                                 "\n  allocation: the texel atlas is static", "\n  gi: no indirect light asked for (mode texel)\n"})
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << " in\n" << r.out;
+
+  // The CPU mode has no GPU passes; a volume's plan is unchanged.
+  r = run("info cornell-box --plan --mode path-reference");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("on the CPU (no GPU passes)"), std::string::npos) << r.out;
+  r = run("info field:blobs --plan --quantity color");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\n  surface-shading: no surfaces in the scene\n"), std::string::npos) << r.out;
+}
+
+// The stats of a surface render carry its plan as the volume modes' do: the planned passes
+// (the shadow rays within the shading pass) and the skipped ones with why; they are the passes
+// that ran.
+TEST(CliSurface, RenderStatsListThePlannedAndSkippedPasses) {
+  const fs::path pfm = work_dir() / "plan.pfm", stats = work_dir() / "plan.json";
+  CliRun r = run("render cornell-box --mode forward --shadows off --size 16x12 --validate --output " + pfm.string() + " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::string js = slurp(stats);
+  for (const std::string key : {"\"plan\": [", "{\"name\": \"depth pre-pass\", \"kind\": \"gpu\", \"reason\": \"positions only",
+                                "{\"name\": \"forward shading\", \"kind\": \"gpu\", \"reason\": ", "\"skipped\": [",
+                                "{\"pass\": \"shadow rays\", \"reason\": \"shadows are off\"}",
+                                "{\"pass\": \"gi\", \"reason\": \"no indirect light asked for (mode forward)\"}", "\"shadows\": false"})
+    EXPECT_NE(js.find(key), std::string::npos) << key << " in " << js;
+
+  r = run("render cornell-box --mode msa --size 16x12 --validate --output " + pfm.string() + " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  js = slurp(stats);
+  for (const std::string key : {"{\"name\": \"pre-z + visibility\", \"kind\": \"gpu\"", "{\"name\": \"block management\", \"kind\": \"gpu\"",
+                                "{\"name\": \"shading\", \"kind\": \"gpu\"", "{\"name\": \"shadow rays\", \"kind\": \"within\", \"reason\": \"2 emissive",
+                                "{\"name\": \"display\", \"kind\": \"gpu\"", "\"shadows\": true", "\"validation_messages\": 0"})
+    EXPECT_NE(js.find(key), std::string::npos) << key << " in " << js;
+}
+
+// Every GPU mode of the table renders by its own name (the GI modes too, which render's --gi
+// names as well); an unknown mode is not a surface mode.
+TEST(CliSurface, EveryGpuModeOfTheTableRendersByItsName) {
+  const fs::path pfm = work_dir() / "mode.pfm", stats = work_dir() / "mode.json";
+  for (const surface::SurfaceMode& m : surface::surface_mode_table()) {
+    if (!m.gpu()) continue;
+    std::string args = "render cornell-box --mode " + std::string(m.name) + " --size 16x12 --validate --output " + pfm.string() + " --stats " +
+                       stats.string();
+    if (m.backend == surface::find_surface_mode("htex")->backend) args += " --pool-pages 16 --texels-per-unit 0.05";
+    if (m.gi != frame::SurfaceGi::None) args += " --gi-frames 2";
+    const CliRun r = run(args);
+    ASSERT_EQ(r.code, 0) << m.name << ": " << r.err;
+    const io::FloatImage img = io::read_pfm(pfm.string());
+    ASSERT_EQ(img.width, 16u) << m.name;
+    for (float v : img.pixels) ASSERT_TRUE(std::isfinite(v)) << m.name;
+    const std::string js = slurp(stats);
+    EXPECT_NE(js.find("\"mode\": \"" + std::string(m.name) + "\""), std::string::npos) << js;
+    EXPECT_NE(js.find("\"validation_messages\": 0"), std::string::npos) << js;
+    if (m.gi != frame::SurfaceGi::None) {
+      EXPECT_NE(js.find("\"gi\": \"" + std::string(frame::surface_gi_name(m.gi)) + "\""), std::string::npos) << js;
+      EXPECT_NE(js.find("\"gi_frames\": 2"), std::string::npos) << js;
+      EXPECT_NE(js.find("{\"name\": \"gi spatial\", \"kind\": \"gpu\""), std::string::npos) << js;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace prismoid
