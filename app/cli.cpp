@@ -3,7 +3,6 @@
 #include <iostream>
 
 #include "app/commands.hpp"
-#include "app/viewer/viewer.hpp"
 #include "io/progress.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/error.hpp"
@@ -33,7 +32,7 @@ const char* kUsage =
 
 int dispatch(const std::vector<std::string>& args) {
   if (args.empty()) {
-    if (display_available()) return cmd_view({"view"});
+    if (window_available()) return cmd_view({"view"});
     std::cout << "no display: rendering the default dataset to prismoid-default.png\n";
     return cmd_render({"render", "--output", "prismoid-default.png"});
   }
@@ -56,7 +55,7 @@ int dispatch(const std::vector<std::string>& args) {
   if (verb == "info") return cmd_info(args);
   if (verb == "bench") return cmd_bench(args);
   if (verb.rfind("--", 0) == 0) {  // options without a verb: the default verb
-    std::vector<std::string> with_verb{display_available() ? "view" : "render"};
+    std::vector<std::string> with_verb{window_available() ? "view" : "render"};
     with_verb.insert(with_verb.end(), args.begin(), args.end());
     return with_verb.front() == "view" ? cmd_view(with_verb) : cmd_render(with_verb);
   }

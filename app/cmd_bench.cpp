@@ -22,11 +22,12 @@
 #include "app/bench/vtk_peers.hpp"
 #include "app/bench/x_display.hpp"
 #include "app/cli.hpp"
-#include "app/cli_args.hpp"
 #include "app/commands.hpp"
-#include "app/output_files.hpp"
-#include "app/reference_frame.hpp"
-#include "app/volume_options.hpp"
+#include "app/common/cli_args.hpp"
+#include "app/common/output_files.hpp"
+#include "app/common/reference_frame.hpp"
+#include "app/common/volume_options.hpp"
+#include "app/common/warm_up.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
@@ -276,7 +277,7 @@ int cmd_bench(const std::vector<std::string>& args) {
   preset.max_cells = a.has("max-cells") ? parse_uint("max-cells", a.values.at("max-cells")) : 2'000'000;
   const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : preset.quick ? 3 : 10;
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
-  preset.warm_up_seconds = a.has("warm-up") ? parse_double("warm-up", a.values.at("warm-up")) : preset.quick ? 0.0 : bench::kTimedWarmUpSeconds;
+  preset.warm_up_seconds = a.has("warm-up") ? parse_double("warm-up", a.values.at("warm-up")) : preset.quick ? 0.0 : app::kTimedWarmUpSeconds;
   if (!(preset.warm_up_seconds >= 0.0 && preset.warm_up_seconds <= 600.0)) throw InputError("--warm-up", "seconds must lie in [0, 600]");
   const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells", "surfaces"};
   const std::vector<std::string> sweeps = a.has("sweeps") ? split_list(a.values.at("sweeps")) : all_sweeps;
@@ -370,7 +371,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     }
 
     frame::FrameRenderer renderer(device, choice.mesh);
-    bench::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, choice.settings, extent).passes); }, preset.warm_up_seconds);
+    app::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, choice.settings, extent).passes); }, preset.warm_up_seconds);
     std::vector<std::vector<vk::PassTiming>> timings;
     std::vector<double> totals, cpu;
     frame::OffscreenFrame result;

@@ -6,13 +6,13 @@
 #include <glm/common.hpp>
 
 #include "app/cli.hpp"
-#include "app/cli_args.hpp"
 #include "app/commands.hpp"
-#include "app/dataset_loader.hpp"
+#include "app/common/cli_args.hpp"
+#include "app/common/dataset_loader.hpp"
+#include "app/common/output_files.hpp"
+#include "app/common/terminal_progress.hpp"
+#include "app/common/volume_options.hpp"
 #include "app/dataset_report.hpp"
-#include "app/output_files.hpp"
-#include "app/terminal_progress.hpp"
-#include "app/volume_options.hpp"
 #include "io/dataset_info.hpp"
 #include "io/image_volume_io.hpp"
 #include "io/surface_io.hpp"

@@ -2,8 +2,8 @@
 #include <iostream>
 
 #include "app/cli.hpp"
-#include "app/cli_args.hpp"
 #include "app/commands.hpp"
+#include "app/common/cli_args.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"

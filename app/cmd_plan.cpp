@@ -4,8 +4,8 @@
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
-#include "app/surface_args.hpp"
-#include "app/volume_options.hpp"
+#include "app/common/surface_args.hpp"
+#include "app/common/volume_options.hpp"
 #include "renderer/frame/frame_plan.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "scene/surface_generators.hpp"

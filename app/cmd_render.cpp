@@ -7,14 +7,14 @@
 #include <memory>
 #include <sstream>
 
-#include "app/bench/bench_cases.hpp"
 #include "app/cli.hpp"
-#include "app/cli_args.hpp"
 #include "app/commands.hpp"
-#include "app/frame_image.hpp"
-#include "app/output_files.hpp"
-#include "app/reference_frame.hpp"
-#include "app/volume_options.hpp"
+#include "app/common/cli_args.hpp"
+#include "app/common/frame_image.hpp"
+#include "app/common/output_files.hpp"
+#include "app/common/reference_frame.hpp"
+#include "app/common/volume_options.hpp"
+#include "app/common/warm_up.hpp"
 #include "io/image_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/surface/surface_modes.hpp"
@@ -179,7 +179,7 @@ int cmd_render(const std::vector<std::string>& args) {
     vk::Device device(*instance, caps, {});
     frame::FrameRenderer renderer(device, mesh);
     if (frames > 1)
-      bench::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, settings, size).passes); }, bench::kTimedWarmUpSeconds);
+      app::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, settings, size).passes); }, app::kTimedWarmUpSeconds);
     std::vector<std::vector<vk::PassTiming>> timings;
     for (uint32_t i = 0; i < frames; ++i) {
       renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused

@@ -5,10 +5,10 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/cli_args.hpp"
 #include "app/commands.hpp"
-#include "app/output_files.hpp"
-#include "app/surface_args.hpp"
+#include "app/common/cli_args.hpp"
+#include "app/common/output_files.hpp"
+#include "app/common/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/reference/path_tracer.hpp"
 #include "renderer/surface/surface_modes.hpp"

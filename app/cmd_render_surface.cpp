@@ -9,12 +9,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench/bench_cases.hpp"
 #include "app/cli.hpp"
-#include "app/cli_args.hpp"
 #include "app/commands.hpp"
-#include "app/output_files.hpp"
-#include "app/surface_args.hpp"
+#include "app/common/cli_args.hpp"
+#include "app/common/output_files.hpp"
+#include "app/common/surface_args.hpp"
+#include "app/common/warm_up.hpp"
 #include "io/image_io.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
@@ -191,7 +191,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   if (shadows_asked) renderer.set_shadows(*shadows_asked);
 
   auto render = [&] { return renderer.render_offscreen(camera, name, size, k); };
-  if (frames > 1) bench::warm_up([&] { return vk::total_gpu_ms(render().passes); }, bench::kTimedWarmUpSeconds);
+  if (frames > 1) app::warm_up([&] { return vk::total_gpu_ms(render().passes); }, app::kTimedWarmUpSeconds);
   surface::SurfaceRenderer::Offscreen image;
   std::vector<std::vector<vk::PassTiming>> timings;
   for (uint32_t i = 0; i < frames; ++i) {

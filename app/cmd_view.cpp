@@ -5,18 +5,18 @@
 #include <glm/common.hpp>
 
 #include "app/cli.hpp"
-#include "app/cli_args.hpp"
 #include "app/commands.hpp"
-#include "app/dataset_loader.hpp"
-#include "app/terminal_progress.hpp"
-#include "app/surface_args.hpp"
+#include "app/common/cli_args.hpp"
+#include "app/common/dataset_loader.hpp"
+#include "app/common/surface_args.hpp"
+#include "app/common/terminal_progress.hpp"
+#include "app/common/volume_options.hpp"
 #include "app/viewer/recent_files.hpp"
 #include "app/viewer/surface_viewer.hpp"
-#include "scene/surface_generators.hpp"
 #include "app/viewer/viewer.hpp"
 #include "renderer/surface/surface_modes.hpp"
-#include "app/volume_options.hpp"
 #include "scene/input_error.hpp"
+#include "scene/surface_generators.hpp"
 
 namespace prismoid::app {
 
@@ -49,6 +49,8 @@ Bounds union_bounds(const std::vector<Dataset>& datasets) {
 }
 
 }  // namespace
+
+bool window_available() { return display_available(); }
 
 const char* const kViewHelp =
     "usage: prismoid view [FILE...] [options]\n"

@@ -17,6 +17,10 @@ int cmd_info(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);
 int cmd_bench(const std::vector<std::string>& args);
 
+// Whether a window can open here (a display is set): then `view` is the default verb
+// (app/cmd_view.cpp, the one verb that knows the window).
+bool window_available();
+
 // The surface mode `--mode` names (either --mode M or --mode=M), from the surface mode table;
 // nullptr when it names none (then the volume modes apply).
 const surface::SurfaceMode* surface_mode_named(const std::vector<std::string>& args);

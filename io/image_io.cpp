@@ -42,7 +42,7 @@ void check_shape(const std::string& path, const FloatImage& image) {
 }
 
 // Writes `path` itself; a failed write removes what it left. Putting the file in place whole
-// (a temporary beside it, renamed) is the caller's: app/output_files.hpp.
+// (a temporary beside it, renamed) is the caller's: app/common/output_files.hpp.
 template <typename Writer>
 void write_or_remove(const std::string& path, Writer&& writer) {
   if (!writer(path)) {

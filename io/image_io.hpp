@@ -16,7 +16,7 @@ struct FloatImage {
 };
 
 // The writers write `path` itself and remove it again when the write fails; putting a file in
-// place whole (a temporary beside it, renamed) is the caller's: app/output_files.hpp.
+// place whole (a temporary beside it, renamed) is the caller's: app/common/output_files.hpp.
 // Writes linear colour in [0, 1] as 8-bit sRGB PNG (1, 3 or 4 channels). Throws InputError
 // naming the path when it cannot be written.
 void write_png(const std::string& path, const FloatImage& image);

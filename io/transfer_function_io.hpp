@@ -24,7 +24,7 @@ volume::TransferFunction read_paraview_colormap(const std::string& path);
 volume::TransferFunction parse_paraview_colormap(std::istream& in, const std::string& name);
 
 // Writes `tf` as a one-entry ParaView colour-map file (positions in [0, 1], sRGB colours) to
-// `path` itself (putting the file in place whole is the caller's, app/output_files.hpp);
+// `path` itself (putting the file in place whole is the caller's, app/common/output_files.hpp);
 // InputError when it cannot.
 void write_paraview_colormap(const std::string& path, const volume::TransferFunction& tf);
 

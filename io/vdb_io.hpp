@@ -107,7 +107,7 @@ VdbDense read_vdb_dense(const std::string& path, const VdbReadOptions& options =
 // a linear ramp across the inner band, 0 outside). The grid is called "density" (fog) or
 // "surface" (level set). voxel_size <= 0: the bounding-box diagonal / 128. Writes `path` itself
 // and removes it when the write fails (putting the file in place whole is the caller's,
-// app/output_files.hpp). InputError for an empty or open surface, a voxel size giving more than
+// app/common/output_files.hpp). InputError for an empty or open surface, a voxel size giving more than
 // max_voxels voxels in the padded bounding box or over half the box's smallest side (the grid
 // could not hold the inside), no voxel centre inside the surface, or a file that cannot be written.
 struct VdbWriteOptions {

@@ -61,7 +61,7 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options = {
 
 // Writes the mesh as a .vtu with its extinction as the cell array `extinction` (and the
 // point scalars, if any, as the point array `scalars`). Writes `path` itself (a failed write
-// removes it; putting the file in place whole is the caller's, app/output_files.hpp).
+// removes it; putting the file in place whole is the caller's, app/common/output_files.hpp).
 // InputError when it cannot write.
 void write_tet_mesh_vtu(const std::string& path, const TetMesh& mesh);
 

@@ -2,7 +2,6 @@
 // What `prismoid bench` measures: the list of cases (dataset x sweep x quantity x mode x setting x
 // image size), built from the preset before anything is loaded. Plain data, no Vulkan.
 #include <cstdint>
-#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,7 +24,7 @@ struct BenchCase {
 
 struct BenchPreset {
   bool quick = false;
-  double warm_up_seconds = 0.0;  // frames before each row's timed ones (warm_up)
+  double warm_up_seconds = 0.0;  // frames before each row's timed ones (app::warm_up)
   ImageSize size;              // the image size of every sweep but image-size
   uint64_t max_cells = 0;      // the cell-count sweep stops below this many cells
 };
@@ -43,17 +42,5 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
 // "key=value key=value", or "default".
 std::string settings_label(const BenchCase& c);
 
-// Draws `frame`, which returns its GPU time in ms, until `seconds` of wall clock have passed and
-// the frames have stopped getting faster (the median of the last 4 within 2% of the 4 before), for
-// 4 x `seconds` at most (just `seconds` where a frame's time is NaN: no timestamps), and at least
-// once (pipelines, caches, first-use work); returns how many frames that took. A row's timed
-// frames follow at once, and the frames should keep the GPU busy (no read-back between them).
-// Why: after an idle spell (the bench computes each CPU reference between rows) a GPU can stay at
-// its idle clock through a row's frames, and under frames with read-backs between them it rises
-// only slowly; rows timed then are several times too slow (docs/results.md, "The GPU's clock",
-// has the measurements).
-uint32_t warm_up(const std::function<double()>& frame, double seconds);
-// The warm-up of `prismoid render --frames N` (N > 1) and the bench's default.
-inline constexpr double kTimedWarmUpSeconds = 2.0;
 
 }  // namespace prismoid::bench

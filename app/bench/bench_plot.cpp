@@ -179,7 +179,7 @@ PlotAxisMap axis_map(vtkAxis* axis, bool horizontal, double height) {
 }
 
 // Writes `png` itself, removed again when the write fails; putting it in place whole is the
-// caller's (app/output_files.hpp).
+// caller's (app/common/output_files.hpp).
 void write_png(vtkRenderWindow* window, const fs::path& png) {
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(window);

@@ -65,7 +65,7 @@ struct PlotLayout {
 };
 
 // Draws the plot and writes it to png (removed again when the write fails; putting it in place
-// whole is the caller's, app/output_files.hpp). A plot with no drawable point is still written,
+// whole is the caller's, app/common/output_files.hpp). A plot with no drawable point is still written,
 // with "no data" under the title.
 // Throws InputError naming png when it cannot be written (missing folder, a folder in its place,
 // no permission), std::runtime_error without an X display, std::invalid_argument for a zero size.

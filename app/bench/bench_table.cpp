@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "app/bench/pareto.hpp"
-#include "app/cli_args.hpp"
+#include "app/common/cli_args.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::bench {

@@ -6,11 +6,12 @@
 #include <iostream>
 #include <map>
 
-#include "app/cli_args.hpp"
-#include "app/surface_args.hpp"
-#include "renderer/reference/direct_light.hpp"
+#include "app/common/cli_args.hpp"
+#include "app/common/surface_args.hpp"
+#include "app/common/warm_up.hpp"
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
+#include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/path_tracer.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
@@ -207,7 +208,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       const ReferenceImage& ref = references.at(ref_key);
       const std::vector<float>& reference = ref.rgba;
       const double peak = ref.peak, reference_ms = ref.ms;
-      bench::warm_up([&] { return vk::total_gpu_ms(draw(device, renderer, camera, mode, extent)); }, options.warm_up_seconds);
+      app::warm_up([&] { return vk::total_gpu_ms(draw(device, renderer, camera, mode, extent)); }, options.warm_up_seconds);
       if (covered_pixels == 0) {
         const std::vector<float> first = read_display(device, renderer, extent);
         for (size_t p = 3; p < first.size(); p += 4) covered_pixels += first[p] == 1.0f;

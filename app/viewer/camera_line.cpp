@@ -4,7 +4,7 @@
 #include <sstream>
 #include <vector>
 
-#include "app/cli_args.hpp"
+#include "app/common/cli_args.hpp"
 
 namespace prismoid::app {
 

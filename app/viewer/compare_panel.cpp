@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <string>
 
+#include "app/common/volume_options.hpp"
 #include "app/viewer/compare.hpp"
-#include "app/volume_options.hpp"
 
 namespace prismoid::app {
 

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
+#include "app/common/volume_options.hpp"
 #include "app/viewer/scene_merge.hpp"
-#include "app/volume_options.hpp"
 
 namespace prismoid::app {
 

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
+#include "app/common/volume_options.hpp"
 #include "app/viewer/panels.hpp"
-#include "app/volume_options.hpp"
 
 namespace prismoid::app {
 

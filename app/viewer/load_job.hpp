@@ -11,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include "app/dataset_loader.hpp"
+#include "app/common/dataset_loader.hpp"
 #include "app/viewer/view_state.hpp"
 
 namespace prismoid::app {

@@ -5,8 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "app/common/volume_options.hpp"
 #include "app/viewer/panels.hpp"
-#include "app/volume_options.hpp"
 
 namespace prismoid::app {
 

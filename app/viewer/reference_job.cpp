@@ -4,7 +4,7 @@
 #include <cmath>
 #include <exception>
 
-#include "app/reference_frame.hpp"
+#include "app/common/reference_frame.hpp"
 
 namespace prismoid::app {
 

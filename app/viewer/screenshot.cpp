@@ -3,7 +3,7 @@
 #include <cmath>
 #include <utility>
 
-#include "app/output_files.hpp"
+#include "app/common/output_files.hpp"
 #include "renderer/vk/device.hpp"
 
 namespace prismoid::app {

@@ -20,7 +20,7 @@ class SwapchainCapture {
   // image goes back to PRESENT_SRC. `path` is written by finish().
   void record(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, VkFormat format, std::string path);
   bool pending() const { return !path_.empty(); }
-  // After the recorded frame has finished: writes the PNG through app/output_files.hpp (never
+  // After the recorded frame has finished: writes the PNG through app/common/output_files.hpp (never
   // over one of `inputs`), returns its path (nullopt if none was pending).
   std::optional<std::string> finish(const std::vector<std::string>& inputs);
 

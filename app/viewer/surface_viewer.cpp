@@ -7,7 +7,7 @@
 #include <optional>
 #include <sstream>
 
-#include "app/output_files.hpp"
+#include "app/common/output_files.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/imgui_layer.hpp"
 #include "app/viewer/screenshot.hpp"

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <glm/geometric.hpp>
 
-#include "app/volume_options.hpp"
+#include "app/common/volume_options.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/input_error.hpp"
 

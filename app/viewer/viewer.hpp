@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "app/dataset_loader.hpp"
+#include "app/common/dataset_loader.hpp"
 #include "app/viewer/panels.hpp"
 #include "app/viewer/reference_job.hpp"
 #include "app/viewer/view_state.hpp"

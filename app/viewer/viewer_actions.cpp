@@ -8,15 +8,15 @@
 #include <iostream>
 #include <unistd.h>
 
-#include "app/cli_args.hpp"
-#include "app/frame_image.hpp"
-#include "app/output_files.hpp"
+#include "app/common/cli_args.hpp"
+#include "app/common/frame_image.hpp"
+#include "app/common/output_files.hpp"
+#include "app/common/volume_options.hpp"
 #include "app/viewer/camera_line.hpp"
-#include "app/viewer/dataset_list.hpp"
 #include "app/viewer/compare.hpp"
+#include "app/viewer/dataset_list.hpp"
 #include "app/viewer/mouse_bindings.hpp"
 #include "app/viewer/viewer_session.hpp"
-#include "app/volume_options.hpp"
 #include "io/image_io.hpp"
 #include "io/transfer_function_io.hpp"
 #include "scene/input_error.hpp"

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "app/dataset_loader.hpp"
+#include "app/common/dataset_loader.hpp"
 #include "app/viewer/load_job.hpp"
 #include "app/viewer/open_panel.hpp"
 #include "renderer/frame/frame_renderer.hpp"

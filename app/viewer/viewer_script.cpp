@@ -4,7 +4,7 @@
 #include <map>
 #include <sstream>
 
-#include "app/cli_args.hpp"
+#include "app/common/cli_args.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {

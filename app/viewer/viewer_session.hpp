@@ -42,7 +42,7 @@ struct ViewerSession {
   // A script's wait-reference: its commands pause until the difference view settles or then.
   std::optional<std::chrono::steady_clock::time_point> reference_deadline;
   // The files the window read (datasets, the script, colour maps): its outputs may not be any
-  // of them (app/output_files.hpp).
+  // of them (app/common/output_files.hpp).
   std::vector<std::string> inputs;
 
   double aspect() const;

@@ -17,8 +17,7 @@
 #include <unistd.h>
 
 #include "app/bench/bench_table.hpp"
-#include "support/cli_run.hpp"
-#include "app/grid_dataset.hpp"
+#include "app/common/grid_dataset.hpp"
 #include "io/image_io.hpp"
 #include "io/surface_io.hpp"
 #include "io/vdb_io.hpp"
@@ -27,6 +26,7 @@
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/region_mesh.hpp"
 #include "scene/generators.hpp"
+#include "support/cli_run.hpp"
 
 namespace prismoid {
 namespace {

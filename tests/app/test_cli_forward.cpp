@@ -11,13 +11,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "app/common/cli_args.hpp"
+#include "app/common/surface_args.hpp"
 #include "io/image_io.hpp"
-#include "support/cli_run.hpp"
 #include "renderer/reference/direct_light.hpp"
-#include "app/cli_args.hpp"
-#include "app/surface_args.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/surface_generators.hpp"
+#include "support/cli_run.hpp"
 
 namespace prismoid {
 namespace {

@@ -1,6 +1,6 @@
 // Nothing a user owns is lost and nothing half-written is left behind: every file a command
 // writes is declared and checked before the command's work and put in place whole, together
-// with the command's other outputs (app/output_files.hpp). Each refused command is checked for
+// with the command's other outputs (app/common/output_files.hpp). Each refused command is checked for
 // its exit code and message and for leaving its folder exactly as it was, byte for byte.
 #include <gtest/gtest.h>
 

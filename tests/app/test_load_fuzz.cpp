@@ -45,7 +45,7 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include "app/cli.hpp"
-#include "app/dataset_loader.hpp"
+#include "app/common/dataset_loader.hpp"
 #include "io/isolated_read.hpp"
 #include "io/progress.hpp"
 #include "io/vdb_io.hpp"

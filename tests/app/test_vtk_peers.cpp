@@ -15,7 +15,7 @@
 
 #include "app/bench/vtk_peers.hpp"
 #include "app/bench/x_display.hpp"
-#include "app/reference_frame.hpp"
+#include "app/common/reference_frame.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"

@@ -5,12 +5,13 @@
 //
 // The rules are the table below. A rule covers the files whose path (from the repository root)
 // starts with one of `files` and with none of `except`; those files may not include anything
-// whose name starts with one of `forbidden`. A quoted include is named by its path from the
+// whose name starts with one of `forbidden` unless it also starts with one of `allowed`. A quoted include is named by its path from the
 // repository root (resolved against the including file's folder first, as the compiler does, so
 // GLSL's "../shared/x.h" counts as shaders/shared/x.h); an angled one by its name as written
 // (<vulkan/vulkan.h>, <vtkPolyData.h>).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -26,24 +27,31 @@ struct Rule {
   std::vector<std::string_view> files;      // path prefixes the rule covers
   std::vector<std::string_view> except;     // ... except these
   std::vector<std::string_view> forbidden;  // include prefixes those files may not use
+  std::vector<std::string_view> allowed;    // ... except these
   std::string_view why;
 };
 
 // "vulkan/" is Vulkan's headers, "vtk" VTK's (vtk*.h).
 const std::vector<Rule> kRules = {
-    {{""}, {"app/", "tests/"}, {"app/"},
+    {{""}, {"app/", "tests/"}, {"app/"}, {},
      "app/ is the top layer: only app/ and the tests include it"},
-    {{"scene/"}, {}, {"io/", "renderer/", "vulkan/", "vtk"},
+    {{"app/common/"}, {}, {"app/"}, {"app/common/"},
+     "app/common is the bottom of app/: the verbs, the window and the bench build on it, so it includes none of them"},
+    {{"app/viewer/"}, {}, {"app/"}, {"app/common/", "app/viewer/"},
+     "the window builds on app/common only: the verbs (app/ itself) sit above it and the bench beside it"},
+    {{"app/bench/"}, {}, {"app/"}, {"app/common/", "app/bench/"},
+     "the bench builds on app/common only: the verbs (app/ itself) sit above it and the window beside it"},
+    {{"scene/"}, {}, {"io/", "renderer/", "vulkan/", "vtk"}, {},
      "scene/ is the plain data io and the renderers speak: it includes neither, nor Vulkan or VTK"},
-    {{"io/"}, {}, {"renderer/vk/", "renderer/rt/", "vulkan/"},
+    {{"io/"}, {}, {"renderer/vk/", "renderer/rt/", "vulkan/"}, {},
      "io/ never touches Vulkan"},
-    {{"renderer/"}, {}, {"io/", "vtk"},
+    {{"renderer/"}, {}, {"io/", "vtk"}, {},
      "renderers never parse files, and VTK types stay inside io/"},
-    {{"renderer/reference/", "renderer/metrics/"}, {}, {"renderer/vk/", "renderer/rt/", "vulkan/"},
+    {{"renderer/reference/", "renderer/metrics/"}, {}, {"renderer/vk/", "renderer/rt/", "vulkan/"}, {},
      "the CPU references and the image metrics run without Vulkan"},
-    {{"renderer/vk/"}, {}, {"renderer/volume/", "renderer/rt/", "renderer/frame/", "renderer/surface/", "renderer/reference/", "renderer/metrics/"},
+    {{"renderer/vk/"}, {}, {"renderer/volume/", "renderer/rt/", "renderer/frame/", "renderer/surface/", "renderer/reference/", "renderer/metrics/"}, {},
      "renderer/vk is the bottom of the renderer: everything else is built on it"},
-    {{"renderer/rt/"}, {}, {"renderer/volume/", "renderer/frame/", "renderer/surface/", "renderer/reference/", "renderer/metrics/"},
+    {{"renderer/rt/"}, {}, {"renderer/volume/", "renderer/frame/", "renderer/surface/", "renderer/reference/", "renderer/metrics/"}, {},
      "renderer/rt depends on vk and scene only"},
 };
 
@@ -92,7 +100,8 @@ std::string resolved_name(const std::filesystem::path& root, const std::string& 
 std::vector<Violation> check(const std::string& file, int line, const std::string& name) {
   std::vector<Violation> out;
   for (const Rule& r : kRules)
-    if (starts_with_any(file, r.files) && !starts_with_any(file, r.except) && starts_with_any(name, r.forbidden))
+    if (starts_with_any(file, r.files) && !starts_with_any(file, r.except) && starts_with_any(name, r.forbidden) &&
+        !starts_with_any(name, r.allowed))
       out.push_back({file, line, name, r.why});
   return out;
 }
@@ -158,6 +167,16 @@ TEST(LayeringRules, AllowsWhatTheArchitectureAllows) {
   const std::vector<std::pair<std::string, std::string>> allowed = {
       {"tests/app/test_cli.cpp", "app/cli.hpp"},
       {"app/cmd_render.cpp", "renderer/vk/device.hpp"},
+      {"app/cmd_view.cpp", "app/viewer/viewer.hpp"},
+      {"app/cmd_bench.cpp", "app/bench/bench_table.hpp"},
+      {"app/cmd_render.cpp", "app/common/volume_options.hpp"},
+      {"app/cli.cpp", "app/commands.hpp"},
+      {"app/common/volume_options.hpp", "app/common/cli_args.hpp"},
+      {"app/common/cli_args.hpp", "renderer/vk/timer.hpp"},
+      {"app/viewer/viewer.cpp", "app/common/dataset_loader.hpp"},
+      {"app/viewer/viewer.cpp", "app/viewer/window_loop.hpp"},
+      {"app/bench/surface_bench.cpp", "app/common/surface_args.hpp"},
+      {"app/bench/bench_table.cpp", "app/bench/pareto.hpp"},
       {"app/viewer/viewer.cpp", "io/surface_io.hpp"},
       {"app/bench/vtk_peers.cpp", "vtkUnstructuredGrid.h"},
       {"io/transfer_function_io.hpp", "renderer/volume/transfer_function.hpp"},
@@ -171,6 +190,34 @@ TEST(LayeringRules, AllowsWhatTheArchitectureAllows) {
       {"shaders/surface/htex/htex.glsl", "shaders/shared/htex.h"},
   };
   for (const auto& [file, name] : allowed) EXPECT_TRUE(check(file, 1, name).empty()) << file << " including " << name;
+}
+
+// The layers inside app/: the verbs on top, the window and the bench beside each other, app/common
+// at the bottom. Each of these includes breaks exactly the rule named.
+TEST(LayeringRules, AppLayersPointDown) {
+  struct Case {
+    std::string file, name, rule_files;
+  };
+  const std::vector<Case> forbidden = {
+      {"app/common/cli_args.cpp", "app/cli.hpp", "app/common/"},
+      {"app/common/volume_options.cpp", "app/viewer/view_state.hpp", "app/common/"},
+      {"app/common/warm_up.cpp", "app/bench/bench_cases.hpp", "app/common/"},
+      {"app/common/dataset_loader.cpp", "app/dataset_report.hpp", "app/common/"},
+      {"app/viewer/viewer.cpp", "app/cli.hpp", "app/viewer/"},
+      {"app/viewer/viewer.cpp", "app/commands.hpp", "app/viewer/"},
+      {"app/viewer/viewer.cpp", "app/cmd_render.cpp", "app/viewer/"},
+      {"app/viewer/mode_panel.cpp", "app/bench/bench_table.hpp", "app/viewer/"},
+      {"app/bench/surface_bench.cpp", "app/commands.hpp", "app/bench/"},
+      {"app/bench/surface_bench.cpp", "app/cli.hpp", "app/bench/"},
+      {"app/bench/bench_table.cpp", "app/viewer/viewer.hpp", "app/bench/"},
+  };
+  for (const Case& c : forbidden) {
+    const std::vector<Violation> v = check(c.file, 3, c.name);
+    ASSERT_EQ(v.size(), 1u) << c.file << " including " << c.name;
+    const auto rule = std::find_if(kRules.begin(), kRules.end(), [&](const Rule& r) { return r.why == v.front().why; });
+    ASSERT_NE(rule, kRules.end());
+    EXPECT_EQ(rule->files.front(), c.rule_files) << c.file << " including " << c.name << ": " << v.front().why;
+  }
 }
 
 // Include lines are read as the preprocessor reads them, and relative quoted names resolve

@@ -1,4 +1,4 @@
-#include "app/volume_options.hpp"
+#include "app/common/volume_options.hpp"
 
 #include <algorithm>
 #include <iostream>
@@ -6,8 +6,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
-#include "app/dataset_loader.hpp"
-#include "app/terminal_progress.hpp"
+#include "app/common/dataset_loader.hpp"
+#include "app/common/terminal_progress.hpp"
 #include "io/transfer_function_io.hpp"
 #include "io/vdb_io.hpp"
 #include "scene/input_error.hpp"

@@ -1,9 +1,9 @@
-#include "app/grid_dataset.hpp"
+#include "app/common/grid_dataset.hpp"
 
 #include <algorithm>
 #include <mutex>
 
-#include "app/cli_args.hpp"
+#include "app/common/cli_args.hpp"
 #include "renderer/volume/region_mesh.hpp"
 #include "scene/input_error.hpp"
 

@@ -1,4 +1,4 @@
-#include "app/output_files.hpp"
+#include "app/common/output_files.hpp"
 
 #include <algorithm>
 #include <array>

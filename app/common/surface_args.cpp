@@ -1,4 +1,4 @@
-#include "app/surface_args.hpp"
+#include "app/common/surface_args.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "app/cli_args.hpp"
+#include "app/common/cli_args.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/surface_mesh.hpp"
 #include "scene/surface_scene.hpp"

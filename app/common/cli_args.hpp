@@ -58,7 +58,7 @@ double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& pa
 void write_stats_json(const std::string& path, const std::string& fields, const std::vector<vk::PassTiming>& passes, size_t validation_messages);
 
 class OutputFiles;
-// What every render verb reads and writes, declared before its work (app/output_files.hpp):
+// What every render verb reads and writes, declared before its work (app/common/output_files.hpp):
 // reads FILE and a --tf file; writes --output (.png or .pfm), and --stats (.json) and
 // --variance (.pfm) where given.
 void declare_render_files(OutputFiles& files, const ParsedArgs& a);

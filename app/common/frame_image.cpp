@@ -1,4 +1,4 @@
-#include "app/frame_image.hpp"
+#include "app/common/frame_image.hpp"
 
 #include <filesystem>
 

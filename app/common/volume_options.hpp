@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "app/cli_args.hpp"
+#include "app/common/cli_args.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/volume/analytic_field.hpp"
 #include "renderer/volume/transfer_function.hpp"

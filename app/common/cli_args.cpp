@@ -1,4 +1,4 @@
-#include "app/cli_args.hpp"
+#include "app/common/cli_args.hpp"
 
 #include <algorithm>
 #include <array>
@@ -9,8 +9,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/cli.hpp"
-#include "app/output_files.hpp"
+#include "app/common/exit_code.hpp"
+#include "app/common/output_files.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "app/cli_args.hpp"
+#include "app/common/cli_args.hpp"
 #include "io/progress.hpp"
 #include "io/surface_io.hpp"
 #include "io/vtk_tet_io.hpp"

@@ -1,4 +1,4 @@
-#include "app/terminal_progress.hpp"
+#include "app/common/terminal_progress.hpp"
 
 #include <cstdio>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-#include "app/dataset_loader.hpp"
+#include "app/common/dataset_loader.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -6,7 +6,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/grid_dataset.hpp"
+#include "app/common/grid_dataset.hpp"
 #include "io/image_volume_io.hpp"
 #include "io/vdb_io.hpp"
 #include "scene/generators.hpp"

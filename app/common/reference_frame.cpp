@@ -1,4 +1,4 @@
-#include "app/reference_frame.hpp"
+#include "app/common/reference_frame.hpp"
 
 #include <chrono>
 #include <cmath>
