@@ -24,9 +24,19 @@ enum class Ordering {
 };
 const char* ordering_name(Ordering ordering);
 
+// What draws a volume frame's intervals into the accumulation targets (the resolve after
+// them is shared).
+enum class IntervalBackend {
+  Mesh,     // mesh shaders and the rasterizer (Tricard 2024): the paper's method
+  Compute,  // compute shaders on every core: cells binned into tiles, each pixel's exact
+            // interval through every cell of its tile on its own ray (volume/compute_intervals.hpp)
+};
+const char* interval_backend_name(IntervalBackend backend);  // "mesh", "compute"
+
 struct FrameSettings {
   volume::ResolveSettings resolve;
-  Ordering ordering = Ordering::GpuSort;
+  Ordering ordering = Ordering::GpuSort;  // the mesh backend's draw order (the compute backend orders per pixel)
+  IntervalBackend backend = IntervalBackend::Mesh;
 };
 
 // How a volume interacts with light in this frame.
@@ -77,6 +87,9 @@ enum class PassId {
   Sort,             // "sort" (GPU): keys and radix sort
   UploadOrder,      // "upload-order" (GPU): the CPU's order into device memory
   Intervals,        // volume::interval_pass_name(settings) (GPU)
+  BinCells,         // "bin-cells" (GPU, compute backend): cells' tiles, counted, allocated, written as pairs
+  TileSort,         // "tile-sort" (GPU, compute backend): pairs sorted by (tile, depth), tile ranges
+  TileRaster,       // "tile-raster" (GPU, compute backend): each pixel's intervals, integrated
   Resolve,          // "resolve" (GPU)
   SurfaceShading,   // "surface-shading" in volume plans (never planned there); a surface backend's shading pass
   GlobalIllumination,  // "gi" in volume plans (never planned there); a surface backend's indirect-light passes
@@ -109,7 +122,8 @@ struct FramePlan {
   std::vector<std::string> gpu_pass_names() const;
 };
 
-// Throws InputError for settings no plan satisfies (tetlets with an ordered colour mode).
+// Throws InputError for settings no plan satisfies (tetlets with an ordered colour mode, or
+// with the compute backend).
 FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings);
 
 // One line per pass: "  NAME (GPU|CPU): REASON" ("(GPU, within the pass above)" for

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "renderer/vk/device.hpp"
+#include "renderer/volume/compute_intervals.hpp"
 #include "scene/input_error.hpp"
 #include "renderer/volume/visibility_order.hpp"
 #include "renderer/volume/visibility_sort.hpp"
@@ -87,12 +88,23 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
   FrameReport report;
   for (const vk::Buffer* b : {&mesh_.positions, &mesh_.tets, &mesh_.cell_sigma, &mesh_.point_sigma, &mesh_.cell_scalar, &mesh_.point_scalar})
     report.mesh_bytes += b->size();
-  interval_.prepare(mesh_, settings.resolve);  // checks the settings before anything is planned
+  const bool compute = settings.backend == IntervalBackend::Compute;
+  // Checks the settings before anything is planned; the compute backend needs no mesh pipeline.
+  interval_.prepare(mesh_, settings.resolve, !compute);
   report.warnings =
       volume::check_float_limits(float_facts_, camera, targets_.extent.width, targets_.extent.height, settings.resolve, true,
                                  &orderings_->geometry.points)
           .warnings;
   report.plan = plan_frame(scene_contents(camera, settings), settings);
+  report.backend = interval_backend_name(settings.backend);
+  if (compute) {
+    if (!compute_) compute_ = std::make_unique<volume::ComputeIntervals>(device_);
+    // The last frame (finished: no frame is in flight here) may have asked for more pairs
+    // than the buffers held and drawn only those that fit; this one gets room for them all.
+    if (compute_->recorded()) compute_->reserve_pairs(compute_->read_stats().pairs);
+    compute_->prepare(mesh_, settings.resolve, targets_.extent);
+    report.backend_bytes = compute_->bytes();
+  }
   Orderings& o = *orderings_;
   o.order = nullptr;
   o.draw_tetlets = nullptr;
@@ -136,7 +148,12 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
   }
   const bool ordered = report.plan.find(PassId::Sort) || report.plan.find(PassId::UploadOrder) || report.plan.reuses_order;
   const std::string reused = report.plan.reuses_order ? "; reused: camera still" : "";
-  if (!volume::order_dependent(settings.resolve.quantity)) {
+  if (compute && volume::order_dependent(settings.resolve.quantity)) {
+    // Exact unless a pixel's intervals arrive too far out of order for its k-buffer, which the
+    // frame counts (FrameReport::inexact_pixels, once it finished).
+    report.ordering = "per-pixel (k-buffer of " + std::to_string(volume::ComputeIntervals::kKBuffer) + " over tiles sorted by depth)";
+    report.order_exact = false;
+  } else if (!volume::order_dependent(settings.resolve.quantity)) {
     // Additive quantities: any order gives the same sum, so nothing sorts.
     report.ordering = "none (order-independent)";
     report.order_exact = true;
@@ -181,6 +198,15 @@ void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const Fram
       case PassId::Intervals:
         interval_.record_intervals(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order, o.draw_tetlets);
         break;
+      case PassId::BinCells:
+        compute_->record_bin(cmd, mesh_, targets_, camera, settings.resolve, interval_, timer);
+        break;
+      case PassId::TileSort:
+        compute_->record_sort(cmd, timer);
+        break;
+      case PassId::TileRaster:
+        compute_->record_raster(cmd, targets_, interval_, timer);
+        break;
       case PassId::Resolve:
         interval_.record_resolve(cmd, targets_, settings.resolve, timer);
         break;
@@ -199,11 +225,25 @@ void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const Fram
 OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const FrameSettings& settings, VkExtent2D extent) {
   resize(extent);
   OffscreenFrame frame;
-  frame.report = prepare(camera, settings);
-  device_.submit_and_wait([&](VkCommandBuffer cmd) {
-    offscreen_timer_.reset(cmd);
-    record(cmd, camera, settings, offscreen_timer_);
-  });
+  const bool compute = settings.backend == IntervalBackend::Compute;
+  for (int attempt = 0;; ++attempt) {
+    frame.report = prepare(camera, settings);
+    device_.submit_and_wait([&](VkCommandBuffer cmd) {
+      offscreen_timer_.reset(cmd);
+      record(cmd, camera, settings, offscreen_timer_);
+    });
+    if (!compute) break;
+    // A frame that needed more (tile, cell) pairs than the buffers held drew only part of its
+    // cells: it is drawn again with room for all of them (prepare() grows the buffers).
+    const volume::ComputeIntervalStats stats = compute_->read_stats();
+    frame.report.counts_known = true;
+    frame.report.pairs = stats.sorted;
+    frame.report.inexact_pixels = stats.inexact_pixels;
+    if (volume::order_dependent(settings.resolve.quantity)) frame.report.order_exact = stats.inexact_pixels == 0;
+    if (stats.complete()) break;
+    if (attempt > 0) throw std::logic_error("FrameRenderer: the compute backend's pairs did not fit after growing");
+    forget_history();
+  }
   frame.width = extent.width;
   frame.height = extent.height;
   const size_t pixels = size_t(extent.width) * extent.height;

@@ -16,6 +16,7 @@
 #include "scene/tet_mesh.hpp"
 
 namespace prismoid::volume {
+class ComputeIntervals;
 class VisibilitySort;
 }  // namespace prismoid::volume
 
@@ -36,6 +37,17 @@ struct FrameReport {
   // What float32 renders only approximately in this frame, and by how much
   // (volume::check_float_limits); empty when the frame is exact to its tolerances.
   std::vector<std::string> warnings;
+  // The interval backend (frame::interval_backend_name) and the device memory it holds
+  // beyond the mesh and the targets (the compute backend's pairs, per-cell bins, tile ranges
+  // and sort scratch; 0 for the mesh backend).
+  std::string backend = "mesh";
+  uint64_t backend_bytes = 0;
+  // The compute backend's counts, known once the frame finished (offscreen frames): the
+  // (tile, cell) pairs drawn, and colour pixels whose intervals arrived too far out of order
+  // for the k-buffer (composited in arrival order past it, so not exact).
+  bool counts_known = false;
+  uint64_t pairs = 0;
+  uint64_t inexact_pixels = 0;
 };
 
 struct OffscreenFrame {
@@ -80,6 +92,8 @@ class FrameRenderer {
 
   const Bounds& bounds() const { return bounds_; }
   const volume::IntervalShadingPass& interval_pass() const { return interval_; }
+  // The compute backend; nullptr until a frame chose it.
+  const volume::ComputeIntervals* compute_intervals() const { return compute_.get(); }
   // The GPU visibility sort; nullptr until a frame planned a sort (for tests: its pipelines
   // exist, and can be bound, only once one did).
   const volume::VisibilitySort* gpu_sort() const;
@@ -91,6 +105,7 @@ class FrameRenderer {
   Bounds bounds_;
   volume::MeshFloatFacts float_facts_;
   volume::IntervalShadingPass interval_;
+  std::unique_ptr<volume::ComputeIntervals> compute_;
   std::unique_ptr<Orderings> orderings_;
   struct Recorded;  // what the last recorded frame left behind
   std::unique_ptr<Recorded> recorded_;

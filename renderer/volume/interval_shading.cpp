@@ -71,6 +71,7 @@ GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   const Bounds bounds = bounds_of(mesh);
   gpu.origin = bounds.center();
   gpu.extinction_cap = extinction_cap(glm::length(bounds.max - bounds.min));
+  gpu.radius = 0.5 * glm::length(bounds.max - bounds.min);
   auto capped = [&](const std::vector<double>& v) {
     std::vector<float> out(v.size());
     for (size_t i = 0; i < v.size(); ++i) out[i] = float(std::min(v[i], gpu.extinction_cap));
@@ -269,7 +270,7 @@ void IntervalShadingPass::bind_order(const vk::Buffer* order) {
   bound_order_ = buffer.serial();
 }
 
-void IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings& settings) {
+void IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings& settings, bool mesh_pipeline) {
   validate_march(mesh, settings);
   if (std::find(kTetletSizes.begin(), kTetletSizes.end(), settings.tetlet_size) == kTetletSizes.end())
     throw InputError("--tetlet-size", "must be 1, 4, 8 or 16 cells per mesh workgroup");
@@ -278,7 +279,7 @@ void IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings&
                                           " near-clipped cells' proxies in one mesh workgroup");
   if (settings.shared_vertices && settings.tetlet_size == 1)
     throw InputError("--shared-vertices", "groups several cells per workgroup: use --tetlet-size 4, 8 or 16");
-  pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
+  if (mesh_pipeline) pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
   if (settings.march.enabled && settings.march.field.kind == FieldKind::Grid) upload_grid(settings.march.field.grid);
   if (settings.quantity != Quantity::Color) return;
   if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
@@ -370,6 +371,41 @@ void IntervalShadingPass::bind_targets(const VolumeTargets& targets) {
   bound_targets_ = key;
 }
 
+gpu::FrameUniforms IntervalShadingPass::frame_uniforms(const GpuTetMesh& mesh, const Camera& camera, VkExtent2D e,
+                                                      const ResolveSettings& settings, bool ordered) const {
+  const bool emission = settings.quantity == Quantity::Color;
+  const bool march = settings.march.enabled;
+  const bool use_table = settings.preintegration_size > 0;
+  const double aspect = double(e.width) / double(e.height);
+  const glm::dmat4 proj = projection_matrix(camera, aspect);
+
+  gpu::FrameUniforms frame{};
+  const glm::dmat4 view = view_matrix(camera, mesh.origin);
+  frame.view = to_float(view);
+  frame.projection = to_float(proj);
+  frame.viewport = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
+  // The near plane's depth minus the mesh origin's (view[3].z is minus that depth), in double:
+  // the interval stages clip relative to each cell's reference point, at any distance from the eye.
+  frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance),
+                              float(camera.near_distance + view[3][2]));
+  // Marching draws every cell (the mesh shader's emission path: no cell is culled by its
+  // extinction, near-clipped pieces in order) and ignores the proxy's linear field.
+  const bool per_point = emission || march ? mesh.scalar_per_point : mesh.linear;
+  frame.counts = glm::uvec4(mesh.tet_count, per_point ? 1u : 0u,
+                            emission || march ? PRISMOID_INTEGRAND_EMISSION : PRISMOID_INTEGRAND_OPTICAL_DEPTH, ordered ? 1u : 0u);
+  const TransferFunction& tf = settings.transfer;
+  const ScalarMapping mapping = scalar_mapping(tf);
+  frame.transfer = glm::vec4(float(mapping.scale), float(mapping.offset), float(table_.max_length), float(table_.size));
+  frame.options = glm::uvec4(uint32_t(table_tf_.size()), use_table ? PRISMOID_SEGMENTS_TABLE : PRISMOID_SEGMENTS_EXACT, 0u, 0u);
+  if (march) fill_march_uniforms(frame, settings, camera, mesh.origin, mesh.extinction_cap);
+  return frame;
+}
+
+void IntervalShadingPass::intervals_drawn_by_compute() {
+  intervals_recorded_ = true;
+  intervals_by_compute_ = true;
+}
+
 void IntervalShadingPass::record(VkCommandBuffer cmd, const GpuTetMesh& mesh, VolumeTargets& targets, const Camera& camera,
                                  const ResolveSettings& settings, vk::GpuTimer& timer, const vk::Buffer* order,
                                  const GpuTetlets* tetlets) {
@@ -396,28 +432,7 @@ void IntervalShadingPass::record_intervals(VkCommandBuffer cmd, const GpuTetMesh
     throw std::logic_error("IntervalShadingPass: tetlets draw in their own order, built for their own size");
   bind_tetlets(tetlets);
   const VkExtent2D e = targets.extent;
-  const double aspect = double(e.width) / double(e.height);
-  const glm::dmat4 proj = projection_matrix(camera, aspect);
-
-  gpu::FrameUniforms frame{};
-  const glm::dmat4 view = view_matrix(camera, mesh.origin);
-  frame.view = to_float(view);
-  frame.projection = to_float(proj);
-  frame.viewport = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
-  // The near plane's depth minus the mesh origin's (view[3].z is minus that depth), in double:
-  // the mesh shader clips relative to each cell's reference point, at any distance from the eye.
-  frame.ray_scale = glm::vec4(float(1.0 / proj[0][0]), float(1.0 / proj[1][1]), float(camera.near_distance),
-                              float(camera.near_distance + view[3][2]));
-  // Marching draws every cell (the mesh shader's emission path: no cell is culled by its
-  // extinction, near-clipped pieces in order) and ignores the proxy's linear field.
-  const bool per_point = emission || march ? mesh.scalar_per_point : mesh.linear;
-  frame.counts = glm::uvec4(mesh.tet_count, per_point ? 1u : 0u,
-                            emission || march ? PRISMOID_INTEGRAND_EMISSION : PRISMOID_INTEGRAND_OPTICAL_DEPTH, order ? 1u : 0u);
-  const TransferFunction& tf = settings.transfer;
-  const ScalarMapping mapping = scalar_mapping(tf);
-  frame.transfer = glm::vec4(float(mapping.scale), float(mapping.offset), float(table_.max_length), float(table_.size));
-  frame.options = glm::uvec4(uint32_t(table_tf_.size()), use_table ? PRISMOID_SEGMENTS_TABLE : PRISMOID_SEGMENTS_EXACT, 0u, 0u);
-  if (march) fill_march_uniforms(frame, settings, camera, mesh.origin, mesh.extinction_cap);
+  const gpu::FrameUniforms frame = frame_uniforms(mesh, camera, e, settings, order != nullptr);
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
 
   const bool to_emission = emission || isosurface;
@@ -465,6 +480,7 @@ void IntervalShadingPass::record_intervals(VkCommandBuffer cmd, const GpuTetMesh
     vkCmdEndRendering(cmd);
   }
   intervals_recorded_ = true;
+  intervals_by_compute_ = false;
 }
 
 void IntervalShadingPass::record_resolve(VkCommandBuffer cmd, VolumeTargets& targets, const ResolveSettings& settings,
@@ -486,9 +502,13 @@ void IntervalShadingPass::record_resolve(VkCommandBuffer cmd, VolumeTargets& tar
                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    vk::image_barrier(cmd, target.get(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    if (intervals_by_compute_)
+      vk::image_barrier(cmd, target.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    else
+      vk::image_barrier(cmd, target.get(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     for (VkImage image : {targets.display.get(), targets.quantity.get()})
       vk::image_barrier(cmd, image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                         VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,

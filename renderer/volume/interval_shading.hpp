@@ -21,6 +21,9 @@ namespace prismoid::vk {
 class Device;
 class GpuTimer;
 }  // namespace prismoid::vk
+namespace prismoid::gpu {
+struct FrameUniforms;
+}  // namespace prismoid::gpu
 
 namespace prismoid::volume {
 
@@ -40,6 +43,7 @@ struct GpuTetMesh {
   bool has_scalars = false;
   bool scalar_per_point = false;
   double longest_edge = 0.0;  // bounds every segment inside a cell (the table's length axis)
+  double radius = 0.0;        // no point is farther from `origin` (half the bounds' diagonal)
   double extinction_cap = 0.0;  // extinction above this is stored as this (volume::extinction_cap)
   double scalar_min = 0.0, scalar_max = 0.0;  // the scalar field's range (0, 0 when absent)
 };
@@ -76,8 +80,9 @@ class IntervalShadingPass {
   explicit IntervalShadingPass(const vk::Device& device);
 
   // CPU work before recording a frame, outside any command buffer: checks the settings
-  // (InputError names the option at fault), makes the pipeline, uploads a marched grid.
-  void prepare(const GpuTetMesh& mesh, const ResolveSettings& settings);
+  // (InputError names the option at fault), makes the pipeline (unless `mesh_pipeline` is
+  // false: the compute backend draws the intervals), uploads a marched grid.
+  void prepare(const GpuTetMesh& mesh, const ResolveSettings& settings, bool mesh_pipeline = true);
   // Colour: whether the transfer function on the GPU (and with preintegration_size > 0 the
   // table) is the one these settings ask for, for this mesh.
   bool transfer_current(const GpuTetMesh& mesh, const ResolveSettings& settings) const;
@@ -103,6 +108,19 @@ class IntervalShadingPass {
   void record_resolve(VkCommandBuffer cmd, VolumeTargets& targets, const ResolveSettings& settings, vk::GpuTimer& timer);
 
   const PreintegrationTable& table() const { return table_; }
+
+  // The compute backend (compute_intervals.hpp) draws the intervals into the same targets
+  // instead of record_intervals(), with the storage images in GENERAL layout; the resolve
+  // then follows it.
+  void intervals_drawn_by_compute();
+  // What the interval stages of both backends read: the frame's uniforms (`ordered`: cells are
+  // drawn in the order of PRISMOID_BINDING_ORDER), and the buffers of the transfer function,
+  // the pre-integrated table and the marched grid (a stub where the frame has none).
+  gpu::FrameUniforms frame_uniforms(const GpuTetMesh& mesh, const Camera& camera, VkExtent2D extent,
+                                    const ResolveSettings& settings, bool ordered) const;
+  const vk::Buffer& transfer_buffer() const { return tf_buffer_.get() != VK_NULL_HANDLE ? tf_buffer_ : stub_; }
+  const vk::Buffer& table_buffer() const { return table_buffer_.get() != VK_NULL_HANDLE ? table_buffer_ : stub_; }
+  const vk::Buffer& grid_buffer() const { return grid_buffer_.get() != VK_NULL_HANDLE ? grid_buffer_ : stub_; }
 
   // What the last recorded interval pass drew (pipeline statistics; zeros where the device
   // cannot count): primitives the mesh shader emitted that reached the clipper, and fragments
@@ -152,6 +170,7 @@ class IntervalShadingPass {
   std::array<uint64_t, 6> bound_mesh_{};
   std::array<uint64_t, 4> bound_targets_{};
   bool intervals_recorded_ = false;  // record_resolve() follows record_intervals()
+  bool intervals_by_compute_ = false;  // ... or the compute backend's raster (targets in GENERAL layout)
 };
 
 }  // namespace prismoid::volume

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstddef>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
@@ -19,13 +20,15 @@ namespace {
 
 constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
-const std::array<vk::DescriptorBinding, 6> kSortBindings = {{
+const std::array<vk::DescriptorBinding, 8> kSortBindings = {{
     {PRISMOID_SORT_BINDING_KEYS_IN, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
     {PRISMOID_SORT_BINDING_VALUES_IN, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
     {PRISMOID_SORT_BINDING_KEYS_OUT, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
     {PRISMOID_SORT_BINDING_VALUES_OUT, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
     {PRISMOID_SORT_BINDING_HISTOGRAMS, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
     {PRISMOID_SORT_BINDING_PARTIALS, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_BINDING_PARAMS, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
+    {PRISMOID_SORT_BINDING_COUNT, kStorage, VK_SHADER_STAGE_COMPUTE_BIT},
 }};
 
 const std::array<vk::DescriptorBinding, 4> kKeysBindings = {{
@@ -91,7 +94,15 @@ GpuRadixSort::GpuRadixSort(const vk::Device& device, uint32_t capacity) : device
   scan_partials_ = vk::create_compute_pipeline(device, "sort/radix_scan_partials.comp", layout_.get());
   scan_downsweep_ = vk::create_compute_pipeline(device, "sort/radix_scan_downsweep.comp", layout_.get());
   scatter_ = vk::create_compute_pipeline(device, "sort/radix_scatter.comp", layout_.get());
+  static_assert(sizeof(gpu::RadixSetupPush) == sizeof(gpu::RadixSortPush), "the setup kernel shares the sort's layout");
+  setup_ = vk::create_compute_pipeline(device, "sort/radix_setup.comp", layout_.get());
   for (auto& s : pass_sets_) s = vk::allocate_descriptor_set(device, set_layout_.get(), kSortBindings);
+  params_ = vk::Buffer(device, sizeof(gpu::RadixSortParams),
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       vk::MemoryUse::DeviceLocal);
+  // The count binding names the parameters until record_indirect() names a count buffer.
+  for (const auto& s : pass_sets_)
+    write_storage_buffers(device, {{s.set, PRISMOID_SORT_BINDING_PARAMS, params_.get()}, {s.set, PRISMOID_SORT_BINDING_COUNT, params_.get()}});
   reserve(std::max(capacity, 1u));
 }
 
@@ -139,11 +150,26 @@ void GpuRadixSort::bind_caller_buffers(VkBuffer keys, VkBuffer values) {
   });
 }
 
-void GpuRadixSort::record(VkCommandBuffer cmd, const vk::Buffer& keys, const vk::Buffer& values, uint32_t count) {
+uint64_t GpuRadixSort::bytes() const {
+  return scratch_keys_.size() + scratch_values_.size() + histograms_.size() + partials_.size() + params_.size();
+}
+
+uint64_t GpuRadixSort::scratch_bytes(uint32_t capacity) {
+  const uint64_t blocks = (uint64_t(capacity) + PRISMOID_SORT_BLOCK - 1) / PRISMOID_SORT_BLOCK;
+  const uint64_t entries = blocks * PRISMOID_SORT_RADIX;
+  const uint64_t partials = (entries + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK;
+  return 2 * blocks * PRISMOID_SORT_BLOCK * sizeof(uint32_t) + (entries + partials) * sizeof(uint32_t) + sizeof(gpu::RadixSortParams);
+}
+
+void GpuRadixSort::check_caller_buffers(const vk::Buffer& keys, const vk::Buffer& values, uint32_t count) const {
   if (count > capacity_)
     throw std::invalid_argument("GpuRadixSort: " + std::to_string(count) + " keys exceed the capacity " + std::to_string(capacity_));
   if (keys.size() < VkDeviceSize(count) * sizeof(uint32_t) || values.size() < VkDeviceSize(count) * sizeof(uint32_t))
     throw std::invalid_argument("GpuRadixSort: the key or value buffer holds fewer than " + std::to_string(count) + " entries");
+}
+
+void GpuRadixSort::record(VkCommandBuffer cmd, const vk::Buffer& keys, const vk::Buffer& values, uint32_t count) {
+  check_caller_buffers(keys, values, count);
   const VkBuffer caller[] = {keys.get(), values.get()};
   vk::buffer_barrier(cmd, {caller[0], caller[1]},
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT | readers_stages(device_),
@@ -154,31 +180,76 @@ void GpuRadixSort::record(VkCommandBuffer cmd, const vk::Buffer& keys, const vk:
     const uint32_t blocks = blocks_for(count);
     const uint32_t entries = blocks * PRISMOID_SORT_RADIX;
     const uint32_t scan_groups = (entries + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK;
-    const VkBuffer scratch[] = {scratch_keys_.get(), scratch_values_.get()};
-    for (uint32_t pass = 0; pass < PRISMOID_SORT_PASSES; ++pass) {
-      const VkBuffer* out = pass % 2 == 0 ? scratch : caller;
-      const gpu::RadixSortPush push{glm::uvec4(count, pass * PRISMOID_SORT_RADIX_BITS, blocks, entries)};
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &pass_sets_[pass % 2].set, 0, nullptr);
-      vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, histogram_.get());
-      vkCmdDispatch(cmd, blocks, 1, 1);
-      compute_to_compute(cmd, {histograms_.get()});
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_reduce_.get());
-      vkCmdDispatch(cmd, scan_groups, 1, 1);
-      compute_to_compute(cmd, {partials_.get()});
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_partials_.get());
-      vkCmdDispatch(cmd, 1, 1, 1);
-      compute_to_compute(cmd, {partials_.get()});
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_downsweep_.get());
-      vkCmdDispatch(cmd, scan_groups, 1, 1);
-      compute_to_compute(cmd, {histograms_.get()});
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scatter_.get());
-      vkCmdDispatch(cmd, blocks, 1, 1);
-      if (pass + 1 < PRISMOID_SORT_PASSES) compute_to_compute(cmd, {out[0], out[1]});
-    }
+    // The count is known here: the parameters go in with the commands (an earlier sort's
+    // kernels, or indirect dispatches, must be done reading them).
+    const gpu::RadixSortParams params{glm::uvec4(count, 0u, blocks, entries), glm::uvec4(blocks, 1u, 1u, 0u),
+                                      glm::uvec4(scan_groups, 1u, 1u, 0u)};
+    vk::buffer_barrier(cmd, {params_.get()}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                       VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdUpdateBuffer(cmd, params_.get(), 0, sizeof(params), &params);
+    vk::buffer_barrier(cmd, {params_.get()}, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    record_passes(cmd, caller, false, blocks, scan_groups);
   }
   vk::buffer_barrier(cmd, {caller[0], caller[1]}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  readers_stages(device_), VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+void GpuRadixSort::record_indirect(VkCommandBuffer cmd, const vk::Buffer& keys, const vk::Buffer& values, const vk::Buffer& count,
+                                   uint32_t count_index, uint32_t max_count) {
+  check_caller_buffers(keys, values, max_count);
+  if (count.size() < (VkDeviceSize(count_index) + 1) * sizeof(uint32_t))
+    throw std::invalid_argument("GpuRadixSort: the count buffer holds no entry " + std::to_string(count_index));
+  const VkBuffer caller[] = {keys.get(), values.get()};
+  vk::buffer_barrier(cmd, {caller[0], caller[1], count.get()},
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT | readers_stages(device_),
+                 VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  bind_caller_buffers(keys.get(), values.get());
+  write_storage_buffers(device_, {{pass_sets_[0].set, PRISMOID_SORT_BINDING_COUNT, count.get()}});
+  // An earlier sort's kernels and indirect dispatches must be done with the parameters.
+  vk::buffer_barrier(cmd, {params_.get()}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                     VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  const gpu::RadixSetupPush setup{glm::uvec4(count_index, max_count, 0u, 0u)};
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &pass_sets_[0].set, 0, nullptr);
+  vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(setup), &setup);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, setup_.get());
+  vkCmdDispatch(cmd, 1, 1, 1);
+  vk::buffer_barrier(cmd, {params_.get()}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+  record_passes(cmd, caller, true, 0, 0);
+  vk::buffer_barrier(cmd, {caller[0], caller[1]}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 readers_stages(device_), VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+void GpuRadixSort::record_passes(VkCommandBuffer cmd, const VkBuffer (&caller)[2], bool indirect, uint32_t blocks,
+                                 uint32_t scan_groups) {
+  const VkBuffer scratch[] = {scratch_keys_.get(), scratch_values_.get()};
+  const auto dispatch = [&](VkPipeline pipeline, uint32_t groups, VkDeviceSize indirect_offset) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    if (indirect) vkCmdDispatchIndirect(cmd, params_.get(), indirect_offset);
+    else vkCmdDispatch(cmd, groups, 1, 1);
+  };
+  const VkDeviceSize block_dispatch = offsetof(gpu::RadixSortParams, block_dispatch);
+  const VkDeviceSize scan_dispatch = offsetof(gpu::RadixSortParams, scan_dispatch);
+  for (uint32_t pass = 0; pass < PRISMOID_SORT_PASSES; ++pass) {
+    const VkBuffer* out = pass % 2 == 0 ? scratch : caller;
+    const gpu::RadixSortPush push{glm::uvec4(0u, pass * PRISMOID_SORT_RADIX_BITS, 0u, 0u)};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &pass_sets_[pass % 2].set, 0, nullptr);
+    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    dispatch(histogram_.get(), blocks, block_dispatch);
+    compute_to_compute(cmd, {histograms_.get()});
+    dispatch(scan_reduce_.get(), scan_groups, scan_dispatch);
+    compute_to_compute(cmd, {partials_.get()});
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_partials_.get());
+    vkCmdDispatch(cmd, 1, 1, 1);
+    compute_to_compute(cmd, {partials_.get()});
+    dispatch(scan_downsweep_.get(), scan_groups, scan_dispatch);
+    compute_to_compute(cmd, {histograms_.get()});
+    dispatch(scatter_.get(), blocks, block_dispatch);
+    if (pass + 1 < PRISMOID_SORT_PASSES) compute_to_compute(cmd, {out[0], out[1]});
+  }
 }
 
 VisibilitySort::VisibilitySort(const vk::Device& device) : device_(device), sort_(device, 0) {

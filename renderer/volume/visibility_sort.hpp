@@ -33,13 +33,27 @@ class GpuRadixSort {
   // Ends with a barrier that makes the result visible to later compute and mesh-shader
   // reads (and transfers). Waits for earlier compute and transfer writes to the buffers.
   void record(VkCommandBuffer cmd, const vk::Buffer& keys, const vk::Buffer& values, uint32_t count);
+  // The same, for a count an earlier pass wrote in device memory: uint32 number `count_index`
+  // of `count`, cut to `max_count` (<= capacity; the key and value buffers hold at least that
+  // many). No read back: a setup kernel turns the count into the kernels' parameters and the
+  // group counts of indirect dispatches. Waits for earlier compute and transfer writes to the
+  // three buffers.
+  void record_indirect(VkCommandBuffer cmd, const vk::Buffer& keys, const vk::Buffer& values, const vk::Buffer& count,
+                       uint32_t count_index, uint32_t max_count);
 
   // Grows the scratch buffers to hold `capacity` pairs; never shrinks.
   void reserve(uint32_t capacity);
   uint32_t capacity() const { return capacity_; }
+  // Device memory this sort holds (scratch, histograms, parameters), and what it would hold
+  // for `capacity` pairs.
+  uint64_t bytes() const;
+  static uint64_t scratch_bytes(uint32_t capacity);
 
  private:
   void bind_caller_buffers(VkBuffer keys, VkBuffer values);
+  void check_caller_buffers(const vk::Buffer& keys, const vk::Buffer& values, uint32_t count) const;
+  // The 4 digit passes; dispatch sizes from the arguments, or from params_ when indirect.
+  void record_passes(VkCommandBuffer cmd, const VkBuffer (&caller)[2], bool indirect, uint32_t blocks, uint32_t scan_groups);
 
   const vk::Device& device_;
   vk::UniqueDescriptorSetLayout set_layout_;
@@ -49,12 +63,14 @@ class GpuRadixSort {
   vk::UniquePipeline scan_partials_;
   vk::UniquePipeline scan_downsweep_;
   vk::UniquePipeline scatter_;
+  vk::UniquePipeline setup_;  // record_indirect(): the count in device memory -> params_
   // Even passes read the caller's buffers and write scratch, odd passes the reverse.
   vk::DescriptorSet pass_sets_[2];
   vk::Buffer scratch_keys_;
   vk::Buffer scratch_values_;
   vk::Buffer histograms_;
   vk::Buffer partials_;
+  vk::Buffer params_;  // gpu::RadixSortParams: the key count and the indirect dispatches
   uint32_t capacity_ = 0;
 };
 

@@ -32,6 +32,13 @@ PRISMOID_SHARED_BEGIN
 // uint[ceil(RADIX * blocks / SCAN_BLOCK)]: the sum of each scan workgroup's entries, then
 // their exclusive prefix.
 #define PRISMOID_SORT_BINDING_PARTIALS 5
+// RadixSortParams: how many keys this sort has, read by every kernel. Written by the CPU
+// (vkCmdUpdateBuffer) when the count is known there, or by radix_setup.comp from a count
+// another pass left in device memory (GpuRadixSort::record_indirect), so a count made on the
+// GPU is never read back.
+#define PRISMOID_SORT_BINDING_PARAMS 6
+// readonly uint[]: where radix_setup.comp reads the count (RadixSetupPush.params.x: its index).
+#define PRISMOID_SORT_BINDING_COUNT 7
 
 // Descriptor bindings of set 0 of the visibility keys pass.
 #define PRISMOID_SORT_KEYS_BINDING_POSITIONS 0  // readonly vec4[]: xyz in the mesh's local frame
@@ -40,7 +47,19 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_SORT_KEYS_BINDING_VALUES 3     // writeonly uint[]
 
 struct RadixSortPush {
-  uvec4 params;  // x: key count, y: shift of this pass's digit, z: block count, w: histogram entries
+  uvec4 params;  // x: unused, y: shift of this pass's digit, z, w: unused
+};
+
+// The sort's size, in device memory, followed by the indirect dispatches it needs
+// (VkDispatchIndirectCommand: x, y, z groups).
+struct RadixSortParams {
+  uvec4 counts;          // x: key count, y: unused, z: block count, w: histogram entries
+  uvec4 block_dispatch;  // xyz: one workgroup per block (histogram, scatter)
+  uvec4 scan_dispatch;   // xyz: one workgroup per SCAN_BLOCK histogram entries (reduce, downsweep)
+};
+
+struct RadixSetupPush {
+  uvec4 params;  // x: index of the count in PRISMOID_SORT_BINDING_COUNT, y: most keys to sort (the capacity)
 };
 
 struct SortKeysPush {
@@ -59,6 +78,10 @@ PRISMOID_SHARED_END
 
 #ifdef __cplusplus
 static_assert(sizeof(prismoid::gpu::RadixSortPush) == 16);
+static_assert(sizeof(prismoid::gpu::RadixSortParams) == 48);
+static_assert(offsetof(prismoid::gpu::RadixSortParams, block_dispatch) == 16);
+static_assert(offsetof(prismoid::gpu::RadixSortParams, scan_dispatch) == 32);
+static_assert(sizeof(prismoid::gpu::RadixSetupPush) == 16);
 static_assert(sizeof(prismoid::gpu::SortKeysPush) == 32);
 static_assert(offsetof(prismoid::gpu::SortKeysPush, counts) == 16);
 static_assert(PRISMOID_SORT_RADIX == (1 << PRISMOID_SORT_RADIX_BITS));

@@ -6,6 +6,7 @@
 layout(local_size_x = PRISMOID_SORT_WORKGROUP_SIZE) in;
 layout(set = 0, binding = PRISMOID_SORT_BINDING_KEYS_IN, std430) readonly buffer KeysIn { uint keys_in[]; };
 layout(set = 0, binding = PRISMOID_SORT_BINDING_HISTOGRAMS, std430) writeonly buffer Histograms { uint histograms[]; };
+layout(set = 0, binding = PRISMOID_SORT_BINDING_PARAMS, std430) readonly buffer Params { RadixSortParams sort; };
 layout(push_constant) uniform Push { RadixSortPush push; };
 
 shared uint digit_count[PRISMOID_SORT_RADIX];
@@ -13,7 +14,7 @@ shared uint digit_count[PRISMOID_SORT_RADIX];
 void main() {
   const uint t = gl_LocalInvocationID.x;
   const uint block = gl_WorkGroupID.x;
-  const uint count = push.params.x, shift = push.params.y, blocks = push.params.z;
+  const uint count = sort.counts.x, shift = push.params.y, blocks = sort.counts.z;
   digit_count[t] = 0u;
   barrier();
   const uint begin = block * PRISMOID_SORT_BLOCK;

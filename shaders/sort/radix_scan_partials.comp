@@ -8,10 +8,11 @@
 
 layout(local_size_x = PRISMOID_SORT_WORKGROUP_SIZE) in;
 layout(set = 0, binding = PRISMOID_SORT_BINDING_PARTIALS, std430) buffer Partials { uint partials[]; };
+layout(set = 0, binding = PRISMOID_SORT_BINDING_PARAMS, std430) readonly buffer Params { RadixSortParams sort; };
 layout(push_constant) uniform Push { RadixSortPush push; };
 
 void main() {
-  const uint n = (push.params.w + PRISMOID_SORT_SCAN_BLOCK - 1u) / PRISMOID_SORT_SCAN_BLOCK;
+  const uint n = (sort.counts.w + PRISMOID_SORT_SCAN_BLOCK - 1u) / PRISMOID_SORT_SCAN_BLOCK;
   uint carry = 0u;
   for (uint tile = 0u; tile < n; tile += PRISMOID_SORT_SCAN_BLOCK) {
     const uint base = tile + gl_LocalInvocationID.x * PRISMOID_SORT_SCAN_ITEMS_PER_INVOCATION;

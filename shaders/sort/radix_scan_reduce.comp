@@ -9,10 +9,11 @@
 layout(local_size_x = PRISMOID_SORT_WORKGROUP_SIZE) in;
 layout(set = 0, binding = PRISMOID_SORT_BINDING_HISTOGRAMS, std430) readonly buffer Histograms { uint histograms[]; };
 layout(set = 0, binding = PRISMOID_SORT_BINDING_PARTIALS, std430) writeonly buffer Partials { uint partials[]; };
+layout(set = 0, binding = PRISMOID_SORT_BINDING_PARAMS, std430) readonly buffer Params { RadixSortParams sort; };
 layout(push_constant) uniform Push { RadixSortPush push; };
 
 void main() {
-  const uint entries = push.params.w;
+  const uint entries = sort.counts.w;
   const uint base = gl_WorkGroupID.x * PRISMOID_SORT_SCAN_BLOCK + gl_LocalInvocationID.x * PRISMOID_SORT_SCAN_ITEMS_PER_INVOCATION;
   uint sum = 0u;
   for (uint i = 0; i < PRISMOID_SORT_SCAN_ITEMS_PER_INVOCATION; ++i)

@@ -17,6 +17,7 @@ layout(set = 0, binding = PRISMOID_SORT_BINDING_VALUES_IN, std430) readonly buff
 layout(set = 0, binding = PRISMOID_SORT_BINDING_KEYS_OUT, std430) writeonly buffer KeysOut { uint keys_out[]; };
 layout(set = 0, binding = PRISMOID_SORT_BINDING_VALUES_OUT, std430) writeonly buffer ValuesOut { uint values_out[]; };
 layout(set = 0, binding = PRISMOID_SORT_BINDING_HISTOGRAMS, std430) readonly buffer Histograms { uint histograms[]; };
+layout(set = 0, binding = PRISMOID_SORT_BINDING_PARAMS, std430) readonly buffer Params { RadixSortParams sort; };
 layout(push_constant) uniform Push { RadixSortPush push; };
 
 const uint kItems = PRISMOID_SORT_ITEMS_PER_INVOCATION;
@@ -32,7 +33,7 @@ uint digit_of(uint key) { return (key >> push.params.y) & (PRISMOID_SORT_RADIX -
 void main() {
   const uint t = gl_LocalInvocationID.x;
   const uint block = gl_WorkGroupID.x;
-  const uint count = push.params.x, shift = push.params.y, blocks = push.params.z;
+  const uint count = sort.counts.x, shift = push.params.y, blocks = sort.counts.z;
   const uint begin = block * PRISMOID_SORT_BLOCK;
   const uint valid = min(PRISMOID_SORT_BLOCK, count - begin);
 

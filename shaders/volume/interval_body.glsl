@@ -19,6 +19,8 @@ layout(std430, set = 0, binding = PRISMOID_BINDING_CELL_SCALAR) readonly buffer 
 layout(std430, set = 0, binding = PRISMOID_BINDING_POINT_SCALAR) readonly buffer PointScalar { float point_scalar[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_ORDER) readonly buffer Order { uint draw_order[]; };
 
+#include "cell_field.glsl"
+
 // Per bounding surface a, b: 1/depth, and relative to the cell's reference point c (its first
 // vertex): (depth - depth_c)/depth and (field - field_c)/depth (tet_projection.glsl). Every
 // proxy vertex has w = 1, so perspective-correct interpolation is exactly screen-space
@@ -92,23 +94,8 @@ void main() {
       value[i] = per_point ? (emission ? point_scalar[idx[i]] : point_sigma[idx[i]]) : 0.0;
     }
 #endif
-    float sigma_max;
     float field[4];  // the cell's field at its corners
-    if (emission) {
-      // The transfer function decides what is transparent; every cell is drawn.
-      sigma_max = 1.0;
-      // x = value * scale + offset, both rounded from double once (volume::scalar_mapping): a
-      // range far wider than the data or far from zero still maps it without overflow.
-      float scale = frame.transfer.x, offset = frame.transfer.y;
-      float cell_x = per_point ? 0.0 : cell_scalar[tet_index] * scale + offset;
-      for (int i = 0; i < 4; ++i) field[i] = per_point ? value[i] * scale + offset : cell_x;
-    } else if (per_point) {
-      for (int i = 0; i < 4; ++i) field[i] = value[i];
-      sigma_max = max(max(value[0], value[1]), max(value[2], value[3]));
-    } else {
-      sigma_max = cell_sigma[tet_index];
-      for (int i = 0; i < 4; ++i) field[i] = sigma_max;
-    }
+    float sigma_max = cell_field(tet_index, emission, per_point, value, field);
     if (sigma_max > 0.0) {
       // Everything is measured from the reference point c = the first corner: the corners'
       // offsets from it are rotated differences of nearby positions, exact to the cell's size,

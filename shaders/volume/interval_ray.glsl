@@ -16,6 +16,10 @@ struct IntervalRay {
   vec3 ray;                   // the camera-space point at depth d is d * ray
 };
 
+// The compute backend (shaders/volume/compute/) finds the same interval on each pixel's own
+// ray and fills the struct itself; it defines PRISMOID_INTERVAL_RAY_COMPUTE, since a compute
+// shader has no gl_FragCoord.
+#ifndef PRISMOID_INTERVAL_RAY_COMPUTE
 // inv_depth, relative: the interpolated attributes of surfaces a and b (v_inv_depth,
 // v_relative); reference: c and the field there (p_reference).
 IntervalRay interval_ray(vec2 inv_depth, vec4 relative, vec4 reference) {
@@ -35,6 +39,7 @@ IntervalRay interval_ray(vec2 inv_depth, vec4 relative, vec4 reference) {
   r.length_per_depth = length(r.ray);
   return r;
 }
+#endif
 
 // The interval's length in world units.
 float interval_length(IntervalRay r) { return (r.rel_back - r.rel_front) * r.length_per_depth; }

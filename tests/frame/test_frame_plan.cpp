@@ -194,6 +194,64 @@ TEST(FramePlan, TetletsWithAnOrderedColourModeAreRefused) {
   EXPECT_NO_THROW(frame::plan_frame(scene, s));
 }
 
+// The compute backend: its three passes replace the interval pass, the resolve is shared, the
+// transfer function goes up as for the mesh backend; nothing is ordered per cell (each pixel
+// orders its own intervals), and the mesh shader's tetlets are refused, naming the option.
+TEST(FramePlan, ComputeBackendBinsSortsAndRastersTiles) {
+  const std::vector<std::string> compute = {"bin-cells", "tile-sort", "tile-raster", "resolve"};
+  struct ComputeCase {
+    Quantity quantity;
+    bool march;
+    uint32_t table;
+    std::vector<std::string> cpu;
+  };
+  const ComputeCase cases[] = {{kDepth, false, 0, {}},
+                               {kTrans, false, 0, {}},
+                               {kColor, false, 0, {"transfer-function upload"}},
+                               {kColor, false, 32, {"preintegrate"}},
+                               {kDepth, true, 0, {}},
+                               {kColor, true, 0, {"transfer-function upload"}},
+                               {Quantity::Isosurface, true, 0, {}}};
+  for (const ComputeCase& c : cases) {
+    for (Ordering ordering : {kMesh, kSort, kExact}) {
+      frame::FrameSettings s;
+      s.backend = frame::IntervalBackend::Compute;
+      s.resolve.quantity = c.quantity;
+      s.resolve.march.enabled = c.march;
+      s.resolve.march.step = 0.05;
+      s.resolve.preintegration_size = c.table;
+      s.ordering = ordering;
+      frame::SceneContents scene;
+      scene.volumes.push_back(frame::volume_contents(48, true, true, s.resolve));
+      const frame::FramePlan plan = frame::plan_frame(scene, s);
+      std::vector<std::string> expected = c.cpu;
+      expected.insert(expected.end(), compute.begin(), compute.end());
+      EXPECT_EQ(names(plan), expected) << volume::interval_pass_name(s.resolve);
+      EXPECT_EQ(plan.gpu_pass_names(), compute);
+      for (const char* skipped : {"exact-order", "sort", "upload-order", "build-tetlets"})
+        EXPECT_FALSE(skip_reason(plan, skipped).empty()) << skipped;
+      EXPECT_NE(skip_reason(plan, volume::interval_pass_name(s.resolve)).find("compute backend"), std::string::npos);
+      for (const auto& p : plan.passes) EXPECT_FALSE(p.reason.empty()) << p.name;
+      if (c.quantity == kColor)
+        EXPECT_NE(plan.find(frame::PassId::TileRaster)->reason.find("each pixel's own depth order"), std::string::npos);
+    }
+  }
+  frame::FrameSettings s;
+  s.backend = frame::IntervalBackend::Compute;
+  s.resolve.quantity = kDepth;
+  s.resolve.shared_vertices = true;
+  frame::SceneContents scene;
+  scene.volumes.push_back(frame::volume_contents(10, false, false, s.resolve));
+  try {
+    frame::plan_frame(scene, s);
+    ADD_FAILURE() << "tetlets with the compute backend were planned";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "--shared-vertices");
+  }
+  EXPECT_STREQ(frame::interval_backend_name(frame::IntervalBackend::Compute), "compute");
+  EXPECT_STREQ(frame::interval_backend_name(frame::IntervalBackend::Mesh), "mesh");
+}
+
 TEST(FramePlan, AnEmptyMeshOrdersNothing) {
   frame::FrameSettings s;
   s.resolve.quantity = kColor;

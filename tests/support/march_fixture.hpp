@@ -8,6 +8,7 @@
 #include "renderer/volume/analytic_field.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
+#include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 
 namespace prismoid::test {
@@ -24,12 +25,13 @@ inline Camera looking_from(const glm::dvec3& eye, const glm::dvec3& target = glm
   return c;
 }
 
-class MarchTest : public GpuTest {
+// On both interval backends (support/backends.hpp): TEST_P, and PRISMOID_ON_BOTH_BACKENDS.
+class MarchTest : public GpuTest, public OnBackend {
  public:
   frame::OffscreenFrame render(const TetMesh& mesh, const volume::AnalyticField& field, volume::Quantity q, double step,
                                const Camera& camera, uint32_t w, uint32_t h, double isovalue = 0.5) {
     frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings settings;
+    frame::FrameSettings settings = settings_on_backend();
     settings.resolve.quantity = q;
     settings.resolve.march.enabled = true;
     settings.resolve.march.field = field;
@@ -42,7 +44,7 @@ class MarchTest : public GpuTest {
   // march of a linear field must reproduce).
   frame::OffscreenFrame render_exact_optical_depth(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h) {
     frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings settings;
+    frame::FrameSettings settings = settings_on_backend();
     settings.resolve.quantity = volume::Quantity::OpticalDepth;
     return renderer.render_offscreen(camera, settings, {w, h});
   }

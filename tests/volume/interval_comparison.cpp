@@ -48,7 +48,7 @@ namespace prismoid::test {
 
 std::vector<float> IntervalShadingTest::render(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h) {
   frame::FrameRenderer renderer(device(), mesh);
-  frame::FrameSettings settings;
+  frame::FrameSettings settings = settings_on_backend();
   settings.resolve.quantity = volume::Quantity::OpticalDepth;
   return renderer.render_offscreen(camera, settings, {w, h}).quantity;
 }

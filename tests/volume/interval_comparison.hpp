@@ -8,11 +8,13 @@
 
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
+#include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 
 namespace prismoid::test {
 
-class IntervalShadingTest : public GpuTest {
+// On both interval backends (support/backends.hpp): TEST_P, and PRISMOID_ON_BOTH_BACKENDS.
+class IntervalShadingTest : public GpuTest, public OnBackend {
  public:
   std::vector<float> render(const TetMesh& mesh, const Camera& camera, uint32_t w, uint32_t h);
 

@@ -1,26 +1,7 @@
 // Emission-absorption through a transfer function (beyond the paper): the GPU's composited
 // colour against the CPU double-precision reference in exact per-pixel order.
 //
-// The GPU integrates each segment exactly (piece by piece of the transfer function, in float)
-// or looks it up in the pre-integration table. The table's own error against the exact
-// integral is a quality setting, tested on the CPU (test_segment_integral.cpp) and measured by
-// the bench; with a table, the reference here looks segments up in the same table. Either way
-// the tolerance covers only what the GPU adds, per pixel and channel:
-//  1. rasterizer snapping, as for optical depth (see test_interval_shading.cpp): the largest
-//     change of the reference when the pixel's ray moves by 2 * 2^-subPixelPrecisionBits;
-//  2. float32 inputs of each segment: the normalized scalar x at both ends and the segment's
-//     length come from values relative to the cell's reference point, as for optical depth
-//     (interval_comparison.cpp derives the budget): each end's depth moves by 2^-19 of the
-//     cell's depth extent times its depth ratio (more for cells the near plane cuts), plus 2^-19
-//     of (x + y + 1) pixels times the surface's screen gradient (plane equations in window
-//     coordinates); x by 2^-20 (its own mapping into [0, 1]) plus 2^-19 of the cell's spread of
-//     x times the depth ratio plus the same window term. The reference sums, over the pixel's
-//     segments, how much each segment changes when its inputs move that far (finite differences
-//     of the same integral);
-//  3. the blend: one rounding (2^-24 relative) per segment composited, and the table's float
-//     texels (2^-24 relative), per segment; for exact integration in float, 2^-18 per piece
-//     of the transfer function (the Gauss-Legendre sums and the cancelling terms of the
-//     closed form lose a few ulp each), at most one piece per transfer-function sample.
+// (Tolerances per pixel and channel: color_comparison.cpp.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,79 +9,18 @@
 #include <cstdio>
 
 #include "renderer/frame/frame_renderer.hpp"
-#include "renderer/reference/emission_absorption.hpp"
 #include "scene/generators.hpp"
-#include "support/gpu_fixture.hpp"
+#include "volume/color_comparison.hpp"
 
 namespace prismoid {
 namespace {
 
-struct ColorComparison {
-  size_t failures = 0, covered = 0;
-  double rmse = 0.0;  // over all pixels and channels, against the reference
-  std::vector<std::string> passes;
-  double max_error = 0.0, worst_over_tolerance = 0.0;
-  std::string first_failure;
-  std::string ordering;
-  bool order_exact = false;
-};
+// On both interval backends (the compute backend orders each pixel itself: `ordering` is the
+// mesh backend's). Comparison and tolerances: color_comparison.cpp.
+class EmissionAbsorptionTest : public test::ColorTest {};
 
-class EmissionAbsorptionTest : public test::GpuTest {
- public:
-  ColorComparison compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w, uint32_t h,
-                          frame::Ordering ordering, uint32_t table_size = 0) {
-    frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings settings;
-    settings.resolve.quantity = volume::Quantity::Color;
-    settings.resolve.transfer = tf;
-    settings.resolve.preintegration_size = table_size;
-    settings.ordering = ordering;
-    const frame::OffscreenFrame gpu = renderer.render_offscreen(camera, settings, {w, h});
-    const volume::PreintegrationTable* table = table_size > 0 ? &renderer.interval_pass().table() : nullptr;
-    reference::InputPerturbation perturbation;
-    const double s = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
-    perturbation.x_absolute = std::ldexp(1.0, -20);
-    perturbation.relative = std::ldexp(1.0, -19);
-    perturbation.window = std::ldexp(1.0, -19);
-    perturbation.step = 0.25 * s;
-    const auto ref = reference::emission_absorption_image(mesh, tf, camera, w, h, 0.0, 0.0, table, &perturbation);
-
-    std::vector<double> snap_tol(size_t(w) * h, 0.0);
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        if (!dx && !dy) continue;
-        const auto shifted = reference::emission_absorption_image(mesh, tf, camera, w, h, dx * s, dy * s, table);
-        for (size_t i = 0; i < snap_tol.size(); ++i)
-          for (int c = 0; c < 4; ++c) snap_tol[i] = std::max(snap_tol[i], std::abs(shifted.pixels[i][c] - ref.pixels[i][c]));
-      }
-    const auto samples = volume::breakpoints(tf);
-    const double integral_tol = table ? std::ldexp(1.0, -24) : std::ldexp(1.0, -18) * double(samples.size());
-
-    ColorComparison c;
-    for (const auto& p : gpu.passes) c.passes.push_back(p.name);
-    c.ordering = gpu.report.ordering;
-    c.order_exact = gpu.report.order_exact;
-    for (size_t i = 0; i < snap_tol.size(); ++i) {
-      const double n = ref.segments[i] + 1.0;
-      const double tol = snap_tol[i] + ref.sensitivity[i] + n * (integral_tol + std::ldexp(1.0, -24));
-      if (ref.pixels[i].a > 0.0) ++c.covered;
-      for (int ch = 0; ch < 4; ++ch) {
-        const float g = gpu.emission[4 * i + ch];
-        EXPECT_TRUE(std::isfinite(g)) << "pixel " << i << " channel " << ch;
-        const double err = std::abs(double(g) - ref.pixels[i][ch]);
-        c.rmse += err * err;
-        c.max_error = std::max(c.max_error, err);
-        c.worst_over_tolerance = std::max(c.worst_over_tolerance, err / tol);
-        if (err > tol && c.failures++ == 0)
-          c.first_failure = "pixel (" + std::to_string(i % w) + "," + std::to_string(i / w) + ") channel " + std::to_string(ch) +
-                            ": gpu " + std::to_string(g) + " reference " + std::to_string(ref.pixels[i][ch]) + " tolerance " +
-                            std::to_string(tol) + " segments " + std::to_string(ref.segments[i]);
-      }
-    }
-    c.rmse = std::sqrt(c.rmse / (4.0 * double(snap_tol.size())));
-    return c;
-  }
-};
+// What only the mesh backend has: draw orders, workgroup sizes, tetlets.
+class EmissionAbsorptionMeshTest : public EmissionAbsorptionTest {};
 
 const std::array<glm::dvec3, 4> kRegular = {glm::dvec3(1, 1, 1), glm::dvec3(1, -1, -1), glm::dvec3(-1, 1, -1), glm::dvec3(-1, -1, 1)};
 
@@ -131,7 +51,7 @@ Camera looking_from(const glm::dvec3& eye, double near_distance = 0.05) {
   return c;
 }
 
-TEST_F(EmissionAbsorptionTest, SingleTetrahedronWithLinearScalarMatchesReference) {
+TEST_P(EmissionAbsorptionTest, SingleTetrahedronWithLinearScalarMatchesReference) {
   for (const glm::dvec3 eye : {glm::dvec3(0.3, 0.2, 6.0), glm::normalize(kRegular[0]) * 6.0, glm::dvec3(-4.0, 2.5, 1.0)}) {
     const auto c = compare(single_tet_with_scalars(), test_tf(2.0), looking_from(eye), 48, 48, frame::Ordering::MeshOrder);
     EXPECT_GT(c.covered, 150u);
@@ -139,7 +59,7 @@ TEST_F(EmissionAbsorptionTest, SingleTetrahedronWithLinearScalarMatchesReference
   }
 }
 
-TEST_F(EmissionAbsorptionTest, NearClippedPiecesCompositeInOrder) {
+TEST_P(EmissionAbsorptionTest, NearClippedPiecesCompositeInOrder) {
   // The near plane splits the cell into three pieces whose segments along a ray must be
   // composited front to back; a linear scalar and a strongly varying transfer function make
   // any misordering visible.
@@ -157,7 +77,7 @@ TEST_F(EmissionAbsorptionTest, NearClippedPiecesCompositeInOrder) {
   }
 }
 
-TEST_F(EmissionAbsorptionTest, CellScalarsAreConstantPerCell) {
+TEST_P(EmissionAbsorptionTest, CellScalarsAreConstantPerCell) {
   TetMesh mesh = single_tet_with_scalars();
   mesh.point_scalars.clear();
   mesh.cell_scalars = {0.6};
@@ -182,7 +102,7 @@ volume::TransferFunction blob_tf() {
 
 // The default dataset is a Kuhn-split box: convex, and its visibility graph is acyclic, so
 // the topological order is exact for every ray and the GPU must match the reference.
-TEST_F(EmissionAbsorptionTest, ExactOrderOnConvexMeshMatchesReference) {
+TEST_P(EmissionAbsorptionTest, ExactOrderOnConvexMeshMatchesReference) {
   const TetMesh mesh = default_with_scalars();
   Camera outside = fit_camera(bounds_of(mesh));
   outside.eye = outside.target + glm::dvec3(2.0, 1.5, 4.5);
@@ -198,10 +118,11 @@ TEST_F(EmissionAbsorptionTest, ExactOrderOnConvexMeshMatchesReference) {
     EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
     std::printf("exact order: max error %.3g, rmse %.3g, worst pixel at %.2f of its tolerance\n", c.max_error, c.rmse,
                 c.worst_over_tolerance);
+    ::testing::Test::RecordProperty("exact_order_max_error", std::to_string(c.max_error));
+    if (compute()) continue;  // the compute backend has no mesh order; the tolerance's power is the same
     const auto unsorted = compare(mesh, blob_tf(), camera, 40, 30, frame::Ordering::MeshOrder);
     std::printf("  mesh order: max error %.3g, %zu pixels beyond tolerance\n", unsorted.max_error, unsorted.failures);
     EXPECT_GT(unsorted.failures, 0u) << "the tolerance cannot tell a wrong order from the right one";
-    ::testing::Test::RecordProperty("exact_order_max_error", std::to_string(c.max_error));
   }
 }
 
@@ -209,7 +130,7 @@ TEST_F(EmissionAbsorptionTest, ExactOrderOnConvexMeshMatchesReference) {
 // are 16 apart. Each segment's ends and scalars come relative to its cell (interval_ray.glsl),
 // so the composited colour in exact order still matches the reference (depths themselves are
 // 16 apart there: differences of them are no lengths).
-TEST_F(EmissionAbsorptionTest, MicroDegreeFieldOfViewMatchesReferenceInExactOrder) {
+TEST_P(EmissionAbsorptionTest, MicroDegreeFieldOfViewMatchesReferenceInExactOrder) {
   const TetMesh mesh = default_with_scalars();
   const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
   ASSERT_GT(glm::length(camera.eye - camera.target), 1e8);
@@ -223,7 +144,7 @@ TEST_F(EmissionAbsorptionTest, MicroDegreeFieldOfViewMatchesReferenceInExactOrde
 // One cell 10^6 tall seen from beside it: its faces project to long slivers whose areas are
 // tiny next to the square of the cell's projected size; every face still votes with its sign
 // (tet_projection.glsl), so the colour matches the reference.
-TEST_F(EmissionAbsorptionTest, CellAMillionTimesTallerThanWideMatchesReference) {
+TEST_P(EmissionAbsorptionTest, CellAMillionTimesTallerThanWideMatchesReference) {
   TetMesh mesh = single_tet_with_scalars();
   mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1e6}};
   Camera camera;
@@ -240,7 +161,7 @@ TEST_F(EmissionAbsorptionTest, CellAMillionTimesTallerThanWideMatchesReference) 
 // segment the GPU can resolve is opaque either way), and a range of -1e300..1e300 (mapped as
 // x = s * scale + offset with both rounded once: scale is 0 in float and every value lands at
 // 0.5, as in double; (s - lo) / width with float(lo) = -inf would give inf * 0).
-TEST_F(EmissionAbsorptionTest, ExtinctionAndRangeBeyondFloatMatchReference) {
+TEST_P(EmissionAbsorptionTest, ExtinctionAndRangeBeyondFloatMatchReference) {
   const TetMesh mesh = default_with_scalars();
   Camera camera = fit_camera(bounds_of(mesh));
   camera.eye = camera.target + glm::dvec3(2.0, 1.5, 4.5);
@@ -260,7 +181,7 @@ TEST_F(EmissionAbsorptionTest, ExtinctionAndRangeBeyondFloatMatchReference) {
 // Sorting by centroid distance is an approximation (a cell can be nearer by centroid yet
 // behind along some rays); it must still beat drawing in mesh order, and the sort must run
 // as its own timed pass.
-TEST_F(EmissionAbsorptionTest, GpuSortIsCloserThanMeshOrderAndRunsAsAPass) {
+TEST_P(EmissionAbsorptionMeshTest, GpuSortIsCloserThanMeshOrderAndRunsAsAPass) {
   const TetMesh mesh = default_with_scalars();
   Camera camera = fit_camera(bounds_of(mesh));
   camera.eye = camera.target + glm::dvec3(-3.0, 2.0, -3.5);  // mesh order is far from back to front here
@@ -274,10 +195,10 @@ TEST_F(EmissionAbsorptionTest, GpuSortIsCloserThanMeshOrderAndRunsAsAPass) {
               unsorted.rmse, unsorted.max_error);
 }
 
-TEST_F(EmissionAbsorptionTest, OrderIndependentQuantitiesNeverSort) {
+TEST_P(EmissionAbsorptionTest, OrderIndependentQuantitiesNeverSort) {
   const TetMesh mesh = default_with_scalars();
   frame::FrameRenderer renderer(device(), mesh);
-  frame::FrameSettings settings;
+  frame::FrameSettings settings = settings_on_backend();
   settings.resolve.quantity = volume::Quantity::OpticalDepth;
   settings.ordering = frame::Ordering::GpuSort;
   const auto frame = renderer.render_offscreen(fit_camera(bounds_of(mesh)), settings, {16, 16});
@@ -288,7 +209,7 @@ TEST_F(EmissionAbsorptionTest, OrderIndependentQuantitiesNeverSort) {
 // Cells per mesh workgroup changes how work is grouped, not which primitives are drawn or in
 // what order (workgroups in order, primitives in order within each), so additive and
 // front-to-back blending see the same sequence: the images are bit-identical.
-TEST_F(EmissionAbsorptionTest, TetletSizesGiveBitIdenticalImages) {
+TEST_P(EmissionAbsorptionMeshTest, TetletSizesGiveBitIdenticalImages) {
   const TetMesh mesh = default_with_scalars();
   Camera camera;
   camera.eye = {0.13, 0.07, 0.21};  // inside: clipped cells emit up to 15 vertices each
@@ -316,7 +237,7 @@ TEST_F(EmissionAbsorptionTest, TetletSizesGiveBitIdenticalImages) {
 // the same camera-space corners and so the same fragments, only summed in another order. Each
 // additive blend rounds by at most 2^-24 of the running sum, so two orders of n terms differ
 // by at most 2 n 2^-24 of the pixel's optical depth (here n < 100 segments).
-TEST_F(EmissionAbsorptionTest, TetletsWithSharedPointsGiveTheSameOpticalDepth) {
+TEST_P(EmissionAbsorptionMeshTest, TetletsWithSharedPointsGiveTheSameOpticalDepth) {
   TetMesh mesh = default_with_scalars();
   mesh.point_extinction = mesh.point_scalars;  // per-point fields go through shared memory too
   Camera inside;
@@ -347,7 +268,7 @@ TEST_F(EmissionAbsorptionTest, TetletsWithSharedPointsGiveTheSameOpticalDepth) {
     }
 }
 
-TEST_F(EmissionAbsorptionTest, PreintegratedTableMatchesReferenceWithTheSameTable) {
+TEST_P(EmissionAbsorptionTest, PreintegratedTableMatchesReferenceWithTheSameTable) {
   // Unclipped cells only: a table's lookups do not add up along a ray like the exact integral
   // does, so a cell split by the near plane differs from the reference's single lookup by the
   // table's error (measured by the bench, not a GPU error).
@@ -358,6 +279,9 @@ TEST_F(EmissionAbsorptionTest, PreintegratedTableMatchesReferenceWithTheSameTabl
     EXPECT_EQ(c.failures, 0u) << size << ": " << c.first_failure;
   }
 }
+
+PRISMOID_ON_BOTH_BACKENDS(EmissionAbsorptionTest);
+PRISMOID_ON_MESH_BACKEND(EmissionAbsorptionMeshTest);
 
 }  // namespace
 }  // namespace prismoid

@@ -15,6 +15,7 @@
 #include "renderer/reference/analytic_march.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/region_mesh.hpp"
+#include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/march_fixture.hpp"
 
@@ -62,7 +63,7 @@ std::vector<volume::IndexBox> inner_blocks_above(const volume::SampledGrid& g, d
 // over the ray's length L; and the trilinear interpolation's own rounding, 3 levels of
 // a + t (b - a), each at most 3 roundings of the largest value (plus the fraction t's
 // rounding, a position error inside the first term): 16 ulp of max|v| per sample, times L.
-TEST_F(GridMarchTest, LinearGridMarchEqualsExactIntervalShading) {
+TEST_P(GridMarchTest, LinearGridMarchEqualsExactIntervalShading) {
   const glm::dvec3 g(0.25, -0.125, 0.25);
   const volume::AnalyticField linear = volume::linear_field(g, 1.0);
   auto grid = std::make_shared<volume::SampledGrid>(volume::sample_onto_grid(linear, glm::uvec3(41), glm::dvec3(-1.25), glm::dvec3(1.25)));
@@ -164,7 +165,7 @@ std::vector<std::map<size_t, CellEnds>> cell_ends(const TetMesh& mesh, const Cam
 // plus float over the ray (length <= the box's diagonal D): positions 8 roundings of
 // max(|eye|, distance) times G, 16 ulp of s per sample for the interpolation, and the sums,
 // tau (n + 16) 2^-23.
-TEST_F(GridMarchTest, MarschnerLobbGridMatchesTheDoubleMarchAtTheSameStep) {
+TEST_P(GridMarchTest, MarschnerLobbGridMatchesTheDoubleMarchAtTheSameStep) {
   auto grid = std::make_shared<volume::SampledGrid>(
       volume::sample_onto_grid(volume::marschner_lobb(), glm::uvec3(41), glm::dvec3(-1.25), glm::dvec3(1.25)));
   const TetMesh mesh = volume::make_region_mesh(*grid, inner_blocks_above(*grid, 0.45, 4));
@@ -216,7 +217,7 @@ TEST_F(GridMarchTest, MarschnerLobbGridMatchesTheDoubleMarchAtTheSameStep) {
 // r - d - step of it hit (the chord where the field is above the isovalue is longer than a
 // step, so the march cannot step over it). Also a camera inside the sphere: every pixel hits
 // (the interval starts above the isovalue) and nothing is NaN.
-TEST_F(GridMarchTest, SphereDistanceGridIsosurfaceLiesWithinOneVoxel) {
+TEST_P(GridMarchTest, SphereDistanceGridIsosurfaceLiesWithinOneVoxel) {
   auto grid = std::make_shared<volume::SampledGrid>();
   grid->name = "sphere distance";
   grid->dims = glm::uvec3(33);
@@ -266,6 +267,8 @@ TEST_F(GridMarchTest, SphereDistanceGridIsosurfaceLiesWithinOneVoxel) {
   expect_finite(depth.quantity, "optical depth from inside");
   for (float v : depth.quantity) EXPECT_GT(v, 0.0f);
 }
+
+PRISMOID_ON_BOTH_BACKENDS(GridMarchTest);
 
 }  // namespace
 }  // namespace prismoid

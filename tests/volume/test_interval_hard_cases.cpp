@@ -328,7 +328,7 @@ void report_failed_tiles(const test::IntervalShadingTest::Comparison& c, const S
     if (failed[k]) ADD_FAILURE() << failed[k] << " of the first failing pixels lie in tiles with a " << kViewNames[k];
 }
 
-TEST_F(IntervalHardCaseTest, OneTetrahedronInThousandsOfOrientationsMatchesReference) {
+TEST_P(IntervalHardCaseTest, OneTetrahedronInThousandsOfOrientationsMatchesReference) {
   const Sheet sheet = orientation_sheet(2024);
   ASSERT_GE(sheet.mesh.tets.size(), 2000u);
   const Camera camera = sheet_camera();
@@ -346,7 +346,7 @@ TEST_F(IntervalHardCaseTest, OneTetrahedronInThousandsOfOrientationsMatchesRefer
               c.max_relative_to_tolerance);
 }
 
-TEST_F(IntervalHardCaseTest, OneTetrahedronInThousandsOfOrientationsWithLinearSigmaMatchesReference) {
+TEST_P(IntervalHardCaseTest, OneTetrahedronInThousandsOfOrientationsWithLinearSigmaMatchesReference) {
   Sheet sheet = orientation_sheet(77);
   // sigma linear in each copy, from 0.2 to 1.8 times the constant case's across its vertices.
   TetMesh& mesh = sheet.mesh;
@@ -374,7 +374,7 @@ Camera oblique_camera(const TetMesh& mesh) {
   return camera;
 }
 
-TEST_F(IntervalHardCaseTest, QuarterMillionCellsMatchReference) {
+TEST_P(IntervalHardCaseTest, QuarterMillionCellsMatchReference) {
   const TetMesh mesh = make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 33, swirl_density);
   ASSERT_GT(mesh.tets.size(), 200000u);
   const auto c = compare(mesh, oblique_camera(mesh), 96, 72);
@@ -384,7 +384,7 @@ TEST_F(IntervalHardCaseTest, QuarterMillionCellsMatchReference) {
               c.max_relative_to_tolerance);
 }
 
-TEST_F(IntervalHardCaseTest, QuarterMillionCellsWithPointSigmaMatchReference) {
+TEST_P(IntervalHardCaseTest, QuarterMillionCellsWithPointSigmaMatchReference) {
   TetMesh mesh = make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 33, swirl_density);
   mesh.point_extinction = mesh.point_scalars;
   const auto c = compare(mesh, oblique_camera(mesh), 96, 72);
@@ -400,7 +400,7 @@ TEST_F(IntervalHardCaseTest, QuarterMillionCellsWithPointSigmaMatchReference) {
 // floats are 16 apart, so a surface's depth (or its 1/depth) pins it only to +-8 units while the
 // ball's chords are at most 2. The interval's ends are measured from each cell's reference point
 // instead.
-TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMatchesReference) {
+TEST_P(IntervalHardCaseTest, MicroDegreeFieldOfViewMatchesReference) {
   const TetMesh mesh = make_ball_mesh(glm::dvec3(0.0), 1.0, 3, 1.0);
   const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
   ASSERT_GT(glm::length(camera.eye - camera.target), 1e8);
@@ -416,13 +416,13 @@ TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMatchesReference) {
 // arithmetic: its sum of n samples (n + 16 roundings of the running total) and each sample's
 // position, mesh-local (8 roundings of the mesh's radius plus the cell's size) times |grad f|,
 // over the ray's length inside the mesh (at most the diagonal).
-TEST_F(IntervalHardCaseTest, MicroDegreeFieldOfViewMarchMatchesReference) {
+TEST_P(IntervalHardCaseTest, MicroDegreeFieldOfViewMarchMatchesReference) {
   const volume::AnalyticField field = volume::field_from_name("linear");
   const TetMesh mesh = volume::make_field_mesh(field, 4);
   const Camera camera = fit_camera(bounds_of(mesh), 1e-6);
   const uint32_t w = 48, h = 48;
   frame::FrameRenderer renderer(device(), mesh);
-  frame::FrameSettings settings;
+  frame::FrameSettings settings = settings_on_backend();
   settings.resolve.quantity = volume::Quantity::OpticalDepth;
   settings.resolve.march.enabled = true;
   settings.resolve.march.field = field;
@@ -463,7 +463,7 @@ Camera beside_tall_cell() {
   return camera;
 }
 
-TEST_F(IntervalHardCaseTest, CellAMillionTimesTallerThanWideMatchesReference) {
+TEST_P(IntervalHardCaseTest, CellAMillionTimesTallerThanWideMatchesReference) {
   const auto c = compare(tall_cell(), beside_tall_cell(), 64, 64);
   EXPECT_GT(c.covered, 300u);
   EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
@@ -512,7 +512,7 @@ void expect_saturated_transmittance(const std::vector<float>& gpu, const TetMesh
   EXPECT_GT(clear, 200u);
 }
 
-TEST_F(IntervalHardCaseTest, ExtinctionBeyondFloatGivesTheReferencesTransmittance) {
+TEST_P(IntervalHardCaseTest, ExtinctionBeyondFloatGivesTheReferencesTransmittance) {
   const double radius = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
   const uint32_t w = 48, h = 40;
   {
@@ -520,7 +520,7 @@ TEST_F(IntervalHardCaseTest, ExtinctionBeyondFloatGivesTheReferencesTransmittanc
     Camera camera = fit_camera(bounds_of(ball));
     camera.eye = camera.target + glm::dvec3(1.5, 1.0, 4.0);
     frame::FrameRenderer renderer(device(), ball);
-    frame::FrameSettings settings;
+    frame::FrameSettings settings = settings_on_backend();
     settings.resolve.quantity = volume::Quantity::Transmittance;
     expect_saturated_transmittance(renderer.render_offscreen(camera, settings, {w, h}).quantity, ball, camera, w, h, radius);
   }
@@ -531,7 +531,7 @@ TEST_F(IntervalHardCaseTest, ExtinctionBeyondFloatGivesTheReferencesTransmittanc
     Camera camera = fit_camera(bounds_of(mesh));
     camera.eye = camera.target + glm::dvec3(1.5, 1.0, 5.0);
     frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings settings;
+    frame::FrameSettings settings = settings_on_backend();
     settings.resolve.quantity = volume::Quantity::Transmittance;
     settings.resolve.march.enabled = true;
     settings.resolve.march.field = field;
@@ -540,6 +540,8 @@ TEST_F(IntervalHardCaseTest, ExtinctionBeyondFloatGivesTheReferencesTransmittanc
     expect_saturated_transmittance(renderer.render_offscreen(camera, settings, {w, h}).quantity, mesh, camera, w, h, radius);
   }
 }
+
+PRISMOID_ON_BOTH_BACKENDS(IntervalHardCaseTest);
 
 }  // namespace
 }  // namespace prismoid

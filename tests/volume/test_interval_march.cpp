@@ -11,6 +11,7 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/analytic_march.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/march_fixture.hpp"
 #include "volume/step_convergence.hpp"
@@ -30,7 +31,7 @@ using IntervalMarchTest = test::MarchTest;
 // of |g||p| + |c|); the sum adds n roundings of the running total; interval shading's own
 // mean * length adds a few ulp. Bound per pixel: tau * (n + 16) * 2^-23 plus, over the ray's
 // length L, density * |g| * 2^-21 * max(|eye|, distance) * L.
-TEST_F(IntervalMarchTest, LinearFieldMarchEqualsExactIntervalShading) {
+TEST_P(IntervalMarchTest, LinearFieldMarchEqualsExactIntervalShading) {
   const volume::AnalyticField field = volume::field_from_name("linear");
   const TetMesh mesh = volume::make_field_mesh(field, 4);
   for (const glm::dvec3 eye : {glm::dvec3(0.4, 0.3, 4.5), glm::dvec3(-3.0, 2.0, -2.5), glm::dvec3(0.2, 0.1, 0.3)}) {
@@ -121,7 +122,7 @@ std::vector<double> snapping_tolerance(const TetMesh& mesh, const volume::Analyt
 //    plus float: n samples summed, 2^-21 relative position error times |grad f| (<= pi^2 f_M
 //    alpha pi / 2 / (2 (1 + alpha)) + pi / 4 / (2 (1 + alpha)) bounded by second_derivative
 //    bound * 2 on [-1,1]^3) times the ray's length.
-TEST_F(IntervalMarchTest, MarschnerLobbOpticalDepthConvergesSecondOrder) {
+TEST_P(IntervalMarchTest, MarschnerLobbOpticalDepthConvergesSecondOrder) {
   const volume::AnalyticField field = volume::marschner_lobb();
   const TetMesh mesh = volume::make_field_mesh(field, 4);
   const Camera camera = looking_from({0.9, 0.7, 3.6});
@@ -167,7 +168,7 @@ TEST_F(IntervalMarchTest, MarschnerLobbOpticalDepthConvergesSecondOrder) {
 // doubled), which move the hit by dF / (|grad f| cos) and dP / cos along the ray, cos the
 // angle between the ray and the normal. Shade: ambient + (1 - ambient) |cos|, off by the
 // normal's float error (2^-18) and the hit's position error over the radius.
-TEST_F(IntervalMarchTest, SphereIsosurfaceHitsAtTheExactDepth) {
+TEST_P(IntervalMarchTest, SphereIsosurfaceHitsAtTheExactDepth) {
   const volume::AnalyticField field = volume::field_from_name("sphere");
   const glm::dvec3 centre(field.params[0]);
   const double width = field.params[0].w, iso = 0.5;
@@ -213,6 +214,8 @@ TEST_F(IntervalMarchTest, SphereIsosurfaceHitsAtTheExactDepth) {
                 disc, silhouette, worst);
   }
 }
+
+PRISMOID_ON_BOTH_BACKENDS(IntervalMarchTest);
 
 }  // namespace
 }  // namespace prismoid

@@ -9,6 +9,7 @@
 
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/analytic_march.hpp"
+#include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 
 namespace prismoid {
@@ -30,7 +31,7 @@ TetMesh box_at(const glm::dvec3& offset) {
   return mesh;
 }
 
-class IntervalMarchFarTest : public test::GpuTest {};
+class IntervalMarchFarTest : public test::GpuTest, public test::OnBackend {};
 
 // Optical depth of the blobs at the origin and at (1e5, -1e5, 1e5) + small, seen from the
 // same relative eye, each against its double-precision reference. The tolerance is the same
@@ -46,7 +47,7 @@ class IntervalMarchFarTest : public test::GpuTest {};
 // 0.0155 (100x the image at the origin, 6x this tolerance): the sample's world position
 // (~1e5, float spacing 2^-7 = 0.008) and the blobs' centres (rounded by 0.004) moved the
 // field by up to |grad f| * 0.012.
-TEST_F(IntervalMarchFarTest, BlobsFarFromOriginMatchReferenceAsAtOrigin) {
+TEST_P(IntervalMarchFarTest, BlobsFarFromOriginMatchReferenceAsAtOrigin) {
   const uint32_t w = 40, h = 40;
   const double step = 0.01, diagonal = 2.0 * std::sqrt(3.0);
   const volume::AnalyticField at_origin = volume::field_from_name("blobs");
@@ -66,7 +67,7 @@ TEST_F(IntervalMarchFarTest, BlobsFarFromOriginMatchReferenceAsAtOrigin) {
     camera.fovy_degrees = 40.0;
     camera.near_distance = 0.05;
     frame::FrameRenderer renderer(device(), mesh);
-    frame::FrameSettings settings;
+    frame::FrameSettings settings = settings_on_backend();
     settings.resolve.quantity = volume::Quantity::OpticalDepth;
     settings.resolve.march.enabled = true;
     settings.resolve.march.field = field;
@@ -101,6 +102,8 @@ TEST_F(IntervalMarchFarTest, BlobsFarFromOriginMatchReferenceAsAtOrigin) {
   }
   ::testing::Test::RecordProperty("far_worst_over_tolerance", std::to_string(worst_far));
 }
+
+PRISMOID_ON_BOTH_BACKENDS(IntervalMarchFarTest);
 
 }  // namespace
 }  // namespace prismoid

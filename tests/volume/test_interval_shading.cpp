@@ -40,7 +40,7 @@ Camera looking_from(const glm::dvec3& eye, const glm::dvec3& target = glm::dvec3
   return c;
 }
 
-TEST_F(IntervalShadingTest, SilhouetteTriangleCaseMatchesReference) {
+TEST_P(IntervalShadingTest, SilhouetteTriangleCaseMatchesReference) {
   // Looking from beyond a vertex towards the centroid, that vertex projects inside the
   // opposite face: case 1 (three proxy triangles).
   const Camera camera = looking_from(glm::normalize(kRegular[0]) * 6.0);
@@ -49,7 +49,7 @@ TEST_F(IntervalShadingTest, SilhouetteTriangleCaseMatchesReference) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure;
 }
 
-TEST_F(IntervalShadingTest, SilhouetteQuadCaseMatchesReference) {
+TEST_P(IntervalShadingTest, SilhouetteQuadCaseMatchesReference) {
   // Looking along the axis joining the midpoints of two opposite edges: case 2.
   const Camera camera = looking_from(glm::dvec3(0, 0, 6.0) + glm::dvec3(0.3, 0.2, 0));
   const Comparison c = compare(single_tet(kRegular, 2.0), camera, 64, 64);
@@ -57,7 +57,7 @@ TEST_F(IntervalShadingTest, SilhouetteQuadCaseMatchesReference) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure;
 }
 
-TEST_F(IntervalShadingTest, RandomTetrahedraAndViewsMatchReference) {
+TEST_P(IntervalShadingTest, RandomTetrahedraAndViewsMatchReference) {
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 12; ++trial) {
@@ -71,7 +71,7 @@ TEST_F(IntervalShadingTest, RandomTetrahedraAndViewsMatchReference) {
   }
 }
 
-TEST_F(IntervalShadingTest, EdgeOnFaceGivesFiniteExactDepth) {
+TEST_P(IntervalShadingTest, EdgeOnFaceGivesFiniteExactDepth) {
   // The eye lies in the plane of face (1, 2, 3): that face projects to a segment (zero
   // area). The classification must not divide by it, and the image must stay exact.
   const glm::dvec3 centroid = (kRegular[1] + kRegular[2] + kRegular[3]) / 3.0;
@@ -82,7 +82,7 @@ TEST_F(IntervalShadingTest, EdgeOnFaceGivesFiniteExactDepth) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure;
 }
 
-TEST_F(IntervalShadingTest, DefaultDatasetMatchesReference) {
+TEST_P(IntervalShadingTest, DefaultDatasetMatchesReference) {
   const TetMesh mesh = make_default_volume();
   Camera camera = fit_camera(bounds_of(mesh));
   camera.eye = camera.target + glm::dvec3(2.0, 1.5, 4.5);
@@ -98,7 +98,7 @@ TEST_F(IntervalShadingTest, DefaultDatasetMatchesReference) {
 // The near plane cuts the tetrahedron with 1, 2 or 3 vertices behind it: the part in front is
 // a prism (3 pieces), a wedge (3 pieces) or a small tetrahedron, and must integrate exactly
 // from the near plane on, as the reference does.
-TEST_F(IntervalShadingTest, NearPlaneClipCasesMatchReference) {
+TEST_P(IntervalShadingTest, NearPlaneClipCasesMatchReference) {
   const glm::dvec3 v0 = glm::normalize(kRegular[0]);
   struct Case { const char* name; glm::dvec3 eye; double near_distance; };
   const Case cases[] = {
@@ -116,7 +116,7 @@ TEST_F(IntervalShadingTest, NearPlaneClipCasesMatchReference) {
   }
 }
 
-TEST_F(IntervalShadingTest, CameraInsideTheMeshMatchesReference) {
+TEST_P(IntervalShadingTest, CameraInsideTheMeshMatchesReference) {
   // The eye sits inside a cell of the default dataset: every pixel integrates from the near
   // plane to the far side of the mesh.
   const TetMesh mesh = make_default_volume();
@@ -132,7 +132,7 @@ TEST_F(IntervalShadingTest, CameraInsideTheMeshMatchesReference) {
 
 // Hard cases: far from the origin, tiny cells, slivers, zero-volume cells.
 
-TEST_F(IntervalShadingTest, FarFromOriginMatchesReference) {
+TEST_P(IntervalShadingTest, FarFromOriginMatchesReference) {
   // Unit-sized cells at an offset of 1e5: float positions relative to the mesh centre keep
   // the precision that world coordinates in float (ulp 2^-7 at 1e5) would lose.
   const glm::dvec3 offset(1e5, -2e5, 1.5e5);
@@ -149,7 +149,7 @@ TEST_F(IntervalShadingTest, FarFromOriginMatchesReference) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure;
 }
 
-TEST_F(IntervalShadingTest, TinyCellsMatchReference) {
+TEST_P(IntervalShadingTest, TinyCellsMatchReference) {
   // A mesh 2e-6 across with sigma 1e6, so the optical depth is of order one.
   TetMesh mesh = make_box_mesh(glm::dvec3(-1e-6), glm::dvec3(1e-6), 3, [](const glm::dvec3&) { return 1e6; });
   Camera camera;
@@ -161,7 +161,7 @@ TEST_F(IntervalShadingTest, TinyCellsMatchReference) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure;
 }
 
-TEST_F(IntervalShadingTest, SliversAndZeroVolumeCellsStayFiniteAndExact) {
+TEST_P(IntervalShadingTest, SliversAndZeroVolumeCellsStayFiniteAndExact) {
   // Needle, cap and wedge slivers (heights 1e-4 of their size) and exactly flat cells
   // (coplanar, and with a repeated vertex): the flat ones contribute nothing.
   TetMesh mesh;
@@ -233,7 +233,7 @@ void expect_closed_form_through_cube(IntervalShadingTest& test, const TetMesh& m
 // depth along a ray is the chord times sigma at the chord's midpoint, in closed form. The
 // tetrahedral reference must match it to rounding (the Kuhn cells partition the cube), and
 // the GPU must match the reference within the per-pixel tolerances derived above.
-TEST_F(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
+TEST_P(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
   auto sigma = [](const glm::dvec3&) { return 0.75; };
   expect_closed_form_through_cube(*this, make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 5, sigma), sigma);
 }
@@ -242,7 +242,7 @@ TEST_F(IntervalShadingTest, ConstantCubeEqualsSigmaTimesChordInClosedForm) {
 // through the (convex, polyhedral) ball, computed in closed form from the boundary faces'
 // planes alone (entry = the last plane entered, exit = the first left), which knows nothing
 // of the tetrahedra. The reference must match it to rounding, and the GPU the reference.
-TEST_F(IntervalShadingTest, ConstantBallEqualsSigmaTimesChordInClosedForm) {
+TEST_P(IntervalShadingTest, ConstantBallEqualsSigmaTimesChordInClosedForm) {
   const double sigma = 0.8;
   const TetMesh mesh = make_ball_mesh(glm::dvec3(0.2, -0.1, 0.3), 1.0, 2, sigma);
   ASSERT_EQ(mesh.tets.size(), 320u);
@@ -275,7 +275,7 @@ TEST_F(IntervalShadingTest, ConstantBallEqualsSigmaTimesChordInClosedForm) {
 
 // Beyond the paper: per-vertex extinction, linear in each cell.
 
-TEST_F(IntervalShadingTest, GloballyLinearFieldEqualsClosedForm) {
+TEST_P(IntervalShadingTest, GloballyLinearFieldEqualsClosedForm) {
   // Linear everywhere, so every cell's interpolation reproduces it exactly.
   auto sigma = [](const glm::dvec3& p) { return 1.0 + 0.3 * p.x + 0.2 * p.y - 0.1 * p.z; };
   TetMesh mesh = make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 4, sigma);
@@ -283,7 +283,7 @@ TEST_F(IntervalShadingTest, GloballyLinearFieldEqualsClosedForm) {
   expect_closed_form_through_cube(*this, mesh, sigma);
 }
 
-TEST_F(IntervalShadingTest, PointExtinctionOnDefaultDatasetMatchesReference) {
+TEST_P(IntervalShadingTest, PointExtinctionOnDefaultDatasetMatchesReference) {
   TetMesh mesh = make_default_volume();
   mesh.point_extinction = mesh.point_scalars;  // the Gaussian blobs sampled at the points
   Camera camera = fit_camera(bounds_of(mesh));
@@ -293,7 +293,7 @@ TEST_F(IntervalShadingTest, PointExtinctionOnDefaultDatasetMatchesReference) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
 }
 
-TEST_F(IntervalShadingTest, LinearFieldWithCameraInsideMatchesReference) {
+TEST_P(IntervalShadingTest, LinearFieldWithCameraInsideMatchesReference) {
   TetMesh mesh = make_default_volume();
   mesh.point_extinction = mesh.point_scalars;
   Camera camera;
@@ -305,7 +305,7 @@ TEST_F(IntervalShadingTest, LinearFieldWithCameraInsideMatchesReference) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
 }
 
-TEST_F(IntervalShadingTest, EdgeOnFacesAlongTheViewAxisStayFiniteAndExact) {
+TEST_P(IntervalShadingTest, EdgeOnFacesAlongTheViewAxisStayFiniteAndExact) {
   // Regression: the default camera looks down the z axis through the centre of the Kuhn grid,
   // so the eye lies in the planes x = 0, y = 0 and x = ±y, and many faces are exactly edge-on.
   // Their proxies once kept zero-area triangles that the rasterizer still covered along a
@@ -317,7 +317,7 @@ TEST_F(IntervalShadingTest, EdgeOnFacesAlongTheViewAxisStayFiniteAndExact) {
   EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
 }
 
-TEST_F(IntervalShadingTest, ProxiesFarLargerThanTheViewportStayExact) {
+TEST_P(IntervalShadingTest, ProxiesFarLargerThanTheViewportStayExact) {
   // Regression: lavapipe mis-interpolated `noperspective` attributes on proxy triangles its
   // clipper cuts, giving errors up to 0.43 (of ~1) when the eye sat inside a big cell or a
   // narrow field of view magnified one; the H100 was exact. The proxies now use ordinary
@@ -335,12 +335,14 @@ TEST_F(IntervalShadingTest, ProxiesFarLargerThanTheViewportStayExact) {
   }
 }
 
-TEST_F(IntervalShadingTest, EmptyMeshRendersZero) {
+TEST_P(IntervalShadingTest, EmptyMeshRendersZero) {
   TetMesh mesh;
   mesh.name = "empty";
   const std::vector<float> gpu = render(mesh, looking_from({0, 0, 5}), 16, 16);
   for (float v : gpu) EXPECT_EQ(v, 0.0f);
 }
+
+PRISMOID_ON_BOTH_BACKENDS(IntervalShadingTest);
 
 }  // namespace
 }  // namespace prismoid

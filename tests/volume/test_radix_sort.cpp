@@ -49,7 +49,10 @@ class RadixSortTest : public test::GpuTest {
 
   // Sorts `keys` (values = original index) on the GPU and compares keys and values with
   // std::stable_sort: equal values prove stability, not only order.
-  ::testing::AssertionResult sorts_like_stable_sort(volume::GpuRadixSort& sort, const std::vector<uint32_t>& keys) {
+  // With `count_on_gpu`, the count reaches the sort in device memory (record_indirect), in
+  // a buffer holding other numbers around it.
+  ::testing::AssertionResult sorts_like_stable_sort(volume::GpuRadixSort& sort, const std::vector<uint32_t>& keys,
+                                                    bool count_on_gpu = false) {
     const auto count = static_cast<uint32_t>(keys.size());
     std::vector<uint32_t> values(count);
     std::iota(values.begin(), values.end(), 0u);
@@ -58,7 +61,11 @@ class RadixSortTest : public test::GpuTest {
     guarded_values.resize(count + kGuardEntries, kGuardValue);
     vk::Buffer key_buffer = upload(guarded_keys);
     vk::Buffer value_buffer = upload(guarded_values);
-    device().submit_and_wait([&](VkCommandBuffer cmd) { sort.record(cmd, key_buffer, value_buffer, count); });
+    const vk::Buffer count_buffer = upload({7u, 0xFFFFFFFFu, count, 3u});
+    device().submit_and_wait([&](VkCommandBuffer cmd) {
+      if (count_on_gpu) sort.record_indirect(cmd, key_buffer, value_buffer, count_buffer, 2, count + kGuardEntries);
+      else sort.record(cmd, key_buffer, value_buffer, count);
+    });
     const std::vector<uint32_t> gpu_keys = download(key_buffer, count + kGuardEntries);
     const std::vector<uint32_t> gpu_values = download(value_buffer, count + kGuardEntries);
 
@@ -88,6 +95,38 @@ TEST_F(RadixSortTest, RandomKeysMatchStableSortAtBlockBoundaries) {
     for (auto& k : keys) k = random_u32(rng);
     EXPECT_TRUE(sorts_like_stable_sort(sort, keys));
   }
+}
+
+TEST_F(RadixSortTest, CountInDeviceMemoryMatchesStableSort) {
+  const std::vector<uint32_t> counts = {0, 1, 2, 255, 1024, 1025, 4099, 300'007};
+  volume::GpuRadixSort sort(device(), counts.back() + kGuardEntries);
+  std::mt19937 rng(2024);
+  for (uint32_t count : counts) {
+    std::vector<uint32_t> keys(count);
+    for (auto& k : keys) k = random_u32(rng) >> (random_u32(rng) % 8);
+    EXPECT_TRUE(sorts_like_stable_sort(sort, keys, true)) << count << " keys";
+  }
+}
+
+TEST_F(RadixSortTest, CountInDeviceMemoryIsCutToTheLargestAllowed) {
+  // The buffer says 5000 keys, the caller allows 3000: the first 3000 are sorted, the rest kept.
+  volume::GpuRadixSort sort(device(), 5000);
+  std::mt19937 rng(5);
+  std::vector<uint32_t> keys(5000), values(5000);
+  for (auto& k : keys) k = random_u32(rng);
+  std::iota(values.begin(), values.end(), 0u);
+  vk::Buffer key_buffer = upload(keys), value_buffer = upload(values);
+  const vk::Buffer count_buffer = upload({5000u});
+  device().submit_and_wait([&](VkCommandBuffer cmd) { sort.record_indirect(cmd, key_buffer, value_buffer, count_buffer, 0, 3000); });
+  const std::vector<uint32_t> gpu_keys = download(key_buffer, 5000), gpu_values = download(value_buffer, 5000);
+  std::vector<uint32_t> expected(keys.begin(), keys.begin() + 3000);
+  std::sort(expected.begin(), expected.end());
+  EXPECT_TRUE(std::equal(expected.begin(), expected.end(), gpu_keys.begin()));
+  EXPECT_TRUE(std::equal(keys.begin() + 3000, keys.end(), gpu_keys.begin() + 3000));
+  EXPECT_TRUE(std::equal(values.begin() + 3000, values.end(), gpu_values.begin() + 3000));
+  device().submit_and_wait([&](VkCommandBuffer cmd) {
+    EXPECT_THROW(sort.record_indirect(cmd, key_buffer, value_buffer, count_buffer, 0, sort.capacity() + 1), std::invalid_argument);
+  });
 }
 
 // 16M keys: 16384 blocks, 4M histogram entries, 4096 scan partials (4 tiles of the partials

@@ -1,0 +1,38 @@
+#version 460
+// Compute interval backend, bin-cells step 3 (after the prefix sum of the pair counts): each
+// cell writes its (tile << depth bits | depth key, cell) pairs from its first pair on, tiles in
+// row order; pairs beyond the capacity are counted, not written. The last cell records how
+// many pairs there are, which the sort reads on the GPU.
+#extension GL_GOOGLE_include_directive : require
+#include "../../shared/volume.h"
+#include "../../shared/compute_intervals.h"
+
+layout(local_size_x = PRISMOID_CI_WORKGROUP) in;
+layout(set = 0, binding = PRISMOID_BINDING_FRAME) uniform FrameBlock { FrameUniforms frame; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_BINS) readonly buffer Bins { uvec4 bins[]; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_OFFSETS) readonly buffer Offsets { uint offsets[]; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_KEYS) writeonly buffer Keys { uint keys[]; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_VALUES) writeonly buffer Values { uint values[]; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_STATS) buffer Stats { uint stats[]; };
+layout(push_constant) uniform Push { ComputeIntervalsPush push; };
+
+void main() {
+  uint count = frame.counts.x, capacity = push.tiles.w, depth_bits = push.tiles.z;
+  for (uint cell = gl_GlobalInvocationID.x; cell < count; cell += gl_NumWorkGroups.x * PRISMOID_CI_WORKGROUP) {
+    uvec4 bin = bins[cell];
+    uint first = offsets[cell];
+    if (cell == count - 1u) {
+      uint total = first + bin.w;
+      stats[PRISMOID_CI_STAT_PAIRS] = total;
+      stats[PRISMOID_CI_STAT_SORTED] = min(total, capacity);
+    }
+    if (bin.w == 0u || first >= capacity) continue;
+    uint x0 = bin.x & 0xFFFFu, x1 = bin.x >> 16, y0 = bin.y & 0xFFFFu, y1 = bin.y >> 16;
+    uint pair = first;
+    for (uint y = y0; y <= y1 && pair < capacity; ++y)
+      for (uint x = x0; x <= x1 && pair < capacity; ++x, ++pair) {
+        keys[pair] = ((y * push.tiles.x + x) << depth_bits) | bin.z;
+        values[pair] = cell;
+      }
+  }
+}

@@ -1,0 +1,43 @@
+#pragma once
+// The emission-absorption test fixture: renders colour on the device and compares every pixel
+// and channel with the CPU double-precision reference in exact per-pixel order, within
+// per-pixel tolerances derived in color_comparison.cpp. Any non-finite channel fails the
+// calling test.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/volume/transfer_function.hpp"
+#include "scene/camera.hpp"
+#include "scene/tet_mesh.hpp"
+#include "support/backends.hpp"
+#include "support/gpu_fixture.hpp"
+
+namespace prismoid::test {
+
+struct ColorComparison {
+  size_t failures = 0, covered = 0;  // failing channels; pixels the reference sees medium at
+  double rmse = 0.0;  // over all pixels and channels, against the reference
+  std::vector<std::string> passes;
+  double max_error = 0.0, worst_over_tolerance = 0.0;
+  std::string first_failure;
+  std::string ordering;
+  bool order_exact = false;
+  frame::FrameReport report;
+  // Per pixel: whether a colour channel (r, g, b) or alpha lies beyond its tolerance, and how
+  // many segments the reference's ray crosses.
+  std::vector<bool> colour_failed, alpha_failed;
+  std::vector<uint32_t> segments;
+};
+
+// On both interval backends (support/backends.hpp): TEST_P, and PRISMOID_ON_BOTH_BACKENDS.
+class ColorTest : public GpuTest, public OnBackend {
+ public:
+  // Colour through `tf` on this test's backend (`ordering` is the mesh backend's; the compute
+  // backend orders each pixel itself), with a pre-integrated table of `table_size` (0: exact).
+  ColorComparison compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w, uint32_t h,
+                          frame::Ordering ordering, uint32_t table_size = 0);
+};
+
+}  // namespace prismoid::test
