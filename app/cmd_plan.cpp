@@ -4,9 +4,12 @@
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/common/backend_cache.hpp"
 #include "app/common/surface_args.hpp"
 #include "app/common/volume_options.hpp"
 #include "renderer/frame/frame_plan.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/instance.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "scene/surface_generators.hpp"
 
@@ -50,13 +53,21 @@ int info_plan(const ParsedArgs& a) {
   const surface::SurfaceMode* surface = a.has("mode") ? surface::find_surface_mode(a.values.at("mode")) : nullptr;
   if (!a.has("mode") && a.files.size() == 1 && is_named_surface_scene(a.files.front())) surface = &surface::surface_mode_table().front();
   if (surface) return surface_plan(a, *surface);
-  const VolumeChoice choice = volume_choice(a);
+  VolumeChoice choice = volume_choice(a);
   std::cout << choice.mesh.name << ": " << choice.mesh.tets.size() << " cells, mode " << choice.mode << ", quantity "
             << quantity_name(choice.quantity) << "\n";
   if (choice.mode == "reference") {
     std::cout << "plan: the CPU double-precision reference, one pass on the CPU (no GPU passes)\n";
     return kOk;
   }
+  if (choice.backend_auto) {  // measured on the device that would draw it (the default one)
+    vk::Instance instance(vk::InstanceOptions{});
+    const auto devices = vk::query_devices(instance.get());
+    vk::Device device(instance, vk::select_device(devices, std::nullopt), {});
+    resolve_auto_backend(choice.settings, device);
+  }
+  std::cout << "backend: " << frame::interval_backend_name(choice.settings.backend)
+            << (choice.settings.backend_reason.empty() ? " (asked for)" : " (" + choice.settings.backend_reason + ")") << "\n";
   // A first frame: nothing from an earlier frame to reuse (a still camera later skips the ordering).
   frame::SceneContents scene;
   scene.volumes.push_back(frame::volume_contents(choice.mesh, choice.settings.resolve));

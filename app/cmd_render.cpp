@@ -9,6 +9,7 @@
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/common/backend_cache.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/frame_image.hpp"
 #include "app/common/output_files.hpp"
@@ -55,6 +56,10 @@ const char* const kRenderHelp =
     "  --size WxH           image size in pixels (default 800x600)\n"
     "  --eye x,y,z --target x,y,z --up x,y,z --fovy DEG --near N\n"
     "                       camera (default: framing the data from +z, fovy 40)\n"
+    "  --volume-backend B   what draws the intervals: mesh (mesh shaders, the default), compute (compute\n"
+    "                       shaders on every core: cells binned into screen tiles, each pixel's exact\n"
+    "                       intervals in its own depth order), or auto (the faster on this device, by a\n"
+    "                       calibration frame kept in $XDG_CACHE_HOME/prismoid/backends.json)\n"
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "  --tetlet-size N      cells per mesh workgroup: 1 (the paper's one cell per workgroup), 4, 8 or 16\n"
@@ -158,7 +163,7 @@ int cmd_render(const std::vector<std::string>& args) {
   const std::string& mode = choice.mode;
   const volume::Quantity quantity = choice.quantity;
   const bool color = quantity == volume::Quantity::Color;
-  const frame::FrameSettings& settings = choice.settings;
+  frame::FrameSettings settings = choice.settings;
   const bool field = field_of(a).has_value();  // an analytic field: its own CPU reference
   const Camera camera = camera_from(a, bounds_of(mesh));
   frame::OffscreenFrame result;
@@ -177,6 +182,7 @@ int cmd_render(const std::vector<std::string>& args) {
     device_name = caps.name;
     driver = caps.driver_info;
     vk::Device device(*instance, caps, {});
+    if (choice.backend_auto) resolve_auto_backend(settings, device);
     frame::FrameRenderer renderer(device, mesh);
     if (frames > 1)
       app::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, settings, size).passes); }, app::kTimedWarmUpSeconds);
@@ -198,6 +204,16 @@ int cmd_render(const std::vector<std::string>& args) {
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
             << mesh.tets.size() << " cells) on " << device_name << "\n";
   std::cout << "  ordering: " << result.report.ordering << (result.report.order_exact ? " [exact]" : " [approximate]") << "\n";
+  const frame::FrameReport& report = result.report;
+  const double cells = static_cast<double>(std::max<size_t>(mesh.tets.size(), 1));
+  const double pixels = static_cast<double>(size.width) * size.height;
+  if (!cpu) {
+    std::cout << "  backend: " << report.backend << (settings.backend_reason.empty() ? "" : " (" + settings.backend_reason + ")")
+              << "; its memory " << report.backend_bytes << " bytes (" << json_number(static_cast<double>(report.backend_bytes) / cells)
+              << " per cell, " << json_number(static_cast<double>(report.backend_bytes) / pixels) << " per pixel)\n";
+    if (report.counts_known)
+      std::cout << "  pairs: " << report.pairs << " (tile, cell); pixels composited out of exact order: " << report.inexact_pixels << "\n";
+  }
   double total = 0.0;
   for (const auto& p : result.passes) {
     std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps")
@@ -221,6 +237,13 @@ int cmd_render(const std::vector<std::string>& args) {
        << ",\n  \"height\": " << size.height << ",\n  \"ordering\": \"" << json_escape(result.report.ordering)
        << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false")
        << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes;
+    if (!cpu) {
+      js << ",\n  \"backend\": \"" << report.backend << "\",\n  \"backend_reason\": \"" << json_escape(settings.backend_reason)
+         << "\",\n  \"backend_bytes\": " << report.backend_bytes << ",\n  \"backend_bytes_per_cell\": "
+         << json_number(static_cast<double>(report.backend_bytes) / cells) << ",\n  \"backend_bytes_per_pixel\": "
+         << json_number(static_cast<double>(report.backend_bytes) / pixels);
+      if (report.counts_known) js << ",\n  \"pairs\": " << report.pairs << ",\n  \"inexact_pixels\": " << report.inexact_pixels;
+    }
     if (result.report.counted) {  // as the driver counts them (lavapipe counts no clipper input for mesh shaders)
       js << ",\n  \"fragments\": " << result.report.fragments;
       if (result.report.primitives > 0) js << ",\n  \"proxy_triangles\": " << result.report.primitives;

@@ -71,6 +71,7 @@ const char* const kViewHelp =
     "  --frames N           close after N frames (for scripted runs)\n"
     "  --script FILE        drive the window from a command file (see docs/user-guide.md)\n"
     "  --no-ui              start with the panels hidden (H shows them)\n"
+    "  --volume-backend B   mesh (default), compute or auto, as for render; switchable in the mode panel\n"
     "  --device N           use Vulkan device N\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "\n"
@@ -162,6 +163,7 @@ int cmd_view(const std::vector<std::string>& args) {
   options.inputs = window_inputs(a);
   options.settings = choice.settings;
   options.mode = choice.mode;
+  options.backend_auto = choice.backend_auto;
   bool any_camera = false;
   for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);
   if (any_camera) options.camera = camera_from(a, union_bounds(state.datasets));

@@ -90,7 +90,7 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
 const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
                                                  "array", "density-scale", "tetlet-size", "march-step", "isovalue",
                                                  "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "remesh", "subsample", "component",
-                                                 "grid"};
+                                                 "grid", "volume-backend"};
 
 // Parses the volume options, loads the data and builds the frame settings; InputError names
 // the option or file at fault.
@@ -135,6 +135,12 @@ VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
   }
 
   settings.resolve.quantity = quantity;
+  // Which backend draws the intervals: both give the same quantities to the same tolerances.
+  const std::string backend = a.has("volume-backend") ? a.values.at("volume-backend") : "mesh";
+  if (backend == "mesh") settings.backend = frame::IntervalBackend::Mesh;
+  else if (backend == "compute") settings.backend = frame::IntervalBackend::Compute;
+  else if (backend == "auto") v.backend_auto = true;
+  else throw InputError("--volume-backend", "unknown backend '" + backend + "' (available: mesh, compute, auto)");
   if (a.has("tetlet-size")) settings.resolve.tetlet_size = parse_uint("tetlet-size", a.values.at("tetlet-size"));
   settings.resolve.shared_vertices = a.flags.count("shared-vertices") > 0;
   if (color) {

@@ -37,6 +37,8 @@ struct VolumeChoice {
   std::string mode;
   volume::Quantity quantity = volume::Quantity::Transmittance;
   frame::FrameSettings settings;
+  // --volume-backend auto: settings.backend is decided on the device (resolve_auto_backend).
+  bool backend_auto = false;
 };
 
 // What loads the dataset a command line names (load_scene by default; the bench passes one that

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/common/backend_cache.hpp"
 #include "app/viewer/dataset_list.hpp"
 #include "app/viewer/compare_panel.hpp"
 #include "app/viewer/compare_view.hpp"
@@ -169,6 +170,10 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   const vk::Instance& instance = presenting.instance;
   const vk::DeviceCapabilities& caps = presenting.caps;
   vk::Device& device = presenting.device;
+  frame::FrameSettings settings = options.settings;
+  if (options.backend_auto) resolve_auto_backend(settings, device);
+  state.settings.backend = settings.backend;
+  state.settings.backend_reason = settings.backend_reason;
 
   Window window(options.width, options.height, "Prismoid");
   Surface surface(instance.get(), window.get());
@@ -183,7 +188,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   ViewerReport report;
   report.device_name = caps.name;
   const Bounds bounds = state.drawn().bounds;
-  ViewerSession s{std::move(state), options.settings, window, device, swapchain, renderer,
+  ViewerSession s{std::move(state), settings, window, device, swapchain, renderer,
                   options.camera ? CameraController(bounds, *options.camera) : CameraController(bounds), {}, {}, report};
   CompareView compare(device);
   s.stats.device_name = caps.name;

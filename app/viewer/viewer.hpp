@@ -27,6 +27,7 @@ struct ViewerOptions {
   std::optional<Camera> camera;   // fitted to the data when absent
   frame::FrameSettings settings;  // what to show and how (quantity, ordering, transfer function...)
   std::string mode;               // the CLI's --mode name; empty: from settings.ordering
+  bool backend_auto = false;      // --volume-backend auto: the backend is measured on the window's device
   uint32_t max_frames = 0;        // 0: until the window is closed or SIGTERM
   std::vector<ScriptCommand> script;
   bool print_timings = true;      // GPU times in the title bar and once a second on stdout

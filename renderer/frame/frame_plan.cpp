@@ -179,9 +179,10 @@ std::string interval_reason(const VolumeContents& volume, const FrameSettings& s
 // The compute backend's passes: the cells binned into tiles and sorted there on the GPU, then
 // each pixel's intervals found on its own ray.
 void plan_compute_intervals(const VolumeContents& volume, const FrameSettings& settings, PlanBuilder& plan) {
-  plan.run(PassId::BinCells, "bin-cells", PassKind::Gpu,
-           "compute backend: each cell's conservative screen bounds in 8x8 tiles and its depth key; pair counts "
-           "prefix-summed into places; (tile, depth key) pairs written");
+  std::string bin_why = "compute backend: each cell's conservative screen bounds in 8x8 tiles and its depth key; pair counts "
+                        "prefix-summed into places; (tile, depth key) pairs written";
+  if (!settings.backend_reason.empty()) bin_why += "; " + settings.backend_reason;
+  plan.run(PassId::BinCells, "bin-cells", PassKind::Gpu, bin_why);
   plan.run(PassId::TileSort, "tile-sort", PassKind::Gpu,
            "the pairs sorted by tile, then depth, with the GPU radix sort, counted on the GPU (no read back); each tile's range");
   std::string why = interval_reason(volume, settings);
@@ -234,7 +235,9 @@ FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings) 
     } else {
       plan_tetlets(scene, settings, plan);
       result.reuses_order = plan_ordering(scene, volume, settings, plan);
-      plan.run(PassId::Intervals, volume::interval_pass_name(r), PassKind::Gpu, interval_reason(volume, settings));
+      std::string why = interval_reason(volume, settings);
+      if (!settings.backend_reason.empty()) why += "; " + settings.backend_reason;
+      plan.run(PassId::Intervals, volume::interval_pass_name(r), PassKind::Gpu, why);
     }
     plan.run(PassId::Resolve, "resolve", PassKind::Gpu,
              volume.optics == VolumeOptics::EmissionAbsorption ? "the display colour (colour over the background) and the transmittance"

@@ -37,6 +37,9 @@ struct FrameSettings {
   volume::ResolveSettings resolve;
   Ordering ordering = Ordering::GpuSort;  // the mesh backend's draw order (the compute backend orders per pixel)
   IntervalBackend backend = IntervalBackend::Mesh;
+  // Why `backend` draws this frame where it was not asked for by name (--volume-backend auto:
+  // the calibration's numbers, frame/backend_choice.hpp); shown in the plan. Empty otherwise.
+  std::string backend_reason;
 };
 
 // How a volume interacts with light in this frame.

@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
+#include "renderer/frame/backend_choice.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/volume/visibility_sort.hpp"
@@ -169,6 +172,35 @@ TEST_F(FramePlanGpuTest, AStillCameraReusesTheExactOrderWithTheSameImage) {
   // Another ordering in between: its order is not the exact one, so the exact order is made again.
   renderer.render_offscreen(camera, colour(frame::Ordering::GpuSort), {40, 30});
   EXPECT_TRUE(ran(renderer.render_offscreen(camera, settings, {40, 30}), "upload-order"));
+}
+
+// `auto` picks the backend its calibration measured faster, says so with the numbers, and
+// falls back to the mesh-shader backend where a time is missing.
+TEST(BackendChoice, PicksTheFasterBackendWithItsNumbers) {
+  frame::BackendCalibration c{"dev", 10.0, 2.5, 10368, 128, 128};
+  auto choice = frame::choose_backend(c);
+  EXPECT_EQ(choice.backend, frame::IntervalBackend::Compute);
+  EXPECT_NE(choice.reason.find("4x faster"), std::string::npos) << choice.reason;
+  EXPECT_NE(choice.reason.find("10368-cell"), std::string::npos) << choice.reason;
+  c.compute_ms = 30.0;
+  choice = frame::choose_backend(c);
+  EXPECT_EQ(choice.backend, frame::IntervalBackend::Mesh);
+  EXPECT_NE(choice.reason.find("3x faster"), std::string::npos) << choice.reason;
+  c.compute_ms = std::numeric_limits<double>::quiet_NaN();
+  choice = frame::choose_backend(c);
+  EXPECT_EQ(choice.backend, frame::IntervalBackend::Mesh);
+  EXPECT_NE(choice.reason.find("could not time"), std::string::npos) << choice.reason;
+}
+
+// The calibration times both backends on this device, and its choice is the faster one.
+TEST_F(FramePlanGpuTest, CalibrationTimesBothBackends) {
+  const frame::BackendCalibration c = frame::calibrate_backends(device(), 1);
+  EXPECT_EQ(c.device_key, frame::device_key(device()));
+  EXPECT_EQ(c.cells, 10368u);
+  ASSERT_TRUE(std::isfinite(c.mesh_ms) && c.mesh_ms > 0.0) << c.mesh_ms;
+  ASSERT_TRUE(std::isfinite(c.compute_ms) && c.compute_ms > 0.0) << c.compute_ms;
+  EXPECT_EQ(frame::choose_backend(c).backend,
+            c.compute_ms < c.mesh_ms ? frame::IntervalBackend::Compute : frame::IntervalBackend::Mesh);
 }
 
 }  // namespace
