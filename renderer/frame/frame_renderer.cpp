@@ -256,7 +256,7 @@ OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const Frame
     vk::read_image(device_, targets_.emission, 4 * sizeof(float), std::as_writable_bytes(std::span(frame.emission)));
   }
   frame.passes = offscreen_timer_.read();
-  if (interval_.counts_draws()) {
+  if (interval_.counts_draws() && settings.backend == IntervalBackend::Mesh) {  // the statistics count the mesh-shader draw
     const auto counts = interval_.read_counts();
     frame.report.counted = true;
     frame.report.primitives = counts.primitives;
