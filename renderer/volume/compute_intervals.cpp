@@ -225,8 +225,9 @@ void ComputeIntervals::prepare(const GpuTetMesh& mesh, const ResolveSettings& se
     throw InputError("--volume-backend compute", "draws at most " + std::to_string(kMaxGroups * PRISMOID_CI_TILE) +
                                                      " pixels per side");
   const uint64_t tiles = uint64_t(f.tiles_x) * f.tiles_y;
-  // The tile in the high bits of the key (at least one, so the depth never fills all 32).
-  const uint32_t tile_bits = std::max(1u, static_cast<uint32_t>(std::bit_width(tiles - 1)));
+  // The tile in the high bits of the key, with room for one index past every tile (the key
+  // bin_emit.comp writes for a pair it drops), so the depth never fills all 32.
+  const uint32_t tile_bits = static_cast<uint32_t>(std::bit_width(tiles));
   f.depth_bits = 32 - tile_bits;
   f.cells = mesh.tet_count;
   f.mode = mode_of(settings);

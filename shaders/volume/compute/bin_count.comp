@@ -1,7 +1,7 @@
 #version 460
 // Compute interval backend, bin-cells step 1: each cell's conservative screen bounds in
 // tiles (cell_bounds.glsl), the depth key that orders it within a tile (its nearest depth),
-// and how many (tile, cell) pairs it needs.
+// and how many (tile, cell) pairs it needs: the tiles of its bounds its silhouette touches.
 #extension GL_GOOGLE_include_directive : require
 #include "../../shared/volume.h"
 #include "../../shared/compute_intervals.h"
@@ -22,7 +22,9 @@ void main() {
       uvec2 t0 = b.lo / PRISMOID_CI_TILE, t1 = b.hi / PRISMOID_CI_TILE;
       uint max_key = push.tiles.z >= 32u ? 0xFFFFFFFFu : (1u << push.tiles.z) - 1u;
       float key = clamp((b.nearest - push.depth.x) * push.depth.y, 0.0, float(max_key));
-      uint pairs = (t1.x - t0.x + 1u) * (t1.y - t0.y + 1u);
+      uint pairs = 0u;
+      for (uint y = t0.y; y <= t1.y; ++y)
+        for (uint x = t0.x; x <= t1.x; ++x) pairs += tile_touched(b, uvec2(x, y)) ? 1u : 0u;
       bin = uvec4(t0.x | (t1.x << 16), t0.y | (t1.y << 16), min(uint(key), max_key), pairs);
     }
     bins[cell] = bin;
