@@ -71,6 +71,18 @@ std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1)
 // The reference's tie-break direction for a ray in a face plane (reference/tet_ray.cpp).
 const glm::dvec3 kTieBreak(0.5773502691896258, 0.2113248654051871, 0.7886751345948129);
 
+// The tile raster's variant for each mode (tile_raster_*.comp).
+const char* raster_shader(uint32_t mode) {
+  switch (mode) {
+    case PRISMOID_CI_OPTICAL_DEPTH: return "volume/compute/tile_raster_depth.comp";
+    case PRISMOID_CI_EMISSION: return "volume/compute/tile_raster_emission.comp";
+    case PRISMOID_CI_MARCH_DEPTH: return "volume/compute/tile_raster_march_depth.comp";
+    case PRISMOID_CI_MARCH_COLOR: return "volume/compute/tile_raster_march_color.comp";
+    case PRISMOID_CI_ISOSURFACE: return "volume/compute/tile_raster_isosurface.comp";
+  }
+  throw std::logic_error("ComputeIntervals: no tile raster for mode " + std::to_string(mode));
+}
+
 uint32_t mode_of(const ResolveSettings& settings) {
   if (settings.march.enabled) {
     if (settings.quantity == Quantity::Color) return PRISMOID_CI_MARCH_COLOR;
@@ -99,7 +111,6 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
   bin_count_ = vk::create_compute_pipeline(device, "volume/compute/bin_count.comp", layout_.get());
   bin_emit_ = vk::create_compute_pipeline(device, "volume/compute/bin_emit.comp", layout_.get());
   tile_ranges_ = vk::create_compute_pipeline(device, "volume/compute/tile_ranges.comp", layout_.get());
-  tile_raster_ = vk::create_compute_pipeline(device, "volume/compute/tile_raster.comp", layout_.get());
   set_ = vk::allocate_descriptor_set(device, set_layout_.get(), kBindings);
 
   scan_set_layout_ = vk::create_descriptor_set_layout(device, kScanBindings);
@@ -214,11 +225,14 @@ void ComputeIntervals::prepare(const GpuTetMesh& mesh, const ResolveSettings& se
     throw InputError("--volume-backend compute", "draws at most " + std::to_string(kMaxGroups * PRISMOID_CI_TILE) +
                                                      " pixels per side");
   const uint64_t tiles = uint64_t(f.tiles_x) * f.tiles_y;
-  // The tile in the high bits of the key (at least one, so the depth never fills all 32).
-  const uint32_t tile_bits = std::max(1u, static_cast<uint32_t>(std::bit_width(tiles - 1)));
+  // The tile in the high bits of the key, with room for one index past every tile (the key
+  // bin_emit.comp writes for a pair it drops), so the depth never fills all 32.
+  const uint32_t tile_bits = static_cast<uint32_t>(std::bit_width(tiles));
   f.depth_bits = 32 - tile_bits;
   f.cells = mesh.tet_count;
   f.mode = mode_of(settings);
+  auto& raster = tile_rasters_[f.mode];
+  if (raster.get() == VK_NULL_HANDLE) raster = vk::create_compute_pipeline(device_, raster_shader(f.mode), layout_.get());
   mesh_bytes_ = 0;
   for (const vk::Buffer* b : {&mesh.positions, &mesh.tets, &mesh.cell_sigma, &mesh.point_sigma, &mesh.cell_scalar, &mesh.point_scalar})
     mesh_bytes_ += b->size();
@@ -355,7 +369,7 @@ void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets
                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
     vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(f.push), &f.push);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_raster_.get());
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_rasters_.at(f.mode).get());
     vkCmdDispatch(cmd, f.tiles_x, f.tiles_y, 1);
     // The counts go to host memory for read_stats().
     vk::buffer_barrier(cmd, {stats_.get()}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

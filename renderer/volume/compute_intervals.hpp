@@ -20,6 +20,7 @@
 // Recording rules: as VisibilitySort's (record at most once per command buffer, after the GPU
 // finished the previous submission that used this object).
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <vulkan/vulkan.h>
 
@@ -88,7 +89,8 @@ class ComputeIntervals {
   const vk::Device& device_;
   vk::UniqueDescriptorSetLayout set_layout_;
   vk::UniquePipelineLayout layout_;
-  vk::UniquePipeline bin_count_, bin_emit_, tile_ranges_, tile_raster_;
+  vk::UniquePipeline bin_count_, bin_emit_, tile_ranges_;
+  std::map<uint32_t, vk::UniquePipeline> tile_rasters_;  // by PRISMOID_CI_* mode, made in prepare() on first use
   vk::DescriptorSet set_;
   // The prefix sum of the pair counts runs the radix sort's scan kernels on these bindings.
   vk::UniqueDescriptorSetLayout scan_set_layout_;

@@ -33,7 +33,8 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_CI_STAT_INEXACT 2  // pixels where an interval arrived nearer than one already composited
 #define PRISMOID_CI_STAT_COUNT 4
 
-// What the tile raster integrates per interval and how it combines them (push.options.x).
+// What the tile raster integrates per interval and how it combines them: one variant of it
+// each (tile_raster_*.comp).
 #define PRISMOID_CI_OPTICAL_DEPTH 0u  // sigma * length of the cell's linear field, summed
 #define PRISMOID_CI_EMISSION 1u       // the segment's emission-absorption, composited in depth order
 #define PRISMOID_CI_MARCH_DEPTH 2u    // marched optical depth, summed
@@ -44,7 +45,7 @@ struct ComputeIntervalsPush {
   uvec4 tiles;     // x, y: tiles per row and per column; z: depth bits of a pair key (the tile above them); w: pair capacity
   vec4 depth;      // x: the depth (minus the mesh origin's) that key 0 stands for, y: keys per unit of depth
   vec4 tie_break;  // xyz: the reference's tie-break direction (tet_ray.cpp) in camera orientation
-  uvec4 options;   // x: PRISMOID_CI_*, y: image width, z: image height, w: unused
+  uvec4 options;   // x: PRISMOID_CI_* (each tile raster variant has its own fixed), y: image width, z: image height, w: unused
 };
 
 PRISMOID_SHARED_END

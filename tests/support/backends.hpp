@@ -37,3 +37,6 @@ inline std::string backend_test_name(const ::testing::TestParamInfo<frame::Inter
 // For the tests of what only one backend has (mesh-shader workgroup sizes, tetlets, draw orders).
 #define PRISMOID_ON_MESH_BACKEND(Fixture) \
   INSTANTIATE_TEST_SUITE_P(MeshShader, Fixture, ::testing::Values(::prismoid::frame::IntervalBackend::Mesh), ::prismoid::test::backend_test_name)
+// For the tests of what only the compute backend has (k-buffer, tiles, pair buffers).
+#define PRISMOID_ON_COMPUTE_BACKEND(Fixture) \
+  INSTANTIATE_TEST_SUITE_P(ComputeOnly, Fixture, ::testing::Values(::prismoid::frame::IntervalBackend::Compute), ::prismoid::test::backend_test_name)

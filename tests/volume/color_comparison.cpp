@@ -32,9 +32,11 @@
 namespace prismoid::test {
 
 ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w,
-                                   uint32_t h, frame::Ordering ordering, uint32_t table_size) {
+                                   uint32_t h, frame::Ordering ordering, uint32_t table_size,
+                                   std::optional<frame::IntervalBackend> backend) {
   frame::FrameRenderer renderer(device(), mesh);
   frame::FrameSettings settings = settings_on_backend();
+  if (backend) settings.backend = *backend;
   settings.resolve.quantity = volume::Quantity::Color;
   settings.resolve.transfer = tf;
   settings.resolve.preintegration_size = table_size;

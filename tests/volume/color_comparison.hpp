@@ -4,6 +4,7 @@
 // per-pixel tolerances derived in color_comparison.cpp. Any non-finite channel fails the
 // calling test.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,8 +37,11 @@ class ColorTest : public GpuTest, public OnBackend {
  public:
   // Colour through `tf` on this test's backend (`ordering` is the mesh backend's; the compute
   // backend orders each pixel itself), with a pre-integrated table of `table_size` (0: exact).
-  ColorComparison compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w, uint32_t h,
-                          frame::Ordering ordering, uint32_t table_size = 0);
+  // Static, so fixtures of other comparisons on the same backend can call it too; `backend`
+  // overrides the test's.
+  static ColorComparison compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w,
+                                 uint32_t h, frame::Ordering ordering, uint32_t table_size = 0,
+                                 std::optional<frame::IntervalBackend> backend = std::nullopt);
 };
 
 }  // namespace prismoid::test

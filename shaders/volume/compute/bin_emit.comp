@@ -2,19 +2,23 @@
 // Compute interval backend, bin-cells step 3 (after the prefix sum of the pair counts): each
 // cell writes its (tile << depth bits | depth key, cell) pairs from its first pair on, tiles in
 // row order; pairs beyond the capacity are counted, not written. The last cell records how
-// many pairs there are, which the sort reads on the GPU.
+// many pairs there are, which the sort reads on the GPU. The tiles are decided again, as step 1
+// decided them (cell_bounds.glsl); where rounding in this pipeline decides a tile within a
+// pixel of the silhouette otherwise, at most the counted pairs are written and the rest are
+// written as a key past every tile (sorted last, drawn by none): such a tile holds no pixel the
+// cell covers.
 #extension GL_GOOGLE_include_directive : require
 #include "../../shared/volume.h"
 #include "../../shared/compute_intervals.h"
 
 layout(local_size_x = PRISMOID_CI_WORKGROUP) in;
-layout(set = 0, binding = PRISMOID_BINDING_FRAME) uniform FrameBlock { FrameUniforms frame; };
+#include "mesh_input.glsl"
+#include "cell_bounds.glsl"
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_BINS) readonly buffer Bins { uvec4 bins[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_OFFSETS) readonly buffer Offsets { uint offsets[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_KEYS) writeonly buffer Keys { uint keys[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_VALUES) writeonly buffer Values { uint values[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_STATS) buffer Stats { uint stats[]; };
-layout(push_constant) uniform Push { ComputeIntervalsPush push; };
 
 void main() {
   uint count = frame.counts.x, capacity = push.tiles.w, depth_bits = push.tiles.z;
@@ -28,11 +32,18 @@ void main() {
     }
     if (bin.w == 0u || first >= capacity) continue;
     uint x0 = bin.x & 0xFFFFu, x1 = bin.x >> 16, y0 = bin.y & 0xFFFFu, y1 = bin.y >> 16;
-    uint pair = first;
-    for (uint y = y0; y <= y1 && pair < capacity; ++y)
-      for (uint x = x0; x <= x1 && pair < capacity; ++x, ++pair) {
+    CellBounds b = cell_bounds(load_cell(cell).position);
+    uint pair = first, end = min(first + bin.w, capacity);
+    for (uint y = y0; y <= y1 && pair < end; ++y)
+      for (uint x = x0; x <= x1 && pair < end; ++x) {
+        if (!tile_touched(b, uvec2(x, y))) continue;
         keys[pair] = ((y * push.tiles.x + x) << depth_bits) | bin.z;
         values[pair] = cell;
+        ++pair;
       }
+    for (; pair < end; ++pair) {
+      keys[pair] = 0xFFFFFFFFu;
+      values[pair] = cell;
+    }
   }
 }

@@ -14,6 +14,7 @@ void main() {
   uint count = stats[PRISMOID_CI_STAT_SORTED], depth_bits = push.tiles.z;
   for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * PRISMOID_CI_WORKGROUP) {
     uint tile = keys[i] >> depth_bits;
+    if (tile >= push.tiles.x * push.tiles.y) continue;  // a pair bin-cells wrote past every tile (bin_emit.comp)
     if (i == 0u || (keys[i - 1u] >> depth_bits) != tile) ranges[tile].x = i;
     if (i + 1u == count || (keys[i + 1u] >> depth_bits) != tile) ranges[tile].y = i + 1u;
   }

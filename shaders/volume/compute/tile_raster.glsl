@@ -1,4 +1,3 @@
-#version 460
 // Compute interval backend, tile-raster: one 8x8 workgroup per 8x8-pixel tile. The tile's
 // cells, in the order of their depth keys, are set up a batch at a time in shared memory
 // (one invocation per cell), and every pixel finds each cell's interval on its own ray:
@@ -19,12 +18,19 @@
 // k-buffer of PRISMOID_CI_KBUFFER entries: the nearest is composited when it is full. An
 // interval arriving nearer than one already composited is composited behind it and the pixel
 // counted as inexact (PRISMOID_CI_STAT_INEXACT).
-#extension GL_GOOGLE_include_directive : require
+//
+// What each interval gives (PRISMOID_CI_*) is fixed per pipeline: the file including this body
+// (tile_raster_*.comp) defines PRISMOID_CI_RASTER_MODE, so each variant carries only its own
+// integration code (the others' loops and arrays cost registers and compile time).
+#ifndef PRISMOID_CI_RASTER_MODE
+#error "define PRISMOID_CI_RASTER_MODE (a PRISMOID_CI_* value) before including tile_raster.glsl"
+#endif
 #include "../../shared/volume.h"
 #include "../../shared/compute_intervals.h"
 
 layout(local_size_x = PRISMOID_CI_TILE, local_size_y = PRISMOID_CI_TILE) in;
 #include "mesh_input.glsl"
+#include "cell_bounds.glsl"
 layout(std430, set = 0, binding = PRISMOID_BINDING_PREINTEGRATED) readonly buffer Table { vec4 texels[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_TRANSFER) readonly buffer Transfer { vec4 tf_samples[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_VALUES) readonly buffer Values { uint values[]; };
@@ -52,6 +58,7 @@ shared vec4 s_origin[PRISMOID_CI_BATCH];    // c in camera space (xy), c's depth
 shared vec4 s_gradient[PRISMOID_CI_BATCH];  // the field's gradient (camera orientation), the field at c
 shared vec4 s_reference[PRISMOID_CI_BATCH]; // c mesh-local, c's depth minus the mesh origin's
 shared vec2 s_range[PRISMOID_CI_BATCH];     // the field's least and greatest value in the cell
+shared uvec2 s_pixels[PRISMOID_CI_BATCH];   // the pixels it can cover (cell_bounds.glsl): x0 | x1 << 16, y0 | y1 << 16
 
 void set_up_cell(uint slot, uint cell) {
   CellInput c = load_cell(cell);
@@ -94,6 +101,14 @@ void set_up_cell(uint slot, uint cell) {
   s_reference[slot] = vec4(c.position[0], -(rotation * c.position[0]).z);
   s_range[slot] = vec2(min(min(c.field[0], c.field[1]), min(c.field[2], c.field[3])),
                        max(max(c.field[0], c.field[1]), max(c.field[2], c.field[3])));
+  // Most cells cover a few of the tile's pixels: the others skip them before any plane test.
+  CellBounds bounds = cell_bounds(c.position);
+  s_pixels[slot] = bounds.visible ? uvec2(bounds.lo.x | (bounds.hi.x << 16), bounds.lo.y | (bounds.hi.y << 16)) : uvec2(1u, 1u);
+}
+
+bool may_cover(uint slot, uvec2 pixel) {
+  uvec2 b = s_pixels[slot];
+  return pixel.x >= (b.x & 0xFFFFu) && pixel.x <= (b.x >> 16) && pixel.y >= (b.y & 0xFFFFu) && pixel.y <= (b.y >> 16);
 }
 
 // The interval of the ray d * ray (d: depth along the viewing axis) inside set-up cell `slot`
@@ -181,7 +196,7 @@ void main() {
   vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
   vec3 ray = vec3(ndc * frame.ray_scale.xy, -1.0);
   float length_per_depth = length(ray);
-  uint mode = push.options.x;
+  const uint mode = PRISMOID_CI_RASTER_MODE;
   float optical_depth = 0.0;
   float nearest_hit = uintBitsToFloat(0x7F800000u);
   vec4 hit_value = vec4(0.0);
@@ -195,7 +210,7 @@ void main() {
     if (!inside) continue;
     for (uint slot = 0u; slot < batch; ++slot) {
       float enter, exit;
-      if (!cell_interval(slot, ray, enter, exit)) continue;
+      if (!may_cover(slot, pixel) || !cell_interval(slot, ray, enter, exit)) continue;
       vec4 origin = s_origin[slot];
       IntervalRay r;
       r.rel_front = enter;

@@ -1,0 +1,6 @@
+#version 460
+// The tile raster (tile_raster.glsl) for marched optical depth.
+#extension GL_GOOGLE_include_directive : require
+#include "../../shared/compute_intervals.h"
+#define PRISMOID_CI_RASTER_MODE PRISMOID_CI_MARCH_DEPTH
+#include "tile_raster.glsl"
