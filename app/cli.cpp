@@ -39,7 +39,7 @@ int dispatch(const std::vector<std::string>& args) {
   const std::string& verb = args.front();
   if (verb == "--help" || verb == "-h") { std::cout << kUsage; return kOk; }
   if (verb == "help") {
-    if (args.size() > 1 && args[1] == "render") std::cout << kRenderHelp << surface_render_help();
+    if (args.size() > 1 && args[1] == "render") std::cout << render_help();
     else if (args.size() > 1 && args[1] == "view") std::cout << kViewHelp;
     else if (args.size() > 1 && args[1] == "devices") std::cout << kDevicesHelp;
     else if (args.size() > 1 && args[1] == "convert") std::cout << kConvertHelp;

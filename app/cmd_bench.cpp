@@ -24,6 +24,7 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
+#include "app/common/dataset_loader.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_frame.hpp"
 #include "app/common/volume_options.hpp"
@@ -87,11 +88,11 @@ const char* const kBenchHelp =
     "  --density-scale S --tf PRESET|FILE --tf-range LO,HI --array NAME --component C --background R,G,B\n"
     "                       as for `prismoid render`, applied to every configuration of the FILEs\n"
     "\n"
-    "Sweeps, per FILE: modes (optical depth and transmittance with --mode interval; color with\n"
-    "interval, interval-sorted and interval-exact-order), tetlet-size (1, 4, 8 beside the default 16),\n"
-    "preintegration (table sizes 16, 64, 256 beside exact segments); on the first FILE: image-size\n"
-    "(half and twice --size); on field:marschner-lobb: march-step (interval-march at 1/25 to 1/400 of\n"
-    "the diagonal, beside its tetrahedra) and cells (N^3 cubes). Errors: RMSE, largest absolute error,\n"
+    "Sweeps, per FILE: modes (optical depth and transmittance in mesh order; color with every GPU\n"
+    "mode that does not march: mesh order, GPU-sorted, exact order), tetlet-size (1, 4, 8 beside the\n"
+    "default 16), preintegration (table sizes 16, 64, 256 beside exact segments); on the first FILE:\n"
+    "image-size (half and twice --size); on field:marschner-lobb: march-step (the GPU-sorted march at\n"
+    "1/25 to 1/400 of the diagonal, beside its tetrahedra) and cells (N^3 cubes). Errors: RMSE, largest absolute error,\n"
     "PSNR and SSIM of the quantity (peak: the reference's largest optical depth, or 1 for\n"
     "transmittance) or of the display RGB (peak 1) for color; non-finite values are counted, never\n"
     "averaged. FILE: anything `prismoid render` reads (default: the embedded default dataset and ball:2).\n";
@@ -147,7 +148,7 @@ class MeshCache {
  public:
   TetMesh operator()(const ParsedArgs& a, bool scalar_field) {
     std::string key = (a.files.empty() ? std::string() : a.files.front()) + (scalar_field ? "|scalar" : "|extinction");
-    if (a.has("mode")) key += a.values.at("mode").rfind("interval-march", 0) == 0 ? "|march" : "";
+    if (samples_field(a)) key += "|march";
     auto it = meshes_.find(key);
     if (it == meshes_.end()) it = meshes_.emplace(key, load_scene(a, scalar_field)).first;
     return it->second;
@@ -413,8 +414,9 @@ int cmd_bench(const std::vector<std::string>& args) {
     // VTK's mappers on the same mesh, camera and transfer function: once per dataset the user
     // named, beside the exact-order colour, or beside transmittance where the data has no colour.
     const bool scalars = !choice.mesh.point_scalars.empty() || !choice.mesh.cell_scalars.empty();
+    const bool exact_order = choice.mode->ordering == frame::Ordering::Exact && !choice.mode->march;
     const bool peer_case = c.sweep == "modes" && user_file &&
-                           ((c.quantity == "color" && c.mode == "interval-exact-order") || (c.quantity == "transmittance" && !scalars));
+                           ((c.quantity == "color" && exact_order) || (c.quantity == "transmittance" && !scalars));
     if (peer_case && want_peers && x)
       for (const bench::Peer peer : bench::kPeers) {
         bench::BenchRow p = m;

@@ -4,6 +4,7 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
+#include "renderer/frame/volume_modes.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
@@ -42,6 +43,10 @@ int cmd_devices(const std::vector<std::string>& args) {
         if (!vk::has_feature(d, f)) missing += std::string(missing.empty() ? "" : ", ") + vk::feature_name(f);
       std::cout << "    " << m.mode << ": " << (missing.empty() ? "yes" : "no (needs " + missing + ")") << "\n";
     }
+    std::string volume_modes;
+    for (const frame::VolumeMode& m : frame::volume_mode_table())
+      if (m.gpu() && frame::device_problem(m, d).empty()) volume_modes += (volume_modes.empty() ? "" : ", ") + std::string(m.name);
+    std::cout << "  volume modes it draws: " << (volume_modes.empty() ? "none" : volume_modes) << "\n";
   }
   try {
     const auto& chosen = vk::select_device(devices, std::nullopt);

@@ -54,9 +54,9 @@ int info_plan(const ParsedArgs& a) {
   if (!a.has("mode") && a.files.size() == 1 && is_named_surface_scene(a.files.front())) surface = &surface::surface_mode_table().front();
   if (surface) return surface_plan(a, *surface);
   VolumeChoice choice = volume_choice(a);
-  std::cout << choice.mesh.name << ": " << choice.mesh.tets.size() << " cells, mode " << choice.mode << ", quantity "
+  std::cout << choice.mesh.name << ": " << choice.mesh.tets.size() << " cells, mode " << choice.mode->name << ", quantity "
             << quantity_name(choice.quantity) << "\n";
-  if (choice.mode == "reference") {
+  if (!choice.mode->gpu()) {
     std::cout << "plan: the CPU double-precision reference, one pass on the CPU (no GPU passes)\n";
     return kOk;
   }

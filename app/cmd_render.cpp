@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <string_view>
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
@@ -18,6 +19,7 @@
 #include "app/common/warm_up.hpp"
 #include "io/image_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/frame/volume_modes.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
@@ -27,7 +29,9 @@
 
 namespace prismoid::app {
 
-const char* const kRenderHelp =
+namespace {
+
+const char* const kRenderHelpHead =
     "usage: prismoid render [FILE] --output OUT.png|OUT.pfm [options]\n"
     "\n"
     "No output may be a file the command reads (nor a link to one) or another output; all are written\n"
@@ -36,22 +40,14 @@ const char* const kRenderHelp =
     "\n"
     "  --output PATH        image to write: .png (display colour, sRGB) or .pfm (the quantity, float32)\n"
     "  --stats PATH.json    write a JSON file with the device, the passes that ran and their GPU times,\n"
-    "                       and the frame plan: each planned pass with its reason, each skipped one with why\n"
-    "  --mode MODE          interval               interval shading on the GPU, cells in mesh order\n"
-    "                       interval-sorted        ... cells sorted by centroid distance on the GPU each frame\n"
-    "                       interval-exact-order   ... cells in topological visibility order (exact on convex meshes)\n"
-    "                       interval-march         marching inside intervals: each fragment samples the\n"
-    "                                              analytic field of a field: dataset along its interval\n"
-    "                                              (cells sorted on the GPU for color)\n"
-    "                       interval-march-exact-order  ... cells in topological visibility order\n"
-    "                       reference              CPU, double precision, exact per-pixel order (with a\n"
-    "                                              field: dataset, of the analytic field itself)\n"
-    "                       SURFACE                a surface mode (listed below)\n"
-    "                       (default: interval; interval-sorted for --quantity color)\n"
+    "                       and the frame plan: each planned pass with its reason, each skipped one with why\n";
+
+// After the modes.
+const char* const kRenderHelpTail =
     "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
     "                       color: emission-absorption of a scalar field through a transfer function\n"
     "                       isosurface: the nearest point where the field reaches --isovalue, shaded\n"
-    "                       with a headlight (interval-march or reference, field: datasets); the\n"
+    "                       with a headlight (the modes that sample the field, field: datasets); the\n"
     "                       .pfm quantity is the distance from the eye to it (0: no hit)\n"
     "  --size WxH           image size in pixels (default 800x600)\n"
     "  --eye x,y,z --target x,y,z --up x,y,z --fovy DEG --near N\n"
@@ -65,7 +61,7 @@ const char* const kRenderHelp =
     "  --tetlet-size N      cells per mesh workgroup: 1 (the paper's one cell per workgroup), 4, 8 or 16\n"
     "                       (default 16)\n"
     "  --shared-vertices    tetlets: group neighbouring cells so a workgroup loads their shared points\n"
-    "                       once (order-independent quantities, or --mode interval)\n"
+    "                       once (order-independent quantities, or a mode in mesh order)\n"
     "  --frames N           render N timed frames after 2 s of warm-up frames (the GPU leaves its idle\n"
     "                       clock); times are the median (stats also give min and max) (default 1, no\n"
     "                       warm-up)\n"
@@ -76,7 +72,7 @@ const char* const kRenderHelp =
     "  --component C        of a vector --array: 0, 1, 2... or x, y, z (default: magnitude)\n"
     "  --density-scale S    multiplies the extinction; for color, the extinction at opacity 1 (default 1)\n"
     "\n"
-    "  interval-march only:\n"
+    "  marching modes only:\n"
     "  --march-step S       longest step in world units: each interval is marched in equal steps of at\n"
     "                       most S (midpoint rule) (default: 1/100 of the bounds' diagonal)\n"
     "  --isovalue V         the isosurface's level (--quantity isosurface only; default 0.5)\n"
@@ -95,8 +91,8 @@ const char* const kRenderHelp =
     "N = 4: each cell holds a strongly non-linear field). NAME: marschner-lobb (Marschner & Lobb 1994,\n"
     "f_M = 6, alpha = 0.25, values in [0,1]), blobs (three Gaussian blobs), sphere (one Gaussian blob:\n"
     "its isosurfaces are spheres), linear. The field is the extinction (times --density-scale) and\n"
-    "the color scalar; interval modes render its linear interpolant at the mesh points,\n"
-    "interval-march and reference the field itself. grid:NAME[:N] samples that field at N^3 points\n"
+    "the color scalar; the other GPU modes render its linear interpolant at the mesh points, the\n"
+    "marching modes and the CPU reference the field itself. grid:NAME[:N] samples that field at N^3 points\n"
     "of [-1,1]^3 (default 32) and renders the samples' trilinear interpolant as voxel data is: marched\n"
     "inside the blocks of 8^3 samples that hold a value above 1/1000 of the largest, each block 6\n"
     "tetrahedra. FILE may also be a closed triangle surface\n"
@@ -112,15 +108,46 @@ const char* const kRenderHelp =
     "  --subsample K            keep 1 voxel in K per axis (images over 50 million cells need it)\n"
     "or an OpenVDB file (.vdb): a float grid's voxels the same way, cells around its active voxels\n"
     "(a level set's inside is filled: extinction 0 outside, rising to 1 across the inner band);\n"
-    "with --mode interval-march* the grid is marched instead inside its active regions (leaf nodes\n"
-    "and tiles, 6 tetrahedra each; a level set: its whole box), and --mode reference marches its\n"
-    "trilinear field on the CPU;\n"
+    "with a marching --mode the grid is marched instead inside its active regions (leaf nodes\n"
+    "and tiles, 6 tetrahedra each; a level set: its whole box), and the CPU reference marches its\n"
+    "trilinear field;\n"
     "  --grid NAME              the float grid to open (default: the file's first; --subsample applies)\n"
     "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
     "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"
     "With no FILE the embedded default dataset is rendered.\n";
 
-namespace {
+// The --mode lines of the help, from the volume mode table: each mode with its summary, wrapped.
+std::string volume_modes_help() {
+  constexpr size_t kIndent = 23, kWidth = 100;
+  size_t name_width = std::string_view("SURFACE").size();
+  for (const frame::VolumeMode& m : frame::volume_mode_table()) name_width = std::max(name_width, m.name.size());
+  std::ostringstream out;
+  const auto line = [&](std::string_view name, std::string_view text) {
+    out << (out.tellp() == 0 ? std::string("  --mode MODE") + std::string(kIndent - 13, ' ') : std::string(kIndent, ' ')) << name
+        << std::string(name_width + 2 - name.size(), ' ');
+    const std::string margin(kIndent + name_width + 2, ' ');
+    size_t column = margin.size();
+    std::istringstream words{std::string(text)};
+    bool first = true;
+    for (std::string word; words >> word; first = false) {
+      if (!first && column + 1 + word.size() > kWidth) {
+        out << "\n" << margin;
+        column = margin.size();
+      } else if (!first) {
+        out << ' ';
+        ++column;
+      }
+      out << word;
+      column += word.size();
+    }
+    out << "\n";
+  };
+  for (const frame::VolumeMode& m : frame::volume_mode_table()) line(m.name, m.summary);
+  line("SURFACE", "a surface mode (listed below)");
+  out << std::string(kIndent, ' ') << "(default: " << frame::default_volume_mode(volume::Quantity::Transmittance).name << "; "
+      << frame::default_volume_mode(volume::Quantity::Color).name << " for --quantity color)\n";
+  return out.str();
+}
 
 // Per pass, the median over the frames goes into `passes` (by name, in order); returns each
 // pass's min and max.
@@ -143,13 +170,15 @@ std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::v
 
 }  // namespace
 
+std::string render_help() { return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + surface_render_help(); }
+
 int cmd_render(const std::vector<std::string>& args) {
   if (const surface::SurfaceMode* surface = surface_mode_named(args))
     return surface->gpu() ? cmd_render_surface(args, *surface) : cmd_render_path_reference(args, *surface);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});
-  if (a.flags.count("help")) { std::cout << kRenderHelp << surface_render_help(); return kOk; }
+  if (a.flags.count("help")) { std::cout << render_help(); return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");
   OutputFiles files;
@@ -160,7 +189,7 @@ int cmd_render(const std::vector<std::string>& args) {
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
   const VolumeChoice choice = volume_choice(a);
   const TetMesh& mesh = choice.mesh;
-  const std::string& mode = choice.mode;
+  const frame::VolumeMode& mode = *choice.mode;
   const volume::Quantity quantity = choice.quantity;
   const bool color = quantity == volume::Quantity::Color;
   frame::FrameSettings settings = choice.settings;
@@ -170,7 +199,7 @@ int cmd_render(const std::vector<std::string>& args) {
   std::vector<std::pair<double, double>> pass_spread;  // min, max per pass over the timed frames
   std::string device_name, driver;
   std::unique_ptr<vk::Instance> instance;
-  if (mode == "reference") {
+  if (!mode.gpu()) {
     device_name = "CPU reference (double precision)";
     // Double arithmetic, but the image is float32: refused where it cannot hold the answer.
     volume::check_float_limits(volume::float_facts(mesh), camera, size.width, size.height, settings.resolve, false);
@@ -200,7 +229,7 @@ int cmd_render(const std::vector<std::string>& args) {
   files.write(output, [&](const std::string& file) { io::write_image(file, image); });
   for (const std::string& w : result.report.warnings) std::cerr << "prismoid: warning: " << w << "\n";
 
-  const bool cpu = mode == "reference";
+  const bool cpu = !mode.gpu();
   std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
             << mesh.tets.size() << " cells) on " << device_name << "\n";
   std::cout << "  ordering: " << result.report.ordering << (result.report.order_exact ? " [exact]" : " [approximate]") << "\n";
@@ -233,7 +262,7 @@ int cmd_render(const std::vector<std::string>& args) {
     std::ostringstream js;
     js << "{\n  \"device\": \"" << json_escape(device_name) << "\",\n  \"driver\": \"" << json_escape(driver)
        << "\",\n  \"dataset\": \"" << json_escape(mesh.name) << "\",\n  \"cells\": " << mesh.tets.size()
-       << ",\n  \"mode\": \"" << mode << "\",\n  \"quantity\": \"" << quantity_name(quantity) << "\",\n  \"width\": " << size.width
+       << ",\n  \"mode\": \"" << mode.name << "\",\n  \"quantity\": \"" << quantity_name(quantity) << "\",\n  \"width\": " << size.width
        << ",\n  \"height\": " << size.height << ",\n  \"ordering\": \"" << json_escape(result.report.ordering)
        << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false")
        << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes;

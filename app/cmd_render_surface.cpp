@@ -139,7 +139,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
       }
   const ParsedArgs a = parse(args, 1, values, flags);
   if (a.flags.count("help")) {
-    std::cout << kRenderHelp << surface_render_help();
+    std::cout << render_help();
     return kOk;
   }
   const surface::SurfaceBackendInfo& backend = *chosen.backend;

@@ -66,7 +66,7 @@ const char* const kViewHelp =
     "  --size WxH           initial window size (default 1280x800)\n"
     "  --mode, --quantity, --array, --density-scale, --tf, --tf-range, --preintegration-size,\n"
     "  --background, --tetlet-size, --shared-vertices, --march-step, --isovalue\n"
-    "                       what to show and how, as for render (not --mode reference)\n"
+    "                       what to show and how, as for render (the GPU modes: not the CPU reference)\n"
     "  --eye/--target/--up/--fovy/--near   initial camera, as for render\n"
     "  --frames N           close after N frames (for scripted runs)\n"
     "  --script FILE        drive the window from a command file (see docs/user-guide.md)\n"
@@ -152,9 +152,10 @@ int cmd_view(const std::vector<std::string>& args) {
   ParsedArgs first = a;  // the first dataset decides the settings (the transfer function's range among them)
   if (first.files.size() > 1) first.files.resize(1);
   VolumeChoice choice = volume_choice(first);
-  if (choice.mode == "reference") throw InputError("--mode reference", "runs on the CPU: use `prismoid render --mode reference`");
+  const std::string mode(choice.mode->name);
+  if (!choice.mode->gpu()) throw InputError("--mode " + mode, "runs on the CPU: use `prismoid render --mode " + mode + "`");
   if (a.files.size() > 1 && choice.settings.resolve.march.enabled)
-    throw InputError("--mode " + choice.mode, "marches the field of one dataset: give one FILE");
+    throw InputError("--mode " + mode, "marches the field of one dataset: give one FILE");
   const bool color = choice.settings.resolve.quantity == volume::Quantity::Color;
   ViewState state;
   state.datasets.push_back(make_dataset(std::move(choice.mesh), field_of(first)));
@@ -162,7 +163,7 @@ int cmd_view(const std::vector<std::string>& args) {
   ViewerOptions options = window_options(a);
   options.inputs = window_inputs(a);
   options.settings = choice.settings;
-  options.mode = choice.mode;
+  options.mode = mode;
   options.backend_auto = choice.backend_auto;
   bool any_camera = false;
   for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);

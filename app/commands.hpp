@@ -28,6 +28,9 @@ const surface::SurfaceMode* surface_mode_named(const std::vector<std::string>& a
 int cmd_render_surface(const std::vector<std::string>& args, const surface::SurfaceMode& mode);
 // `render --mode path-reference`: a surface scene through the CPU path tracer (app/cmd_render_path.cpp).
 int cmd_render_path_reference(const std::vector<std::string>& args, const surface::SurfaceMode& mode);
+// render's help: its options with the volume modes from their table, then the surface modes'
+// part (surface_render_help).
+std::string render_help();
 // The surface modes' part of render's help, from the table.
 std::string surface_render_help();
 // The CPU path tracer's options, for that help (app/cmd_render_path.cpp).
@@ -38,7 +41,6 @@ struct ParsedArgs;
 // surface --mode the surface frame's (app/cmd_plan.cpp).
 int info_plan(const ParsedArgs& a);
 
-extern const char* const kRenderHelp;
 extern const char* const kViewHelp;
 extern const char* const kConvertHelp;
 extern const char* const kInfoHelp;

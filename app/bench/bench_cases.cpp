@@ -1,62 +1,71 @@
 #include "app/bench/bench_cases.hpp"
 
+#include "renderer/frame/volume_modes.hpp"
+
 namespace prismoid::bench {
 
 namespace {
 
 using Options = std::vector<std::pair<std::string, std::string>>;
 
-void add(std::vector<BenchCase>& out, const std::string& dataset, const char* sweep, const char* quantity, const char* mode,
+void add(std::vector<BenchCase>& out, const std::string& dataset, const char* sweep, const char* quantity, std::string_view mode,
          Options options, ImageSize size) {
-  out.push_back({dataset, sweep, quantity, mode, std::move(options), size});
+  out.push_back({dataset, sweep, quantity, std::string(mode), std::move(options), size});
 }
+
+// The volume mode table's mode that draws cells in `ordering` and marches or not.
+std::string_view mode_of(frame::Ordering ordering, bool march) { return frame::find_volume_mode(ordering, march)->name; }
 
 }  // namespace
 
 std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, const BenchPreset& p) {
   std::vector<BenchCase> cases;
   const ImageSize s = p.size;
+  // The modes, by what they do; the modes sweep takes every GPU mode of the table that does not march.
+  const std::string_view mesh_order = mode_of(frame::Ordering::MeshOrder, false);
+  const std::string_view sorted = mode_of(frame::Ordering::GpuSort, false);
+  const std::string_view sorted_march = mode_of(frame::Ordering::GpuSort, true);
   for (const std::string& d : datasets) {
-    // The modes side by side: order-independent quantities need no order; colour in mesh
-    // order, GPU-sorted and exact per-pixel order.
-    add(cases, d, "modes", "optical-depth", "interval", {}, s);
-    add(cases, d, "modes", "transmittance", "interval", {}, s);
-    add(cases, d, "modes", "color", "interval", {}, s);
-    add(cases, d, "modes", "color", "interval-sorted", {}, s);
-    add(cases, d, "modes", "color", "interval-exact-order", {}, s);
+    // The modes side by side: order-independent quantities need no order (the mesh-order modes
+    // alone); colour in every order the GPU modes draw in.
+    for (const char* quantity : {"optical-depth", "transmittance"})
+      for (const frame::VolumeMode& m : frame::volume_mode_table())
+        if (m.gpu() && !m.march && m.ordering == frame::Ordering::MeshOrder) add(cases, d, "modes", quantity, m.name, {}, s);
+    for (const frame::VolumeMode& m : frame::volume_mode_table())
+      if (m.gpu() && !m.march) add(cases, d, "modes", "color", m.name, {}, s);
     // Tetlet size (cells per mesh-shader workgroup; 16 is the default measured above).
     for (const char* t : p.quick ? std::vector<const char*>{"1"} : std::vector<const char*>{"1", "4", "8"})
-      add(cases, d, "tetlet-size", "optical-depth", "interval", {{"tetlet-size", t}}, s);
+      add(cases, d, "tetlet-size", "optical-depth", mesh_order, {{"tetlet-size", t}}, s);
     // Pre-integration table size (0, the default above, integrates each segment exactly).
     for (const char* n : p.quick ? std::vector<const char*>{"16"} : std::vector<const char*>{"16", "64", "256"})
-      add(cases, d, "preintegration", "color", "interval-sorted", {{"preintegration-size", n}}, s);
+      add(cases, d, "preintegration", "color", sorted, {{"preintegration-size", n}}, s);
   }
   // Image size, on the first dataset: half and twice the preset's size beside the size itself.
   if (!p.quick && !datasets.empty())
     for (const uint32_t f : {1u, 4u}) {
       const ImageSize sized{std::max(1u, s.width * f / 2), std::max(1u, s.height * f / 2)};
-      add(cases, datasets.front(), "image-size", "optical-depth", "interval", {}, sized);
-      add(cases, datasets.front(), "image-size", "color", "interval-sorted", {}, sized);
+      add(cases, datasets.front(), "image-size", "optical-depth", mesh_order, {}, sized);
+      add(cases, datasets.front(), "image-size", "color", sorted, {}, sized);
     }
   // March step, on an analytic field: the marched field against the same field's reference,
   // beside the piecewise-linear tetrahedra of the same field.
   {
     const std::string field = std::string(kSweepField) + (p.quick ? ":4" : ":16");
-    add(cases, field, "march-step", "optical-depth", "interval", {}, s);
-    add(cases, field, "march-step", "color", "interval-sorted", {}, s);
+    add(cases, field, "march-step", "optical-depth", mesh_order, {}, s);
+    add(cases, field, "march-step", "color", sorted, {}, s);
     for (const char* divisions : p.quick ? std::vector<const char*>{"25", "100"} : std::vector<const char*>{"25", "50", "100", "200", "400"}) {
       // --march-step is in world units; the field box is the unit cube scaled by the field
       // (resolved when the case runs: "diagonal/N").
-      add(cases, field, "march-step", "optical-depth", "interval-march", {{"march-step", std::string("diagonal/") + divisions}}, s);
-      add(cases, field, "march-step", "color", "interval-march", {{"march-step", std::string("diagonal/") + divisions}}, s);
+      add(cases, field, "march-step", "optical-depth", sorted_march, {{"march-step", std::string("diagonal/") + divisions}}, s);
+      add(cases, field, "march-step", "color", sorted_march, {{"march-step", std::string("diagonal/") + divisions}}, s);
     }
   }
   // Cell count: the same field split into N^3 cubes, from about a thousand cells upwards.
   for (const uint32_t n : p.quick ? std::vector<uint32_t>{6, 12} : std::vector<uint32_t>{6, 12, 24, 48, 96, 128}) {
     if (field_cells(n) > p.max_cells) break;
     const std::string field = std::string(kSweepField) + ":" + std::to_string(n);
-    add(cases, field, "cells", "optical-depth", "interval", {}, s);
-    add(cases, field, "cells", "color", "interval-sorted", {}, s);
+    add(cases, field, "cells", "optical-depth", mesh_order, {}, s);
+    add(cases, field, "cells", "color", sorted, {}, s);
   }
   return cases;
 }

@@ -9,6 +9,7 @@
 #include "app/common/grid_dataset.hpp"
 #include "io/image_volume_io.hpp"
 #include "io/vdb_io.hpp"
+#include "renderer/frame/volume_modes.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
 
@@ -157,6 +158,11 @@ std::optional<volume::AnalyticField> field_of_path(const std::string& path) {
   return volume::field_from_name(spec.substr(0, spec.find(':')));
 }
 
+bool samples_field(const ParsedArgs& a) {
+  const frame::VolumeMode* mode = a.has("mode") ? frame::find_volume_mode(a.values.at("mode")) : nullptr;
+  return mode && mode->samples_field;
+}
+
 LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool scalar_field) {
   LoadRequest r;
   r.path = path;
@@ -178,7 +184,7 @@ LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool
     throw InputError("--subsample", "applies to image volumes (.vti .mhd .mha .inr) and OpenVDB grids (.vdb) only");
   if (a.has("grid") && !is_vdb) throw InputError("--grid", "applies to OpenVDB files (.vdb) only");
   if (a.has("grid")) r.vdb_grid = a.values.at("grid");
-  r.vdb_marched = is_vdb && a.has("mode") && (a.values.at("mode").rfind("interval-march", 0) == 0 || a.values.at("mode") == "reference");
+  r.vdb_marched = is_vdb && samples_field(a);
   const bool is_surface = !path.empty() && io::is_surface_path(path);
   for (const char* option : {"tetgen-quality", "tetgen-max-volume", "tetgen-cells", "remesh"})
     if (a.has(option) && !is_surface) throw InputError(std::string("--") + option, kSurfaceKinds);

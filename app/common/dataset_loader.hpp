@@ -42,6 +42,9 @@ struct LoadRequest {
 LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool scalar_field);
 // The same for the one dataset of a.files (the default when none); InputError for several.
 LoadRequest load_request_from(const ParsedArgs& a, bool scalar_field);
+// Whether --mode names a volume mode that samples the field itself (frame::VolumeMode::
+// samples_field): a .vdb then loads as its active regions rather than as voxel cells.
+bool samples_field(const ParsedArgs& a);
 
 // Loads the request's dataset: one branch per kind of input. InputError names the file and the
 // problem; io::Cancelled when `progress` asked to stop. Notes (cells split, TetGen's counts,

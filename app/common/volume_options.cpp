@@ -19,8 +19,7 @@ std::optional<volume::AnalyticField> field_of(const ParsedArgs& a) {
   if (a.files.size() != 1) return std::nullopt;
   LoadRequest r;  // only what picks the field: the options are checked when the dataset loads
   r.path = a.files.front();
-  r.vdb_marched = io::is_vdb_path(r.path) && a.has("mode") &&
-                  (a.values.at("mode").rfind("interval-march", 0) == 0 || a.values.at("mode") == "reference");
+  r.vdb_marched = io::is_vdb_path(r.path) && samples_field(a);
   if (a.has("grid")) r.vdb_grid = a.values.at("grid");
   if (a.has("subsample")) r.subsample = std::max(1u, parse_uint("subsample", a.values.at("subsample")));
   return field_of_request(r);
@@ -53,11 +52,12 @@ volume::Quantity quantity_of_name(const std::string& q) {
   throw InputError("--quantity", "unknown quantity '" + q + "' (optical-depth, transmittance, color, isosurface)");
 }
 
-std::optional<frame::Ordering> ordering_of_mode(const std::string& mode) {
-  if (mode == "interval") return frame::Ordering::MeshOrder;
-  if (mode == "interval-sorted" || mode == "interval-march") return frame::Ordering::GpuSort;
-  if (mode == "interval-exact-order" || mode == "interval-march-exact-order") return frame::Ordering::Exact;
-  return std::nullopt;
+const frame::VolumeMode& volume_mode_from(const ParsedArgs& a, volume::Quantity quantity) {
+  if (!a.has("mode")) return frame::default_volume_mode(quantity);
+  const std::string& name = a.values.at("mode");
+  const frame::VolumeMode* mode = frame::find_volume_mode(name);
+  if (!mode) throw InputError("--mode", "unknown mode '" + name + "' (available: " + frame::volume_mode_names() + ")");
+  return *mode;
 }
 
 // The transfer function the color options describe, over the data's scalar range unless given.
@@ -99,24 +99,28 @@ VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
   volume::Quantity& quantity = v.quantity;
   if (a.has("quantity")) quantity = quantity_of_name(a.values.at("quantity"));
   const bool color = quantity == volume::Quantity::Color;
-  v.mode = a.has("mode") ? a.values.at("mode") : (color ? "interval-sorted" : "interval");
-  const std::string& mode = v.mode;
+  v.mode = &volume_mode_from(a, quantity);
+  const frame::VolumeMode& mode = *v.mode;
+  const std::string name(mode.name);
   frame::FrameSettings& settings = v.settings;
-  if (const auto ordering = ordering_of_mode(mode)) settings.ordering = *ordering;
-  else if (mode != "reference")
-    throw InputError("--mode", "unknown mode '" + mode +
-                                   "' (available: interval, interval-sorted, interval-exact-order, interval-march, "
-                                   "interval-march-exact-order, reference)");
-  const bool march = mode.rfind("interval-march", 0) == 0;
+  settings.ordering = mode.ordering;
+  const bool march = mode.march;
   const std::optional<volume::AnalyticField> field = field_of(a);
   if (march && !field)
-    throw InputError("--mode " + mode, "marches a field: give a field:NAME or grid:NAME dataset or an OpenVDB .vdb grid (see --help)");
-  if (quantity == volume::Quantity::Isosurface && !(field && (march || mode == "reference")))
-    throw InputError("--quantity isosurface", "needs a field:NAME or grid:NAME dataset and --mode interval-march or reference");
+    throw InputError("--mode " + name, "marches a field: give a field:NAME or grid:NAME dataset or an OpenVDB .vdb grid (see --help)");
+  // The modes an option applies to, named from the table.
+  const auto modes_that = [](bool (*pick)(const frame::VolumeMode&)) {
+    std::string names;
+    for (const frame::VolumeMode& m : frame::volume_mode_table())
+      if (pick(m)) names += (names.empty() ? "" : ", ") + std::string(m.name);
+    return names;
+  };
+  const auto sampling = [](const frame::VolumeMode& m) { return m.samples_field; };
+  if (quantity == volume::Quantity::Isosurface && !(field && mode.samples_field))
+    throw InputError("--quantity isosurface", "needs a field:NAME or grid:NAME dataset and --mode " + modes_that(sampling));
   if (a.has("isovalue") && quantity != volume::Quantity::Isosurface) throw InputError("--isovalue", "applies to --quantity isosurface only");
-  if (a.has("march-step") && !march && mode != "reference")
-    throw InputError("--march-step", "applies to --mode interval-march and interval-march-exact-order only");
-  if (march && a.has("preintegration-size")) throw InputError("--preintegration-size", "does not apply to interval-march");
+  if (a.has("march-step") && !mode.samples_field) throw InputError("--march-step", "applies to --mode " + modes_that(sampling) + " only");
+  if (march && a.has("preintegration-size")) throw InputError("--preintegration-size", "does not apply to --mode " + name);
   if (!color)
     for (const char* option : {"tf", "tf-range", "preintegration-size", "background"})
       if (a.has(option)) throw InputError(std::string("--") + option, "applies to --quantity color only");
@@ -152,9 +156,11 @@ VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
         throw InputError("--background", "components must lie in [0, 1]");
       settings.resolve.background = glm::vec3(bg);
     }
-    if (mode == "interval")
-      std::cerr << "prismoid: note: color is order dependent and --mode interval draws cells in mesh order (approximate); "
-                   "interval-sorted or interval-exact-order composite in depth order\n";
+    if (mode.gpu() && mode.ordering == frame::Ordering::MeshOrder) {
+      const auto ordered = [](const frame::VolumeMode& m) { return m.gpu() && !m.march && m.ordering != frame::Ordering::MeshOrder; };
+      std::cerr << "prismoid: note: color is order dependent and --mode " << name
+                << " draws cells in mesh order (approximate); " << modes_that(ordered) << " composite in depth order\n";
+    }
   }
   return v;
 }

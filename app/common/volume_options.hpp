@@ -8,6 +8,7 @@
 
 #include "app/common/cli_args.hpp"
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/frame/volume_modes.hpp"
 #include "renderer/volume/analytic_field.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/tet_mesh.hpp"
@@ -24,8 +25,9 @@ TetMesh load_scene(const ParsedArgs& a, bool scalar_field = false);
 const char* quantity_name(volume::Quantity q);
 // The inverse of quantity_name; InputError("--quantity") for an unknown name.
 volume::Quantity quantity_of_name(const std::string& name);
-// The GPU modes' cell orderings (interval, interval-sorted, ...); nullopt for other names.
-std::optional<frame::Ordering> ordering_of_mode(const std::string& mode);
+// The volume mode --mode names (the table's default for the quantity without it); InputError
+// naming every mode for a name that is none.
+const frame::VolumeMode& volume_mode_from(const ParsedArgs& a, volume::Quantity quantity);
 
 // The transfer function the color options describe, over the data's scalar range unless given.
 volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh);
@@ -34,7 +36,7 @@ extern const std::vector<std::string> kVolumeOptions;
 
 struct VolumeChoice {
   TetMesh mesh;
-  std::string mode;
+  const frame::VolumeMode* mode = nullptr;  // a row of frame::volume_mode_table()
   volume::Quantity quantity = volume::Quantity::Transmittance;
   frame::FrameSettings settings;
   // --volume-backend auto: settings.backend is decided on the device (resolve_auto_backend).

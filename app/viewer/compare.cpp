@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "renderer/frame/volume_modes.hpp"
+
 namespace prismoid::app {
 
 const char* compare_mode_name(CompareMode mode) {
@@ -43,7 +45,10 @@ void take_b(ViewState& state, ViewState&& b) {
 
 std::string set_compare(ViewState& state, CompareMode mode) {
   if (mode == CompareMode::Split && state.compare_mode.empty()) {
-    const std::string problem = set_compare_mode(state, state.mode == "interval-exact-order" ? "interval" : "interval-exact-order");
+    // B starts as the exact order, the most accurate GPU mode, unless A is that already.
+    const frame::VolumeMode* exact = frame::find_volume_mode(frame::Ordering::Exact, false);
+    const frame::VolumeMode* b = state.mode == exact->name ? frame::find_volume_mode(frame::Ordering::MeshOrder, false) : exact;
+    const std::string problem = set_compare_mode(state, std::string(b->name));
     if (!problem.empty()) return problem;
   }
   state.compare = mode;

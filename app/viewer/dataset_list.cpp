@@ -4,6 +4,7 @@
 
 #include "app/common/volume_options.hpp"
 #include "app/viewer/scene_merge.hpp"
+#include "renderer/frame/volume_modes.hpp"
 
 namespace prismoid::app {
 
@@ -14,8 +15,11 @@ namespace {
 std::string fit_mode_to_scene(ViewState& state) {
   const std::string mode_before = state.mode;
   const volume::Quantity quantity_before = state.settings.resolve.quantity;
-  if (!set_mode(state, state.mode).empty())
-    set_mode(state, state.mode == "interval-march-exact-order" ? "interval-exact-order" : "interval-sorted");
+  if (!set_mode(state, state.mode).empty()) {
+    const frame::VolumeMode* mode = frame::find_volume_mode(state.mode);
+    const frame::VolumeMode* unmarched = frame::find_volume_mode(mode ? mode->ordering : frame::Ordering::GpuSort, false);
+    set_mode(state, std::string(unmarched->name));
+  }
   std::string note;
   if (state.mode != mode_before) note = "mode " + mode_before + " does not apply to " + state.drawn().name + ": now " + state.mode;
   if (state.settings.resolve.quantity != quantity_before)

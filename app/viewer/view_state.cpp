@@ -4,6 +4,7 @@
 #include <glm/geometric.hpp>
 
 #include "app/common/volume_options.hpp"
+#include "renderer/frame/volume_modes.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/input_error.hpp"
 
@@ -26,16 +27,15 @@ Dataset make_dataset(TetMesh mesh, std::optional<volume::AnalyticField> field) {
 }
 
 std::vector<std::string> modes_for(const Dataset& dataset) {
-  std::vector<std::string> modes = {"interval", "interval-sorted", "interval-exact-order"};
-  if (dataset.field) {
-    modes.emplace_back("interval-march");
-    modes.emplace_back("interval-march-exact-order");
-  }
+  std::vector<std::string> modes;
+  for (const frame::VolumeMode& m : frame::volume_mode_table())
+    if (m.gpu() && (!m.march || dataset.field)) modes.emplace_back(m.name);
   return modes;
 }
 
 std::vector<volume::Quantity> quantities_for(const Dataset& dataset, const std::string& mode) {
-  const bool march = mode.rfind("interval-march", 0) == 0;
+  const frame::VolumeMode* m = frame::find_volume_mode(mode);
+  const bool march = m && m->march;
   std::vector<volume::Quantity> q = {volume::Quantity::OpticalDepth, volume::Quantity::Transmittance};
   if (dataset.has_scalars || march) q.push_back(volume::Quantity::Color);
   if (march) q.push_back(volume::Quantity::Isosurface);
@@ -54,11 +54,10 @@ std::string set_mode(ViewState& state, const std::string& mode) {
   const auto modes = modes_for(state.drawn());
   if (std::find(modes.begin(), modes.end(), mode) == modes.end())
     return "mode '" + mode + "' is not available for " + state.drawn().name;
-  const auto ordering = ordering_of_mode(mode);
-  if (!ordering) return "mode '" + mode + "' has no GPU ordering";
+  const frame::VolumeMode& row = *frame::find_volume_mode(mode);  // modes_for lists only the table's
   state.mode = mode;
-  state.settings.ordering = *ordering;
-  const bool march = mode.rfind("interval-march", 0) == 0;
+  state.settings.ordering = row.ordering;
+  const bool march = row.march;
   volume::MarchSettings& m = state.settings.resolve.march;
   m.enabled = march;
   if (state.drawn().field) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/frame/volume_modes.hpp"
 #include "renderer/volume/analytic_field.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -41,7 +42,7 @@ struct ViewState {
   // first built; drawn() then falls back to the active dataset.
   Dataset scene;
   CompareMode compare = CompareMode::Off;
-  std::string mode = "interval";  // the CLI's --mode names
+  std::string mode{frame::find_volume_mode(frame::Ordering::MeshOrder, false)->name};  // a GPU mode of the volume mode table
   frame::FrameSettings settings;
   // Split view's B: its mode, and its settings (its own ordering, quantity and pre-integration
   // size; the rest follows A each frame: compare_frame_settings). Empty mode: not chosen yet.
@@ -53,7 +54,8 @@ struct ViewState {
   const Dataset& drawn() const { return scene.mesh ? scene : dataset(); }
 };
 
-// The GPU modes the dataset can use (set_mode and set_quantity ask this of the drawn scene) (the march modes only for analytic fields).
+// The GPU modes of the volume mode table the dataset can use (set_mode and set_quantity ask this of
+// the drawn scene): the march modes only for datasets with a field.
 std::vector<std::string> modes_for(const Dataset& dataset);
 // The quantities a mode can show for the dataset.
 std::vector<volume::Quantity> quantities_for(const Dataset& dataset, const std::string& mode);

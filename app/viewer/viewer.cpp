@@ -139,16 +139,6 @@ bool display_available() {
   return (x && *x) || (wl && *wl);
 }
 
-std::string mode_of(const frame::FrameSettings& settings) {
-  const bool march = settings.resolve.march.enabled;
-  switch (settings.ordering) {
-    case frame::Ordering::MeshOrder: return march ? "interval-march" : "interval";
-    case frame::Ordering::GpuSort: return march ? "interval-march" : "interval-sorted";
-    case frame::Ordering::Exact: return march ? "interval-march-exact-order" : "interval-exact-order";
-  }
-  return "interval";
-}
-
 ViewerReport run_viewer(const TetMesh& mesh, const ViewerOptions& options) {
   ViewState state;
   state.datasets.push_back(make_dataset(mesh, options.settings.resolve.march.enabled
@@ -161,7 +151,14 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   const TerminateSignals signals;
 
   state.settings = options.settings;
-  state.mode = options.mode.empty() ? mode_of(options.settings) : options.mode;
+  if (options.mode.empty()) {  // the mode of the table that draws these settings
+    const frame::VolumeMode* mode = frame::find_volume_mode(options.settings.ordering, options.settings.resolve.march.enabled);
+    if (!mode)
+      throw InputError("mode", std::string("no volume mode marches in ") + frame::ordering_name(options.settings.ordering) + ": name one");
+    state.mode = mode->name;
+  } else {
+    state.mode = options.mode;
+  }
   state.show_ui = options.show_ui;
   state.tf_preset = options.settings.resolve.transfer.name;
   rebuild_scene(state);

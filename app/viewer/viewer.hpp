@@ -26,7 +26,7 @@ struct ViewerOptions {
   std::optional<uint32_t> device_index;
   std::optional<Camera> camera;   // fitted to the data when absent
   frame::FrameSettings settings;  // what to show and how (quantity, ordering, transfer function...)
-  std::string mode;               // the CLI's --mode name; empty: from settings.ordering
+  std::string mode;               // the CLI's --mode name; empty: the table's mode of settings' ordering and march
   bool backend_auto = false;      // --volume-backend auto: the backend is measured on the window's device
   uint32_t max_frames = 0;        // 0: until the window is closed or SIGTERM
   std::vector<ScriptCommand> script;
@@ -90,8 +90,5 @@ ViewerReport run_viewer(const TetMesh& mesh, const ViewerOptions& options);
 
 // Whether a display server looks reachable (DISPLAY or WAYLAND_DISPLAY set).
 bool display_available();
-
-// The mode name of settings (interval, interval-sorted, ..., interval-march-exact-order).
-std::string mode_of(const frame::FrameSettings& settings);
 
 }  // namespace prismoid::app

@@ -6,7 +6,7 @@
 //   frame N                 run the following commands at frame N (frames count from 0)
 //   wait N                  ... N frames after the previous ones
 //   key NAME                a key press as the window gets it: R, F, P, H, C, X, shift+X, W...
-//   mode NAME               interval, interval-sorted, interval-exact-order, interval-march...
+//   mode NAME               a GPU volume mode of renderer/frame/volume_modes.hpp
 //   shadows on|off          the surface window's ray-traced shadows
 //   quantity NAME           optical-depth, transmittance, color, isosurface
 //   tf PRESET|FILE          a preset or a ParaView JSON colour map

@@ -14,7 +14,7 @@ void validate_march(const GpuTetMesh& mesh, const ResolveSettings& settings) {
   const MarchSettings& m = settings.march;
   if (!m.enabled) {
     if (settings.quantity == Quantity::Isosurface)
-      throw InputError("--quantity isosurface", "needs marching (--mode interval-march) over an analytic field (field:NAME)");
+      throw InputError("--quantity isosurface", "needs marching (a --mode that marches) over an analytic field (field:NAME)");
     return;
   }
   validate(m.field);
@@ -26,7 +26,7 @@ void validate_march(const GpuTetMesh& mesh, const ResolveSettings& settings) {
   if (!std::isfinite(m.isovalue)) throw InputError("--isovalue", "must be a finite number");
   if (!(m.density_scale >= 0.0) || !std::isfinite(m.density_scale)) throw InputError("--density-scale", "must not be negative");
   if (!mesh.has_scalars)
-    throw InputError("interval-march", "the mesh must carry a scalar array (the field: datasets do)");
+    throw InputError("the march", "the mesh must carry a scalar array (the field: datasets do)");
 }
 
 void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& settings, const Camera& camera,

@@ -22,6 +22,7 @@
 #include "io/surface_io.hpp"
 #include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
+#include "renderer/frame/volume_modes.hpp"
 #include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/region_mesh.hpp"
@@ -76,6 +77,37 @@ TEST(Cli, EveryVerbHasHelp) {
     EXPECT_NE(r.out.find("usage: prismoid " + std::string(verb)), std::string::npos) << r.out;
   }
   EXPECT_EQ(run("--help").code, 0);
+}
+
+// The volume mode table is what the command line knows: render's help lists each mode with its
+// summary, an unknown mode is refused naming every one, `devices` lists the GPU modes it draws.
+TEST(Cli, VolumeModesComeFromTheirTable) {
+  const CliRun help = run("render --help");
+  ASSERT_EQ(help.code, 0) << help.err;
+  // The help wraps the summaries: compare with white space folded.
+  const auto folded = [](const std::string& text) {
+    std::string out;
+    std::istringstream words(text);
+    for (std::string w; words >> w;) out += (out.empty() ? "" : " ") + w;
+    return out;
+  };
+  const std::string help_text = folded(help.out);
+  std::string names;
+  for (const frame::VolumeMode& m : frame::volume_mode_table()) {
+    EXPECT_NE(help_text.find(" " + std::string(m.name) + " " + folded(std::string(m.summary))), std::string::npos)
+        << m.name << " and its summary missing from:\n" << help.out;
+    names += (names.empty() ? "" : ", ") + std::string(m.name);
+  }
+  EXPECT_NE(help.out.find("(default: interval; interval-sorted for --quantity color)"), std::string::npos) << help.out;
+  const CliRun bad = run("render --output x.png --mode interval-upside-down");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("unknown mode 'interval-upside-down' (available: " + names + ")"), std::string::npos) << bad.err;
+  const CliRun devices = run("devices");
+  ASSERT_EQ(devices.code, 0) << devices.err;
+  EXPECT_NE(devices.out.find("volume modes it draws: interval, interval-sorted, interval-exact-order, interval-march, "
+                             "interval-march-exact-order\n"),
+            std::string::npos)
+      << devices.out;
 }
 
 TEST(Cli, RenderWritesPfmThatMatchesTheReference) {
