@@ -16,6 +16,9 @@ void add(std::vector<BenchCase>& out, const std::string& dataset, const char* sw
 // The volume mode table's mode that draws cells in `ordering` and marches or not.
 std::string_view mode_of(frame::Ordering ordering, bool march) { return frame::find_volume_mode(ordering, march)->name; }
 
+// The options that draw a case with the compute-rasterized backend (the others use the mesh-shader one).
+Options compute() { return {{"volume-backend", "compute"}}; }
+
 }  // namespace
 
 std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, const BenchPreset& p) {
@@ -25,6 +28,7 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
   const std::string_view mesh_order = mode_of(frame::Ordering::MeshOrder, false);
   const std::string_view sorted = mode_of(frame::Ordering::GpuSort, false);
   const std::string_view sorted_march = mode_of(frame::Ordering::GpuSort, true);
+  const std::string_view exact = mode_of(frame::Ordering::Exact, false);
   for (const std::string& d : datasets) {
     // The modes side by side: order-independent quantities need no order (the mesh-order modes
     // alone); colour in every order the GPU modes draw in.
@@ -33,6 +37,10 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
         if (m.gpu() && !m.march && m.ordering == frame::Ordering::MeshOrder) add(cases, d, "modes", quantity, m.name, {}, s);
     for (const frame::VolumeMode& m : frame::volume_mode_table())
       if (m.gpu() && !m.march) add(cases, d, "modes", "color", m.name, {}, s);
+    // The compute backend beside it: the order-independent quantities, and colour, which it
+    // composites in each pixel's own depth order whatever the mode's cell order.
+    for (const char* quantity : {"optical-depth", "transmittance"}) add(cases, d, "modes", quantity, mesh_order, compute(), s);
+    add(cases, d, "modes", "color", exact, compute(), s);
     // Tetlet size (cells per mesh-shader workgroup; 16 is the default measured above).
     for (const char* t : p.quick ? std::vector<const char*>{"1"} : std::vector<const char*>{"1", "4", "8"})
       add(cases, d, "tetlet-size", "optical-depth", mesh_order, {{"tetlet-size", t}}, s);
@@ -46,6 +54,8 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
       const ImageSize sized{std::max(1u, s.width * f / 2), std::max(1u, s.height * f / 2)};
       add(cases, datasets.front(), "image-size", "optical-depth", mesh_order, {}, sized);
       add(cases, datasets.front(), "image-size", "color", sorted, {}, sized);
+      add(cases, datasets.front(), "image-size", "optical-depth", mesh_order, compute(), sized);
+      add(cases, datasets.front(), "image-size", "color", exact, compute(), sized);
     }
   // March step, on an analytic field: the marched field against the same field's reference,
   // beside the piecewise-linear tetrahedra of the same field.
@@ -66,6 +76,8 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
     const std::string field = std::string(kSweepField) + ":" + std::to_string(n);
     add(cases, field, "cells", "optical-depth", mesh_order, {}, s);
     add(cases, field, "cells", "color", sorted, {}, s);
+    add(cases, field, "cells", "optical-depth", mesh_order, compute(), s);
+    add(cases, field, "cells", "color", exact, compute(), s);
   }
   return cases;
 }
