@@ -274,7 +274,8 @@ void IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings&
   validate_march(mesh, settings);
   if (std::find(kTetletSizes.begin(), kTetletSizes.end(), settings.tetlet_size) == kTetletSizes.end())
     throw InputError("--tetlet-size", "must be 1, 4, 8 or 16 cells per mesh workgroup");
-  if (settings.tetlet_size > max_tetlet_size(device_))
+  // The mesh shader's limits bind only the frames it draws.
+  if (mesh_pipeline && settings.tetlet_size > max_tetlet_size(device_))
     throw InputError("--tetlet-size", device_.capabilities().name + " fits at most " + std::to_string(max_tetlet_size(device_)) +
                                           " near-clipped cells' proxies in one mesh workgroup");
   if (settings.shared_vertices && settings.tetlet_size == 1)
