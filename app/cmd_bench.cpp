@@ -25,6 +25,7 @@
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/dataset_loader.hpp"
+#include "app/common/frame_timing.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_frame.hpp"
 #include "app/common/volume_options.hpp"
@@ -51,7 +52,8 @@ const char* const kBenchHelp =
     "  --out DIR            folder for bench.csv and report.md (created if missing)\n"
     "  --quick              96x72, 3 frames, one or two settings per sweep: a smoke test in a minute\n"
     "  --size WxH           image size (default 400x300)\n"
-    "  --frames N           timed frames (default 10); times are the median, with min and max\n"
+    "  --frames N           timed frames (default 10); times are the median, with the best and worst,\n"
+    "                       and the SM clock meanwhile where nvidia-smi is on PATH\n"
     "  --warm-up SECONDS    frames drawn before each row's timed ones, for at least this long (default\n"
     "                       2, --quick 0: one frame); lets the GPU leave its idle clock\n"
     "  --sweeps LIST        comma-separated subset of: modes, tetlet-size, preintegration, image-size,\n"
@@ -98,26 +100,6 @@ const char* const kBenchHelp =
     "averaged. FILE: anything `prismoid render` reads (default: the embedded default dataset and ball:2).\n";
 
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// The per-pass medians over the frames, as "name=ms;name=ms".
-std::string pass_medians(const std::vector<std::vector<vk::PassTiming>>& frames) {
-  std::ostringstream s;
-  for (size_t i = 0; i < frames.front().size(); ++i) {
-    const std::string& name = frames.front()[i].name;
-    std::vector<double> ms;
-    for (const auto& f : frames)
-      for (const auto& p : f)
-        if (p.name == name) ms.push_back(p.gpu_ms);
-    s << (i ? ";" : "") << name << "=" << json_number(median(ms));
-  }
-  return s.str();
-}
 
 // The signal range the PSNR is relative to: the reference's largest optical depth, else 1.
 double peak_of(const frame::OffscreenFrame& ref, volume::Quantity q) {
@@ -373,16 +355,14 @@ int cmd_bench(const std::vector<std::string>& args) {
 
     frame::FrameRenderer renderer(device, choice.mesh);
     app::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, choice.settings, extent).passes); }, preset.warm_up_seconds);
-    std::vector<std::vector<vk::PassTiming>> timings;
-    std::vector<double> totals, cpu;
+    std::vector<double> cpu;
     frame::OffscreenFrame result;
-    for (uint32_t i = 0; i < frames; ++i) {
+    const FrameTiming timing = time_frames(frames, [&] {
       renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused
       result = renderer.render_offscreen(camera, choice.settings, extent);
-      totals.push_back(vk::total_gpu_ms(result.passes));
       cpu.push_back(vk::total_gpu_ms(result.report.cpu_passes));
-      timings.push_back(result.passes);
-    }
+      return result.passes;
+    });
 
     bench::BenchRow m;
     m.dataset = choice.mesh.name;
@@ -394,12 +374,8 @@ int cmd_bench(const std::vector<std::string>& args) {
     m.ordering = result.report.ordering;
     m.width = extent.width;
     m.height = extent.height;
-    m.frames = frames;
-    m.ms_median = median(totals);
-    m.ms_min = *std::min_element(totals.begin(), totals.end());
-    m.ms_max = *std::max_element(totals.begin(), totals.end());
-    m.cpu_ms = median(cpu);
-    m.passes = pass_medians(timings);
+    bench::set_times(m, timing);
+    m.cpu_ms = median_of(cpu);
     m.mesh_bytes = result.report.mesh_bytes;
     // The image is the last timed frame's: every frame draws the same cells from the same camera.
     m.error = error_of(result, ref->second.first, choice.quantity);
@@ -428,11 +404,13 @@ int cmd_bench(const std::vector<std::string>& args) {
         p.passes.clear();
         p.mesh_bytes = 0;
         p.flip = std::numeric_limits<double>::quiet_NaN();
+        p.sm_mhz_min = p.sm_mhz_median = p.sm_mhz_max = std::numeric_limits<double>::quiet_NaN();  // the GPU row's, not VTK's
         try {
           const bench::PeerFrame f = bench::render_peer(peer, choice.mesh, camera, resolve, extent.width, extent.height, frames);
-          p.ms_median = median(f.frame_ms);
-          p.ms_min = *std::min_element(f.frame_ms.begin(), f.frame_ms.end());
-          p.ms_max = *std::max_element(f.frame_ms.begin(), f.frame_ms.end());
+          const Spread wall = spread_of(f.frame_ms);
+          p.ms_median = wall.median;
+          p.ms_min = wall.best;
+          p.ms_max = wall.worst;
           const frame::OffscreenFrame& r = ref->second.first;
           if (choice.quantity == volume::Quantity::Color) {
             p.error = reference::image_error(f.display, r.display, 1.0, 4, 3);

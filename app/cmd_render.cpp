@@ -2,9 +2,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string_view>
 
@@ -13,8 +13,10 @@
 #include "app/common/backend_cache.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/frame_image.hpp"
+#include "app/common/frame_timing.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_frame.hpp"
+#include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "app/common/warm_up.hpp"
 #include "io/image_io.hpp"
@@ -63,8 +65,8 @@ const char* const kRenderHelpTail =
     "  --shared-vertices    tetlets: group neighbouring cells so a workgroup loads their shared points\n"
     "                       once (order-independent quantities, or a mode in mesh order)\n"
     "  --frames N           render N timed frames after 2 s of warm-up frames (the GPU leaves its idle\n"
-    "                       clock); times are the median (stats also give min and max) (default 1, no\n"
-    "                       warm-up)\n"
+    "                       clock); times are the median, with the best and worst beside them, and the\n"
+    "                       SM clock meanwhile where nvidia-smi is on PATH (default 1, no warm-up)\n"
     "\n"
     "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
     "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
@@ -149,25 +151,6 @@ std::string volume_modes_help() {
   return out.str();
 }
 
-// Per pass, the median over the frames goes into `passes` (by name, in order); returns each
-// pass's min and max.
-std::vector<std::pair<double, double>> summarize_frames(const std::vector<std::vector<vk::PassTiming>>& frames,
-                                                        std::vector<vk::PassTiming>& passes) {
-  std::vector<std::pair<double, double>> spread;
-  for (auto& pass : passes) {
-    std::vector<double> ms;
-    for (const auto& f : frames)
-      for (const auto& p : f)
-        if (p.name == pass.name) ms.push_back(p.gpu_ms);
-    std::sort(ms.begin(), ms.end());
-    if (ms.empty()) { spread.emplace_back(pass.gpu_ms, pass.gpu_ms); continue; }
-    const size_t n = ms.size();
-    pass.gpu_ms = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
-    spread.emplace_back(ms.front(), ms.back());
-  }
-  return spread;
-}
-
 }  // namespace
 
 std::string render_help() { return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + surface_render_help(); }
@@ -196,7 +179,7 @@ int cmd_render(const std::vector<std::string>& args) {
   const bool field = field_of(a).has_value();  // an analytic field: its own CPU reference
   const Camera camera = camera_from(a, bounds_of(mesh));
   frame::OffscreenFrame result;
-  std::vector<std::pair<double, double>> pass_spread;  // min, max per pass over the timed frames
+  std::optional<FrameTiming> timing;  // GPU modes: the timed frames
   std::string device_name, driver;
   std::unique_ptr<vk::Instance> instance;
   if (!mode.gpu()) {
@@ -215,13 +198,12 @@ int cmd_render(const std::vector<std::string>& args) {
     frame::FrameRenderer renderer(device, mesh);
     if (frames > 1)
       app::warm_up([&] { return vk::total_gpu_ms(renderer.render_offscreen(camera, settings, size).passes); }, app::kTimedWarmUpSeconds);
-    std::vector<std::vector<vk::PassTiming>> timings;
-    for (uint32_t i = 0; i < frames; ++i) {
+    timing = time_frames(frames, [&] {
       renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused
       result = renderer.render_offscreen(camera, settings, size);
-      timings.push_back(result.passes);
-    }
-    pass_spread = summarize_frames(timings, result.passes);
+      return result.passes;
+    });
+    result.passes = timing->medians();
   }
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
@@ -244,12 +226,20 @@ int cmd_render(const std::vector<std::string>& args) {
       std::cout << "  pairs: " << report.pairs << " (tile, cell); pixels composited out of exact order: " << report.inexact_pixels << "\n";
   }
   double total = 0.0;
-  for (const auto& p : result.passes) {
-    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps")
-              << (cpu ? " CPU" : " GPU") << "\n";
+  for (size_t i = 0; i < result.passes.size(); ++i) {
+    const vk::PassTiming& p = result.passes[i];
+    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << (cpu ? " CPU" : " GPU");
+    if (timing && frames > 1 && std::isfinite(p.gpu_ms))
+      std::cout << " (best " << json_number(timing->passes[i].ms.best) << ", worst " << json_number(timing->passes[i].ms.worst) << ")";
+    std::cout << "\n";
     total += p.gpu_ms;
   }
-  std::cout << "  total: " << json_number(total) << (cpu ? " ms CPU\n" : " ms GPU\n");
+  std::cout << "  total: " << json_number(total) << (cpu ? " ms CPU" : " ms GPU");
+  if (timing && frames > 1)
+    std::cout << " (medians of " << frames << " frames; a whole frame: best " << json_number(timing->total_ms.best) << ", median "
+              << json_number(timing->total_ms.median) << ", worst " << json_number(timing->total_ms.worst) << ")";
+  std::cout << "\n";
+  if (timing) print_sm_clock(std::cout, *timing);
   for (const auto& p : result.report.cpu_passes) std::cout << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
   if (result.report.counted) {
     std::cout << "  drawn: " << result.report.fragments << " fragments";
@@ -258,66 +248,58 @@ int cmd_render(const std::vector<std::string>& args) {
   }
 
   if (a.has("stats")) {
-    const std::string stats_path = a.values.at("stats");
-    std::ostringstream js;
-    js << "{\n  \"device\": \"" << json_escape(device_name) << "\",\n  \"driver\": \"" << json_escape(driver)
-       << "\",\n  \"dataset\": \"" << json_escape(mesh.name) << "\",\n  \"cells\": " << mesh.tets.size()
-       << ",\n  \"mode\": \"" << mode.name << "\",\n  \"quantity\": \"" << quantity_name(quantity) << "\",\n  \"width\": " << size.width
-       << ",\n  \"height\": " << size.height << ",\n  \"ordering\": \"" << json_escape(result.report.ordering)
-       << "\",\n  \"order_exact\": " << (result.report.order_exact ? "true" : "false")
-       << ",\n  \"gpu_mesh_bytes\": " << result.report.mesh_bytes;
+    StatsJson js;
+    js["device"] = device_name;
+    js["driver"] = driver;
+    js["dataset"] = mesh.name;
+    js["cells"] = mesh.tets.size();
+    js["mode"] = std::string(mode.name);
+    js["quantity"] = quantity_name(quantity);
+    js["width"] = size.width;
+    js["height"] = size.height;
+    js["ordering"] = result.report.ordering;
+    js["order_exact"] = result.report.order_exact;
+    js["gpu_mesh_bytes"] = result.report.mesh_bytes;
     if (!cpu) {
-      js << ",\n  \"backend\": \"" << report.backend << "\",\n  \"backend_reason\": \"" << json_escape(settings.backend_reason)
-         << "\",\n  \"backend_bytes\": " << report.backend_bytes << ",\n  \"backend_bytes_per_cell\": "
-         << json_number(static_cast<double>(report.backend_bytes) / cells) << ",\n  \"backend_bytes_per_pixel\": "
-         << json_number(static_cast<double>(report.backend_bytes) / pixels);
-      if (report.counts_known) js << ",\n  \"pairs\": " << report.pairs << ",\n  \"inexact_pixels\": " << report.inexact_pixels;
+      js["backend"] = report.backend;
+      js["backend_reason"] = settings.backend_reason;
+      js["backend_bytes"] = report.backend_bytes;
+      js["backend_bytes_per_cell"] = static_cast<double>(report.backend_bytes) / cells;
+      js["backend_bytes_per_pixel"] = static_cast<double>(report.backend_bytes) / pixels;
+      if (report.counts_known) {
+        js["pairs"] = report.pairs;
+        js["inexact_pixels"] = report.inexact_pixels;
+      }
     }
     if (result.report.counted) {  // as the driver counts them (lavapipe counts no clipper input for mesh shaders)
-      js << ",\n  \"fragments\": " << result.report.fragments;
-      if (result.report.primitives > 0) js << ",\n  \"proxy_triangles\": " << result.report.primitives;
+      js["fragments"] = result.report.fragments;
+      if (result.report.primitives > 0) js["proxy_triangles"] = result.report.primitives;
     }
-    js << ",\n  \"tetlet_size\": " << settings.resolve.tetlet_size << ",\n  \"shared_vertices\": "
-       << (settings.resolve.shared_vertices ? "true" : "false");
-    if (result.report.tetlet_points_per_cell > 0.0)
-      js << ",\n  \"tetlet_points_per_cell\": " << json_number(result.report.tetlet_points_per_cell);
-    if (color)
-      js << ",\n  \"transfer_function\": \"" << json_escape(settings.resolve.transfer.name) << "\",\n  \"tf_range\": ["
-         << json_number(settings.resolve.transfer.range_lo) << ", " << json_number(settings.resolve.transfer.range_hi)
-         << "],\n  \"preintegration_size\": " << settings.resolve.preintegration_size;
-    if (field)
-      js << ",\n  \"field\": \"" << json_escape(settings.resolve.march.field.name) << "\",\n  \"march_step\": " << json_number(settings.resolve.march.step)
-         << (quantity == volume::Quantity::Isosurface ? ",\n  \"isovalue\": " + json_number(settings.resolve.march.isovalue) : "");
-    js << ",\n  \"warnings\": [";
-    for (size_t i = 0; i < result.report.warnings.size(); ++i)
-      js << (i ? ", " : "") << "\"" << json_escape(result.report.warnings[i]) << "\"";
-    js << "],\n  \"frames\": " << frames << ",\n  \"passes\": [";
-    for (size_t i = 0; i < result.passes.size(); ++i) {
-      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.passes[i].name)
-         << "\", \"gpu_ms\": " << json_number(result.passes[i].gpu_ms);
-      if (i < pass_spread.size())
-        js << ", \"min_ms\": " << json_number(pass_spread[i].first) << ", \"max_ms\": " << json_number(pass_spread[i].second);
-      js << "}";
+    js["tetlet_size"] = settings.resolve.tetlet_size;
+    js["shared_vertices"] = settings.resolve.shared_vertices;
+    if (result.report.tetlet_points_per_cell > 0.0) js["tetlet_points_per_cell"] = result.report.tetlet_points_per_cell;
+    if (color) {
+      js["transfer_function"] = settings.resolve.transfer.name;
+      js["tf_range"] = {settings.resolve.transfer.range_lo, settings.resolve.transfer.range_hi};
+      js["preintegration_size"] = settings.resolve.preintegration_size;
     }
-    js << "\n  ],\n  \"cpu_passes\": [";
-    for (size_t i = 0; i < result.report.cpu_passes.size(); ++i)
-      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(result.report.cpu_passes[i].name)
-         << "\", \"cpu_ms\": " << json_number(result.report.cpu_passes[i].gpu_ms) << "}";
-    js << "\n  ],\n  \"plan\": [";
-    const frame::FramePlan& plan = result.report.plan;
-    for (size_t i = 0; i < plan.passes.size(); ++i)
-      js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(plan.passes[i].name) << "\", \"kind\": \""
-         << (plan.passes[i].kind == frame::PassKind::Gpu ? "gpu" : "cpu") << "\", \"reason\": \"" << json_escape(plan.passes[i].reason) << "\"}";
-    js << "\n  ],\n  \"skipped\": [";
-    for (size_t i = 0; i < plan.skipped.size(); ++i)
-      js << (i ? ",\n" : "\n") << "    {\"pass\": \"" << json_escape(plan.skipped[i].name) << "\", \"reason\": \""
-         << json_escape(plan.skipped[i].reason) << "\"}";
-    js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": "
-       << validation_messages << "\n}\n";
-    files.write(stats_path, [&](const std::string& file) {
-      std::ofstream out(file);
-      if (!out || !(out << js.str()) || !out.flush()) throw InputError(file, "cannot write the stats file");
-    });
+    if (field) {
+      js["field"] = settings.resolve.march.field.name;
+      js["march_step"] = settings.resolve.march.step;
+      if (quantity == volume::Quantity::Isosurface) js["isovalue"] = settings.resolve.march.isovalue;
+    }
+    js["warnings"] = result.report.warnings;
+    js["frames"] = frames;
+    js["passes"] = timing ? passes_json(*timing) : passes_json(result.passes);
+    if (timing) add_sm_clock(js, *timing);
+    StatsJson cpu_passes = StatsJson::array();
+    for (const vk::PassTiming& p : result.report.cpu_passes) cpu_passes.push_back({{"name", p.name}, {"cpu_ms", p.gpu_ms}});
+    js["cpu_passes"] = std::move(cpu_passes);
+    add_plan(js, result.report.plan);
+    js["gpu_ms_total"] = total;
+    if (timing) js["frame_ms"] = {{"best", timing->total_ms.best}, {"median", timing->total_ms.median}, {"worst", timing->total_ms.worst}};
+    js["validation_messages"] = validation_messages;
+    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();
   return instance ? validation_exit(*instance) : kOk;

@@ -1,13 +1,12 @@
 // `prismoid render ... --mode path-reference`: a surface scene through the CPU path tracer
 // (renderer/reference/path_tracer.hpp), linear RGB to PFM (or display sRGB to PNG).
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/output_files.hpp"
+#include "app/common/stats_json.hpp"
 #include "app/common/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/reference/path_tracer.hpp"
@@ -65,17 +64,22 @@ int cmd_render_path_reference(const std::vector<std::string>& args, const surfac
             << c.backfacing_normals << " back-facing shading normals, " << c.degenerate_triangles << " degenerate triangles skipped\n";
   if (lit.directional_lights.size() != scene.directional_lights.size()) std::cout << "  no lights in the scene: default headlight and sky\n";
   if (a.has("stats")) {
-    std::ostringstream js;
-    js << "{\n  \"device\": \"CPU path tracer (double precision)\",\n  \"dataset\": \"" << json_escape(scene.name)
-       << "\",\n  \"mode\": \"" << mode.name << "\",\n  \"width\": " << image.width << ",\n  \"height\": " << image.height
-       << ",\n  \"samples_per_pixel\": " << settings.samples_per_pixel << ",\n  \"max_bounces\": " << settings.max_bounces
-       << ",\n  \"seed\": " << settings.seed << ",\n  \"seconds\": " << json_number(image.seconds) << ",\n  \"rays\": " << c.rays
-       << ",\n  \"zero_pdf\": " << c.zero_pdf << ",\n  \"non_finite\": " << c.non_finite << ",\n  \"backfacing_normals\": "
-       << c.backfacing_normals << ",\n  \"degenerate_triangles\": " << c.degenerate_triangles << "\n}\n";
-    files.write(a.values.at("stats"), [&](const std::string& file) {
-      std::ofstream out(file);
-      if (!out || !(out << js.str()) || !out.flush()) throw InputError(file, "cannot write the stats file");
-    });
+    StatsJson js;
+    js["device"] = "CPU path tracer (double precision)";
+    js["dataset"] = scene.name;
+    js["mode"] = std::string(mode.name);
+    js["width"] = image.width;
+    js["height"] = image.height;
+    js["samples_per_pixel"] = settings.samples_per_pixel;
+    js["max_bounces"] = settings.max_bounces;
+    js["seed"] = settings.seed;
+    js["seconds"] = image.seconds;
+    js["rays"] = c.rays;
+    js["zero_pdf"] = c.zero_pdf;
+    js["non_finite"] = c.non_finite;
+    js["backfacing_normals"] = c.backfacing_normals;
+    js["degenerate_triangles"] = c.degenerate_triangles;
+    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();
   return kOk;

@@ -6,13 +6,14 @@
 #include <algorithm>
 #include <iostream>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
+#include <variant>
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
+#include "app/common/frame_timing.hpp"
 #include "app/common/output_files.hpp"
+#include "app/common/stats_json.hpp"
 #include "app/common/surface_args.hpp"
 #include "app/common/warm_up.hpp"
 #include "io/image_io.hpp"
@@ -27,19 +28,6 @@
 namespace prismoid::app {
 
 namespace {
-
-// The median of each pass's time over the frames.
-std::vector<vk::PassTiming> median_passes(const std::vector<std::vector<vk::PassTiming>>& frames) {
-  std::vector<vk::PassTiming> out = frames.front();
-  for (size_t p = 0; p < out.size(); ++p) {
-    std::vector<double> ms;
-    for (const auto& f : frames) ms.push_back(f[p].gpu_ms);
-    std::sort(ms.begin(), ms.end());
-    const size_t n = ms.size();
-    out[p].gpu_ms = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
-  }
-  return out;
-}
 
 bool takes(const surface::SurfaceBackendInfo& backend, const std::string& option) {
   return std::any_of(backend.options.begin(), backend.options.end(), [&](const surface::SurfaceOption& o) { return o.name == option; });
@@ -65,30 +53,6 @@ const surface::SurfaceMode& mode_with_gi(const surface::SurfaceMode& mode, const
   std::string list;
   for (size_t i = 0; i < words.size(); ++i) list += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
   throw InputError("--gi", "must be " + list + ", got '" + word + "'");
-}
-
-// Numbers as every stats file writes them (json_number: 9 significant digits).
-std::string json_of(const surface::StatValue& v) {
-  if (const double* d = std::get_if<double>(&v)) return json_number(*d);
-  return std::visit([](const auto& x) { return nlohmann::json(x).dump(); }, v);
-}
-
-// The plan as the volume modes' stats give it: each planned pass with its kind and reason, each
-// skipped one with why.
-std::string plan_fields(const frame::FramePlan& plan) {
-  auto text = [](const std::string& s) { return nlohmann::json(s).dump(); };
-  std::ostringstream js;
-  js << ",\n  \"plan\": [";
-  for (size_t i = 0; i < plan.passes.size(); ++i) {
-    const frame::PlannedPass& p = plan.passes[i];
-    const char* kind = p.kind == frame::PassKind::Gpu ? "gpu" : p.kind == frame::PassKind::Cpu ? "cpu" : "within";
-    js << (i ? ",\n" : "\n") << "    {\"name\": " << text(p.name) << ", \"kind\": \"" << kind << "\", \"reason\": " << text(p.reason) << "}";
-  }
-  js << "\n  ],\n  \"skipped\": [";
-  for (size_t i = 0; i < plan.skipped.size(); ++i)
-    js << (i ? ",\n" : "\n") << "    {\"pass\": " << text(plan.skipped[i].name) << ", \"reason\": " << text(plan.skipped[i].reason) << "}";
-  js << "\n  ]";
-  return js.str();
 }
 
 }  // namespace
@@ -193,13 +157,12 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   auto render = [&] { return renderer.render_offscreen(camera, name, size, k); };
   if (frames > 1) app::warm_up([&] { return vk::total_gpu_ms(render().passes); }, app::kTimedWarmUpSeconds);
   surface::SurfaceRenderer::Offscreen image;
-  std::vector<std::vector<vk::PassTiming>> timings;
-  for (uint32_t i = 0; i < frames; ++i) {
+  const FrameTiming timing = time_frames(frames, [&] {
     renderer.forget_shading();  // each timed frame costs what a moving camera's does
     image = render();
-    timings.push_back(image.passes);
-  }
-  image.passes = median_passes(timings);
+    return image.passes;
+  });
+  image.passes = timing.medians();
   io::FloatImage out;
   out.width = image.width;
   out.height = image.height;
@@ -217,14 +180,19 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
             << " triangles, " << gpu.emitter_count << " emissive" << (c.space.empty() ? "" : ", " + c.space)
             << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "") << ") on " << caps.name << "\n";
   const double total = print_pass_times(std::cout, image.passes);
-  std::cout << "  total: " << json_number(total) << " ms GPU" << (frames > 1 ? " (median of " + std::to_string(frames) + " frames)" : "") << "\n";
+  std::cout << "  total: " << json_number(total) << " ms GPU";
+  if (frames > 1)
+    std::cout << " (medians of " << frames << " frames; a whole frame: best " << json_number(timing.total_ms.best) << ", median "
+              << json_number(timing.total_ms.median) << ", worst " << json_number(timing.total_ms.worst) << ")";
+  std::cout << "\n";
+  print_sm_clock(std::cout, timing);
   std::cout << "  covered: " << covered << " pixels" << (c.shaded_field.empty() ? "" : ", " + std::to_string(c.shaded) + " shading invocations")
             << (c.summary.empty() ? "" : c.summary.front()) << "\n";
   for (size_t i = 1; i < c.summary.size(); ++i) std::cout << "  " << c.summary[i] << "\n";
   if (default_lighting) std::cout << "  no lights in the scene: default headlight and sky\n";
 
   if (a.has("stats")) {
-    nlohmann::ordered_json js;
+    StatsJson js;
     js["device"] = caps.name;
     js["driver"] = caps.driver_info;
     js["dataset"] = scene.name;
@@ -241,13 +209,13 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
     js["shadows"] = shadows;
     if (!c.shaded_field.empty()) js[c.shaded_field] = c.shaded;
     if (takes(backend, "frames")) js["frames"] = frames;
-    std::string fields;
-    for (const auto& [key, value] : js.items()) fields += ",\n  " + nlohmann::json(key).dump() + ": " + value.dump();
-    for (const auto& [key, value] : c.stats) fields += ",\n  " + nlohmann::json(key).dump() + ": " + json_of(value);
-    fields += plan_fields(image.plan);
-    files.write(a.values.at("stats"), [&](const std::string& file) {
-      write_stats_json(file, fields, image.passes, instance.validation_log().count());
-    });
+    for (const auto& [key, value] : c.stats) std::visit([&, &key = key](const auto& v) { js[key] = v; }, value);
+    add_plan(js, image.plan);
+    js["passes"] = passes_json(timing);
+    add_sm_clock(js, timing);
+    js["gpu_ms_total"] = total;
+    js["validation_messages"] = instance.validation_log().count();
+    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();
   return validation_exit(instance);

@@ -102,7 +102,7 @@ render() {
   fi
 }
 
-# Lines of a stats JSON as "pass<TAB>ms" (the format app/cli.cpp writes: one pass per line).
+# Lines of a stats JSON as "pass<TAB>ms" (the layout app/common/stats_json writes: one pass per line).
 passes_of() {
   sed -n 's/.*{"name": "\([^"]*\)", "gpu_ms": \([^,}]*\).*/\1\t\2/p' "$1"
 }

@@ -74,6 +74,20 @@ void write_findings(std::ostream& out, const std::vector<BenchRow>& rows) {
 
 }  // namespace
 
+void set_times(BenchRow& row, const app::FrameTiming& timing) {
+  row.frames = timing.frames;
+  row.ms_median = timing.total_ms.median;
+  row.ms_min = timing.total_ms.best;
+  row.ms_max = timing.total_ms.worst;
+  row.passes.clear();
+  for (const app::PassSpread& p : timing.passes) row.passes += (row.passes.empty() ? "" : ";") + p.name + "=" + app::json_number(p.ms.median);
+  if (timing.sm_clock) {
+    row.sm_mhz_min = timing.sm_clock->min_mhz;
+    row.sm_mhz_median = timing.sm_clock->median_mhz;
+    row.sm_mhz_max = timing.sm_clock->max_mhz;
+  }
+}
+
 void mark_pareto(std::vector<BenchRow>& rows) {
   std::vector<bool> done(rows.size(), false);
   for (size_t i = 0; i < rows.size(); ++i) {
@@ -96,7 +110,9 @@ void mark_pareto(std::vector<BenchRow>& rows) {
 void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& rows) {
   std::ofstream out(path);
   out << "dataset,cells,sweep,quantity,mode,settings,ordering,timer,width,height,frames,ms_median,ms_min,ms_max,cpu_ms,"
-         "passes,mesh_bytes,rmse,max_abs,psnr_db,ssim,flip_mean,peak,non_finite,reference_ms,pareto,shaded,mode_bytes\n";
+         "passes,mesh_bytes,rmse,max_abs,psnr_db,ssim,flip_mean,peak,non_finite,reference_ms,pareto,shaded,mode_bytes,"
+         "sm_mhz_min,sm_mhz_median,sm_mhz_max\n";
+  const auto optional_number = [](double v) { return std::isnan(v) ? std::string() : number(v); };
   for (const auto& r : rows)
     out << '"' << r.dataset << "\"," << r.cells << ',' << r.sweep << ',' << r.quantity << ',' << r.mode << ",\"" << r.settings
         << "\",\"" << r.ordering << "\"," << r.timer << ',' << r.width << ',' << r.height << ',' << r.frames << ','
@@ -104,7 +120,8 @@ void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& r
         << r.passes << "\"," << r.mesh_bytes << ',' << number(r.error.rmse) << ',' << number(r.error.max_abs) << ','
         << number(r.error.psnr_db) << ',' << number(r.ssim) << ',' << (std::isnan(r.flip) ? "" : number(r.flip)) << ','
         << number(r.peak) << ',' << r.error.non_finite << ','
-        << number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << ',' << r.shaded << ',' << r.mode_bytes << '\n';
+        << number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << ',' << r.shaded << ',' << r.mode_bytes << ','
+        << optional_number(r.sm_mhz_min) << ',' << optional_number(r.sm_mhz_median) << ',' << optional_number(r.sm_mhz_max) << '\n';
   out.close();
   if (!out) throw InputError(path.string(), "cannot write the CSV");
 }
@@ -151,12 +168,13 @@ std::vector<BenchRow> read_csv(const std::filesystem::path& path) {
                mesh_bytes = column("mesh_bytes"), rmse = column("rmse"), max_abs = column("max_abs"), psnr = column("psnr_db"),
                ssim = column("ssim"), flip = column("flip_mean"), peak = column("peak"), non_finite = column("non_finite"),
                reference_ms = column("reference_ms"), pareto = column("pareto");
-  // Added later: CSVs written before have neither (read as 0).
+  // Added later: CSVs written before have none of them (read as 0, the clock as not sampled).
   const auto optional_column = [&](const char* name) {
     const auto it = std::find(header.begin(), header.end(), name);
     return it == header.end() ? header.size() : size_t(it - header.begin());
   };
-  const size_t shaded = optional_column("shaded"), mode_bytes = optional_column("mode_bytes");
+  const size_t shaded = optional_column("shaded"), mode_bytes = optional_column("mode_bytes"), sm_min = optional_column("sm_mhz_min"),
+               sm_median = optional_column("sm_mhz_median"), sm_max = optional_column("sm_mhz_max");
   std::vector<BenchRow> rows;
   for (size_t number = 2; std::getline(in, line); ++number) {
     if (line.empty()) continue;
@@ -194,6 +212,9 @@ std::vector<BenchRow> read_csv(const std::filesystem::path& path) {
       r.pareto = f[pareto] == "1";
       if (shaded < f.size()) r.shaded = std::stoull(f[shaded]);
       if (mode_bytes < f.size()) r.mode_bytes = std::stoull(f[mode_bytes]);
+      if (sm_min < f.size()) r.sm_mhz_min = csv_number(f[sm_min]);
+      if (sm_median < f.size()) r.sm_mhz_median = csv_number(f[sm_median]);
+      if (sm_max < f.size()) r.sm_mhz_max = csv_number(f[sm_max]);
       rows.push_back(std::move(r));
     } catch (const std::logic_error&) {  // stoull/stod: invalid_argument, out_of_range
       throw InputError(path.string(), "line " + std::to_string(number) + " has a field that is not a number where one belongs");
@@ -211,8 +232,9 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
       << "  (PSNR peak: the reference's largest optical depth, or 1), color the display RGB (peak 1); SSIM: mean\n"
       << "  structural similarity (Wang et al. 2004, 11x11 Gaussian window) on the same channels and peak; FLIP\n"
       << "  (colour only): mean LDR-FLIP (Andersson et al. 2020) at 67 pixels per degree, 0 = identical, 1 = most different\n"
-      << "- time: `gpu` rows are GPU timestamps around the frame's passes (median over the timed frames, min-max\n"
-      << "  beside it); `wall` rows (VTK's mappers) are the CPU wall clock of a whole frame ending in glFinish\n"
+      << "- time: `gpu` rows are GPU timestamps around the frame's passes (median over the timed frames, best-worst\n"
+      << "  beside it); `wall` rows (VTK's mappers) are the CPU wall clock of a whole frame ending in glFinish;\n"
+      << "  SM MHz: the GPU's SM clock during the timed frames (median, min-max), where nvidia-smi is on PATH\n"
       << "- `*`: Pareto-optimal among the rows of its dataset, quantity and image size (no other row is both at\n"
       << "  least as fast and at least as accurate)\n";
   for (const auto& n : c.notes) out << "- " << n << "\n";
@@ -238,8 +260,8 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
     uint64_t mesh_bytes = 0;
     for (const auto* r : sorted) mesh_bytes = std::max(mesh_bytes, r->mesh_bytes);
     out << "\n## " << d << " (" << sorted.front()->cells << " cells, mesh " << mib(mesh_bytes) << " MiB on the GPU)\n\n"
-        << "| | quantity | size | mode | settings | sweep | ms (median) | min-max | timer | CPU ms | RMSE | max abs | PSNR dB | SSIM | FLIP | reference ms | shaded | mode MiB |\n"
-        << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        << "| | quantity | size | mode | settings | sweep | ms (median) | best-worst | timer | CPU ms | RMSE | max abs | PSNR dB | SSIM | FLIP | reference ms | shaded | mode MiB | SM MHz |\n"
+        << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto* r : sorted)
       out << "| " << (r->pareto ? "*" : "") << " | " << r->quantity << " | " << r->width << "x" << r->height << " | " << r->mode
           << " | " << r->settings << " | " << r->sweep << " | " << fixed(r->ms_median, 4) << " | " << fixed(r->ms_min, 4) << "-"
@@ -248,6 +270,9 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
           << (std::isnan(r->flip) ? std::string("-") : fixed(r->flip, 4)) << " | " << fixed(r->reference_ms, 4)
           << (r->error.non_finite ? " (non-finite: " + std::to_string(r->error.non_finite) + ")" : "") << " | "
           << (r->shaded ? std::to_string(r->shaded) : std::string("-")) << " | " << (r->mode_bytes ? mib(r->mode_bytes) : std::string("-"))
+          << " | "
+          << (std::isnan(r->sm_mhz_median) ? std::string("-")
+                                           : fixed(r->sm_mhz_median, 5) + " (" + fixed(r->sm_mhz_min, 5) + "-" + fixed(r->sm_mhz_max, 5) + ")")
           << " |\n";
   }
   out.close();

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/common/frame_timing.hpp"
 #include "renderer/metrics/image_error.hpp"
 
 namespace prismoid::bench {
@@ -19,9 +20,12 @@ struct BenchRow {
   std::string timer = "gpu";  // "gpu": timestamp queries around the passes; "wall": CPU wall clock
                               // of a whole frame ending in a GPU finish (the VTK peers)
   uint32_t width = 0, height = 0, frames = 0;
-  double ms_median = 0, ms_min = 0, ms_max = 0;  // per frame, over the timed frames
+  double ms_median = 0, ms_min = 0, ms_max = 0;  // per frame, over the timed frames: median, best, worst
+  // The SM clock during the timed frames (nvidia-smi); NaN where it was not sampled.
+  double sm_mhz_min = std::numeric_limits<double>::quiet_NaN(), sm_mhz_median = std::numeric_limits<double>::quiet_NaN(),
+         sm_mhz_max = std::numeric_limits<double>::quiet_NaN();
   double cpu_ms = 0;        // CPU stages the frame needed (median), e.g. the exact order
-  std::string passes;       // name=median ms, in order
+  std::string passes;       // name=median ms, in order, ';'-separated
   uint64_t mesh_bytes = 0;  // the mesh's GPU buffers
   uint64_t shaded = 0;      // surfaces: shading-code invocations per measured frame, the mean (pixels or texels); 0: not counted
   uint64_t mode_bytes = 0;  // surfaces: the mode's own GPU memory beyond the scene (Htex: pool and tables)
@@ -32,6 +36,10 @@ struct BenchRow {
   double reference_ms = 0;  // the CPU reference's time for this image
   bool pareto = false;
 };
+
+// The row's times from its timed frames: the frames' totals (median, best, worst), each pass's
+// median, and the SM clock where it was sampled.
+void set_times(BenchRow& row, const app::FrameTiming& timing);
 
 // Marks the rows no other row of the same dataset, quantity and image size beats: at least as
 // fast and at least as accurate (RMSE), and better in one. Errors of different quantities or

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "app/common/cli_args.hpp"
+#include "app/common/frame_timing.hpp"
 #include "app/common/surface_args.hpp"
 #include "app/common/warm_up.hpp"
 #include "renderer/metrics/flip.hpp"
@@ -22,12 +23,6 @@
 namespace prismoid::bench {
 
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 SurfaceScene load_scene(const std::string& name) {
   app::ParsedArgs one;
@@ -229,15 +224,16 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (run.moving)
         for (uint32_t i = 0; i < options.frames; ++i) draw(device, renderer, orbit_camera(i), mode, extent);
       // The timed frames follow each other with no read-back; the image is the last one's.
-      std::vector<double> totals;
-      std::vector<std::vector<vk::PassTiming>> timings;
       uint64_t shaded_sum = 0;
-      for (uint32_t i = 0; i < options.frames; ++i) {
+      uint32_t frame_index = 0;
+      const app::FrameTiming timing = app::time_frames(options.frames, [&] {
         if (!gi_mode(mode) && !run.still && !run.moving) renderer.forget_shading();  // each frame costs what a moving camera's does
-        timings.push_back(draw(device, renderer, run.moving ? orbit_camera(options.frames + i) : camera, mode, extent));
+        const std::vector<vk::PassTiming> passes =
+            draw(device, renderer, run.moving ? orbit_camera(options.frames + frame_index) : camera, mode, extent);
+        ++frame_index;
         shaded_sum += renderer.read_counts().shaded;
-        totals.push_back(vk::total_gpu_ms(timings.back()));
-      }
+        return passes;
+      });
       const std::vector<float> image = read_display(device, renderer, extent);
       BenchRow m;
       m.dataset = scene.name;
@@ -256,15 +252,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.ordering = "-";
       m.width = extent.width;
       m.height = extent.height;
-      m.frames = options.frames;
-      m.ms_median = median(totals);
-      m.ms_min = *std::min_element(totals.begin(), totals.end());
-      m.ms_max = *std::max_element(totals.begin(), totals.end());
-      for (size_t p = 0; p < timings.front().size(); ++p) {
-        std::vector<double> ms;
-        for (const auto& t : timings) ms.push_back(t[p].gpu_ms);
-        m.passes += (p ? " " : "") + timings.front()[p].name + "=" + std::to_string(median(ms));
-      }
+      set_times(m, timing);
       m.mesh_bytes = renderer.gpu_scene().bytes;
       const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
       m.shaded = (shaded_sum + options.frames / 2) / options.frames;  // the mean over the measured frames

@@ -4,8 +4,6 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -112,16 +110,6 @@ std::vector<std::string> with_camera(std::vector<std::string> v) {
   return v;
 }
 
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char ch : s) {
-    if (ch == '"' || ch == '\\') { out += '\\'; out += ch; }
-    else if (static_cast<unsigned char>(ch) < 0x20) { char buf[8]; std::snprintf(buf, sizeof buf, "\\u%04x", ch); out += buf; }
-    else out += ch;
-  }
-  return out;
-}
-
 std::string json_number(double v) {
   if (!std::isfinite(v)) return "null";
   std::ostringstream s;
@@ -137,19 +125,6 @@ double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& pa
     total += p.gpu_ms;
   }
   return total;
-}
-
-void write_stats_json(const std::string& path, const std::string& fields, const std::vector<vk::PassTiming>& passes, size_t validation_messages) {
-  std::ostringstream js;
-  double total = 0.0;
-  js << "{" << (fields.rfind(",", 0) == 0 ? fields.substr(1) : fields) << ",\n  \"passes\": [";
-  for (size_t i = 0; i < passes.size(); ++i) {
-    js << (i ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(passes[i].name) << "\", \"gpu_ms\": " << json_number(passes[i].gpu_ms) << "}";
-    total += passes[i].gpu_ms;
-  }
-  js << "\n  ],\n  \"gpu_ms_total\": " << json_number(total) << ",\n  \"validation_messages\": " << validation_messages << "\n}\n";
-  std::ofstream out(path);
-  if (!out || !(out << js.str()) || !out.flush()) throw InputError(path, "cannot write the stats file");
 }
 
 void declare_render_files(OutputFiles& files, const ParsedArgs& a) {

@@ -44,18 +44,15 @@ Camera camera_from(const ParsedArgs& a, const Bounds& bounds);
 extern const std::vector<std::string> kCameraOptions;
 std::vector<std::string> with_camera(std::vector<std::string> v);
 
-std::string json_escape(const std::string& s);
-std::string json_number(double v);  // null for NaN and infinities
+// A number as the terminal and the stats files show it: 9 significant digits, null for NaN and
+// infinities.
+std::string json_number(double v);
 
 // kValidationMessages (with a line on stderr) when the validation layer reported anything.
 int validation_exit(const vk::Instance& instance);
 
 // Prints each pass's GPU time ("  NAME: X ms GPU", or "no timestamps") and returns their sum.
 double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& passes);
-// A render's stats JSON: `fields` (the object's leading ",\n  \"key\": value" lines, without
-// the opening brace) followed by the passes, their total and the validation log's count, written
-// to `path` (an OutputFiles temporary; InputError naming the file when it cannot be written).
-void write_stats_json(const std::string& path, const std::string& fields, const std::vector<vk::PassTiming>& passes, size_t validation_messages);
 
 class OutputFiles;
 // What every render verb reads and writes, declared before its work (app/common/output_files.hpp):

@@ -1,21 +1,17 @@
 #include "app/common/warm_up.hpp"
 
-#include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <vector>
+
+#include "app/common/frame_timing.hpp"
 
 namespace prismoid::app {
 
 uint32_t warm_up(const std::function<double()>& frame, double seconds) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<double> ms;
-  auto median4 = [&](size_t end) {
-    std::array<double, 4> v{ms[end - 4], ms[end - 3], ms[end - 2], ms[end - 1]};
-    std::sort(v.begin(), v.end());
-    return 0.5 * (v[1] + v[2]);
-  };
+  auto median4 = [&](size_t end) { return median_of({ms.begin() + long(end) - 4, ms.begin() + long(end)}); };
   for (;;) {
     ms.push_back(frame());
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,10 +1,17 @@
 // The shared plumbing of the verbs, the window and the bench (app/common) that runs without a GPU.
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
 #include <thread>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
+#include "app/common/frame_timing.hpp"
+#include "app/common/stats_json.hpp"
 #include "app/common/warm_up.hpp"
 
 namespace prismoid::app {
@@ -48,6 +55,199 @@ TEST(WarmUp, FramesRunForTheTimeAskedAndWhileTheyGetFaster) {
   const double capped_s = seconds_of([&] { warm_up([&] { ms *= 0.5; return sleepy(ms); }, 0.05); });
   EXPECT_GE(capped_s, 0.2);
   EXPECT_LT(capped_s, 0.5);
+}
+
+
+// ---- frame_timing: the one summary of timed frames ----
+
+std::vector<vk::PassTiming> frame_of(std::initializer_list<std::pair<const char*, double>> passes) {
+  std::vector<vk::PassTiming> f;
+  for (const auto& [name, ms] : passes) f.push_back({name, ms});
+  return f;
+}
+
+TEST(FrameTiming, MedianOfFiniteValues) {
+  EXPECT_EQ(median_of({3.0, 1.0, 2.0}), 2.0);
+  EXPECT_EQ(median_of({4.0, 1.0, 3.0, 2.0}), 2.5);
+  EXPECT_EQ(median_of({std::nan(""), 5.0}), 5.0);
+  EXPECT_TRUE(std::isnan(median_of({})));
+  EXPECT_TRUE(std::isnan(median_of({std::nan("")})));
+}
+
+TEST(FrameTiming, EachPassBestMedianWorstOverTheFrames) {
+  const FrameTiming t = summarize_frames({frame_of({{"sort", 1.0}, {"intervals", 4.0}, {"resolve", 0.5}}),
+                                          frame_of({{"sort", 3.0}, {"intervals", 2.0}, {"resolve", 0.5}}),
+                                          frame_of({{"sort", 2.0}, {"intervals", 9.0}, {"resolve", 0.25}})});
+  EXPECT_EQ(t.frames, 3u);
+  ASSERT_EQ(t.passes.size(), 3u);
+  EXPECT_EQ(t.passes[0].name, "sort");
+  EXPECT_EQ(t.passes[0].ms.best, 1.0);
+  EXPECT_EQ(t.passes[0].ms.median, 2.0);
+  EXPECT_EQ(t.passes[0].ms.worst, 3.0);
+  EXPECT_EQ(t.passes[1].name, "intervals");
+  EXPECT_EQ(t.passes[1].ms.best, 2.0);
+  EXPECT_EQ(t.passes[1].ms.median, 4.0);
+  EXPECT_EQ(t.passes[1].ms.worst, 9.0);
+  EXPECT_EQ(t.passes[2].ms.best, 0.25);
+  EXPECT_EQ(t.passes[2].ms.median, 0.5);
+  // Totals per frame: 5.5, 5.5, 11.25.
+  EXPECT_EQ(t.total_ms.best, 5.5);
+  EXPECT_EQ(t.total_ms.median, 5.5);
+  EXPECT_EQ(t.total_ms.worst, 11.25);
+  EXPECT_FALSE(t.sm_clock.has_value());
+  const std::vector<vk::PassTiming> medians = t.medians();
+  ASSERT_EQ(medians.size(), 3u);
+  EXPECT_EQ(medians[1].name, "intervals");
+  EXPECT_EQ(medians[1].gpu_ms, 4.0);
+}
+
+// A name that repeats in a frame is two passes; a frame without a pass leaves the others in place.
+TEST(FrameTiming, RepeatedNamesStayApartAndMissingPassesShiftNothing) {
+  const FrameTiming t = summarize_frames({frame_of({{"gi", 1.0}, {"gi", 10.0}, {"display", 2.0}}),
+                                          frame_of({{"gi", 3.0}, {"display", 4.0}}),
+                                          frame_of({{"gi", 5.0}, {"gi", 30.0}, {"display", 6.0}})});
+  ASSERT_EQ(t.passes.size(), 3u);
+  EXPECT_EQ(t.passes[0].ms.median, 3.0);   // the first "gi" of every frame: 1, 3, 5
+  EXPECT_EQ(t.passes[1].ms.median, 20.0);  // the second: 10, 30
+  EXPECT_EQ(t.passes[2].name, "display");
+  EXPECT_EQ(t.passes[2].ms.median, 4.0);
+}
+
+TEST(FrameTiming, NoTimestampsGiveNaNNotGarbage) {
+  const FrameTiming t = summarize_frames({frame_of({{"a", std::nan("")}}), frame_of({{"a", std::nan("")}})});
+  ASSERT_EQ(t.passes.size(), 1u);
+  EXPECT_TRUE(std::isnan(t.passes[0].ms.best));
+  EXPECT_TRUE(std::isnan(t.passes[0].ms.median));
+  EXPECT_TRUE(std::isnan(t.passes[0].ms.worst));
+}
+
+// PATH for one test: a folder holding a fake nvidia-smi before the rest of PATH (sh and sleep);
+// with no script, that folder alone (no nvidia-smi anywhere). Restored after.
+class FakePath {
+ public:
+  explicit FakePath(const std::string& script) {
+    dir_ = std::filesystem::temp_directory_path() / ("prismoid-fake-smi-" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir_);
+    if (!script.empty()) {
+      const std::filesystem::path exe = dir_ / "nvidia-smi";
+      std::ofstream(exe) << script;
+      std::filesystem::permissions(exe, std::filesystem::perms::owner_all);
+    }
+    if (const char* p = std::getenv("PATH")) old_ = p;
+    setenv("PATH", (script.empty() ? dir_.string() : dir_.string() + ":" + old_).c_str(), 1);
+  }
+  ~FakePath() {
+    setenv("PATH", old_.c_str(), 1);
+    std::filesystem::remove_all(dir_);
+  }
+
+ private:
+  std::filesystem::path dir_;
+  std::string old_;
+};
+
+// nvidia-smi's output, one clock a line; lines that are not a number (a GPU that reports none)
+// are no samples. The script prints in one write, and ends in exec so that ending it ends the sleep too.
+TEST(SmClock, SamplesAreParsedFromNvidiaSmi) {
+  const FakePath path("#!/bin/sh\nprintf '1410\\n1395\\n[N/A]\\n1980\\n'\nexec sleep 30\n");
+  const auto start = std::chrono::steady_clock::now();
+  SmClockSampler sampler;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const std::optional<ClockSpread> clock = sampler.stop();
+  ASSERT_TRUE(clock.has_value());
+  EXPECT_EQ(clock->samples, 3u);
+  EXPECT_EQ(clock->min_mhz, 1395.0);
+  EXPECT_EQ(clock->median_mhz, 1410.0);
+  EXPECT_EQ(clock->max_mhz, 1980.0);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0) << "stop() ended the child";
+}
+
+TEST(SmClock, TimedFramesCarryTheClock) {
+  const FakePath path("#!/bin/sh\necho 1500\nexec sleep 30\n");
+  uint32_t calls = 0;
+  const FrameTiming t = time_frames(3, [&] {
+    ++calls;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    return frame_of({{"pass", double(calls)}});
+  });
+  EXPECT_EQ(calls, 3u);
+  EXPECT_EQ(t.frames, 3u);
+  ASSERT_EQ(t.passes.size(), 1u);
+  EXPECT_EQ(t.passes[0].ms.median, 2.0);
+  ASSERT_TRUE(t.sm_clock.has_value());
+  EXPECT_EQ(t.sm_clock->median_mhz, 1500.0);
+}
+
+TEST(SmClock, NoNvidiaSmiNoClock) {
+  {
+    const FakePath path("");  // not on PATH
+    SmClockSampler sampler;
+    EXPECT_FALSE(sampler.stop().has_value());
+  }
+  {
+    // On PATH but without a driver: an error and no numbers.
+    const FakePath path("#!/bin/sh\necho 'NVIDIA-SMI has failed because it could not communicate with the NVIDIA driver.'\nexit 9\n");
+    const auto start = std::chrono::steady_clock::now();
+    SmClockSampler sampler;
+    EXPECT_FALSE(sampler.stop().has_value());
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.5);
+  }
+}
+
+// ---- stats_json: one layout for every stats file ----
+
+TEST(StatsJson, OneKeyALineObjectsInArraysOneALine) {
+  StatsJson js;
+  js["device"] = "lavapipe \"quoted\"";
+  js["cells"] = 1234;
+  js["order_exact"] = true;
+  js["march_step"] = 0.1234567891234;
+  js["no_time"] = std::nan("");
+  js["tf_range"] = {0.0, 2.5};
+  js["warnings"] = StatsJson::array();
+  js["passes"] = passes_json(summarize_frames({frame_of({{"sort", 1.0}}), frame_of({{"sort", 3.0}}), frame_of({{"sort", 2.0}})}));
+  FrameTiming clocked;
+  clocked.sm_clock = ClockSpread{1395.0, 1410.0, 1980.0, 3};
+  add_sm_clock(js, clocked);
+  add_sm_clock(js, FrameTiming{});  // unsampled: nothing set, nothing removed
+  EXPECT_EQ(format_stats(js),
+            "{\n"
+            "  \"device\": \"lavapipe \\\"quoted\\\"\",\n"
+            "  \"cells\": 1234,\n"
+            "  \"order_exact\": true,\n"
+            "  \"march_step\": 0.123456789,\n"
+            "  \"no_time\": null,\n"
+            "  \"tf_range\": [0, 2.5],\n"
+            "  \"warnings\": [],\n"
+            "  \"passes\": [\n"
+            "    {\"name\": \"sort\", \"gpu_ms\": 2, \"min_ms\": 1, \"max_ms\": 3}\n"
+            "  ],\n"
+            "  \"sm_clock_mhz\": {\"min\": 1395, \"median\": 1410, \"max\": 1980, \"samples\": 3}\n"
+            "}\n");
+  // And it is JSON: it reads back to the same values.
+  const StatsJson back = StatsJson::parse(format_stats(js));
+  EXPECT_EQ(back["device"], "lavapipe \"quoted\"");
+  EXPECT_EQ(back["passes"][0]["max_ms"], 3.0);
+  EXPECT_TRUE(back["no_time"].is_null());
+}
+
+TEST(StatsJson, ThePlanAsEveryVerbWritesIt) {
+  frame::FramePlan plan;
+  plan.passes.push_back({frame::PassId::Sort, "sort", frame::PassKind::Gpu, "colour is order-dependent"});
+  plan.passes.push_back({frame::PassId::ShadowRays, "shadow-rays", frame::PassKind::Within, "a light casts shadows"});
+  plan.skipped.push_back({"exact-order", "the GPU sort orders"});
+  StatsJson js;
+  add_plan(js, plan);
+  EXPECT_EQ(format_stats(js),
+            "{\n"
+            "  \"plan\": [\n"
+            "    {\"name\": \"sort\", \"kind\": \"gpu\", \"reason\": \"colour is order-dependent\"},\n"
+            "    {\"name\": \"shadow-rays\", \"kind\": \"within\", \"reason\": \"a light casts shadows\"}\n"
+            "  ],\n"
+            "  \"skipped\": [\n"
+            "    {\"pass\": \"exact-order\", \"reason\": \"the GPU sort orders\"}\n"
+            "  ]\n"
+            "}\n");
 }
 
 }  // namespace

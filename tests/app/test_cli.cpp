@@ -16,6 +16,8 @@
 #include <thread>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "app/bench/bench_table.hpp"
 #include "app/common/grid_dataset.hpp"
 #include "io/image_io.hpp"
@@ -594,6 +596,42 @@ TEST(Cli, InfoPlanShowsTheSortOnlyWhereTheQuantityNeedsOne) {
   EXPECT_NE(js.find("{\"pass\": \"exact-order\", \"reason\": "), std::string::npos) << js;
   // Timed frames order again (a still camera's reuse would hide what ordering costs).
   EXPECT_NE(js.find("\"passes\": [\n    {\"name\": \"sort\""), std::string::npos) << js;
+}
+
+// render --frames N summarizes the timed frames once: every pass's best <= median <= worst in the
+// stats and on the terminal, and the SM clock nvidia-smi reported meanwhile (a fake one on PATH
+// here, printing three clocks in one write, so that they all come before it is ended).
+TEST(Cli, TimedFramesGiveBestMedianWorstAndTheClock) {
+  const fs::path bin = work_dir() / "fake-bin";
+  fs::create_directories(bin);
+  std::ofstream(bin / "nvidia-smi") << "#!/bin/sh\nprintf '1200\\n1300\\n1250\\n'\nexec sleep 60\n";
+  fs::permissions(bin / "nvidia-smi", fs::perms::owner_all);
+  const std::string old_path = std::getenv("PATH") ? std::getenv("PATH") : "";
+  setenv("PATH", (bin.string() + ":" + old_path).c_str(), 1);
+  const fs::path stats = work_dir() / "timed.json";
+  const CliRun r = run("render field:blobs:2 --quantity color --size 16x12 --frames 3 --output " + (work_dir() / "timed.png").string() +
+                       " --stats " + stats.string());
+  setenv("PATH", old_path.c_str(), 1);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json js = nlohmann::json::parse(slurp(stats));
+  EXPECT_EQ(js.at("frames"), 3);
+  ASSERT_FALSE(js.at("passes").empty());
+  for (const auto& p : js.at("passes")) {
+    const double best = p.at("min_ms"), median = p.at("gpu_ms"), worst = p.at("max_ms");
+    EXPECT_LE(best, median) << p;
+    EXPECT_LE(median, worst) << p;
+    EXPECT_GT(best, 0.0) << p;
+    const std::string name = p.at("name");
+    EXPECT_NE(r.out.find("  " + name + ": "), std::string::npos) << r.out;
+  }
+  EXPECT_NE(r.out.find("(best "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("a whole frame: best "), std::string::npos) << r.out;
+  ASSERT_TRUE(js.contains("sm_clock_mhz")) << js;
+  EXPECT_EQ(js.at("sm_clock_mhz").at("min"), 1200);
+  EXPECT_EQ(js.at("sm_clock_mhz").at("median"), 1250);
+  EXPECT_EQ(js.at("sm_clock_mhz").at("max"), 1300);
+  EXPECT_EQ(js.at("sm_clock_mhz").at("samples"), 3);
+  EXPECT_NE(r.out.find("SM clock: 1200 / 1250 / 1300 MHz"), std::string::npos) << r.out;
 }
 
 TEST(Cli, ParaViewColormapFileDrivesTheTransferFunction) {
