@@ -69,6 +69,43 @@ std::string set_compare_quantity(ViewState& state, volume::Quantity quantity) {
   return problem;
 }
 
+namespace {
+
+std::string apply_backend(frame::FrameSettings& settings, const std::string& backend) {
+  if (backend == "mesh") {
+    settings.backend = frame::IntervalBackend::Mesh;
+  } else if (backend == "compute") {
+    settings.backend = frame::IntervalBackend::Compute;
+    if (settings.resolve.shared_vertices) {
+      settings.resolve.shared_vertices = false;
+      settings.backend_reason.clear();
+      return "compute backend: shared vertices (tetlets) are the mesh backend's, turned off";
+    }
+  } else {
+    return "unknown backend '" + backend + "' (available: mesh, compute)";
+  }
+  settings.backend_reason.clear();  // chosen by name now, not by auto's calibration
+  return {};
+}
+
+}  // namespace
+
+std::string set_backend(ViewState& state, const std::string& backend) {
+  frame::FrameSettings s = state.settings;
+  const std::string message = apply_backend(s, backend);
+  if (message.rfind("unknown", 0) == 0) return message;
+  state.settings = s;
+  return message;
+}
+
+std::string set_compare_backend(ViewState& state, const std::string& backend) {
+  ViewState b = as_b(state);
+  const std::string message = apply_backend(b.settings, backend);
+  if (message.rfind("unknown", 0) == 0) return message;
+  take_b(state, std::move(b));
+  return message;
+}
+
 frame::FrameSettings compare_frame_settings(const ViewState& state) {
   frame::FrameSettings s = state.settings;
   if (state.compare_mode.empty()) return s;
@@ -77,12 +114,15 @@ frame::FrameSettings compare_frame_settings(const ViewState& state) {
   s.resolve.quantity = b.resolve.quantity;
   s.resolve.march.enabled = b.resolve.march.enabled;
   s.resolve.preintegration_size = b.resolve.preintegration_size;
+  s.backend = b.backend;
+  s.backend_reason = b.backend_reason;
   if (s.resolve.march.enabled && !(s.resolve.march.step > 0.0)) s.resolve.march.step = b.resolve.march.step;
   if (s.resolve.march.enabled && state.dataset().field) s.resolve.march.field = *state.dataset().field;
-  // Tetlets fix the draw order: B keeps A's choice only where its own quantity and order allow.
+  // Tetlets fix the draw order: B keeps A's choice only where its own quantity and order allow,
+  // and only on the mesh backend, whose workgroups they are.
   ViewState check;
   check.settings = s;
-  if (!shared_vertices_problem(check).empty()) s.resolve.shared_vertices = false;
+  if (!shared_vertices_problem(check).empty() || s.backend != frame::IntervalBackend::Mesh) s.resolve.shared_vertices = false;
   return s;
 }
 

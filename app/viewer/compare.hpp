@@ -19,9 +19,14 @@ std::optional<CompareMode> compare_mode_of_name(const std::string& name);
 std::string set_compare(ViewState& state, CompareMode mode);
 std::string set_compare_mode(ViewState& state, const std::string& mode);  // B's mode
 std::string set_compare_quantity(ViewState& state, volume::Quantity quantity);  // B's quantity
+// The interval backend ("mesh" or "compute") of A, or of B (choosing B's backend alone makes B
+// A's mode on that backend, so the split view compares the two backends). Tetlets are the mesh
+// backend's: choosing compute turns --shared-vertices off, and says so.
+std::string set_backend(ViewState& state, const std::string& backend);
+std::string set_compare_backend(ViewState& state, const std::string& backend);
 
 // B's settings for this frame: A's transfer function, field, colours and workgroup settings,
-// with B's own ordering, march switch, quantity and pre-integration size, so the two halves
+// with B's own ordering, march switch, quantity, pre-integration size and backend, so the two halves
 // differ only in what B chose.
 frame::FrameSettings compare_frame_settings(const ViewState& state);
 

@@ -86,6 +86,12 @@ void draw_compare_section(ViewState& state, PanelState& panel) {
         if (ImGui::Selectable(quantity_name(q), q == current)) panel.message = set_compare_quantity(state, q);
       ImGui::EndCombo();
     }
+    const char* b_backend = frame::interval_backend_name(state.compare_settings.backend);
+    if (ImGui::BeginCombo("B backend", b_backend)) {
+      for (const char* name : {"mesh", "compute"})
+        if (ImGui::Selectable(name, std::string(name) == b_backend)) panel.message = set_compare_backend(state, name);
+      ImGui::EndCombo();
+    }
     ImGui::TextDisabled("left: A (the mode above), right: B; B shares A's transfer function");
   } else if (state.compare == CompareMode::Difference) {
     ImGui::TextWrapped("The mode above against the CPU double-precision reference, at the window's size scaled to at most %u "

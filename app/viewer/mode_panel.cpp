@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "app/common/volume_options.hpp"
+#include "app/viewer/compare.hpp"
 #include "app/viewer/panels.hpp"
 
 namespace prismoid::app {
@@ -66,6 +67,14 @@ void draw_mode_section(ViewState& state, PanelState& panel, uint32_t max_tetlet_
   volume::Quantity quantity = state.settings.resolve.quantity;
   if (combo<volume::Quantity>("quantity", quantities_for(state.dataset(), state.mode), quantity, quantity, quantity_label))
     panel.message = set_quantity(state, quantity);
+
+  const char* backend = frame::interval_backend_name(state.settings.backend);
+  if (ImGui::BeginCombo("backend", backend)) {
+    for (const char* name : {"mesh", "compute"})
+      if (ImGui::Selectable(name, std::string(name) == backend)) panel.message = set_backend(state, name);
+    ImGui::EndCombo();
+  }
+  if (!state.settings.backend_reason.empty()) ImGui::TextDisabled("%s", state.settings.backend_reason.c_str());
 
   volume::ResolveSettings& r = state.settings.resolve;
   int tetlet = int(r.tetlet_size);

@@ -284,6 +284,8 @@ void ViewerSession::run(const ScriptCommand& c) {
     message(set_compare(state, *mode));
   } else if (c.verb == "compare-mode") message(set_compare_mode(state, a[0]));
   else if (c.verb == "compare-quantity") message(set_compare_quantity(state, quantity_of_name(a[0])));
+  else if (c.verb == "backend") message(set_backend(state, a[0]));
+  else if (c.verb == "compare-backend") message(set_compare_backend(state, a[0]));
   else if (c.verb == "wait-reference") {
     if (a.size() > 1) throw InputError(c.where, "wait-reference takes at most a number of seconds");
     const double seconds = a.empty() ? 300.0 : number(0);

@@ -24,7 +24,7 @@ const std::map<std::string, int>& verbs() {
       {"rss", 0},        {"drag", -1},         {"open", -1},        {"wait-load", -1},
       {"cancel-load", 0}, {"show", 2},         {"active", 1},       {"drop", -1},
       {"compare", 1},    {"compare-mode", 1},
-      {"compare-quantity", 1}, {"wait-reference", -1}};
+      {"compare-quantity", 1}, {"backend", 1}, {"compare-backend", 1}, {"wait-reference", -1}};
   return v;
 }
 

@@ -132,6 +132,32 @@ TEST(Compare, SplitViewsBFollowsAExceptInWhatBChose) {
   EXPECT_FALSE(app::compare_mode_of_name("both").has_value());
 }
 
+// The split view compares the two interval backends: B on compute, A on mesh shaders, each
+// frame's settings carrying its own; tetlets (the mesh backend's) never reach a compute frame.
+TEST(Compare, BackendsAreSwitchedAndComparedSideBySide) {
+  app::ViewState state;
+  state.datasets.push_back(app::make_dataset(make_default_volume()));
+  ASSERT_TRUE(app::set_mode(state, "interval-sorted").empty());
+  EXPECT_EQ(state.settings.backend, frame::IntervalBackend::Mesh);
+  EXPECT_FALSE(app::set_backend(state, "gpu").empty());
+  EXPECT_EQ(state.settings.backend, frame::IntervalBackend::Mesh) << "an unknown name changes nothing";
+  EXPECT_TRUE(app::set_compare_backend(state, "compute").empty());
+  EXPECT_TRUE(app::set_compare(state, app::CompareMode::Split).empty());
+  EXPECT_EQ(state.compare_mode, "interval-sorted") << "B chose only its backend: A's mode";
+  state.settings.resolve.shared_vertices = true;
+  frame::FrameSettings b = app::compare_frame_settings(state);
+  EXPECT_EQ(b.backend, frame::IntervalBackend::Compute);
+  EXPECT_FALSE(b.resolve.shared_vertices);
+  EXPECT_EQ(state.settings.backend, frame::IntervalBackend::Mesh) << "A is untouched by B's backend";
+  const std::string said = app::set_backend(state, "compute");
+  EXPECT_NE(said.find("shared vertices"), std::string::npos) << said;
+  EXPECT_EQ(state.settings.backend, frame::IntervalBackend::Compute);
+  EXPECT_FALSE(state.settings.resolve.shared_vertices);
+  EXPECT_TRUE(app::set_compare_backend(state, "mesh").empty());
+  b = app::compare_frame_settings(state);
+  EXPECT_EQ(b.backend, frame::IntervalBackend::Mesh);
+}
+
 TEST(Compare, ReferenceSizeKeepsTheAspectAndTheKeySeesEveryChange) {
   EXPECT_EQ(app::reference_size({320, 240}, 512).width, 320u);
   const VkExtent2D r = app::reference_size({1280, 720}, 512);
