@@ -391,7 +391,9 @@ int cmd_bench(const std::vector<std::string>& args) {
     // named, beside the exact-order colour, or beside transmittance where the data has no colour.
     const bool scalars = !choice.mesh.point_scalars.empty() || !choice.mesh.cell_scalars.empty();
     const bool exact_order = choice.mode->ordering == frame::Ordering::Exact && !choice.mode->march;
-    const bool peer_case = c.sweep == "modes" && user_file &&
+    // (Once: beside the mesh-shader backend's row; the compute backend's row of the same case
+    // stands beside the same peers.)
+    const bool peer_case = c.sweep == "modes" && user_file && choice.settings.backend == frame::IntervalBackend::Mesh &&
                            ((c.quantity == "color" && exact_order) || (c.quantity == "transmittance" && !scalars));
     if (peer_case && want_peers && x)
       for (const bench::Peer peer : bench::kPeers) {

@@ -893,6 +893,8 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render --output x.png --size 8x8 --shared-vertices --tetlet-size 1", "--shared-vertices"},
       {"render --output x.png --size 8x8 --shared-vertices --quantity color", "--shared-vertices"},
       {"render --output x.png --size 8x8 --tetlet-size 3", "--tetlet-size"},
+      {"render --output x.png --size 8x8 --volume-backend gpu", "--volume-backend"},
+      {"render --output x.png --size 8x8 --volume-backend compute --shared-vertices", "--shared-vertices"},
       {"render --output x.png --size 8x8 --subsample 2", "--subsample"},
       {"render --output x.png --size 8x8 /no/such.vti --subsample 0", "--subsample"},
       {"render --output x.png --size 8x8 /no/such.vti", "/no/such.vti"},
