@@ -223,7 +223,9 @@ int cmd_render(const std::vector<std::string>& args) {
               << "; its memory " << report.backend_bytes << " bytes (" << json_number(static_cast<double>(report.backend_bytes) / cells)
               << " per cell, " << json_number(static_cast<double>(report.backend_bytes) / pixels) << " per pixel)\n";
     if (report.counts_known)
-      std::cout << "  pairs: " << report.pairs << " (tile, cell); pixels composited out of exact order: " << report.inexact_pixels << "\n";
+      std::cout << "  pairs: " << report.pairs << " (tile, cell); pixels composited out of exact order: " << report.inexact_pixels
+                << "; tiles rastered in chunks: " << report.split_tiles << " (" << report.chunks << " chunks); cells binned by a workgroup: "
+                << report.big_cells << "\n";
   }
   double total = 0.0;
   for (size_t i = 0; i < result.passes.size(); ++i) {
@@ -269,6 +271,9 @@ int cmd_render(const std::vector<std::string>& args) {
       if (report.counts_known) {
         js["pairs"] = report.pairs;
         js["inexact_pixels"] = report.inexact_pixels;
+        js["split_tiles"] = report.split_tiles;
+        js["chunks"] = report.chunks;
+        js["big_cells"] = report.big_cells;
       }
     }
     if (result.report.counted) {  // as the driver counts them (lavapipe counts no clipper input for mesh shaders)

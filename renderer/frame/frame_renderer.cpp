@@ -239,6 +239,9 @@ OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const Frame
     frame.report.counts_known = true;
     frame.report.pairs = stats.sorted;
     frame.report.inexact_pixels = stats.inexact_pixels;
+    frame.report.big_cells = stats.big_cells;
+    frame.report.split_tiles = stats.split_tiles;
+    frame.report.chunks = stats.chunks;
     if (volume::order_dependent(settings.resolve.quantity)) frame.report.order_exact = stats.inexact_pixels == 0;
     if (stats.complete()) break;
     if (attempt > 0) throw std::logic_error("FrameRenderer: the compute backend's pairs did not fit after growing");

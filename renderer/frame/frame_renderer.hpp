@@ -48,6 +48,11 @@ struct FrameReport {
   bool counts_known = false;
   uint64_t pairs = 0;
   uint64_t inexact_pixels = 0;
+  // Cells binned by a workgroup each (their bounds span many tiles), and tiles whose long lists
+  // were rastered in chunks and merged (ComputeIntervalStats).
+  uint64_t big_cells = 0;
+  uint64_t split_tiles = 0;
+  uint64_t chunks = 0;
 };
 
 struct OffscreenFrame {

@@ -149,6 +149,8 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   if (ext_mesh) {
     caps.max_mesh_output_vertices = mesh_props.maxMeshOutputVertices;
     caps.max_mesh_output_primitives = mesh_props.maxMeshOutputPrimitives;
+    caps.max_mesh_groups_x = mesh_props.maxMeshWorkGroupCount[0];
+    caps.max_mesh_groups_total = mesh_props.maxMeshWorkGroupTotalCount;
   }
 
   uint32_t family_count = 0;

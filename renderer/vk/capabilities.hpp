@@ -43,6 +43,10 @@ struct DeviceCapabilities {
   bool swapchain = false;
   uint32_t max_mesh_output_vertices = 0;
   uint32_t max_mesh_output_primitives = 0;
+  // The most mesh workgroups one draw may launch along x, and in all (lavapipe: 65536 and 2^22):
+  // a larger mesh is drawn in several draws (IntervalShadingPass).
+  uint32_t max_mesh_groups_x = 0;
+  uint32_t max_mesh_groups_total = 0;
   uint32_t subpixel_precision_bits = 0;  // the rasterizer snaps vertices to 2^-bits pixel
   uint64_t max_storage_buffer_range = 0;  // the largest storage buffer one descriptor may name (bytes)
   uint64_t device_local_bytes = 0;

@@ -23,7 +23,7 @@ namespace {
 constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
 
-const std::array<vk::DescriptorBinding, 18> kBindings = {{
+const std::array<vk::DescriptorBinding, 23> kBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kCompute},
     {PRISMOID_BINDING_POSITIONS, kStorage, kCompute},
     {PRISMOID_BINDING_TETS, kStorage, kCompute},
@@ -42,6 +42,11 @@ const std::array<vk::DescriptorBinding, 18> kBindings = {{
     {PRISMOID_CI_BINDING_STATS, kStorage, kCompute},
     {PRISMOID_CI_BINDING_OPTICAL_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kCompute},
     {PRISMOID_CI_BINDING_EMISSION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kCompute},
+    {PRISMOID_CI_BINDING_BIG_CELLS, kStorage, kCompute},
+    {PRISMOID_CI_BINDING_CHUNK_BASE, kStorage, kCompute},
+    {PRISMOID_CI_BINDING_CHUNK_WORK, kStorage, kCompute},
+    {PRISMOID_CI_BINDING_SPLIT_TILES, kStorage, kCompute},
+    {PRISMOID_CI_BINDING_PARTIALS, kStorage, kCompute},
 }};
 
 // The radix sort's scan kernels, run on the pair counts.
@@ -65,6 +70,18 @@ void compute_to_compute(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buf
   vk::buffer_barrier(cmd, buffers, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
+
+// Indirect dispatch arguments written by a kernel, read by the dispatch after it.
+void compute_to_indirect(VkCommandBuffer cmd, VkBuffer buffer) {
+  vk::buffer_barrier(cmd, {buffer}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+// Chunk slots for a pair capacity: a split tile holds more than PRISMOID_CI_CHUNK pairs, so
+// its ceil(n / CHUNK) chunks are at most 2n / CHUNK, and all split tiles' at most twice the
+// pairs over CHUNK.
+uint64_t chunk_slots_for(uint64_t pairs) { return 2 * pairs / PRISMOID_CI_CHUNK + 1; }
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
@@ -111,6 +128,10 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
   bin_count_ = vk::create_compute_pipeline(device, "volume/compute/bin_count.comp", layout_.get());
   bin_emit_ = vk::create_compute_pipeline(device, "volume/compute/bin_emit.comp", layout_.get());
   tile_ranges_ = vk::create_compute_pipeline(device, "volume/compute/tile_ranges.comp", layout_.get());
+  big_emit_ = vk::create_compute_pipeline(device, "volume/compute/big_emit.comp", layout_.get());
+  tile_chunks_ = vk::create_compute_pipeline(device, "volume/compute/tile_chunks.comp", layout_.get());
+  chunk_args_ = vk::create_compute_pipeline(device, "volume/compute/chunk_args.comp", layout_.get());
+  tile_merge_ = vk::create_compute_pipeline(device, "volume/compute/tile_merge.comp", layout_.get());
   set_ = vk::allocate_descriptor_set(device, set_layout_.get(), kBindings);
 
   scan_set_layout_ = vk::create_descriptor_set_layout(device, kScanBindings);
@@ -124,7 +145,8 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
 
   frame_uniforms_ = vk::Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
   stats_ = vk::Buffer(device, PRISMOID_CI_STAT_COUNT * sizeof(uint32_t),
-                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                          VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                       vk::MemoryUse::DeviceLocal);
   stats_readback_ = vk::Buffer(device, stats_.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
   std::memset(stats_readback_.mapped(), 0, stats_readback_.size());
@@ -136,17 +158,19 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
 ComputeIntervals::~ComputeIntervals() = default;
 
 uint64_t ComputeIntervals::bytes_for(uint64_t cells, uint64_t tiles, uint64_t pairs) {
-  const uint64_t per_cell = cells * (sizeof(glm::uvec4) + sizeof(uint32_t)) +
+  const uint64_t per_cell = cells * (sizeof(glm::uvec4) + 2 * sizeof(uint32_t)) +
                             (cells + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK * sizeof(uint32_t);
   const uint64_t per_pair = pairs * 2 * sizeof(uint32_t) + GpuRadixSort::scratch_bytes(static_cast<uint32_t>(std::min(pairs, kMaxPairs)));
-  return per_cell + tiles * sizeof(glm::uvec2) + per_pair + sizeof(gpu::FrameUniforms) + 2 * PRISMOID_CI_STAT_COUNT * sizeof(uint32_t) +
+  const uint64_t per_chunk = chunk_slots_for(pairs) * (sizeof(glm::uvec2) + PRISMOID_CI_TILE_PIXELS * sizeof(gpu::ChunkPartial));
+  return per_cell + tiles * (sizeof(glm::uvec2) + 2 * sizeof(uint32_t)) + per_pair + per_chunk + sizeof(gpu::FrameUniforms) + 2 * PRISMOID_CI_STAT_COUNT * sizeof(uint32_t) +
          sizeof(gpu::RadixSortParams);
 }
 
 uint64_t ComputeIntervals::bytes() const {
   uint64_t total = sort_->bytes();
   for (const vk::Buffer* b : {&frame_uniforms_, &stats_, &stats_readback_, &scan_params_, &bins_, &offsets_, &scan_partials_buffer_,
-                              &keys_, &values_, &tile_ranges_buffer_})
+                              &keys_, &values_, &tile_ranges_buffer_, &big_cells_, &chunk_base_, &chunk_work_,
+                              &split_tiles_, &partials_})
     total += b->size();
   return total;
 }
@@ -186,11 +210,14 @@ void ComputeIntervals::allocate(uint64_t cells, uint64_t tiles, uint64_t pairs) 
     scan_partials_buffer_ =
         vk::Buffer(device_, (cells + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK * sizeof(uint32_t), usage,
                    vk::MemoryUse::DeviceLocal);
+    big_cells_ = vk::Buffer(device_, cells * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
     cell_capacity_ = cells;
   }
   if (tiles > tile_capacity_) {
     tile_ranges_buffer_ =
         vk::Buffer(device_, tiles * sizeof(glm::uvec2), usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::DeviceLocal);
+    chunk_base_ = vk::Buffer(device_, tiles * sizeof(uint32_t), usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::DeviceLocal);
+    split_tiles_ = vk::Buffer(device_, tiles * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
     tile_capacity_ = tiles;
   }
   if (pairs > pair_capacity_) {
@@ -198,6 +225,10 @@ void ComputeIntervals::allocate(uint64_t cells, uint64_t tiles, uint64_t pairs) 
     values_ = vk::Buffer(device_, pairs * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
     sort_->reserve(static_cast<uint32_t>(pairs));
     pair_capacity_ = pairs;
+    chunk_capacity_ = chunk_slots_for(pairs);
+    chunk_work_ = vk::Buffer(device_, chunk_capacity_ * sizeof(glm::uvec2), usage, vk::MemoryUse::DeviceLocal);
+    partials_ = vk::Buffer(device_, chunk_capacity_ * PRISMOID_CI_TILE_PIXELS * sizeof(gpu::ChunkPartial), usage,
+                           vk::MemoryUse::DeviceLocal);
   }
 }
 
@@ -264,7 +295,9 @@ void ComputeIntervals::bind_frame_inputs(const GpuTetMesh& mesh, const VolumeTar
       {PRISMOID_BINDING_FIELD_GRID, &shading.grid_buffer()}, {PRISMOID_CI_BINDING_BINS, &bins_},
       {PRISMOID_CI_BINDING_OFFSETS, &offsets_},            {PRISMOID_CI_BINDING_KEYS, &keys_},
       {PRISMOID_CI_BINDING_VALUES, &values_},              {PRISMOID_CI_BINDING_TILE_RANGES, &tile_ranges_buffer_},
-      {PRISMOID_CI_BINDING_STATS, &stats_},
+      {PRISMOID_CI_BINDING_STATS, &stats_},                {PRISMOID_CI_BINDING_BIG_CELLS, &big_cells_},
+      {PRISMOID_CI_BINDING_CHUNK_BASE, &chunk_base_},      {PRISMOID_CI_BINDING_CHUNK_WORK, &chunk_work_},
+      {PRISMOID_CI_BINDING_SPLIT_TILES, &split_tiles_},    {PRISMOID_CI_BINDING_PARTIALS, &partials_},
   };
   for (const auto& [binding, buffer] : buffers) vk::write_buffer_descriptor(device_, s, binding, kStorage, buffer->get());
   vk::write_storage_image_descriptor(device_, s, PRISMOID_CI_BINDING_OPTICAL_DEPTH, targets.optical_depth.view());
@@ -296,6 +329,7 @@ void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, c
   push.depth = glm::vec4(float(lo), hi > lo ? float(keys / (hi - lo)) : 0.0f, 0.0f, 0.0f);
   push.tie_break = glm::vec4(glm::vec3(glm::dmat3(view) * kTieBreak), 0.0f);
   push.options = glm::uvec4(f.mode, f.extent.width, f.extent.height, 0u);
+  push.chunks = glm::uvec4(static_cast<uint32_t>(chunk_capacity_), PRISMOID_CI_LAUNCH_TILES, 0u, 0u);
 
   vk::ScopedPass pass(timer, cmd, "bin-cells");
   // The last frame's tile raster and read back are done with the counts.
@@ -309,7 +343,7 @@ void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, c
   vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(push), &push);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bin_count_.get());
   vkCmdDispatch(cmd, groups_for(f.cells, PRISMOID_CI_WORKGROUP), 1, 1);
-  compute_to_compute(cmd, {bins_.get(), offsets_.get()});
+  compute_to_compute(cmd, {bins_.get(), offsets_.get(), big_cells_.get(), stats_.get()});
 
   // Prefix sum of the pair counts, in place: each cell's first pair.
   const uint32_t scan_groups = groups_for(f.cells, PRISMOID_SORT_SCAN_BLOCK);
@@ -334,6 +368,10 @@ void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, c
   vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(push), &push);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bin_emit_.get());
   vkCmdDispatch(cmd, groups_for(f.cells, PRISMOID_CI_WORKGROUP), 1, 1);
+  // The big cells' pairs, a workgroup each, as many as bin_emit.comp's last cell asked for.
+  compute_to_indirect(cmd, stats_.get());
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, big_emit_.get());
+  vkCmdDispatchIndirect(cmd, stats_.get(), PRISMOID_CI_ARGS_BIG_EMIT * sizeof(uint32_t));
 }
 
 void ComputeIntervals::record_sort(VkCommandBuffer cmd, vk::GpuTimer& timer) {
@@ -341,16 +379,27 @@ void ComputeIntervals::record_sort(VkCommandBuffer cmd, vk::GpuTimer& timer) {
   vk::ScopedPass pass(timer, cmd, "tile-sort");
   // The sort waits for the pairs and their count (compute writes) itself.
   sort_->record_indirect(cmd, keys_, values_, stats_, PRISMOID_CI_STAT_SORTED, static_cast<uint32_t>(pair_capacity_));
-  vk::buffer_barrier(cmd, {tile_ranges_buffer_.get()}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_NONE,
+  // Tiles hold no pairs and are not split until the kernels below say otherwise.
+  vk::buffer_barrier(cmd, {tile_ranges_buffer_.get(), chunk_base_.get()}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_NONE,
                      VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
   vkCmdFillBuffer(cmd, tile_ranges_buffer_.get(), 0, VK_WHOLE_SIZE, 0u);
-  vk::buffer_barrier(cmd, {tile_ranges_buffer_.get()}, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  vkCmdFillBuffer(cmd, chunk_base_.get(), 0, VK_WHOLE_SIZE, PRISMOID_CI_UNSPLIT);
+  vk::buffer_barrier(cmd, {tile_ranges_buffer_.get(), chunk_base_.get()}, VK_PIPELINE_STAGE_2_CLEAR_BIT,
+                     VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   if (f.cells == 0) return;
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
   vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(f.push), &f.push);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_ranges_.get());
   vkCmdDispatch(cmd, groups_for(pair_capacity_, PRISMOID_CI_WORKGROUP), 1, 1);
+  // Tiles with long lists are split into chunks, and the dispatches that raster and merge
+  // them sized.
+  compute_to_compute(cmd, {tile_ranges_buffer_.get()});
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_chunks_.get());
+  vkCmdDispatch(cmd, groups_for(uint64_t(f.tiles_x) * f.tiles_y, PRISMOID_CI_WORKGROUP), 1, 1);
+  compute_to_compute(cmd, {stats_.get()});
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, chunk_args_.get());
+  vkCmdDispatch(cmd, 1, 1, 1);
 }
 
 void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets, IntervalShadingPass& shading, vk::GpuTimer& timer) {
@@ -359,7 +408,8 @@ void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets
     throw std::logic_error("ComputeIntervals: record_raster() for another image size than prepare() saw");
   {
     vk::ScopedPass pass(timer, cmd, "tile-raster");
-    compute_to_compute(cmd, {tile_ranges_buffer_.get()});
+    compute_to_compute(cmd, {tile_ranges_buffer_.get(), chunk_base_.get(), chunk_work_.get(), split_tiles_.get()});
+    compute_to_indirect(cmd, stats_.get());
     // Both accumulation images are named by the set; the one this frame does not write keeps
     // undefined contents (the resolve never reads it), like the mesh-shader pass's.
     for (VkImage image : {targets.optical_depth.get(), targets.emission.get()})
@@ -371,6 +421,14 @@ void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets
     vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(f.push), &f.push);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_rasters_.at(f.mode).get());
     vkCmdDispatch(cmd, f.tiles_x, f.tiles_y, 1);
+    // The split tiles' other chunks (none in most frames), then their merge.
+    gpu::ComputeIntervalsPush chunks = f.push;
+    chunks.chunks.y = PRISMOID_CI_LAUNCH_CHUNKS;
+    vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(chunks), &chunks);
+    vkCmdDispatchIndirect(cmd, stats_.get(), PRISMOID_CI_ARGS_CHUNKS * sizeof(uint32_t));
+    compute_to_compute(cmd, {partials_.get()});
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_merge_.get());
+    vkCmdDispatchIndirect(cmd, stats_.get(), PRISMOID_CI_ARGS_MERGE * sizeof(uint32_t));
     // The counts go to host memory for read_stats().
     vk::buffer_barrier(cmd, {stats_.get()}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
@@ -390,6 +448,9 @@ ComputeIntervalStats ComputeIntervals::read_stats() const {
   s.pairs = values[PRISMOID_CI_STAT_PAIRS];
   s.sorted = values[PRISMOID_CI_STAT_SORTED];
   s.inexact_pixels = values[PRISMOID_CI_STAT_INEXACT];
+  s.big_cells = values[PRISMOID_CI_STAT_BIG_CELLS];
+  s.split_tiles = values[PRISMOID_CI_STAT_SPLIT_TILES];
+  s.chunks = values[PRISMOID_CI_STAT_SPLIT_TILES] + values[PRISMOID_CI_STAT_EXTRA_CHUNKS];
   return s;
 }
 

@@ -10,6 +10,8 @@
 //  - "tile-raster": one workgroup per tile; each pixel computes every cell's interval on its
 //    own ray and integrates it exactly as the fragment shaders do (the same GLSL functions),
 //    colour through a per-pixel k-buffer in exact depth order (shaders/volume/compute/).
+//    A tile of more than PRISMOID_CI_CHUNK pairs is split into chunks rastered by workgroups of
+//    their own and merged in chunk order, so one long list does not hold up the frame.
 //
 // The key is one 32-bit word, the tile in the high bits and the depth in the rest (at least
 // 5 bits are left for depth at 16k x 16k; 15 at 4K): one 4-pass sort, where sorting twice
@@ -43,6 +45,9 @@ struct ComputeIntervalStats {
   uint64_t pairs = 0;           // (tile, cell) pairs the cells asked for
   uint64_t sorted = 0;          // pairs written, sorted and drawn (at most the capacity)
   uint64_t inexact_pixels = 0;  // colour: pixels an interval reached nearer than one already composited
+  uint64_t big_cells = 0;       // cells binned a workgroup each (more than PRISMOID_CI_BIG_CELL_TILES tiles)
+  uint64_t split_tiles = 0;     // tiles rastered in chunks (more than PRISMOID_CI_CHUNK pairs)
+  uint64_t chunks = 0;          // the chunks of the split tiles
   bool complete() const { return pairs == sorted; }
 };
 
@@ -89,7 +94,7 @@ class ComputeIntervals {
   const vk::Device& device_;
   vk::UniqueDescriptorSetLayout set_layout_;
   vk::UniquePipelineLayout layout_;
-  vk::UniquePipeline bin_count_, bin_emit_, tile_ranges_;
+  vk::UniquePipeline bin_count_, bin_emit_, big_emit_, tile_ranges_, tile_chunks_, chunk_args_, tile_merge_;
   std::map<uint32_t, vk::UniquePipeline> tile_rasters_;  // by PRISMOID_CI_* mode, made in prepare() on first use
   vk::DescriptorSet set_;
   // The prefix sum of the pair counts runs the radix sort's scan kernels on these bindings.
@@ -106,7 +111,10 @@ class ComputeIntervals {
   vk::Buffer bins_, offsets_, scan_partials_buffer_;
   vk::Buffer keys_, values_;
   vk::Buffer tile_ranges_buffer_;
-  uint64_t cell_capacity_ = 0, tile_capacity_ = 0, pair_capacity_ = 0;
+  vk::Buffer big_cells_;                          // per cell (at most every cell is big)
+  vk::Buffer chunk_base_, split_tiles_;           // per tile
+  vk::Buffer chunk_work_, partials_;              // per chunk slot (chunk_capacity_)
+  uint64_t cell_capacity_ = 0, tile_capacity_ = 0, pair_capacity_ = 0, chunk_capacity_ = 0;
   uint64_t mesh_bytes_ = 0;  // the mesh's own buffers (they share the device's memory)
 
   // The frame prepare() saw, for the record calls.

@@ -139,7 +139,8 @@ IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(dev
                                std::to_string(PRISMOID_CELL_MAX_VERTICES) + " / " + std::to_string(PRISMOID_CELL_MAX_TRIANGLES));
   mesh_set_layout_ = vk::create_descriptor_set_layout(device, kMeshBindings);
   VkDescriptorSetLayout mesh_sets[] = {mesh_set_layout_.get()};
-  mesh_layout_ = vk::create_pipeline_layout(device, mesh_sets, {});
+  VkPushConstantRange mesh_push{VK_SHADER_STAGE_MESH_BIT_EXT, 0, sizeof(uint32_t)};
+  mesh_layout_ = vk::create_pipeline_layout(device, mesh_sets, std::span(&mesh_push, 1));
   mesh_set_ = vk::allocate_descriptor_set(device, mesh_set_layout_.get(), kMeshBindings);
 
   resolve_set_layout_ = vk::create_descriptor_set_layout(device, kResolveBindings);
@@ -474,7 +475,14 @@ void IntervalShadingPass::record_intervals(VkCommandBuffer cmd, const GpuTetMesh
                         pipeline(settings.tetlet_size, pipeline_kind(settings), tetlets != nullptr));
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mesh_layout_.get(), 0, 1, &mesh_set_.set, 0, nullptr);
       const uint32_t groups = tetlets ? tetlets->count : (mesh.tet_count + settings.tetlet_size - 1) / settings.tetlet_size;
-      device_.cmd_draw_mesh_tasks(cmd, groups, 1, 1);
+      // One draw launches at most maxMeshWorkGroupCount[0] (and the total count) workgroups;
+      // consecutive draws keep the primitive order a sorted frame composites in.
+      const auto& caps = device_.capabilities();
+      const uint32_t per_draw = std::max<uint32_t>(1, std::min(caps.max_mesh_groups_x, caps.max_mesh_groups_total));
+      for (uint32_t first = 0; first < groups; first += per_draw) {
+        vkCmdPushConstants(cmd, mesh_layout_.get(), VK_SHADER_STAGE_MESH_BIT_EXT, 0, sizeof(first), &first);
+        device_.cmd_draw_mesh_tasks(cmd, std::min(per_draw, groups - first), 1, 1);
+      }
     }
     if (count) vkCmdEndQuery(cmd, statistics_.get(), 0);
     counted_ = counted_ || count;

@@ -17,6 +17,16 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_CI_KBUFFER 8
 // Invocations per workgroup of the per-cell and per-pair kernels.
 #define PRISMOID_CI_WORKGROUP 256
+// A cell whose bounds span more tiles than this is binned by a workgroup of its own
+// (big_emit.comp), one tile per invocation, rather than by one invocation looping over them:
+// cells the near plane cuts, or seen from close by, can span the whole screen, and one such
+// invocation held up the whole pass (38 ms of 41 in the armadillo seen from inside, H200).
+#define PRISMOID_CI_BIG_CELL_TILES 64
+// A tile's pairs are rastered in chunks of at most this many by separate workgroups, each
+// writing its pixels' partial result; a merge combines them in chunk order (deterministic).
+// Without it, one workgroup walked a tile's whole list (962k pairs in the 8x8 image's one
+// tile: 305 ms on the H200).
+#define PRISMOID_CI_CHUNK 512
 
 #define PRISMOID_CI_BINDING_BINS 14         // uvec4 per cell: tile columns x0 | x1 << 16, rows y0 | y1 << 16, depth key, pairs
 #define PRISMOID_CI_BINDING_OFFSETS 15      // uint per cell: its pair count, then (scanned) its first pair
@@ -26,12 +36,29 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_CI_BINDING_STATS 19        // uint[PRISMOID_CI_STAT_COUNT]
 #define PRISMOID_CI_BINDING_OPTICAL_DEPTH 20  // r32f storage image (VolumeTargets::optical_depth)
 #define PRISMOID_CI_BINDING_EMISSION 21       // rgba32f storage image (VolumeTargets::emission)
+#define PRISMOID_CI_BINDING_BIG_CELLS 22      // uint per big cell: the cell (in no fixed order)
+#define PRISMOID_CI_BINDING_CHUNK_BASE 23     // uint per tile: its first chunk's slot, or PRISMOID_CI_UNSPLIT
+#define PRISMOID_CI_BINDING_CHUNK_WORK 24     // uvec2 per chunk after a tile's first: the tile, the chunk's index in it
+#define PRISMOID_CI_BINDING_SPLIT_TILES 25    // uint per split tile: the tile
+#define PRISMOID_CI_BINDING_PARTIALS 26       // ChunkPartial per chunk slot and pixel of the tile (64 per slot)
+#define PRISMOID_CI_UNSPLIT 0xFFFFFFFFu
 
 // What a frame counts (PRISMOID_CI_BINDING_STATS), read back after it.
 #define PRISMOID_CI_STAT_PAIRS 0    // (cell, tile) pairs the cells asked for
 #define PRISMOID_CI_STAT_SORTED 1   // pairs written and sorted: at most the capacity
 #define PRISMOID_CI_STAT_INEXACT 2  // pixels where an interval arrived nearer than one already composited
-#define PRISMOID_CI_STAT_COUNT 4
+#define PRISMOID_CI_STAT_BIG_CELLS 3    // cells binned by big_emit.comp
+#define PRISMOID_CI_STAT_CHUNK_SLOTS 4  // chunk slots the split tiles took
+#define PRISMOID_CI_STAT_EXTRA_CHUNKS 5 // chunks after the first of each split tile
+#define PRISMOID_CI_STAT_SPLIT_TILES 6  // tiles rastered in more than one chunk
+// Indirect dispatches (VkDispatchIndirectCommand: x, y, z) sized on the GPU.
+#define PRISMOID_CI_ARGS_BIG_EMIT 8
+#define PRISMOID_CI_ARGS_CHUNKS 12
+#define PRISMOID_CI_ARGS_MERGE 16
+#define PRISMOID_CI_STAT_COUNT 20
+// The most workgroups an indirect dispatch asks for along x (the minimum every device takes);
+// its kernels loop over the rest.
+#define PRISMOID_CI_MAX_GROUPS 65535u
 
 // What the tile raster integrates per interval and how it combines them: one variant of it
 // each (tile_raster_*.comp).
@@ -46,12 +73,27 @@ struct ComputeIntervalsPush {
   vec4 depth;      // x: the depth (minus the mesh origin's) that key 0 stands for, y: keys per unit of depth
   vec4 tie_break;  // xyz: the reference's tie-break direction (tet_ray.cpp) in camera orientation
   uvec4 options;   // x: PRISMOID_CI_* (each tile raster variant has its own fixed), y: image width, z: image height, w: unused
+  uvec4 chunks;    // x: chunk slots (PRISMOID_CI_BINDING_PARTIALS holds x * 64), y: the raster's launch (PRISMOID_CI_LAUNCH_*)
 };
+
+// What one chunk leaves for one pixel of a split tile. value: the optical depth (x), the
+// composited colour and opacity (premultiplied), or the isosurface hit (shade, distance).
+// keys: x, y: the least and greatest key (entry depth) it composited, +inf and -inf if none;
+// z: 1 where the chunk composited some interval out of order; x also the hit's depth (isosurface).
+struct ChunkPartial {
+  vec4 value;
+  vec4 keys;
+};
+
+// How a tile-raster dispatch finds its work.
+#define PRISMOID_CI_LAUNCH_TILES 0u   // one workgroup per tile (x, y): the tile's whole list or its first chunk
+#define PRISMOID_CI_LAUNCH_CHUNKS 1u  // workgroups over PRISMOID_CI_BINDING_CHUNK_WORK: the split tiles' other chunks
 
 PRISMOID_SHARED_END
 
 #ifdef __cplusplus
-static_assert(sizeof(prismoid::gpu::ComputeIntervalsPush) == 64);
+static_assert(sizeof(prismoid::gpu::ComputeIntervalsPush) == 80);
+static_assert(sizeof(prismoid::gpu::ChunkPartial) == 32);
 #endif
 
 #endif

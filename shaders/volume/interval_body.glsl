@@ -18,6 +18,9 @@ layout(std430, set = 0, binding = PRISMOID_BINDING_POINT_SIGMA) readonly buffer 
 layout(std430, set = 0, binding = PRISMOID_BINDING_CELL_SCALAR) readonly buffer CellScalar { float cell_scalar[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_POINT_SCALAR) readonly buffer PointScalar { float point_scalar[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_ORDER) readonly buffer Order { uint draw_order[]; };
+// The first workgroup of this draw: a mesh of more workgroups than one draw may launch
+// (maxMeshWorkGroupCount) is drawn in consecutive draws, which keep the primitive order.
+layout(push_constant) uniform MeshPush { uint first_group; } mesh_push;
 
 #include "cell_field.glsl"
 
@@ -49,7 +52,8 @@ shared float s_value[PRISMOID_TETLET_MAX_POINTS];  // the point field (sigma or 
 
 void main() {
   uint local = gl_LocalInvocationIndex;
-  uint slot = gl_WorkGroupID.x * PRISMOID_TETS_PER_WORKGROUP + local;
+  uint group = mesh_push.first_group + gl_WorkGroupID.x;
+  uint slot = group * PRISMOID_TETS_PER_WORKGROUP + local;
   uint tet_count = frame.counts.x;
   bool emission = frame.counts.z == PRISMOID_INTEGRAND_EMISSION;
   // Primitives are rasterized and blended in the order the workgroups and, within one, the
@@ -58,7 +62,7 @@ void main() {
   bool per_point = frame.counts.y != 0u;
 #ifdef PRISMOID_SHARED_VERTICES
   // header: first point, point count, first cell, cell count
-  uvec4 header = tetlets[gl_WorkGroupID.x];
+  uvec4 header = tetlets[group];
   for (uint v = local; v < header.y; v += PRISMOID_TETS_PER_WORKGROUP) {
     uint point = tetlet_points[header.x + v];
     s_position[v] = positions[point].xyz;

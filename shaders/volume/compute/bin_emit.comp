@@ -6,7 +6,8 @@
 // decided them (cell_bounds.glsl); where rounding in this pipeline decides a tile within a
 // pixel of the silhouette otherwise, at most the counted pairs are written and the rest are
 // written as a key past every tile (sorted last, drawn by none): such a tile holds no pixel the
-// cell covers.
+// cell covers. Big cells (more than PRISMOID_CI_BIG_CELL_TILES tiles) are left to
+// big_emit.comp, whose dispatch the last cell sizes.
 #extension GL_GOOGLE_include_directive : require
 #include "../../shared/volume.h"
 #include "../../shared/compute_intervals.h"
@@ -29,9 +30,13 @@ void main() {
       uint total = first + bin.w;
       stats[PRISMOID_CI_STAT_PAIRS] = total;
       stats[PRISMOID_CI_STAT_SORTED] = min(total, capacity);
+      stats[PRISMOID_CI_ARGS_BIG_EMIT] = min(stats[PRISMOID_CI_STAT_BIG_CELLS], PRISMOID_CI_MAX_GROUPS);
+      stats[PRISMOID_CI_ARGS_BIG_EMIT + 1] = 1u;
+      stats[PRISMOID_CI_ARGS_BIG_EMIT + 2] = 1u;
     }
     if (bin.w == 0u || first >= capacity) continue;
     uint x0 = bin.x & 0xFFFFu, x1 = bin.x >> 16, y0 = bin.y & 0xFFFFu, y1 = bin.y >> 16;
+    if ((x1 - x0 + 1u) * (y1 - y0 + 1u) > PRISMOID_CI_BIG_CELL_TILES) continue;
     CellBounds b = cell_bounds(load_cell(cell).position);
     uint pair = first, end = min(first + bin.w, capacity);
     for (uint y = y0; y <= y1 && pair < end; ++y)

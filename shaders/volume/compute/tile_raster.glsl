@@ -19,6 +19,12 @@
 // interval arriving nearer than one already composited is composited behind it and the pixel
 // counted as inexact (PRISMOID_CI_STAT_INEXACT).
 //
+// Long lists. A tile holding more than PRISMOID_CI_CHUNK pairs is split (tile_chunks.comp):
+// its own workgroup rasters the first chunk and workgroups of a second dispatch the others,
+// each into its slot of partial results (ChunkPartial), which tile_merge.comp combines in chunk
+// order. Colour stays exact per pixel across chunks as long as no chunk composited an interval
+// nearer than one an earlier chunk composited; where one did, the merge counts the pixel.
+//
 // What each interval gives (PRISMOID_CI_*) is fixed per pipeline: the file including this body
 // (tile_raster_*.comp) defines PRISMOID_CI_RASTER_MODE, so each variant carries only its own
 // integration code (the others' loops and arrays cost registers and compile time).
@@ -36,6 +42,9 @@ layout(std430, set = 0, binding = PRISMOID_BINDING_TRANSFER) readonly buffer Tra
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_VALUES) readonly buffer Values { uint values[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_TILE_RANGES) readonly buffer TileRanges { uvec2 ranges[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_STATS) buffer Stats { uint stats[]; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_CHUNK_BASE) readonly buffer ChunkBase { uint chunk_base[]; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_CHUNK_WORK) readonly buffer ChunkWork { uvec2 chunk_work[]; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_PARTIALS) writeonly buffer Partials { ChunkPartial partials[]; };
 layout(set = 0, binding = PRISMOID_CI_BINDING_OPTICAL_DEPTH, r32f) uniform writeonly image2D optical_depth_image;
 layout(set = 0, binding = PRISMOID_CI_BINDING_EMISSION, rgba32f) uniform writeonly image2D emission_image;
 
@@ -59,6 +68,12 @@ shared vec4 s_gradient[PRISMOID_CI_BATCH];  // the field's gradient (camera orie
 shared vec4 s_reference[PRISMOID_CI_BATCH]; // c mesh-local, c's depth minus the mesh origin's
 shared vec2 s_range[PRISMOID_CI_BATCH];     // the field's least and greatest value in the cell
 shared uvec2 s_pixels[PRISMOID_CI_BATCH];   // the pixels it can cover (cell_bounds.glsl): x0 | x1 << 16, y0 | y1 << 16
+// Per row and per column of the tile, which of the batch's cells (bit = slot, 64 bits in two
+// words) have bounds reaching it: a pixel walks only the cells set in both its row's and its
+// column's mask, in slot order, where it used to test every cell's bounds. On lavapipe, whose
+// SIMD lanes run a row of the tile in step, this removed most of the loop.
+shared uvec2 s_row_mask[PRISMOID_CI_TILE];
+shared uvec2 s_col_mask[PRISMOID_CI_TILE];
 
 void set_up_cell(uint slot, uint cell) {
   CellInput c = load_cell(cell);
@@ -106,9 +121,35 @@ void set_up_cell(uint slot, uint cell) {
   s_pixels[slot] = bounds.visible ? uvec2(bounds.lo.x | (bounds.hi.x << 16), bounds.lo.y | (bounds.hi.y << 16)) : uvec2(1u, 1u);
 }
 
-bool may_cover(uint slot, uvec2 pixel) {
-  uvec2 b = s_pixels[slot];
-  return pixel.x >= (b.x & 0xFFFFu) && pixel.x <= (b.x >> 16) && pixel.y >= (b.y & 0xFFFFu) && pixel.y <= (b.y >> 16);
+// Invocations 0-7 build the masks of the tile's rows, 8-15 of its columns (origin: the tile's
+// first pixel), over the batch's first `batch` slots.
+void build_masks(uvec2 origin, uint batch) {
+  uint local = gl_LocalInvocationIndex;
+  if (local >= 2u * PRISMOID_CI_TILE) return;
+  bool row = local < PRISMOID_CI_TILE;
+  uint coord = (row ? origin.y : origin.x) + (local % PRISMOID_CI_TILE);
+  uvec2 mask = uvec2(0u);
+  for (uint slot = 0u; slot < batch; ++slot) {
+    uint span = row ? s_pixels[slot].y : s_pixels[slot].x;
+    if (coord >= (span & 0xFFFFu) && coord <= (span >> 16)) {
+      if (slot < 32u) mask.x |= 1u << slot;
+      else mask.y |= 1u << (slot - 32u);
+    }
+  }
+  if (row) s_row_mask[local] = mask;
+  else s_col_mask[local - PRISMOID_CI_TILE] = mask;
+}
+
+// The next slot set in `bits` (lowest first), cleared from it; bits must not be empty.
+uint next_slot(inout uvec2 bits) {
+  if (bits.x != 0u) {
+    uint slot = uint(findLSB(bits.x));
+    bits.x &= bits.x - 1u;
+    return slot;
+  }
+  uint slot = 32u + uint(findLSB(bits.y));
+  bits.y &= bits.y - 1u;
+  return slot;
 }
 
 // The interval of the ray d * ray (d: depth along the viewing axis) inside set-up cell `slot`
@@ -153,14 +194,16 @@ float field_on_ray(uint slot, vec3 ray, float rel) {
 // The k-buffer: entries sorted by key (entry depth relative to the mesh origin's), nearest first.
 float kb_key[PRISMOID_CI_KBUFFER];
 vec4 kb_value[PRISMOID_CI_KBUFFER];
-uint kb_count = 0u;
-vec4 composited = vec4(0.0);
-float composited_key = -uintBitsToFloat(0x7F800000u);  // the farthest key composited so far
-bool inexact = false;
+uint kb_count;
+vec4 composited;
+float composited_key;  // the farthest key composited so far
+float composited_min;  // the nearest
+bool inexact;
 
 void composite_next(float key, vec4 value) {
   composited = composite_under(composited, value);
   composited_key = max(composited_key, key);
+  composited_min = min(composited_min, key);
 }
 
 void kb_insert(float key, vec4 value) {
@@ -187,10 +230,17 @@ void kb_insert(float key, vec4 value) {
   ++kb_count;
 }
 
-void main() {
-  uint tile = gl_WorkGroupID.y * push.tiles.x + gl_WorkGroupID.x;
-  uvec2 range = ranges[tile];
-  uvec2 pixel = gl_GlobalInvocationID.xy;
+// Pairs [first, end) of `tile`, to the image (slot PRISMOID_CI_UNSPLIT) or to a slot of partial
+// results. Called in workgroup-uniform control flow: it synchronizes the workgroup.
+void raster(uint tile, uint first_pair, uint end_pair, uint slot_out) {
+  const float inf = uintBitsToFloat(0x7F800000u);
+  kb_count = 0u;
+  composited = vec4(0.0);
+  composited_key = -inf;
+  composited_min = inf;
+  inexact = false;
+  uvec2 origin = uvec2(tile % push.tiles.x, tile / push.tiles.x) * PRISMOID_CI_TILE;
+  uvec2 pixel = origin + gl_LocalInvocationID.xy;
   bool inside = pixel.x < push.options.y && pixel.y < push.options.z;
   // The pixel centre's ray, as interval_ray.glsl forms it from gl_FragCoord.
   vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
@@ -198,19 +248,24 @@ void main() {
   float length_per_depth = length(ray);
   const uint mode = PRISMOID_CI_RASTER_MODE;
   float optical_depth = 0.0;
-  float nearest_hit = uintBitsToFloat(0x7F800000u);
+  float nearest_hit = inf;
   vec4 hit_value = vec4(0.0);
 
-  for (uint first = range.x; first < range.y; first += PRISMOID_CI_BATCH) {
-    barrier();  // the previous batch is no longer read
+  for (uint first = first_pair; first < end_pair; first += PRISMOID_CI_BATCH) {
+    barrier();  // the previous batch and its masks are no longer read
     uint local = gl_LocalInvocationIndex;
-    if (first + local < range.y) set_up_cell(local, values[first + local]);
+    if (first + local < end_pair) set_up_cell(local, values[first + local]);
     barrier();
-    uint batch = min(uint(PRISMOID_CI_BATCH), range.y - first);
+    uint batch = min(uint(PRISMOID_CI_BATCH), end_pair - first);
+    build_masks(origin, batch);
+    barrier();
     if (!inside) continue;
-    for (uint slot = 0u; slot < batch; ++slot) {
+    // The cells whose bounds hold this pixel, in slot order (the tile's depth-key order).
+    uvec2 bits = s_row_mask[gl_LocalInvocationID.y] & s_col_mask[gl_LocalInvocationID.x];
+    while (bits != uvec2(0u)) {
+      uint slot = next_slot(bits);
       float enter, exit;
-      if (!may_cover(slot, pixel) || !cell_interval(slot, ray, enter, exit)) continue;
+      if (!cell_interval(slot, ray, enter, exit)) continue;
       vec4 origin = s_origin[slot];
       IntervalRay r;
       r.rel_front = enter;
@@ -245,14 +300,46 @@ void main() {
     }
   }
   if (!inside) return;
+  ChunkPartial partial;
+  partial.keys = vec4(inf, -inf, 0.0, 0.0);
+  if (mode == PRISMOID_CI_OPTICAL_DEPTH || mode == PRISMOID_CI_MARCH_DEPTH) {
+    partial.value = vec4(optical_depth, 0.0, 0.0, 0.0);
+  } else if (mode == PRISMOID_CI_ISOSURFACE) {
+    partial.value = hit_value;
+    partial.keys.x = nearest_hit;
+  } else {
+    for (uint i = 0u; i < kb_count; ++i) composite_next(kb_key[i], kb_value[i]);
+    partial.value = composited;
+    partial.keys = vec4(composited_min, composited_key, inexact ? 1.0 : 0.0, 0.0);
+  }
+  if (slot_out != PRISMOID_CI_UNSPLIT) {
+    partials[slot_out * PRISMOID_CI_TILE_PIXELS + gl_LocalInvocationIndex] = partial;
+    return;
+  }
   ivec2 p = ivec2(pixel);
   if (mode == PRISMOID_CI_OPTICAL_DEPTH || mode == PRISMOID_CI_MARCH_DEPTH) {
-    imageStore(optical_depth_image, p, vec4(optical_depth, 0.0, 0.0, 0.0));
-  } else if (mode == PRISMOID_CI_ISOSURFACE) {
-    imageStore(emission_image, p, hit_value);
+    imageStore(optical_depth_image, p, partial.value);
   } else {
-    for (uint i = 0u; i < kb_count; ++i) composited = composite_under(composited, kb_value[i]);
-    imageStore(emission_image, p, composited);
+    imageStore(emission_image, p, partial.value);
     if (inexact) atomicAdd(stats[PRISMOID_CI_STAT_INEXACT], 1u);
+  }
+}
+
+void main() {
+  if (push.chunks.y == PRISMOID_CI_LAUNCH_TILES) {
+    // A tile's own workgroup: its whole list, or its first chunk if it was split.
+    uint tile = gl_WorkGroupID.y * push.tiles.x + gl_WorkGroupID.x;
+    uvec2 range = ranges[tile];
+    uint base = chunk_base[tile];
+    raster(tile, range.x, base == PRISMOID_CI_UNSPLIT ? range.y : min(range.y, range.x + PRISMOID_CI_CHUNK), base);
+    return;
+  }
+  // The split tiles' other chunks.
+  uint count = stats[PRISMOID_CI_STAT_EXTRA_CHUNKS];
+  for (uint item = gl_WorkGroupID.x; item < count; item += gl_NumWorkGroups.x) {
+    uvec2 work = chunk_work[item];
+    uvec2 range = ranges[work.x];
+    uint first = range.x + work.y * PRISMOID_CI_CHUNK;
+    raster(work.x, first, min(range.y, first + PRISMOID_CI_CHUNK), chunk_base[work.x] + work.y);
   }
 }
