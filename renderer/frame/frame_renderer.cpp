@@ -222,7 +222,7 @@ void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const Fram
   recorded_->order = o.order ? std::optional<Ordering>(settings.ordering) : std::nullopt;
 }
 
-OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const FrameSettings& settings, VkExtent2D extent) {
+OffscreenFrame FrameRenderer::render_timed(const Camera& camera, const FrameSettings& settings, VkExtent2D extent) {
   resize(extent);
   OffscreenFrame frame;
   const bool compute = settings.backend == IntervalBackend::Compute;
@@ -242,6 +242,7 @@ OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const Frame
     frame.report.big_cells = stats.big_cells;
     frame.report.split_tiles = stats.split_tiles;
     frame.report.chunks = stats.chunks;
+    frame.report.redone_tiles = stats.redone_tiles;
     if (volume::order_dependent(settings.resolve.quantity)) frame.report.order_exact = stats.inexact_pixels == 0;
     if (stats.complete()) break;
     if (attempt > 0) throw std::logic_error("FrameRenderer: the compute backend's pairs did not fit after growing");
@@ -249,6 +250,18 @@ OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const Frame
   }
   frame.width = extent.width;
   frame.height = extent.height;
+  frame.passes = offscreen_timer_.read();
+  if (interval_.counts_draws() && settings.backend == IntervalBackend::Mesh) {  // the statistics count the mesh-shader draw
+    const auto counts = interval_.read_counts();
+    frame.report.counted = true;
+    frame.report.primitives = counts.primitives;
+    frame.report.fragments = counts.fragments;
+  }
+  return frame;
+}
+
+OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const FrameSettings& settings, VkExtent2D extent) {
+  OffscreenFrame frame = render_timed(camera, settings, extent);
   const size_t pixels = size_t(extent.width) * extent.height;
   frame.quantity.resize(pixels);
   frame.display.resize(pixels * 4);
@@ -257,13 +270,6 @@ OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const Frame
   if (settings.resolve.quantity == volume::Quantity::Color || settings.resolve.quantity == volume::Quantity::Isosurface) {
     frame.emission.resize(pixels * 4);
     vk::read_image(device_, targets_.emission, 4 * sizeof(float), std::as_writable_bytes(std::span(frame.emission)));
-  }
-  frame.passes = offscreen_timer_.read();
-  if (interval_.counts_draws() && settings.backend == IntervalBackend::Mesh) {  // the statistics count the mesh-shader draw
-    const auto counts = interval_.read_counts();
-    frame.report.counted = true;
-    frame.report.primitives = counts.primitives;
-    frame.report.fragments = counts.fragments;
   }
   return frame;
 }

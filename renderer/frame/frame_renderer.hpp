@@ -53,6 +53,7 @@ struct FrameReport {
   uint64_t big_cells = 0;
   uint64_t split_tiles = 0;
   uint64_t chunks = 0;
+  uint64_t redone_tiles = 0;  // split tiles whose colour was rastered again whole, to keep each pixel's order
 };
 
 struct OffscreenFrame {
@@ -94,6 +95,10 @@ class FrameRenderer {
 
   // Prepares, renders, waits, reads the images back and returns them with the timings.
   OffscreenFrame render_offscreen(const Camera& camera, const FrameSettings& settings, VkExtent2D extent);
+  // The same frame without reading its images back (the returned frame holds timings and the
+  // report only): what the timed frames of `render --frames` and the bench run. Reading a 4K
+  // frame back took longer than drawing it, and the H200 dropped to its idle clock in the gaps.
+  OffscreenFrame render_timed(const Camera& camera, const FrameSettings& settings, VkExtent2D extent);
 
   const Bounds& bounds() const { return bounds_; }
   const volume::IntervalShadingPass& interval_pass() const { return interval_; }

@@ -429,6 +429,14 @@ void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets
     compute_to_compute(cmd, {partials_.get()});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_merge_.get());
     vkCmdDispatchIndirect(cmd, stats_.get(), PRISMOID_CI_ARGS_MERGE * sizeof(uint32_t));
+    if (f.mode == PRISMOID_CI_EMISSION || f.mode == PRISMOID_CI_MARCH_COLOR) {
+      // Split tiles whose colour the merge could not put in each pixel's order, whole.
+      compute_to_compute(cmd, {split_tiles_.get()});
+      chunks.chunks.y = PRISMOID_CI_LAUNCH_REDO;
+      vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(chunks), &chunks);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_rasters_.at(f.mode).get());
+      vkCmdDispatchIndirect(cmd, stats_.get(), PRISMOID_CI_ARGS_MERGE * sizeof(uint32_t));
+    }
     // The counts go to host memory for read_stats().
     vk::buffer_barrier(cmd, {stats_.get()}, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
@@ -450,6 +458,7 @@ ComputeIntervalStats ComputeIntervals::read_stats() const {
   s.inexact_pixels = values[PRISMOID_CI_STAT_INEXACT];
   s.big_cells = values[PRISMOID_CI_STAT_BIG_CELLS];
   s.split_tiles = values[PRISMOID_CI_STAT_SPLIT_TILES];
+  s.redone_tiles = values[PRISMOID_CI_STAT_REDO_TILES];
   s.chunks = values[PRISMOID_CI_STAT_SPLIT_TILES] + values[PRISMOID_CI_STAT_EXTRA_CHUNKS];
   return s;
 }

@@ -48,6 +48,7 @@ struct ComputeIntervalStats {
   uint64_t big_cells = 0;       // cells binned a workgroup each (more than PRISMOID_CI_BIG_CELL_TILES tiles)
   uint64_t split_tiles = 0;     // tiles rastered in chunks (more than PRISMOID_CI_CHUNK pairs)
   uint64_t chunks = 0;          // the chunks of the split tiles
+  uint64_t redone_tiles = 0;    // split tiles rastered again whole (colour out of order across chunks)
   bool complete() const { return pairs == sorted; }
 };
 

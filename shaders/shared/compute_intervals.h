@@ -51,6 +51,7 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_CI_STAT_CHUNK_SLOTS 4  // chunk slots the split tiles took
 #define PRISMOID_CI_STAT_EXTRA_CHUNKS 5 // chunks after the first of each split tile
 #define PRISMOID_CI_STAT_SPLIT_TILES 6  // tiles rastered in more than one chunk
+#define PRISMOID_CI_STAT_REDO_TILES 7   // split tiles rastered again whole (colour out of order across chunks)
 // Indirect dispatches (VkDispatchIndirectCommand: x, y, z) sized on the GPU.
 #define PRISMOID_CI_ARGS_BIG_EMIT 8
 #define PRISMOID_CI_ARGS_CHUNKS 12
@@ -88,6 +89,10 @@ struct ChunkPartial {
 // How a tile-raster dispatch finds its work.
 #define PRISMOID_CI_LAUNCH_TILES 0u   // one workgroup per tile (x, y): the tile's whole list or its first chunk
 #define PRISMOID_CI_LAUNCH_CHUNKS 1u  // workgroups over PRISMOID_CI_BINDING_CHUNK_WORK: the split tiles' other chunks
+#define PRISMOID_CI_LAUNCH_REDO 2u    // workgroups over the split tiles the merge marked: each tile's whole list
+// The merge marks a split tile (in PRISMOID_CI_BINDING_SPLIT_TILES) whose colour it could not
+// put in each pixel's order: it is rastered again whole, by one workgroup.
+#define PRISMOID_CI_REDO_BIT 0x80000000u
 
 PRISMOID_SHARED_END
 

@@ -201,8 +201,9 @@ TEST_P(ComputeIntervalsTest, LongTileListsAreRasteredInChunksAndMergedExactly) {
 }
 
 // An 8x8 image is one tile: its whole list (every cell of a 3072-cell box) is split into chunks
-// across workgroups. Optical depth matches the reference; colour does wherever the merge did
-// not count a pixel as composited out of order across chunks, and opacity (a product) everywhere.
+// across workgroups. Optical depth (a sum) matches the reference. In colour some pixel's
+// intervals cross from one chunk into an earlier one's depths: the merge sends the tile back to
+// be rastered whole, so colour matches too, with no pixel composited out of order.
 TEST_P(ComputeIntervalsTest, AOneTileImageSplitsItsListAcrossWorkgroups) {
   const TetMesh mesh = make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 8, [](const glm::dvec3& p) {
     return 0.6 + 0.3 * std::sin(2.0 * p.x) * std::cos(1.5 * p.y) + 0.2 * p.z;
@@ -214,16 +215,9 @@ TEST_P(ComputeIntervalsTest, AOneTileImageSplitsItsListAcrossWorkgroups) {
   const auto colour = test::ColorTest::compare(mesh, ramp_tf(1.0), camera, 8, 8, frame::Ordering::Exact);
   EXPECT_EQ(colour.report.split_tiles, 1u);
   EXPECT_GE(colour.report.chunks, mesh.tets.size() / 512);
-  size_t colour_failed = 0, alpha_failed = 0;
-  for (size_t i = 0; i < colour.colour_failed.size(); ++i) {
-    colour_failed += colour.colour_failed[i] ? 1 : 0;
-    alpha_failed += colour.alpha_failed[i] ? 1 : 0;
-  }
-  EXPECT_EQ(alpha_failed, 0u);
-  EXPECT_LE(colour_failed, colour.report.inexact_pixels);
-  std::printf("one tile, %zu cells in %llu chunks: %llu of 64 pixels counted inexact, %zu beyond the colour tolerance\n",
-              mesh.tets.size(), static_cast<unsigned long long>(colour.report.chunks),
-              static_cast<unsigned long long>(colour.report.inexact_pixels), colour_failed);
+  EXPECT_EQ(colour.report.redone_tiles, 1u) << "no pixel's order crossed a chunk boundary: the test cannot tell";
+  EXPECT_EQ(colour.report.inexact_pixels, 0u);
+  EXPECT_EQ(colour.failures, 0u) << colour.first_failure << " (max error " << colour.max_error << ")";
 }
 
 // The same stack with its depth keys in reverse order along the axis: where more than 8

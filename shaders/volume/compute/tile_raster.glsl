@@ -23,7 +23,8 @@
 // its own workgroup rasters the first chunk and workgroups of a second dispatch the others,
 // each into its slot of partial results (ChunkPartial), which tile_merge.comp combines in chunk
 // order. Colour stays exact per pixel across chunks as long as no chunk composited an interval
-// nearer than one an earlier chunk composited; where one did, the merge counts the pixel.
+// nearer than one an earlier chunk composited; a tile where one did is rastered again whole
+// (PRISMOID_CI_LAUNCH_REDO).
 //
 // What each interval gives (PRISMOID_CI_*) is fixed per pipeline: the file including this body
 // (tile_raster_*.comp) defines PRISMOID_CI_RASTER_MODE, so each variant carries only its own
@@ -44,6 +45,7 @@ layout(std430, set = 0, binding = PRISMOID_CI_BINDING_TILE_RANGES) readonly buff
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_STATS) buffer Stats { uint stats[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_CHUNK_BASE) readonly buffer ChunkBase { uint chunk_base[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_CHUNK_WORK) readonly buffer ChunkWork { uvec2 chunk_work[]; };
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_SPLIT_TILES) readonly buffer SplitTiles { uint split_tiles[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_PARTIALS) writeonly buffer Partials { ChunkPartial partials[]; };
 layout(set = 0, binding = PRISMOID_CI_BINDING_OPTICAL_DEPTH, r32f) uniform writeonly image2D optical_depth_image;
 layout(set = 0, binding = PRISMOID_CI_BINDING_EMISSION, rgba32f) uniform writeonly image2D emission_image;
@@ -332,6 +334,18 @@ void main() {
     uvec2 range = ranges[tile];
     uint base = chunk_base[tile];
     raster(tile, range.x, base == PRISMOID_CI_UNSPLIT ? range.y : min(range.y, range.x + PRISMOID_CI_CHUNK), base);
+    return;
+  }
+  if (push.chunks.y == PRISMOID_CI_LAUNCH_REDO) {
+    // Split tiles whose colour the merge could not put in each pixel's order: whole, as unsplit.
+    uint count = stats[PRISMOID_CI_STAT_SPLIT_TILES];
+    for (uint item = gl_WorkGroupID.x; item < count; item += gl_NumWorkGroups.x) {
+      uint marked = split_tiles[item];
+      if ((marked & PRISMOID_CI_REDO_BIT) == 0u) continue;
+      uint tile = marked & ~PRISMOID_CI_REDO_BIT;
+      uvec2 range = ranges[tile];
+      raster(tile, range.x, range.y, PRISMOID_CI_UNSPLIT);
+    }
     return;
   }
   // The split tiles' other chunks.
