@@ -78,9 +78,9 @@ void compute_to_indirect(VkCommandBuffer cmd, VkBuffer buffer) {
                      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
-// Chunk slots for a pair capacity: a split tile holds more than PRISMOID_CI_CHUNK pairs, so
-// its ceil(n / CHUNK) chunks are at most 2n / CHUNK, and all split tiles' at most twice the
-// pairs over CHUNK.
+// Chunk slots for a pair capacity: a split tile holds more than a chunk (at least
+// PRISMOID_CI_CHUNK pairs), so its ceil(n / CHUNK) chunks are at most 2n / CHUNK, and all split
+// tiles' at most twice the pairs over CHUNK.
 uint64_t chunk_slots_for(uint64_t pairs) { return 2 * pairs / PRISMOID_CI_CHUNK + 1; }
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
@@ -252,9 +252,9 @@ void ComputeIntervals::prepare(const GpuTetMesh& mesh, const ResolveSettings& se
   f.extent = extent;
   f.tiles_x = (extent.width + PRISMOID_CI_TILE - 1) / PRISMOID_CI_TILE;
   f.tiles_y = (extent.height + PRISMOID_CI_TILE - 1) / PRISMOID_CI_TILE;
-  if (f.tiles_x > kMaxGroups || f.tiles_y > kMaxGroups)
-    throw InputError("--volume-backend compute", "draws at most " + std::to_string(kMaxGroups * PRISMOID_CI_TILE) +
-                                                     " pixels per side");
+  // Pixel bounds are packed in 16 bits per coordinate (PRISMOID_CI_BINDING_BINS).
+  if (extent.width > 65535 || extent.height > 65535)
+    throw InputError("--volume-backend compute", "draws at most 65535 pixels per side");
   const uint64_t tiles = uint64_t(f.tiles_x) * f.tiles_y;
   // The tile in the high bits of the key, with room for one index past every tile (the key
   // bin_emit.comp writes for a pair it drops), so the depth never fills all 32.
@@ -329,7 +329,9 @@ void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, c
   push.depth = glm::vec4(float(lo), hi > lo ? float(keys / (hi - lo)) : 0.0f, 0.0f, 0.0f);
   push.tie_break = glm::vec4(glm::vec3(glm::dmat3(view) * kTieBreak), 0.0f);
   push.options = glm::uvec4(f.mode, f.extent.width, f.extent.height, 0u);
-  push.chunks = glm::uvec4(static_cast<uint32_t>(chunk_capacity_), PRISMOID_CI_LAUNCH_TILES, 0u, 0u);
+  const bool colour = f.mode == PRISMOID_CI_EMISSION || f.mode == PRISMOID_CI_MARCH_COLOR;
+  push.chunks = glm::uvec4(static_cast<uint32_t>(chunk_capacity_), PRISMOID_CI_LAUNCH_TILES,
+                           colour ? PRISMOID_CI_CHUNK_COLOR : PRISMOID_CI_CHUNK, 0u);
 
   vk::ScopedPass pass(timer, cmd, "bin-cells");
   // The last frame's tile raster and read back are done with the counts.

@@ -25,10 +25,13 @@ PRISMOID_SHARED_BEGIN
 // A tile's pairs are rastered in chunks of at most this many by separate workgroups, each
 // writing its pixels' partial result; a merge combines them in chunk order (deterministic).
 // Without it, one workgroup walked a tile's whole list (962k pairs in the 8x8 image's one
-// tile: 305 ms on the H200).
+// tile: 305 ms on the H200). Colour splits only longer lists: where a pixel's order crosses a
+// chunk boundary the tile is rastered again whole, which cost more than the split saved on
+// the armadillo at 4K (H200: colour 12.9 ms with chunks of 512, 10.3 with 4096).
 #define PRISMOID_CI_CHUNK 512
+#define PRISMOID_CI_CHUNK_COLOR 4096
 
-#define PRISMOID_CI_BINDING_BINS 14         // uvec4 per cell: tile columns x0 | x1 << 16, rows y0 | y1 << 16, depth key, pairs
+#define PRISMOID_CI_BINDING_BINS 14         // uvec4 per cell: pixel columns x0 | x1 << 16, rows y0 | y1 << 16 (cell_bounds.glsl), depth key, pairs
 #define PRISMOID_CI_BINDING_OFFSETS 15      // uint per cell: its pair count, then (scanned) its first pair
 #define PRISMOID_CI_BINDING_KEYS 16         // uint per pair: tile << depth bits | depth key
 #define PRISMOID_CI_BINDING_VALUES 17       // uint per pair: the cell
@@ -74,7 +77,7 @@ struct ComputeIntervalsPush {
   vec4 depth;      // x: the depth (minus the mesh origin's) that key 0 stands for, y: keys per unit of depth
   vec4 tie_break;  // xyz: the reference's tie-break direction (tet_ray.cpp) in camera orientation
   uvec4 options;   // x: PRISMOID_CI_* (each tile raster variant has its own fixed), y: image width, z: image height, w: unused
-  uvec4 chunks;    // x: chunk slots (PRISMOID_CI_BINDING_PARTIALS holds x * 64), y: the raster's launch (PRISMOID_CI_LAUNCH_*)
+  uvec4 chunks;    // x: chunk slots (PRISMOID_CI_BINDING_PARTIALS holds x * 64), y: the raster's launch (PRISMOID_CI_LAUNCH_*), z: pairs per chunk
 };
 
 // What one chunk leaves for one pixel of a split tile. value: the optical depth (x), the

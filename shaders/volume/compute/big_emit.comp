@@ -25,7 +25,8 @@ void main() {
     uvec4 bin = bins[cell];
     uint first = offsets[cell];
     if (first >= capacity) continue;
-    uint x0 = bin.x & 0xFFFFu, x1 = bin.x >> 16, y0 = bin.y & 0xFFFFu;
+    // The tiles of the cell's pixel bounds.
+    uint x0 = (bin.x & 0xFFFFu) / PRISMOID_CI_TILE, x1 = (bin.x >> 16) / PRISMOID_CI_TILE, y0 = (bin.y & 0xFFFFu) / PRISMOID_CI_TILE;
     uint width = x1 - x0 + 1u;
     // Every invocation decides the same bounds from the same numbers (cell_bounds.glsl).
     CellBounds b = cell_bounds(load_cell(cell).position);

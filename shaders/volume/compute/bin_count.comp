@@ -34,7 +34,8 @@ void main() {
         for (uint y = t0.y; y <= t1.y; ++y)
           for (uint x = t0.x; x <= t1.x; ++x) pairs += tile_touched(b, uvec2(x, y)) ? 1u : 0u;
       }
-      bin = uvec4(t0.x | (t1.x << 16), t0.y | (t1.y << 16), min(uint(key), max_key), pairs);
+      // The pixel bounds (the tile raster reads them for each pixel's first test).
+      bin = uvec4(b.lo.x | (b.hi.x << 16), b.lo.y | (b.hi.y << 16), min(uint(key), max_key), pairs);
     }
     bins[cell] = bin;
     offsets[cell] = bin.w;

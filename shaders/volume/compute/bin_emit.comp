@@ -35,7 +35,9 @@ void main() {
       stats[PRISMOID_CI_ARGS_BIG_EMIT + 2] = 1u;
     }
     if (bin.w == 0u || first >= capacity) continue;
-    uint x0 = bin.x & 0xFFFFu, x1 = bin.x >> 16, y0 = bin.y & 0xFFFFu, y1 = bin.y >> 16;
+    // The tiles of the cell's pixel bounds.
+    uint x0 = (bin.x & 0xFFFFu) / PRISMOID_CI_TILE, x1 = (bin.x >> 16) / PRISMOID_CI_TILE;
+    uint y0 = (bin.y & 0xFFFFu) / PRISMOID_CI_TILE, y1 = (bin.y >> 16) / PRISMOID_CI_TILE;
     if ((x1 - x0 + 1u) * (y1 - y0 + 1u) > PRISMOID_CI_BIG_CELL_TILES) continue;
     CellBounds b = cell_bounds(load_cell(cell).position);
     uint pair = first, end = min(first + bin.w, capacity);

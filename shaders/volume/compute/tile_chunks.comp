@@ -1,6 +1,6 @@
 #version 460
-// Compute interval backend, after the tile ranges: a tile holding more than PRISMOID_CI_CHUNK
-// pairs is split into chunks of that many, each rastered by a workgroup of its own into a slot
+// Compute interval backend, after the tile ranges: a tile holding more than a chunk of pairs
+// (push.chunks.z: PRISMOID_CI_CHUNK or, for colour, PRISMOID_CI_CHUNK_COLOR) is split into chunks of that many, each rastered by a workgroup of its own into a slot
 // of partial results (tile_raster.glsl), which tile_merge.comp combines in chunk order. Each
 // split tile takes consecutive slots, its first chunk (rastered by the tile's own workgroup)
 // the first of them, and lists its other chunks as work for a second raster dispatch. Slots are
@@ -24,8 +24,9 @@ void main() {
     uvec2 range = ranges[tile];
     uint pairs = range.y - range.x;
     uint base = PRISMOID_CI_UNSPLIT;
-    if (pairs > PRISMOID_CI_CHUNK) {
-      uint chunks = (pairs + PRISMOID_CI_CHUNK - 1u) / PRISMOID_CI_CHUNK;
+    uint chunk = push.chunks.z;
+    if (pairs > chunk) {
+      uint chunks = (pairs + chunk - 1u) / chunk;
       uint slot = atomicAdd(stats[PRISMOID_CI_STAT_CHUNK_SLOTS], chunks);
       if (slot + chunks <= push.chunks.x) {
         base = slot;

@@ -31,7 +31,7 @@ void main() {
   for (uint item = gl_WorkGroupID.x; item < count; item += gl_NumWorkGroups.x) {
     uint tile = split_tiles[item];
     uvec2 range = ranges[tile];
-    uint chunks = (range.y - range.x + PRISMOID_CI_CHUNK - 1u) / PRISMOID_CI_CHUNK;
+    uint chunks = (range.y - range.x + push.chunks.z - 1u) / push.chunks.z;
     uint first = chunk_base[tile] * PRISMOID_CI_TILE_PIXELS + gl_LocalInvocationIndex;
     uvec2 pixel = uvec2(tile % push.tiles.x, tile / push.tiles.x) * PRISMOID_CI_TILE + gl_LocalInvocationID.xy;
     bool inside = pixel.x < push.options.y && pixel.y < push.options.z;

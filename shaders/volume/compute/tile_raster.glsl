@@ -19,7 +19,7 @@
 // interval arriving nearer than one already composited is composited behind it and the pixel
 // counted as inexact (PRISMOID_CI_STAT_INEXACT).
 //
-// Long lists. A tile holding more than PRISMOID_CI_CHUNK pairs is split (tile_chunks.comp):
+// Long lists. A tile holding more than a chunk of pairs (push.chunks.z) is split (tile_chunks.comp):
 // its own workgroup rasters the first chunk and workgroups of a second dispatch the others,
 // each into its slot of partial results (ChunkPartial), which tile_merge.comp combines in chunk
 // order. Colour stays exact per pixel across chunks as long as no chunk composited an interval
@@ -37,7 +37,7 @@
 
 layout(local_size_x = PRISMOID_CI_TILE, local_size_y = PRISMOID_CI_TILE) in;
 #include "mesh_input.glsl"
-#include "cell_bounds.glsl"
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_BINS) readonly buffer Bins { uvec4 bins[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_PREINTEGRATED) readonly buffer Table { vec4 texels[]; };
 layout(std430, set = 0, binding = PRISMOID_BINDING_TRANSFER) readonly buffer Transfer { vec4 tf_samples[]; };
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_VALUES) readonly buffer Values { uint values[]; };
@@ -70,12 +70,6 @@ shared vec4 s_gradient[PRISMOID_CI_BATCH];  // the field's gradient (camera orie
 shared vec4 s_reference[PRISMOID_CI_BATCH]; // c mesh-local, c's depth minus the mesh origin's
 shared vec2 s_range[PRISMOID_CI_BATCH];     // the field's least and greatest value in the cell
 shared uvec2 s_pixels[PRISMOID_CI_BATCH];   // the pixels it can cover (cell_bounds.glsl): x0 | x1 << 16, y0 | y1 << 16
-// Per row and per column of the tile, which of the batch's cells (bit = slot, 64 bits in two
-// words) have bounds reaching it: a pixel walks only the cells set in both its row's and its
-// column's mask, in slot order, where it used to test every cell's bounds. On lavapipe, whose
-// SIMD lanes run a row of the tile in step, this removed most of the loop.
-shared uvec2 s_row_mask[PRISMOID_CI_TILE];
-shared uvec2 s_col_mask[PRISMOID_CI_TILE];
 
 void set_up_cell(uint slot, uint cell) {
   CellInput c = load_cell(cell);
@@ -119,39 +113,13 @@ void set_up_cell(uint slot, uint cell) {
   s_range[slot] = vec2(min(min(c.field[0], c.field[1]), min(c.field[2], c.field[3])),
                        max(max(c.field[0], c.field[1]), max(c.field[2], c.field[3])));
   // Most cells cover a few of the tile's pixels: the others skip them before any plane test.
-  CellBounds bounds = cell_bounds(c.position);
-  s_pixels[slot] = bounds.visible ? uvec2(bounds.lo.x | (bounds.hi.x << 16), bounds.lo.y | (bounds.hi.y << 16)) : uvec2(1u, 1u);
+  // Their bounds are bin-cells' (a cell in a tile list is visible).
+  s_pixels[slot] = bins[cell].xy;
 }
 
-// Invocations 0-7 build the masks of the tile's rows, 8-15 of its columns (origin: the tile's
-// first pixel), over the batch's first `batch` slots.
-void build_masks(uvec2 origin, uint batch) {
-  uint local = gl_LocalInvocationIndex;
-  if (local >= 2u * PRISMOID_CI_TILE) return;
-  bool row = local < PRISMOID_CI_TILE;
-  uint coord = (row ? origin.y : origin.x) + (local % PRISMOID_CI_TILE);
-  uvec2 mask = uvec2(0u);
-  for (uint slot = 0u; slot < batch; ++slot) {
-    uint span = row ? s_pixels[slot].y : s_pixels[slot].x;
-    if (coord >= (span & 0xFFFFu) && coord <= (span >> 16)) {
-      if (slot < 32u) mask.x |= 1u << slot;
-      else mask.y |= 1u << (slot - 32u);
-    }
-  }
-  if (row) s_row_mask[local] = mask;
-  else s_col_mask[local - PRISMOID_CI_TILE] = mask;
-}
-
-// The next slot set in `bits` (lowest first), cleared from it; bits must not be empty.
-uint next_slot(inout uvec2 bits) {
-  if (bits.x != 0u) {
-    uint slot = uint(findLSB(bits.x));
-    bits.x &= bits.x - 1u;
-    return slot;
-  }
-  uint slot = 32u + uint(findLSB(bits.y));
-  bits.y &= bits.y - 1u;
-  return slot;
+bool may_cover(uint slot, uvec2 pixel) {
+  uvec2 b = s_pixels[slot];
+  return pixel.x >= (b.x & 0xFFFFu) && pixel.x <= (b.x >> 16) && pixel.y >= (b.y & 0xFFFFu) && pixel.y <= (b.y >> 16);
 }
 
 // The interval of the ray d * ray (d: depth along the viewing axis) inside set-up cell `slot`
@@ -241,8 +209,7 @@ void raster(uint tile, uint first_pair, uint end_pair, uint slot_out) {
   composited_key = -inf;
   composited_min = inf;
   inexact = false;
-  uvec2 origin = uvec2(tile % push.tiles.x, tile / push.tiles.x) * PRISMOID_CI_TILE;
-  uvec2 pixel = origin + gl_LocalInvocationID.xy;
+  uvec2 pixel = uvec2(tile % push.tiles.x, tile / push.tiles.x) * PRISMOID_CI_TILE + gl_LocalInvocationID.xy;
   bool inside = pixel.x < push.options.y && pixel.y < push.options.z;
   // The pixel centre's ray, as interval_ray.glsl forms it from gl_FragCoord.
   vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
@@ -254,20 +221,15 @@ void raster(uint tile, uint first_pair, uint end_pair, uint slot_out) {
   vec4 hit_value = vec4(0.0);
 
   for (uint first = first_pair; first < end_pair; first += PRISMOID_CI_BATCH) {
-    barrier();  // the previous batch and its masks are no longer read
+    barrier();  // the previous batch is no longer read
     uint local = gl_LocalInvocationIndex;
     if (first + local < end_pair) set_up_cell(local, values[first + local]);
     barrier();
     uint batch = min(uint(PRISMOID_CI_BATCH), end_pair - first);
-    build_masks(origin, batch);
-    barrier();
     if (!inside) continue;
-    // The cells whose bounds hold this pixel, in slot order (the tile's depth-key order).
-    uvec2 bits = s_row_mask[gl_LocalInvocationID.y] & s_col_mask[gl_LocalInvocationID.x];
-    while (bits != uvec2(0u)) {
-      uint slot = next_slot(bits);
+    for (uint slot = 0u; slot < batch; ++slot) {
       float enter, exit;
-      if (!cell_interval(slot, ray, enter, exit)) continue;
+      if (!may_cover(slot, pixel) || !cell_interval(slot, ray, enter, exit)) continue;
       vec4 origin = s_origin[slot];
       IntervalRay r;
       r.rel_front = enter;
@@ -333,7 +295,7 @@ void main() {
     uint tile = gl_WorkGroupID.y * push.tiles.x + gl_WorkGroupID.x;
     uvec2 range = ranges[tile];
     uint base = chunk_base[tile];
-    raster(tile, range.x, base == PRISMOID_CI_UNSPLIT ? range.y : min(range.y, range.x + PRISMOID_CI_CHUNK), base);
+    raster(tile, range.x, base == PRISMOID_CI_UNSPLIT ? range.y : min(range.y, range.x + push.chunks.z), base);
     return;
   }
   if (push.chunks.y == PRISMOID_CI_LAUNCH_REDO) {
@@ -353,7 +315,7 @@ void main() {
   for (uint item = gl_WorkGroupID.x; item < count; item += gl_NumWorkGroups.x) {
     uvec2 work = chunk_work[item];
     uvec2 range = ranges[work.x];
-    uint first = range.x + work.y * PRISMOID_CI_CHUNK;
-    raster(work.x, first, min(range.y, first + PRISMOID_CI_CHUNK), chunk_base[work.x] + work.y);
+    uint first = range.x + work.y * push.chunks.z;
+    raster(work.x, first, min(range.y, first + push.chunks.z), chunk_base[work.x] + work.y);
   }
 }
