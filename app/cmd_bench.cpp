@@ -169,14 +169,16 @@ std::string host_name() {
 }
 
 // The plots beside report.md: error against time per dataset, quantity and size (every row), and
-// time against cell count (the modes and cell-count sweeps, at the preset's size).
+// time against cell count (the modes and cell-count sweeps, at the preset's size, each interval
+// backend a line of its own).
 void write_plots(const std::filesystem::path& dir, const std::vector<bench::BenchRow>& rows, bench::ReportContext& context, OutputFiles& files) {
   std::vector<bench::BenchPoint> all, scaling;
   for (const auto& r : rows) {
     bench::BenchPoint p{r.dataset, r.quantity, r.mode, r.settings == "default" ? "" : r.settings, r.cells, r.ms_median, r.error.rmse,
                         r.width, r.height};
     all.push_back(p);
-    if ((r.sweep == "modes" || r.sweep == "cells") && r.settings == "default") scaling.push_back(p);
+    const bool backend_only = r.settings.rfind("volume-backend=", 0) == 0 && r.settings.find(' ') == std::string::npos;
+    if ((r.sweep == "modes" || r.sweep == "cells") && (r.settings == "default" || backend_only)) scaling.push_back(p);
   }
   std::vector<std::pair<std::string, bench::PlotSpec>> plots;
   for (auto& plot : bench::bench_plots(all)) {

@@ -10,13 +10,7 @@
 layout(local_size_x = PRISMOID_TETS_PER_WORKGROUP) in;
 layout(triangles, max_vertices = PRISMOID_WORKGROUP_MAX_VERTICES, max_primitives = PRISMOID_WORKGROUP_MAX_TRIANGLES) out;
 
-layout(set = 0, binding = PRISMOID_BINDING_FRAME) uniform FrameBlock { FrameUniforms frame; };
-layout(std430, set = 0, binding = PRISMOID_BINDING_POSITIONS) readonly buffer Positions { vec4 positions[]; };
-layout(std430, set = 0, binding = PRISMOID_BINDING_TETS) readonly buffer Tets { uvec4 tets[]; };
-layout(std430, set = 0, binding = PRISMOID_BINDING_CELL_SIGMA) readonly buffer CellSigma { float cell_sigma[]; };
-layout(std430, set = 0, binding = PRISMOID_BINDING_POINT_SIGMA) readonly buffer PointSigma { float point_sigma[]; };
-layout(std430, set = 0, binding = PRISMOID_BINDING_CELL_SCALAR) readonly buffer CellScalar { float cell_scalar[]; };
-layout(std430, set = 0, binding = PRISMOID_BINDING_POINT_SCALAR) readonly buffer PointScalar { float point_scalar[]; };
+#include "mesh_bindings.glsl"
 layout(std430, set = 0, binding = PRISMOID_BINDING_ORDER) readonly buffer Order { uint draw_order[]; };
 // The first workgroup of this draw: a mesh of more workgroups than one draw may launch
 // (maxMeshWorkGroupCount) is drawn in consecutive draws, which keep the primitive order.
