@@ -70,6 +70,8 @@ void fields(S& s, M& c) {
   s(c.merged_points);
   s(c.zero_volume);
   s(c.inverted);
+  s(c.chosen_array);
+  s(c.chosen_why);
 }
 
 }  // namespace prismoid::io

@@ -36,6 +36,36 @@ std::string array_names(vtkFieldData* data) {
 }
 
 // One value per tuple: the chosen component, or vectors by magnitude (component < 0).
+// The array ParaView colours a dataset by when none is named (MeshConversion::chosen_array).
+struct ChosenArray {
+  vtkDataArray* point = nullptr;
+  vtkDataArray* cell = nullptr;
+  std::string name, why;
+};
+
+ChosenArray choose_scalars(vtkUnstructuredGrid* grid) {
+  // Prismoid's own files and datasets/fetch-real.sh's carry the extinction they were drawn with:
+  // a density, not a field to colour by.
+  auto candidates = [](vtkFieldData* data) {
+    std::vector<vtkDataArray*> arrays;
+    for (int i = 0; i < data->GetNumberOfArrays(); ++i)
+      if (vtkDataArray* a = data->GetArray(i); a && a->GetName() && std::string(a->GetName()) != "extinction") arrays.push_back(a);
+    return arrays;
+  };
+  auto named = [](vtkDataArray* a) { return std::string(a->GetName() ? a->GetName() : ""); };
+  ChosenArray c;
+  if (vtkDataArray* a = grid->GetPointData()->GetScalars(); a && a->GetName()) {
+    c.point = a, c.name = named(a), c.why = "the active point scalars";
+  } else if (vtkDataArray* b = grid->GetCellData()->GetScalars(); b && b->GetName() && named(b) != "extinction") {
+    c.cell = b, c.name = named(b), c.why = "the active cell scalars";
+  } else if (const auto points = candidates(grid->GetPointData()); points.size() == 1) {
+    c.point = points[0], c.name = named(points[0]), c.why = "the only point array";
+  } else if (const auto cells = candidates(grid->GetCellData()); cells.size() == 1) {
+    c.cell = cells[0], c.name = named(cells[0]), c.why = "the only cell array";
+  }
+  return c;
+}
+
 double value_of(vtkDataArray* array, vtkIdType i, int component = -1) {
   const int components = array->GetNumberOfComponents();
   if (components == 1) return array->GetComponent(i, 0);
@@ -163,6 +193,13 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
 
   vtkDataArray* array = nullptr;        // a cell array: sigma constant per cell
   vtkDataArray* point_array = nullptr;  // a point array: sigma linear in each cell
+  if (options.array.empty() && options.role == ArrayRole::Scalars) {
+    const ChosenArray chosen = choose_scalars(grid);
+    array = chosen.cell;
+    point_array = chosen.point;
+    report.chosen_array = chosen.name;
+    report.chosen_why = chosen.why;
+  }
   if (!options.array.empty()) {
     array = grid->GetCellData()->GetArray(options.array.c_str());
     if (!array) point_array = grid->GetPointData()->GetArray(options.array.c_str());

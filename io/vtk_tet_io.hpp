@@ -19,7 +19,8 @@ enum class ArrayRole {
 
 struct TetReadOptions {
   // The array to use (vectors by magnitude): a cell array is constant per cell, a point array
-  // linear in each cell. Empty: sigma = density_scale per cell, and no scalar field.
+  // linear in each cell. Empty: sigma = density_scale per cell; as Scalars, the array ParaView
+  // would colour by (MeshConversion::chosen_array says which), else no scalar field.
   std::string array;
   int component = -1;  // of a vector array; -1: its magnitude
   ArrayRole role = ArrayRole::Extinction;
@@ -46,6 +47,11 @@ struct MeshConversion {
   size_t merged_points = 0;  // points shared between pieces, stored once after merging
   size_t zero_volume = 0;    // flat tetrahedra, kept: they contribute nothing
   size_t inverted = 0;       // negative orientation, kept as they are: rendering ignores orientation
+  // With no array named and the Scalars role, the array picked as ParaView picks one: the
+  // active point scalars, else the active cell scalars, else the only point array, else the
+  // only cell array, an array named "extinction" (what Prismoid writes) aside. Empty: none.
+  std::string chosen_array;
+  std::string chosen_why;    // e.g. "the only point array"
   bool split() const;        // whether any cell was not a tetrahedron
 };
 

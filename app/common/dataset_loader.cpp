@@ -130,6 +130,9 @@ TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress) { 
   TetMesh mesh = io::read_tet_mesh(r.path, reading, &conversion);
   if (const std::string note = io::conversion_note(conversion); !note.empty())
     std::cerr << "prismoid: note: " + r.path + ": " + note + "\n";
+  if (!conversion.chosen_array.empty())
+    std::cerr << "prismoid: note: " + r.path + ": the scalar field is " + conversion.chosen_why + ", '" + conversion.chosen_array +
+                     "' (--array NAME picks another)\n";
   report_load_time(r.path, mesh, start);
   return mesh;
 }

@@ -190,6 +190,23 @@ TEST(Cli, PointArrayRendersTheLinearFieldLikeTheReference) {
   expect_close_to_reference(img, ref);
 }
 
+// Colour of a file with one point array (and Prismoid's "extinction" cell array) needs no
+// --array: the field is picked as ParaView picks it, said on stderr, and the image is the one
+// naming the array gives.
+TEST(Cli, ColourOfAFileWithOneArrayNeedsNoFlags) {
+  const fs::path vtu = work_dir() / "one_array.vtu", picked = work_dir() / "picked.pfm", named = work_dir() / "named.pfm";
+  const CliRun converted = run("convert " + vtu.string());
+  ASSERT_EQ(converted.code, 0) << converted.err;
+  const std::string common = " --quantity color --mode interval-exact-order --size 32x24 --eye 2,1.5,4.5 --target 0,0,0 --output ";
+  const CliRun a = run("render " + vtu.string() + common + picked.string());
+  ASSERT_EQ(a.code, 0) << a.err;
+  EXPECT_NE(a.err.find("the scalar field is the only point array, 'scalars' (--array NAME picks another)"), std::string::npos) << a.err;
+  const CliRun b = run("render " + vtu.string() + " --array scalars" + common + named.string());
+  ASSERT_EQ(b.code, 0) << b.err;
+  EXPECT_EQ(b.err.find("the scalar field is"), std::string::npos) << "a named array needs no note";
+  EXPECT_EQ(io::read_pfm(picked.string()).pixels, io::read_pfm(named.string()).pixels);
+}
+
 // An OpenVDB fog volume made by `convert` from the ball's surface, rendered: the image is the
 // reference's optical depth through the same voxel tetrahedra (read here by io, as the CLI does).
 TEST(Cli, VdbFogVolumeFromASurfaceRendersLikeTheReference) {

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "io/vtk_tet_io.hpp"
+#include "vtk_test_grids.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
 
@@ -57,6 +58,61 @@ TEST(VtkTetIo, PointArrayGivesLinearExtinction) {
   ASSERT_TRUE(back.linear_extinction());
   for (size_t i = 0; i < mesh.points.size(); ++i) EXPECT_DOUBLE_EQ(back.point_extinction[i], 3.0 * (1.0 + mesh.points[i].x));
   std::filesystem::remove(path);
+}
+
+// With no --array, a scalar field is picked as ParaView picks the array it colours by: the
+// active scalars, else the only point array, else the only cell array; Prismoid's own
+// "extinction" is a density, not a field, and is never picked.
+TEST(VtkTetIo, ScalarsWithNoArrayNamedArePickedAsParaViewPicksThem) {
+  const io::TetReadOptions scalars{.role = io::ArrayRole::Scalars};
+  // One point array beside "extinction": it is the field.
+  const TetMesh mesh = make_box_mesh(glm::dvec3(0), glm::dvec3(1), 2, [](const glm::dvec3& p) { return 1.0 + p.x; });
+  const std::string one = temp_path("one_array.vtu");
+  io::write_tet_mesh_vtu(one, mesh);
+  io::MeshConversion conversion;
+  const TetMesh back = io::read_tet_mesh(one, scalars, &conversion);
+  EXPECT_EQ(conversion.chosen_array, "scalars");
+  EXPECT_EQ(conversion.chosen_why, "the only point array");
+  ASSERT_EQ(back.point_scalars.size(), mesh.points.size());
+  for (size_t i = 0; i < mesh.points.size(); ++i) EXPECT_DOUBLE_EQ(back.point_scalars[i], 1.0 + mesh.points[i].x);
+  // As extinction nothing is picked: sigma stays the density scale, as before.
+  io::MeshConversion as_extinction;
+  const TetMesh plain = io::read_tet_mesh(one, {}, &as_extinction);
+  EXPECT_TRUE(as_extinction.chosen_array.empty());
+  EXPECT_TRUE(plain.point_scalars.empty());
+  std::filesystem::remove(one);
+
+  // Two point arrays ("height", "velocity") and one cell array ("cell_id"), none active: the
+  // only cell array. Then "velocity" made the active point scalars: it, by magnitude.
+  vtkSmartPointer<vtkUnstructuredGrid> grid = testgrids::make_grid(testgrids::make_lattice(2), testgrids::Cut::Hexahedra);
+  const std::string several = temp_path("several.vtu");
+  testgrids::write_vtu(several, grid);
+  io::MeshConversion cells;
+  const TetMesh by_cell = io::read_tet_mesh(several, scalars, &cells);
+  EXPECT_EQ(cells.chosen_array, "cell_id");
+  EXPECT_EQ(cells.chosen_why, "the only cell array");
+  EXPECT_EQ(by_cell.cell_scalars.size(), by_cell.tets.size());
+  grid->GetPointData()->SetActiveScalars("velocity");
+  testgrids::write_vtu(several, grid);
+  io::MeshConversion active;
+  const TetMesh by_active = io::read_tet_mesh(several, scalars, &active);
+  EXPECT_EQ(active.chosen_array, "velocity");
+  EXPECT_EQ(active.chosen_why, "the active point scalars");
+  ASSERT_FALSE(by_active.point_scalars.empty());
+  for (double v : by_active.point_scalars) EXPECT_GE(v, 1.0);  // |velocity| = sqrt(1 + z^2)
+  // Two point arrays and two cell arrays, none active: no field is guessed.
+  grid->GetPointData()->SetActiveScalars(nullptr);
+  vtkNew<vtkDoubleArray> second;
+  second->SetName("pressure");
+  second->SetNumberOfValues(grid->GetNumberOfCells());
+  second->Fill(2.0);
+  grid->GetCellData()->AddArray(second);
+  testgrids::write_vtu(several, grid);
+  io::MeshConversion none;
+  const TetMesh unguessed = io::read_tet_mesh(several, scalars, &none);
+  EXPECT_TRUE(none.chosen_array.empty());
+  EXPECT_TRUE(unguessed.point_scalars.empty() && unguessed.cell_scalars.empty());
+  std::filesystem::remove(several);
 }
 
 TEST(VtkTetIo, LegacyFileWithAHexahedronIsSplitIntoTetrahedra) {
