@@ -10,8 +10,9 @@
 //  - "tile-raster": one workgroup per tile; each pixel computes every cell's interval on its
 //    own ray and integrates it exactly as the fragment shaders do (the same GLSL functions),
 //    colour through a per-pixel k-buffer in exact depth order (shaders/volume/compute/).
-//    A tile of more than PRISMOID_CI_CHUNK pairs is split into chunks rastered by workgroups of
-//    their own and merged in chunk order, so one long list does not hold up the frame.
+//    A tile of more than PRISMOID_CI_CHUNK pairs (PRISMOID_CI_CHUNK_COLOR for colour) is split
+//    into chunks rastered by workgroups of their own and merged in chunk order, so one long
+//    list does not hold up the frame; cells spanning many tiles are binned a workgroup each.
 //
 // The key is one 32-bit word, the tile in the high bits and the depth in the rest (at least
 // 5 bits are left for depth at 16k x 16k; 15 at 4K): one 4-pass sort, where sorting twice
