@@ -170,8 +170,11 @@ std::string folder_of(const std::string& path) {
 
 // A new empty file beside `resolved` (the name's stem, ".partial-", six random letters, the
 // name's extension, which writers choose their format by), created exclusively with the usual
-// permissions (0666 less the umask).
-std::string create_temporary(const std::string& path, const std::string& resolved) {
+// permissions (0666 less the umask), into `temporary`. The name is enrolled for the signal
+// handler before the file exists: a signal between creating and enrolling left the file behind
+// (CliOutputs.SignalsMidRunLeaveNoPartialFile caught it under load). Unlinking a name not yet
+// created is harmless.
+void create_temporary(const std::string& path, const std::string& resolved, std::string& temporary) {
   static std::mt19937_64 generator{std::random_device{}()};
   const fs::path target(resolved), name(path);
   const std::string stem = name.stem().string(), ext = name.extension().string();
@@ -179,14 +182,17 @@ std::string create_temporary(const std::string& path, const std::string& resolve
   for (int attempt = 0; attempt < 100; ++attempt) {
     std::string tag;
     for (int i = 0; i < 6; ++i) tag += kLetters[generator() % (sizeof kLetters - 1)];
-    const std::string temporary = (target.parent_path() / (stem + ".partial-" + tag + ext)).string();
+    temporary = (target.parent_path() / (stem + ".partial-" + tag + ext)).string();
+    enroll(g_temporaries, temporary.c_str());
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
       ::close(fd);
-      return temporary;
+      return;
     }
-    if (errno == EEXIST) continue;
     const int error = errno;
+    withdraw(g_temporaries, temporary.c_str());  // not ours: someone else's file, or none
+    temporary.clear();
+    if (error == EEXIST) continue;
     // The folder exists (checked before): ENOENT here is a folder that refuses new files (/proc).
     if (error == EACCES || error == EPERM || error == EROFS || error == ENOENT)
       throw InputError(path, "the folder '" + folder_of(path) + "' is not writable");
@@ -251,10 +257,12 @@ void OutputFiles::output(const std::string& path, const std::string& option, con
   if (!fs::is_directory(dir_status)) throw InputError(path, "'" + folder_of(path) + "' is not a folder");
   Output& added = outputs_.emplace_back(std::move(out));
   try {
-    added.temporary = create_temporary(path, added.resolved);
-    enroll(g_temporaries, added.temporary.c_str());
+    create_temporary(path, added.resolved, added.temporary);
   } catch (...) {
-    if (!added.temporary.empty()) ::unlink(added.temporary.c_str());
+    if (!added.temporary.empty()) {
+      ::unlink(added.temporary.c_str());
+      withdraw(g_temporaries, added.temporary.c_str());
+    }
     outputs_.pop_back();
     throw;
   }
