@@ -60,19 +60,24 @@ TEST(VtkTetIo, PointArrayGivesLinearExtinction) {
   std::filesystem::remove(path);
 }
 
+// Reads `path` for a scalar field with no array named; expects `name` picked for `why` ("" for none).
+TetMesh read_expecting_choice(const std::string& path, const std::string& name, const std::string& why) {
+  io::MeshConversion conversion;
+  TetMesh mesh = io::read_tet_mesh(path, {.role = io::ArrayRole::Scalars}, &conversion);
+  EXPECT_EQ(conversion.chosen_array, name) << path;
+  EXPECT_EQ(conversion.chosen_why, why) << path;
+  return mesh;
+}
+
 // With no --array, a scalar field is picked as ParaView picks the array it colours by: the
 // active scalars, else the only point array, else the only cell array; Prismoid's own
 // "extinction" is a density, not a field, and is never picked.
 TEST(VtkTetIo, ScalarsWithNoArrayNamedArePickedAsParaViewPicksThem) {
-  const io::TetReadOptions scalars{.role = io::ArrayRole::Scalars};
   // One point array beside "extinction": it is the field.
   const TetMesh mesh = make_box_mesh(glm::dvec3(0), glm::dvec3(1), 2, [](const glm::dvec3& p) { return 1.0 + p.x; });
   const std::string one = temp_path("one_array.vtu");
   io::write_tet_mesh_vtu(one, mesh);
-  io::MeshConversion conversion;
-  const TetMesh back = io::read_tet_mesh(one, scalars, &conversion);
-  EXPECT_EQ(conversion.chosen_array, "scalars");
-  EXPECT_EQ(conversion.chosen_why, "the only point array");
+  const TetMesh back = read_expecting_choice(one, "scalars", "the only point array");
   ASSERT_EQ(back.point_scalars.size(), mesh.points.size());
   for (size_t i = 0; i < mesh.points.size(); ++i) EXPECT_DOUBLE_EQ(back.point_scalars[i], 1.0 + mesh.points[i].x);
   // As extinction nothing is picked: sigma stays the density scale, as before.
@@ -87,17 +92,11 @@ TEST(VtkTetIo, ScalarsWithNoArrayNamedArePickedAsParaViewPicksThem) {
   vtkSmartPointer<vtkUnstructuredGrid> grid = testgrids::make_grid(testgrids::make_lattice(2), testgrids::Cut::Hexahedra);
   const std::string several = temp_path("several.vtu");
   testgrids::write_vtu(several, grid);
-  io::MeshConversion cells;
-  const TetMesh by_cell = io::read_tet_mesh(several, scalars, &cells);
-  EXPECT_EQ(cells.chosen_array, "cell_id");
-  EXPECT_EQ(cells.chosen_why, "the only cell array");
+  const TetMesh by_cell = read_expecting_choice(several, "cell_id", "the only cell array");
   EXPECT_EQ(by_cell.cell_scalars.size(), by_cell.tets.size());
   grid->GetPointData()->SetActiveScalars("velocity");
   testgrids::write_vtu(several, grid);
-  io::MeshConversion active;
-  const TetMesh by_active = io::read_tet_mesh(several, scalars, &active);
-  EXPECT_EQ(active.chosen_array, "velocity");
-  EXPECT_EQ(active.chosen_why, "the active point scalars");
+  const TetMesh by_active = read_expecting_choice(several, "velocity", "the active point scalars");
   ASSERT_FALSE(by_active.point_scalars.empty());
   for (double v : by_active.point_scalars) EXPECT_GE(v, 1.0);  // |velocity| = sqrt(1 + z^2)
   // Two point arrays and two cell arrays, none active: no field is guessed.
@@ -108,9 +107,7 @@ TEST(VtkTetIo, ScalarsWithNoArrayNamedArePickedAsParaViewPicksThem) {
   second->Fill(2.0);
   grid->GetCellData()->AddArray(second);
   testgrids::write_vtu(several, grid);
-  io::MeshConversion none;
-  const TetMesh unguessed = io::read_tet_mesh(several, scalars, &none);
-  EXPECT_TRUE(none.chosen_array.empty());
+  const TetMesh unguessed = read_expecting_choice(several, "", "");
   EXPECT_TRUE(unguessed.point_scalars.empty() && unguessed.cell_scalars.empty());
   std::filesystem::remove(several);
 }
