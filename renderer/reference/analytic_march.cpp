@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
+#include "renderer/reference/row_threads.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "shaders/shared/volume.h"
 
@@ -32,8 +33,9 @@ PixelSegments collect(const TetMesh& mesh, const Camera& camera, uint32_t width,
       s.direction[size_t(y) * width + x] = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
   trace_cells(mesh, camera, width, height, offset_x, offset_y, [](size_t) { return true; },
               [&](size_t pixel, size_t, const Interval& in, const glm::dvec3&) { s.segments[pixel].push_back({in.enter, in.exit}); });
-  for (auto& segs : s.segments)
-    std::sort(segs.begin(), segs.end(), [](const Segment& a, const Segment& b) { return a.enter < b.enter; });
+  for_each_pixel_in_parallel(width, height, [&](size_t p) {
+    std::sort(s.segments[p].begin(), s.segments[p].end(), [](const Segment& a, const Segment& b) { return a.enter < b.enter; });
+  });
   return s;
 }
 
@@ -50,7 +52,7 @@ std::vector<double> field_optical_depth_image(const TetMesh& mesh, const volume:
   static const double kWeights[2] = {0.65214515486254614, 0.34785484513745386};
   const PixelSegments s = collect(mesh, camera, width, height, offset_x, offset_y);
   std::vector<double> image(s.segments.size(), 0.0);
-  for (size_t p = 0; p < image.size(); ++p) {
+  for_each_pixel_in_parallel(width, height, [&](size_t p) {
     const glm::dvec3 dir = s.direction[p];
     auto sigma = [&](double t) { return density_scale * std::max(volume::evaluate(field, camera.eye + t * dir), 0.0); };
     for (const Segment& seg : s.segments[p]) {
@@ -64,7 +66,7 @@ std::vector<double> field_optical_depth_image(const TetMesh& mesh, const volume:
       }
       image[p] += 0.5 * h * sum;
     }
-  }
+  });
   return image;
 }
 
@@ -73,7 +75,7 @@ std::vector<double> field_march_optical_depth_image(const TetMesh& mesh, const v
                                                     uint32_t height, double step, double offset_x, double offset_y) {
   const PixelSegments s = collect(mesh, camera, width, height, offset_x, offset_y);
   std::vector<double> image(s.segments.size(), 0.0);
-  for (size_t p = 0; p < image.size(); ++p)
+  for_each_pixel_in_parallel(width, height, [&](size_t p) {
     for (const Segment& seg : s.segments[p]) {
       const uint64_t n = steps_for(seg.exit - seg.enter, step);
       const double h = (seg.exit - seg.enter) / double(n);
@@ -82,6 +84,7 @@ std::vector<double> field_march_optical_depth_image(const TetMesh& mesh, const v
         sum += std::max(volume::evaluate(field, camera.eye + (seg.enter + (double(i) + 0.5) * h) * s.direction[p]), 0.0);
       image[p] += density_scale * sum * h;
     }
+  });
   return image;
 }
 
@@ -93,7 +96,7 @@ IsosurfaceImage isosurface_image(const TetMesh& mesh, const volume::AnalyticFiel
   image.height = height;
   image.distance.assign(s.segments.size(), 0.0);
   image.shade.assign(s.segments.size(), 0.0);
-  for (size_t p = 0; p < s.segments.size(); ++p) {
+  for_each_pixel_in_parallel(width, height, [&](size_t p) {
     const glm::dvec3 dir = s.direction[p];
     auto inside = [&](double t) { return volume::evaluate(field, camera.eye + t * dir) >= isovalue; };
     double hit = 0.0;
@@ -116,13 +119,13 @@ IsosurfaceImage isosurface_image(const TetMesh& mesh, const volume::AnalyticFiel
       hit = hi;
       break;
     }
-    if (hit <= 0.0) continue;
+    if (hit <= 0.0) return;
     image.distance[p] = hit;
     const glm::dvec3 g = volume::gradient(field, camera.eye + hit * dir);
     const double g_len = glm::length(g);
     const double lambert = g_len > 0.0 ? std::abs(glm::dot(g / g_len, dir)) : 1.0;
     image.shade[p] = PRISMOID_ISOSURFACE_AMBIENT + (1.0 - PRISMOID_ISOSURFACE_AMBIENT) * lambert;
-  }
+  });
   return image;
 }
 
@@ -137,7 +140,7 @@ ColorImage field_color_image(const TetMesh& mesh, const volume::AnalyticField& f
   image.height = height;
   image.pixels.assign(s.segments.size(), glm::dvec4(0.0));
   image.segments.assign(s.segments.size(), 0u);
-  for (size_t p = 0; p < s.segments.size(); ++p) {
+  for_each_pixel_in_parallel(width, height, [&](size_t p) {
     const glm::dvec3 dir = s.direction[p];
     glm::dvec4 total(0.0);
     for (const Segment& seg : s.segments[p]) {
@@ -152,7 +155,7 @@ ColorImage field_color_image(const TetMesh& mesh, const volume::AnalyticField& f
     }
     image.pixels[p] = total;
     image.segments[p] = uint32_t(s.segments[p].size());
-  }
+  });
   return image;
 }
 

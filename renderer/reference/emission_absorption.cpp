@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "renderer/reference/row_threads.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/segment_integral.hpp"
 #include "scene/input_error.hpp"
@@ -101,7 +102,7 @@ ColorImage emission_absorption_image(const TetMesh& mesh, const volume::Transfer
     return std::max({std::abs(a.color.r - b.color.r), std::abs(a.color.g - b.color.g), std::abs(a.color.b - b.color.b),
                      std::abs(a.alpha - b.alpha)});
   };
-  for (size_t p = 0; p < pixels; ++p) {
+  for_each_pixel_in_parallel(width, height, [&](size_t p) {
     auto& segs = along[p];
     std::sort(segs.begin(), segs.end(), [](const Segment& a, const Segment& b) { return a.enter < b.enter; });
     volume::SegmentRadiance sum;
@@ -122,7 +123,7 @@ ColorImage emission_absorption_image(const TetMesh& mesh, const volume::Transfer
     }
     image.pixels[p] = glm::dvec4(sum.color, sum.alpha);
     image.segments[p] = static_cast<uint32_t>(segs.size());
-  }
+  });
   return image;
 }
 

@@ -8,6 +8,8 @@
 #include <functional>
 #include <limits>
 
+#include "renderer/reference/row_threads.hpp"
+
 namespace prismoid::reference {
 
 Interval ray_tetrahedron(const std::array<glm::dvec3, 4>& v, const glm::dvec3& origin, const glm::dvec3& direction,
@@ -107,9 +109,10 @@ double cell_optical_depth(const Cell& cell, const Camera& camera, const CameraFr
 // part beyond the near plane: [x0, x1] x [y0, y1] are the pixels whose rays (within a pixel
 // of their centres) can meet it, `projected` its vertices in continuous pixel coordinates
 // (empty when a vertex lies before the near plane; then the rectangle is the whole image).
+// Only the rows of `rows` are asked for: y0 is the first of them, and visit steps by rows.step.
 template <typename Wanted, typename Visit>
 void for_each_cell(const TetMesh& mesh, const Camera& camera, const CameraFrame& f, uint32_t width, uint32_t height,
-                   Wanted&& wanted, Visit&& visit) {
+                   RowPhase rows, Wanted&& wanted, Visit&& visit) {
   std::vector<glm::dvec2> projected;
   for (size_t c = 0; c < mesh.tets.size(); ++c) {
     Cell cell;
@@ -144,6 +147,9 @@ void for_each_cell(const TetMesh& mesh, const Camera& camera, const CameraFrame&
       x0 = std::max(x0, std::floor(px_min) - 1); x1 = std::min(x1, std::ceil(px_max) + 1);
       y0 = std::max(y0, std::floor(py_min) - 1); y1 = std::min(y1, std::ceil(py_max) + 1);
     }
+    if (y1 < y0) continue;
+    y0 = double(rows.first_from(uint32_t(y0)));
+    if (y0 > y1) continue;  // none of this thread's rows
     visit(c, cell, x0, x1, y0, y1, projected);
   }
 }
@@ -159,9 +165,10 @@ bool absorbs(size_t, const Cell& cell) {
 void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height, double offset_x, double offset_y,
                  const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit) {
   const CameraFrame f = frame_of(camera, width, height);
-  for_each_cell(mesh, camera, f, width, height, [&](size_t c, const Cell&) { return wanted(c); },
+  for_row_phases(height, [&](RowPhase rows) {
+  for_each_cell(mesh, camera, f, width, height, rows, [&](size_t c, const Cell&) { return wanted(c); },
                 [&](size_t c, const Cell& cell, double x0, double x1, double y0, double y1, const auto&) {
-    for (double yd = y0; yd <= y1; ++yd)
+    for (double yd = y0; yd <= y1; yd += rows.step)
       for (double xd = x0; xd <= x1; ++xd) {
         const auto x = static_cast<uint32_t>(xd), y = static_cast<uint32_t>(yd);
         const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
@@ -170,6 +177,7 @@ void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint
         if (!in.empty()) visit(size_t(y) * width + x, c, in, dir);
       }
   });
+  });
 }
 
 std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
@@ -177,8 +185,9 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
   std::vector<double> image(size_t(width) * height, 0.0);
   if (cells_hit) cells_hit->assign(image.size(), 0u);
   const CameraFrame f = frame_of(camera, width, height);
-  for_each_cell(mesh, camera, f, width, height, absorbs, [&](size_t, const Cell& cell, double x0, double x1, double y0, double y1, const auto&) {
-    for (double yd = y0; yd <= y1; ++yd)
+  for_row_phases(height, [&](RowPhase rows) {
+  for_each_cell(mesh, camera, f, width, height, rows, absorbs, [&](size_t, const Cell& cell, double x0, double x1, double y0, double y1, const auto&) {
+    for (double yd = y0; yd <= y1; yd += rows.step)
       for (double xd = x0; xd <= x1; ++xd) {
         const auto x = static_cast<uint32_t>(xd), y = static_cast<uint32_t>(yd);
         const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
@@ -186,6 +195,7 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
         image[size_t(y) * width + x] += cell_optical_depth(cell, camera, f, dir, hit);
         if (cells_hit && hit) ++(*cells_hit)[size_t(y) * width + x];
       }
+  });
   });
   return image;
 }
@@ -195,13 +205,14 @@ std::vector<double> snapping_variation_image(const TetMesh& mesh, const Camera& 
   std::vector<double> image(size_t(width) * height, 0.0);
   const CameraFrame f = frame_of(camera, width, height);
   const double limit_step = std::ldexp(1.0, -20);
-  for_each_cell(mesh, camera, f, width, height, absorbs,
+  for_row_phases(height, [&](RowPhase rows) {
+  for_each_cell(mesh, camera, f, width, height, rows, absorbs,
                 [&](size_t, const Cell& cell, double x0, double x1, double y0, double y1, const std::vector<glm::dvec2>& projected) {
     auto depth_at = [&](double px, double py) {
       bool hit = false;
       return cell_optical_depth(cell, camera, f, ray_direction(camera, width, height, px, py), hit);
     };
-    for (double yd = y0; yd <= y1; ++yd)
+    for (double yd = y0; yd <= y1; yd += rows.step)
       for (double xd = x0; xd <= x1; ++xd) {
         const double cx = xd + 0.5, cy = yd + 0.5;
         const double centre = depth_at(cx, cy);
@@ -219,6 +230,7 @@ std::vector<double> snapping_variation_image(const TetMesh& mesh, const Camera& 
         }
         image[size_t(yd) * width + size_t(xd)] += variation;
       }
+  });
   });
   return image;
 }
@@ -254,7 +266,8 @@ std::vector<double> surface_sensitivity_image(const TetMesh& mesh, const Camera&
   const CameraFrame f = frame_of(camera, width, height);
   const double step = 0.25 * radius;  // finite differences within a proxy triangle, mostly
   const double footprint_per_depth = 2.0 * f.tan_half_fovy / height;  // a pixel's world size at depth 1
-  for_each_cell(mesh, camera, f, width, height, absorbs, [&](size_t, const Cell& cell, double x0, double x1, double y0, double y1, const auto&) {
+  for_row_phases(height, [&](RowPhase rows) {
+  for_each_cell(mesh, camera, f, width, height, rows, absorbs, [&](size_t, const Cell& cell, double x0, double x1, double y0, double y1, const auto&) {
     // |grad sigma| of the cell's linear field (0 when constant), from its barycentric gradients.
     double field_gradient = 0.0;
     if (cell.linear) {
@@ -267,7 +280,7 @@ std::vector<double> surface_sensitivity_image(const TetMesh& mesh, const Camera&
     }
     const double sigma_max = cell.linear ? std::max({cell.point_sigma[0], cell.point_sigma[1], cell.point_sigma[2], cell.point_sigma[3]})
                                          : cell.sigma;
-    for (double yd = y0; yd <= y1; ++yd)
+    for (double yd = y0; yd <= y1; yd += rows.step)
       for (double xd = x0; xd <= x1; ++xd) {
         // The first of the centre and the 8 points at `radius` around it where the ray meets
         // the cell: a drawn proxy can cover the pixel where the centre's ray just misses.
@@ -286,6 +299,7 @@ std::vector<double> surface_sensitivity_image(const TetMesh& mesh, const Camera&
           break;
         }
       }
+  });
   });
   return image;
 }

@@ -38,7 +38,10 @@ double interpolate_linear(const std::array<glm::dvec3, 4>& v, const std::array<d
 // Calls `visit` for every pixel ray (through the pixel centre moved by the offsets) and every
 // cell with `wanted(cell)` that the ray crosses with a positive length beyond the near plane,
 // with the ray's unit direction and parameter interval inside the cell. Row-major pixel
-// index, row 0 at the top. Cells are visited in mesh order, not along the ray.
+// index, row 0 at the top. Cells are visited in mesh order, not along the ray. Rows are spread
+// over threads (row_threads.hpp): `wanted` may be called concurrently, and `visit` concurrently
+// for different rows, never for one pixel from two threads, so it may write the pixel's own
+// state without locks.
 using CellVisitor = std::function<void(size_t pixel, size_t cell, const Interval& interval, const glm::dvec3& direction)>;
 void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height, double offset_x, double offset_y,
                  const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit);

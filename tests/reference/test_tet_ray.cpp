@@ -3,8 +3,12 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <atomic>
 #include <random>
+#include <stdexcept>
+#include <vector>
 
+#include "renderer/reference/row_threads.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"
 
@@ -62,6 +66,54 @@ TEST(OpticalDepthImage, ConstantCubeGivesSigmaTimesChord) {
   const auto img = reference::optical_depth_image(m, c, 9, 9);
   // The central pixel's ray runs along the z axis through the whole cube: length 2.
   EXPECT_NEAR(img[4 * 9 + 4], 0.5 * 2.0, 1e-12);
+}
+
+TEST(RowThreads, EveryRowIsGivenToExactlyOneThreadAndFailuresComeBack) {
+  for (const uint32_t rows : {1u, 2u, 3u, 7u, 1000u}) {
+    std::vector<std::atomic<int>> seen(rows);
+    reference::for_row_phases(rows, [&](reference::RowPhase r) {
+      EXPECT_LT(r.phase, r.step);
+      for (uint32_t y = r.first_from(0); y < rows; y += r.step) ++seen[y];
+      // first_from lands on the thread's own rows, at or after its argument
+      for (uint32_t y = 0; y < 2 * r.step + 3; ++y) {
+        EXPECT_GE(r.first_from(y), y);
+        EXPECT_LT(r.first_from(y), y + r.step);
+        EXPECT_EQ(r.first_from(y) % r.step, r.phase);
+      }
+    });
+    for (uint32_t y = 0; y < rows; ++y) EXPECT_EQ(seen[y].load(), 1) << "row " << y << " of " << rows;
+  }
+  EXPECT_THROW(reference::for_row_phases(64, [](reference::RowPhase r) {
+                 if (r.phase == r.step - 1) throw std::runtime_error("row failed");
+               }),
+               std::runtime_error);
+}
+
+TEST(OpticalDepthImage, RowsSpreadOverThreadsSumEachPixelAsOneLoopWould) {
+  // Every pixel's optical depth is the sum over cells in mesh order, bit for bit, however the
+  // rows are shared out: a row visited twice or never, or a sum formed in another order, shows.
+  const TetMesh m = make_box_mesh(glm::dvec3(-1), glm::dvec3(1), 3, [](const glm::dvec3& p) { return 0.7 + 0.2 * p.y; });
+  Camera c;
+  c.eye = {0.4, 2.5, 6.0};
+  c.fovy_degrees = 35.0;
+  const uint32_t w = 37, h = 29;
+  const auto image = reference::optical_depth_image(m, c, w, h);
+  const glm::dvec3 forward = glm::normalize(c.target - c.eye);
+  size_t covered = 0;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const glm::dvec3 dir = reference::ray_direction(c, w, h, x + 0.5, y + 0.5);
+      double sum = 0.0;
+      for (size_t k = 0; k < m.tets.size(); ++k) {
+        std::array<glm::dvec3, 4> v;
+        for (int i = 0; i < 4; ++i) v[i] = m.points[m.tets[k][i]];
+        const auto in = reference::ray_tetrahedron(v, c.eye, dir, c.near_distance / glm::dot(dir, forward), kInf);
+        if (!in.empty()) sum += m.cell_extinction[k] * in.length();
+      }
+      covered += sum > 0.0;
+      EXPECT_EQ(image[size_t(y) * w + x], sum) << "pixel " << x << "," << y;
+    }
+  EXPECT_GT(covered, size_t(w) * h / 4);
 }
 
 TEST(SnappingVariationImage, BoundsTheWholeImageShiftAndEqualsItForOneCellAwayFromVertices) {
