@@ -101,23 +101,9 @@ const char* const kBenchHelp =
 
 namespace {
 
-// The signal range the PSNR is relative to: the reference's largest optical depth, else 1.
-double peak_of(const frame::OffscreenFrame& ref, volume::Quantity q) {
-  if (q != volume::Quantity::OpticalDepth) return 1.0;
-  double peak = 0.0;
-  for (float v : ref.quantity)
-    if (std::isfinite(v)) peak = std::max(peak, double(v));
-  return peak;
-}
-
 double ssim_of(const frame::OffscreenFrame& gpu, const frame::OffscreenFrame& ref, volume::Quantity q) {
   if (q == volume::Quantity::Color) return reference::ssim(gpu.display, ref.display, ref.width, ref.height, 1.0, 4, 3);
-  return reference::ssim(gpu.quantity, ref.quantity, ref.width, ref.height, peak_of(ref, q), 1, 1);
-}
-
-reference::ImageError error_of(const frame::OffscreenFrame& gpu, const frame::OffscreenFrame& ref, volume::Quantity q) {
-  if (q == volume::Quantity::Color) return reference::image_error(gpu.display, ref.display, 1.0, 4, 3);
-  return reference::image_error(gpu.quantity, ref.quantity, peak_of(ref, q), 1, 1);
+  return reference::ssim(gpu.quantity, ref.quantity, ref.width, ref.height, error_peak(ref, q), 1, 1);
 }
 
 double ms_since(std::chrono::steady_clock::time_point start) {
@@ -350,8 +336,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     auto ref = references.find(ref_key);
     if (ref == references.end()) {
       const auto start = std::chrono::steady_clock::now();
-      frame::OffscreenFrame image = field_of(one) ? render_field_reference(choice.mesh, camera, resolve, extent)
-                                                  : render_reference(choice.mesh, camera, resolve, extent);
+      frame::OffscreenFrame image = reference_of(choice.mesh, camera, resolve, extent, field_of(one).has_value());
       ref = references.emplace(ref_key, std::make_pair(std::move(image), ms_since(start))).first;
     }
 
@@ -383,10 +368,10 @@ int cmd_bench(const std::vector<std::string>& args) {
     m.cpu_ms = median_of(cpu);
     m.mesh_bytes = result.report.mesh_bytes;
     // The image is one more frame's: every frame draws the same cells from the same camera.
-    m.error = error_of(result, ref->second.first, choice.quantity);
+    m.error = frame_error(result, ref->second.first, choice.quantity);
     m.ssim = ssim_of(result, ref->second.first, choice.quantity);
     m.reference_ms = ref->second.second;
-    m.peak = peak_of(ref->second.first, choice.quantity);
+    m.peak = error_peak(ref->second.first, choice.quantity);
     if (choice.quantity == volume::Quantity::Color)
       m.flip = reference::flip(result.display, ref->second.first.display, extent.width, extent.height, 4).mean;
     std::cout << m.dataset << " " << m.sweep << " " << m.quantity << " " << m.mode << " " << m.settings << " " << m.width << "x"

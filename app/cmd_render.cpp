@@ -1,5 +1,6 @@
 // `prismoid render`: one image headless, on the GPU or the CPU reference, with its timings.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -22,6 +23,7 @@
 #include "io/image_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/frame/volume_modes.hpp"
+#include "renderer/metrics/flip.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
@@ -67,12 +69,17 @@ const char* const kRenderHelpTail =
     "  --frames N           render N timed frames after 2 s of warm-up frames (the GPU leaves its idle\n"
     "                       clock); times are the median, with the best and worst beside them, and the\n"
     "                       SM clock meanwhile where nvidia-smi is on PATH (default 1, no warm-up)\n"
+    "  --reference-error    also compute the CPU double-precision reference of the same frame and print\n"
+    "                       how far the image is from it (RMSE and largest difference of the display\n"
+    "                       colour for color, of the quantity otherwise; FLIP for color) and what it cost;\n"
+    "                       --stats gets them as \"reference_error\"\n"
     "\n"
     "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
     "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
     "                       linear in each cell; default sigma = 1 (the default dataset: its density)\n"
     "  --component C        of a vector --array: 0, 1, 2... or x, y, z (default: magnitude)\n"
-    "  --density-scale S    multiplies the extinction; for color, the extinction at opacity 1 (default 1)\n"
+    "  --density-scale S    multiplies the extinction (default 1); for color, the extinction at opacity 1\n"
+    "                       (default 35 / the diagonal of the data's bounds: the same look in any units)\n"
     "\n"
     "  marching modes only:\n"
     "  --march-step S       longest step in world units: each interval is marched in equal steps of at\n"
@@ -80,12 +87,14 @@ const char* const kRenderHelpTail =
     "  --isovalue V         the isosurface's level (--quantity isosurface only; default 0.5)\n"
     "\n"
     "  color only:\n"
-    "  --tf PRESET|FILE     transfer function: cool-to-warm (default), viridis, grayscale, black-body,\n"
-    "                       or a ParaView colour-map JSON file (opacity from its \"Points\", else a ramp)\n"
+    "  --tf PRESET|FILE     transfer function: viridis, cool-to-warm, grayscale, black-body, or a ParaView\n"
+    "                       colour-map JSON file (opacity from its \"Points\", else a ramp); default:\n"
+    "                       viridis, opacity 0 up to the field's median (0.2-0.8 of the range), then\n"
+    "                       rising to 1\n"
     "  --tf-range LO,HI     scalar values mapped to the ends of the transfer function (default: data range)\n"
     "  --preintegration-size N   0: integrate each segment exactly in the shader (default); N in 2..256:\n"
     "                       look segments up in an N^3 pre-integrated table (faster, approximate)\n"
-    "  --background R,G,B   linear colour behind the volume (default 1,1,1)\n"
+    "  --background R,G,B   linear colour behind the volume (default 0.01,0.01,0.015)\n"
     "\n"
     "FILE: an unstructured grid (.vtu, legacy .vtk, multiblock .vtm, parallel .pvtu; cells other than\n"
     "tetrahedra are split into conforming tetrahedra, with a note), or field:NAME[:N], an analytic field\n"
@@ -116,7 +125,8 @@ const char* const kRenderHelpTail =
     "  --grid NAME              the float grid to open (default: the file's first; --subsample applies)\n"
     "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
     "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"
-    "With no FILE the embedded default dataset is rendered.\n";
+    "With no FILE the embedded default dataset is rendered; asked for no --quantity and no --mode, in\n"
+    "color, in exact order (interval-exact-order).\n";
 
 // The --mode lines of the help, from the volume mode table: each mode with its summary, wrapped.
 std::string volume_modes_help() {
@@ -160,7 +170,7 @@ int cmd_render(const std::vector<std::string>& args) {
     return surface->gpu() ? cmd_render_surface(args, *surface) : cmd_render_path_reference(args, *surface);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
-  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes"});
+  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes", "reference-error"});
   if (a.flags.count("help")) { std::cout << render_help(); return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");
@@ -173,6 +183,8 @@ int cmd_render(const std::vector<std::string>& args) {
   const VolumeChoice choice = volume_choice(a);
   const TetMesh& mesh = choice.mesh;
   const frame::VolumeMode& mode = *choice.mode;
+  if (a.flags.count("reference-error") && !mode.gpu())
+    throw InputError("--reference-error", "--mode " + std::string(mode.name) + " is the reference itself");
   const volume::Quantity quantity = choice.quantity;
   const bool color = quantity == volume::Quantity::Color;
   frame::FrameSettings settings = choice.settings;
@@ -209,6 +221,21 @@ int cmd_render(const std::vector<std::string>& args) {
     result.passes = timing->medians();
   }
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
+  // What the image's accuracy is: the same frame on the CPU, in double precision and exact order.
+  struct Accuracy {
+    reference::ImageError error;
+    double flip = 0.0;
+    double reference_ms = 0.0;
+  };
+  std::optional<Accuracy> accuracy;
+  if (a.flags.count("reference-error")) {
+    const auto start = std::chrono::steady_clock::now();
+    const frame::OffscreenFrame ref = reference_of(mesh, camera, settings.resolve, size, field);
+    accuracy.emplace();
+    accuracy->reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    accuracy->error = frame_error(result, ref, quantity);
+    if (color) accuracy->flip = reference::flip(result.display, ref.display, size.width, size.height, 4).mean;
+  }
 
   const io::FloatImage image = frame_image(result, output, color);
   files.write(output, [&](const std::string& file) { io::write_image(file, image); });
@@ -222,9 +249,11 @@ int cmd_render(const std::vector<std::string>& args) {
   const double cells = static_cast<double>(std::max<size_t>(mesh.tets.size(), 1));
   const double pixels = static_cast<double>(size.width) * size.height;
   if (!cpu) {
-    std::cout << "  backend: " << report.backend << (settings.backend_reason.empty() ? "" : " (" + settings.backend_reason + ")")
-              << "; its memory " << report.backend_bytes << " bytes (" << json_number(static_cast<double>(report.backend_bytes) / cells)
-              << " per cell, " << json_number(static_cast<double>(report.backend_bytes) / pixels) << " per pixel)\n";
+    std::cout << "  backend: " << report.backend << (settings.backend_reason.empty() ? "" : " (" + settings.backend_reason + ")");
+    if (report.backend_bytes > 0)  // the compute backend's tile lists and keys (the mesh backend has none)
+      std::cout << "; its memory " << report.backend_bytes << " bytes (" << json_number(static_cast<double>(report.backend_bytes) / cells)
+                << " per cell, " << json_number(static_cast<double>(report.backend_bytes) / pixels) << " per pixel)";
+    std::cout << "\n";
     if (report.counts_known)
       std::cout << "  pairs: " << report.pairs << " (tile, cell); pixels composited out of exact order: " << report.inexact_pixels
                 << "; tiles rastered in chunks: " << report.split_tiles << " (" << report.chunks << " chunks, " << report.redone_tiles
@@ -246,6 +275,14 @@ int cmd_render(const std::vector<std::string>& args) {
               << json_number(timing->total_ms.median) << ", worst " << json_number(timing->total_ms.worst) << ")";
   std::cout << "\n";
   if (timing) print_sm_clock(std::cout, *timing);
+  if (accuracy) {
+    std::cout << "  against the CPU reference (double precision, exact per-pixel order; " << json_number(accuracy->reference_ms)
+              << " ms CPU): RMSE " << json_number(accuracy->error.rmse) << ", largest difference " << json_number(accuracy->error.max_abs)
+              << (color ? " (display RGB)" : "");
+    if (color) std::cout << ", FLIP " << json_number(accuracy->flip);
+    if (accuracy->error.non_finite) std::cout << "; " << accuracy->error.non_finite << " values not finite";
+    std::cout << "\n";
+  }
   for (const auto& p : result.report.cpu_passes) std::cout << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
   if (result.report.counted) {
     std::cout << "  drawn: " << result.report.fragments << " fragments";
@@ -309,6 +346,11 @@ int cmd_render(const std::vector<std::string>& args) {
     js["gpu_ms_total"] = total;
     if (timing) js["frame_ms"] = {{"best", timing->total_ms.best}, {"median", timing->total_ms.median}, {"worst", timing->total_ms.worst}};
     js["validation_messages"] = validation_messages;
+    if (accuracy) {
+      js["reference_error"] = {{"rmse", accuracy->error.rmse}, {"max_abs", accuracy->error.max_abs},
+                               {"non_finite", accuracy->error.non_finite}, {"reference_cpu_ms", accuracy->reference_ms}};
+      if (color) js["reference_error"]["flip"] = accuracy->flip;
+    }
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets everything up and runs Prismoid on the embedded default dataset: the window when a
 # display is available, otherwise a headless render to out/default.png with per-pass GPU
-# times. Arguments, when given, go to the prismoid executable instead.
+# times and its error against the CPU reference. Arguments, when given, go to the prismoid executable instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
@@ -15,4 +15,6 @@ if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]; then
   exec build/app/prismoid view
 fi
 mkdir -p out
-exec build/app/prismoid render --output out/default.png --stats out/default.json
+# The first image: the default dataset's colour in exact order, with what it cost (GPU time of each
+# pass, best and median of 3 frames) and how far it is from the CPU double-precision reference.
+exec build/app/prismoid render --frames 3 --reference-error --output out/default.png --stats out/default.json

@@ -1,5 +1,6 @@
 #include "app/common/reference_frame.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -104,6 +105,24 @@ frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& 
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   f.passes.push_back({"reference (CPU, double, analytic field)", ms});
   return f;
+}
+
+frame::OffscreenFrame reference_of(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+                                   VkExtent2D size, bool field) {
+  return field ? render_field_reference(mesh, camera, resolve, size) : render_reference(mesh, camera, resolve, size);
+}
+
+double error_peak(const frame::OffscreenFrame& ref, volume::Quantity q) {
+  if (q != volume::Quantity::OpticalDepth) return 1.0;
+  double peak = 0.0;
+  for (float v : ref.quantity)
+    if (std::isfinite(v)) peak = std::max(peak, double(v));
+  return peak;
+}
+
+reference::ImageError frame_error(const frame::OffscreenFrame& test, const frame::OffscreenFrame& ref, volume::Quantity q) {
+  if (q == volume::Quantity::Color) return reference::image_error(test.display, ref.display, 1.0, 4, 3);
+  return reference::image_error(test.quantity, ref.quantity, error_peak(ref, q), 1, 1);
 }
 
 }  // namespace prismoid::app

@@ -5,6 +5,7 @@
 #include <vulkan/vulkan.h>
 
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/metrics/image_error.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -20,5 +21,15 @@ frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera
 // The analytic field in resolve.march (what interval-march approximates).
 frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                              VkExtent2D size);
+
+// The CPU reference of the frame a command line asks for: of the analytic field when there is
+// one (`field`), else of the mesh.
+frame::OffscreenFrame reference_of(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+                                   VkExtent2D size, bool field);
+
+// The signal range a PSNR is relative to: the reference's largest optical depth, else 1.
+double error_peak(const frame::OffscreenFrame& ref, volume::Quantity q);
+// How far `test` is from `ref`: of the display RGB for colour, else of the quantity.
+reference::ImageError frame_error(const frame::OffscreenFrame& test, const frame::OffscreenFrame& ref, volume::Quantity q);
 
 }  // namespace prismoid::app

@@ -1,6 +1,7 @@
 #include "app/common/volume_options.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 
 #include <glm/geometric.hpp>
@@ -60,9 +61,30 @@ const frame::VolumeMode& volume_mode_from(const ParsedArgs& a, volume::Quantity 
   return *mode;
 }
 
+ColourLook default_colour_look(const TetMesh& mesh) {
+  ColourLook look;
+  const auto& field = mesh.point_scalars.empty() ? mesh.cell_scalars : mesh.point_scalars;
+  if (!field.empty()) {
+    const auto [lo, hi] = std::minmax_element(field.begin(), field.end());
+    std::vector<double> sorted(field.begin(), field.end());
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    if (*hi > *lo) look.opacity_from = std::clamp((median - *lo) / (*hi - *lo), kLowestHidden, kMostHidden);
+  }
+  const Bounds b = bounds_of(mesh);
+  const double diagonal = glm::length(b.max - b.min);
+  if (diagonal > 0.0 && std::isfinite(diagonal)) look.density_scale = kDiagonalOpticalDepth / diagonal;
+  return look;
+}
+
 // The transfer function the color options describe, over the data's scalar range unless given.
 volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh) {
-  volume::TransferFunction tf = io::transfer_function_from(a.has("tf") ? a.values.at("tf") : "cool-to-warm");
+  const ColourLook look = default_colour_look(mesh);
+  volume::TransferFunction tf = io::transfer_function_from(a.has("tf") ? a.values.at("tf") : std::string(kDefaultColourMap));
+  if (!a.has("tf")) {
+    tf.opacity = {{0.0, 0.0}, {look.opacity_from, 0.0}, {1.0, 1.0}};
+    tf.name = std::string(kDefaultColourMap) + ", opacity from the field's median";
+  }
   const auto& field = mesh.point_scalars.empty() ? mesh.cell_scalars : mesh.point_scalars;
   if (field.empty())
     throw InputError(mesh.name, "has no scalar field for --quantity color (choose a point or cell array with --array NAME)");
@@ -78,7 +100,7 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
     tf.range_lo = *lo;
     tf.range_hi = *hi > *lo ? *hi : *lo + 1.0;  // a constant field still maps somewhere
   }
-  tf.density_scale = a.has("density-scale") ? parse_double("density-scale", a.values.at("density-scale")) : 1.0;
+  tf.density_scale = a.has("density-scale") ? parse_double("density-scale", a.values.at("density-scale")) : look.density_scale;
   const std::string name = tf.name;
   tf.name = "--tf " + name;
   volume::validate(tf);
@@ -97,9 +119,13 @@ const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-r
 VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
   VolumeChoice v;
   volume::Quantity& quantity = v.quantity;
+  // The embedded default dataset, asked for nothing in particular, shows what Prismoid is for:
+  // its smooth density's colour, composited in exact order. Files keep transmittance unless told.
+  const bool first_look = a.files.empty() && !a.has("quantity") && !a.has("mode");
   if (a.has("quantity")) quantity = quantity_of_name(a.values.at("quantity"));
+  else if (first_look) quantity = volume::Quantity::Color;
   const bool color = quantity == volume::Quantity::Color;
-  v.mode = &volume_mode_from(a, quantity);
+  v.mode = first_look ? frame::find_volume_mode(frame::Ordering::Exact, false) : &volume_mode_from(a, quantity);
   const frame::VolumeMode& mode = *v.mode;
   const std::string name(mode.name);
   frame::FrameSettings& settings = v.settings;
@@ -150,6 +176,7 @@ VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
   if (color) {
     settings.resolve.transfer = transfer_from(a, mesh);
     if (a.has("preintegration-size")) settings.resolve.preintegration_size = parse_uint("preintegration-size", a.values.at("preintegration-size"));
+    settings.resolve.background = kDefaultColourBackground;
     if (a.has("background")) {
       const glm::dvec3 bg = parse_vec3("background", a.values.at("background"));
       if (glm::any(glm::lessThan(bg, glm::dvec3(0.0))) || glm::any(glm::greaterThan(bg, glm::dvec3(1.0))))

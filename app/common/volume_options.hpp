@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "app/common/cli_args.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/frame/volume_modes.hpp"
@@ -28,6 +30,27 @@ volume::Quantity quantity_of_name(const std::string& name);
 // The volume mode --mode names (the table's default for the quantity without it); InputError
 // naming every mode for a name that is none.
 const frame::VolumeMode& volume_mode_from(const ParsedArgs& a, volume::Quantity quantity);
+
+// Colour's look when the command line names none (the user guide states these rules):
+// - the colour map is viridis (perceptually ordered, readable on a dark background);
+// - the opacity is 0 up to the field's median (at least 0.2, at most 0.8 of the range), rising
+//   linearly to 1 at the top of the range, so the bulk of the data (often empty space or a
+//   smooth background) stays clear and the structure above it shows;
+// - the extinction at opacity 1 (--density-scale) is kDiagonalOpticalDepth over the diagonal of
+//   the data's bounds, so that a dataset's look does not depend on its units: a ray across it
+//   through opacity 1 would have optical depth 35; through the typical opacity of the visible
+//   part (about 0.3) about 10, opaque enough to hide what lies behind the densest structure,
+//   clear enough to see into the rest;
+// - the background is almost black, which emission reads best against.
+inline constexpr const char* kDefaultColourMap = "viridis";
+inline constexpr double kLowestHidden = 0.2, kMostHidden = 0.8;
+inline constexpr double kDiagonalOpticalDepth = 35.0;
+inline constexpr glm::vec3 kDefaultColourBackground{0.01f, 0.01f, 0.015f};
+struct ColourLook {
+  double opacity_from = kLowestHidden;  // normalized scalar where the opacity starts to rise
+  double density_scale = 1.0;
+};
+ColourLook default_colour_look(const TetMesh& mesh);
 
 // The transfer function the color options describe, over the data's scalar range unless given.
 volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh);

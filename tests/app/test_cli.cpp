@@ -393,6 +393,88 @@ TEST(Cli, ColorInExactOrderMatchesTheReference) {
   EXPECT_EQ(js.find("\"name\": \"sort\""), std::string::npos) << js;  // the exact order is made on the CPU
 }
 
+// The first image a new user gets (`render` of the embedded dataset, no options): colour of its
+// smooth point field in exact order, through the default look (viridis, opacity rising from the
+// field's median but at least 0.2 of its range, extinction 35 over the bounds' diagonal, an
+// almost black background), computed here from those rules independently; and, with
+// --reference-error, how far it is from the CPU reference, which is this test's reference too.
+TEST(Cli, TheFirstImageIsExactOrderColourWithItsErrorPrinted) {
+  const fs::path pfm = work_dir() / "first.pfm", stats = work_dir() / "first.json";
+  const CliRun r = run("render --validate --reference-error --size 40x30 --eye 2,1.5,4.5 --target 0,0,0 --output " + pfm.string() +
+                       " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("against the CPU reference (double precision, exact per-pixel order"), std::string::npos) << r.out;
+  const std::string js = slurp(stats);
+  EXPECT_NE(js.find("\"quantity\": \"color\""), std::string::npos) << js;
+  EXPECT_NE(js.find("\"mode\": \"interval-exact-order\""), std::string::npos) << js;
+  EXPECT_NE(js.find("\"order_exact\": true"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"transfer_function\": \"viridis, opacity from the field's median\""), std::string::npos) << js;
+  const nlohmann::json parsed = nlohmann::json::parse(js);
+  ASSERT_TRUE(parsed.contains("reference_error")) << js;
+  const double printed_rmse = parsed["reference_error"]["rmse"].get<double>();
+  EXPECT_EQ(parsed["reference_error"]["non_finite"].get<size_t>(), 0u);
+
+  const TetMesh mesh = make_default_volume();
+  Camera c;
+  c.eye = {2, 1.5, 4.5};
+  c.target = {0, 0, 0};
+  c.near_distance = fit_camera(bounds_of(mesh)).near_distance;
+  volume::TransferFunction tf = volume::preset("viridis");
+  std::vector<double> values = mesh.point_scalars;
+  std::sort(values.begin(), values.end());
+  tf.range_lo = values.front();
+  tf.range_hi = values.back();
+  const double median = values[values.size() / 2];
+  const double from = std::clamp((median - tf.range_lo) / (tf.range_hi - tf.range_lo), 0.2, 0.8);
+  tf.opacity = {{0.0, 0.0}, {from, 0.0}, {1.0, 1.0}};
+  const Bounds b = bounds_of(mesh);
+  tf.density_scale = 35.0 / glm::length(b.max - b.min);
+  const auto ref = reference::emission_absorption_image(mesh, tf, c, 40, 30);
+  const glm::dvec3 background(0.01f, 0.01f, 0.015f);
+  const io::FloatImage img = io::read_pfm(pfm.string());
+  ASSERT_EQ(img.pixels.size(), 3 * ref.pixels.size());
+  double rms = 0.0, peak = 0.0;
+  for (size_t i = 0; i < ref.pixels.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double shown = ref.pixels[i][k] + (1.0 - ref.pixels[i].a) * background[k];
+      peak = std::max(peak, shown);
+      const double d = double(img.pixels[3 * i + size_t(k)]) - shown;
+      rms += d * d;
+    }
+  rms = std::sqrt(rms / double(img.pixels.size()));
+  EXPECT_GT(peak, 0.1);       // the structure is there, not a faint haze
+  EXPECT_LT(rms, 1e-3 * peak);
+  // The printed error is this image's against this reference (float32 rounding of the reference
+  // display aside: 1e-7 per value).
+  EXPECT_NEAR(printed_rmse, rms, 1e-6 + 1e-3 * rms);
+  expect_refused("render --mode reference --reference-error --size 8x8 --output " + (work_dir() / "r.pfm").string(),
+                 "is the reference itself");
+}
+
+// Colour's default extinction follows the data's size, so the same data in other units (here
+// millimetres for metres) looks the same: neither vanishing when large nor saturating when small.
+TEST(Cli, ColourLooksTheSameWhateverTheDataUnits) {
+  TetMesh metres = make_default_volume();
+  TetMesh millimetres = metres;
+  for (glm::dvec3& p : millimetres.points) p *= 1000.0;
+  const fs::path a = work_dir() / "metres.vtu", b = work_dir() / "millimetres.vtu";
+  io::write_tet_mesh_vtu(a.string(), metres);
+  io::write_tet_mesh_vtu(b.string(), millimetres);
+  const std::string common = " --quantity color --mode interval-exact-order --size 32x24 --output ";
+  const fs::path pa = work_dir() / "metres.pfm", pb = work_dir() / "millimetres.pfm";
+  ASSERT_EQ(run("render " + a.string() + common + pa.string()).code, 0);
+  ASSERT_EQ(run("render " + b.string() + common + pb.string()).code, 0);
+  const io::FloatImage ia = io::read_pfm(pa.string()), ib = io::read_pfm(pb.string());
+  ASSERT_EQ(ia.pixels.size(), ib.pixels.size());
+  double peak = 0.0, largest = 0.0;
+  for (size_t i = 0; i < ia.pixels.size(); ++i) {
+    peak = std::max(peak, double(ia.pixels[i]));
+    largest = std::max(largest, std::abs(double(ia.pixels[i]) - double(ib.pixels[i])));
+  }
+  EXPECT_GT(peak, 0.1);
+  EXPECT_LT(largest, 1e-4);  // float32 geometry at either scale; a fixed density would differ by 1000x in optical depth
+}
+
 TEST(Cli, SortedColorRunsTheSortPassAndSaysSo) {
   const fs::path stats = work_dir() / "sorted.json";
   const CliRun r = run("render --quantity color --size 24x18 --output " + (work_dir() / "sorted.png").string() + " --stats " +
