@@ -18,7 +18,7 @@ namespace prismoid::app {
 namespace {
 
 // A surface frame as the surface renderer plans it: the scene's lights (a file without lights
-// gets the default headlight and sky, as render and the window give it), shadows on where a light
+// gets the default key light (it casts shadows) and sky, as render and the window give it), shadows on where a light
 // casts them, on a device that traces rays (without one, the plan skips the shadow rays).
 int surface_plan(const ParsedArgs& a, const surface::SurfaceMode& mode) {
   const std::string name(mode.name);
@@ -27,7 +27,7 @@ int surface_plan(const ParsedArgs& a, const surface::SurfaceMode& mode) {
   const frame::SurfaceContents c = surface::surface_contents(lit);
   std::cout << scene.name << ": " << c.triangles << " triangles, " << c.point_lights << " point and " << c.directional_lights
             << " directional lights, " << c.emissive_triangles << " emissive triangles, " << (c.sky ? "a sky" : "no sky")
-            << (lit.directional_lights.size() != scene.directional_lights.size() ? " (no lights of its own: the default headlight and sky)" : "")
+            << (lit.directional_lights.size() != scene.directional_lights.size() ? " (no lights of its own: the default key light (it casts shadows) and sky)" : "")
             << "; mode " << name << "\n";
   if (!mode.gpu()) {
     std::cout << "plan: " << mode.summary << ", on the CPU (no GPU passes)\n";

@@ -62,7 +62,7 @@ int cmd_render_path_reference(const std::vector<std::string>& args, const surfac
             << json_number(image.seconds) << " s\n"
             << "  " << c.rays << " rays; guards: " << c.zero_pdf << " zero-pdf samples, " << c.non_finite << " non-finite samples, "
             << c.backfacing_normals << " back-facing shading normals, " << c.degenerate_triangles << " degenerate triangles skipped\n";
-  if (lit.directional_lights.size() != scene.directional_lights.size()) std::cout << "  no lights in the scene: default headlight and sky\n";
+  if (lit.directional_lights.size() != scene.directional_lights.size()) std::cout << "  no lights in the scene: default key light (it casts shadows) and sky\n";
   if (a.has("stats")) {
     StatsJson js;
     js["device"] = "CPU path tracer (double precision)";

@@ -69,7 +69,7 @@ const surface::SurfaceMode* surface_mode_named(const std::vector<std::string>& a
 std::string surface_render_help() {
   std::ostringstream out;
   out << "\nSurface modes (FILE: cornell-box, furnace:A[:LE] or a surface file .vtp .stl .obj .ply .off; a file\n"
-         "without lights gets a headlight and a sky; linear RGB; --size default 256x256; --array, --component,\n"
+         "without lights gets a key light and a sky; linear RGB; --size default 256x256; --array, --component,\n"
          "--tf and --tf-range colour a surface file by a data array, as in the window):\n";
   for (const surface::SurfaceMode& m : surface::surface_mode_table()) out << "  " << m.name << ": " << m.summary << "\n";
   out << "Their options, by backend (the modes of one backend share them):\n";
@@ -189,7 +189,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   std::cout << "  covered: " << covered << " pixels" << (c.shaded_field.empty() ? "" : ", " + std::to_string(c.shaded) + " shading invocations")
             << (c.summary.empty() ? "" : c.summary.front()) << "\n";
   for (size_t i = 1; i < c.summary.size(); ++i) std::cout << "  " << c.summary[i] << "\n";
-  if (default_lighting) std::cout << "  no lights in the scene: default headlight and sky\n";
+  if (default_lighting) std::cout << "  no lights in the scene: default key light (it casts shadows) and sky\n";
 
   if (a.has("stats")) {
     StatsJson js;

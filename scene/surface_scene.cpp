@@ -128,10 +128,16 @@ bool has_light(const SurfaceScene& scene) {
   return false;
 }
 
+glm::dvec3 default_key_direction(const Camera& camera) {
+  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
+  const glm::dvec3 up = glm::cross(right, forward);
+  return glm::normalize(forward - kKeyDown * up + kKeySide * right);
+}
+
 SurfaceScene with_default_lighting(SurfaceScene scene, const Camera& camera) {
   if (has_light(scene)) return scene;
-  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
-  scene.directional_lights.push_back({forward, glm::dvec3(std::numbers::pi * kHeadlightScale)});
+  scene.directional_lights.push_back({default_key_direction(camera), glm::dvec3(std::numbers::pi * kHeadlightScale)});
   scene.sky = Sky{glm::dvec3(kDefaultSkyTop), glm::dvec3(kDefaultSkyBottom), camera.up};
   return scene;
 }

@@ -105,15 +105,22 @@ Bounds bounds_of(const SurfaceScene& scene);
 // power, a non-degenerate triangle whose material emits, or a sky that is not black.
 bool has_light(const SurfaceScene& scene);
 
-// The "never black" rule: a scene without light (has_light false) gets a headlight and a sky,
-// so every surface the camera sees is lit. The headlight is a directional light travelling
-// along the camera's view direction with irradiance pi * kHeadlightScale (a white diffuse
-// surface facing the camera has radiance kHeadlightScale), so it follows the camera and casts
-// its shadows behind what it lights; the sky is kDefaultSkyTop above, kDefaultSkyBottom below
-// (up = the camera's up). Scenes with light are returned unchanged.
+// The "never black" rule: a scene without light (has_light false) gets a light rig that shows
+// form: a key light and a sky, so every surface the camera sees is lit. The key light is
+// directional, arriving from above the camera and to its left (its travel direction is the view
+// direction turned by kKeyDown towards the camera's down and kKeySide towards its right, about
+// 40 degrees off the view axis): surfaces turned towards it are bright, the others darker, and
+// it casts shadows beside and below what it lights, where the camera sees them (a headlight's
+// fall behind the objects, out of sight). Its irradiance is pi * kHeadlightScale (a white diffuse
+// surface facing it has radiance kHeadlightScale). The sky is kDefaultSkyTop above,
+// kDefaultSkyBottom below (up = the camera's up), the fill in the key light's shadows. Scenes
+// with light are returned unchanged.
 inline constexpr double kHeadlightScale = 0.8;
+inline constexpr double kKeyDown = 0.7, kKeySide = 0.45;
 inline constexpr double kDefaultSkyTop = 0.3;
 inline constexpr double kDefaultSkyBottom = 0.1;
+// The default key light's travel direction for a camera (unit length).
+glm::dvec3 default_key_direction(const Camera& camera);
 SurfaceScene with_default_lighting(SurfaceScene scene, const Camera& camera);
 
 }  // namespace prismoid

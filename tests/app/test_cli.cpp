@@ -554,9 +554,14 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
     if (row[sweep] == "cells") cell_counts.insert(row[cells]);
     if (row[quantity] == "color") {  // FLIP: 0 identical .. 1; the close images here are near 0
       const double f = std::stod(row[flip]);
-      // (GI rows carry Monte Carlo noise against a path-traced reference: looser, compared below)
+      // GI rows carry Monte Carlo noise against a path-traced reference: looser, compared below.
+      // VTK's mappers blend in 8 bits, and on colour's near-black default background FLIP (which
+      // compares in a perceptual space that spreads dark values apart) sees their 1/255 steps:
+      // up to 0.1. The analytic field's tetrahedra are not close to the field (see above).
       const bool gi = row[mode].rfind("htex-", 0) == 0;
-      EXPECT_TRUE(f >= 0.0 && f < (gi ? 0.25 : 0.05)) << row[dataset] << " " << row[mode] << " flip " << f;
+      const bool eight_bit = row[mode].rfind("vtk-", 0) == 0;
+      const double bound = gi ? 0.25 : (eight_bit || field) ? 0.1 : 0.05;
+      EXPECT_TRUE(f >= 0.0 && f < bound) << row[dataset] << " " << row[mode] << " flip " << f;
       if (row[sweep] == "surfaces") flip_of[row[mode] + "/" + row[settings].substr(0, row[settings].find(' '))] = f;
       if (row[dataset].rfind("default", 0) == 0) flip_of[row[mode] + "/" + row[settings]] = f;
     } else {
@@ -1138,7 +1143,7 @@ TEST(Cli, PathReferenceLightsASurfaceFileThatHasNoLights) {
   }
   const CliRun r = run("render " + off.string() + " --mode path-reference --size 12x12 --spp 8 --eye 2,1.5,3 --output " + pfm.string());
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("default headlight and sky"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("default key light (it casts shadows) and sky"), std::string::npos) << r.out;
   const io::FloatImage img = io::read_pfm(pfm.string());
   for (float value : img.pixels) EXPECT_GT(value, 0.0f);  // never black: the cube and the sky behind it
 

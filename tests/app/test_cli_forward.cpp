@@ -74,7 +74,7 @@ TEST(CliForward, SupersampledCornellBoxAveragesTheReference) {
   EXPECT_TRUE(fs::exists(png));
 }
 
-// A surface file has no lights: the default headlight and sky light it, and the sky is seen
+// A surface file has no lights: the default key light (it casts shadows) and sky light it, and the sky is seen
 // around it, so no pixel is black.
 TEST(CliForward, LightsASurfaceFileThatHasNoLights) {
   const fs::path off = work_dir() / "cube.off", pfm = work_dir() / "cube.pfm";
@@ -87,7 +87,7 @@ TEST(CliForward, LightsASurfaceFileThatHasNoLights) {
   }
   const CliRun r = run("render " + off.string() + " --mode forward --size 20x20 --eye 2,1.5,3 --output " + pfm.string());
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("default headlight and sky"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("default key light (it casts shadows) and sky"), std::string::npos) << r.out;
   const io::FloatImage img = io::read_pfm(pfm.string());
   for (float v : img.pixels) EXPECT_GT(v, 0.0f);
 }
@@ -145,8 +145,8 @@ TEST(CliForward, ShadowsOnMatchesTheShadowedTwin) {
     EXPECT_NE(js.find(key), std::string::npos) << key << " in " << js;
 }
 
-// On a surface file (default headlight and sky) --shadows on works and, the cube being convex
-// and lit from the eye, casts no shadow on what the camera sees: the image of --shadows off (to
+// On a surface file (the default key light, which casts shadows, and sky) --shadows on works
+// and, the cube being convex, casts no shadow on itself: the image of --shadows off (to
 // the raster path's sub-pixel snapping, which moves the shaded point by 2^-8 pixel).
 TEST(CliForward, ShadowsOnASurfaceFile) {
   const fs::path off = work_dir() / "shadow_cube.off", on_pfm = work_dir() / "cube_on.pfm", off_pfm = work_dir() / "cube_off.pfm";

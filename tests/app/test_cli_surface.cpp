@@ -31,8 +31,8 @@ TEST(CliSurface, RenderHelpListsEverySurfaceModeOfTheTable) {
 }
 
 // The planner's surface frame without a GPU: cornell-box's default mode (the table's first),
-// a GI mode, and a surface file, which has no lights and so gets the headlight (which casts
-// shadows) and the sky (which GI bounces).
+// a GI mode, and a surface file, which has no lights and so gets the default key light (which
+// casts shadows) and the sky (which GI bounces).
 TEST(CliSurface, InfoPlanGivesTheSurfaceFramesPassesWithReasons) {
   CliRun r = run("info cornell-box --plan");
   ASSERT_EQ(r.code, 0) << r.err;

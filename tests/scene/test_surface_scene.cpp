@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
@@ -33,16 +34,22 @@ glm::dvec3 winding_normal(const SceneMesh& m, size_t t) {
   return glm::normalize(glm::cross(p[i[1]] - p[i[0]], p[i[2]] - p[i[0]]));
 }
 
-TEST(SurfaceScene, SceneWithoutLightGetsAHeadlightAndASky) {
+TEST(SurfaceScene, SceneWithoutLightGetsAKeyLightAndASky) {
   const SurfaceScene dark = unlit_quad();
   EXPECT_FALSE(has_light(dark));
   const SurfaceScene lit = with_default_lighting(dark, dark.camera);
   EXPECT_TRUE(has_light(lit));
   ASSERT_EQ(lit.directional_lights.size(), 1u);
   EXPECT_TRUE(lit.point_lights.empty());
-  // The headlight travels along the view direction, with irradiance pi * kHeadlightScale.
+  // The key light arrives from above the camera and to its left, about 40 degrees off the view
+  // axis, with irradiance pi * kHeadlightScale.
   const glm::dvec3 forward = glm::normalize(dark.camera.target - dark.camera.eye);
-  EXPECT_NEAR(glm::dot(glm::normalize(lit.directional_lights[0].direction), forward), 1.0, 1e-15);
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, dark.camera.up));
+  const glm::dvec3 up = glm::cross(right, forward);
+  const glm::dvec3 travel = glm::normalize(lit.directional_lights[0].direction);
+  EXPECT_NEAR(glm::degrees(std::acos(glm::dot(travel, forward))), 39.8, 0.5);
+  EXPECT_LT(glm::dot(travel, up), -0.5);   // travelling down: it comes from above
+  EXPECT_GT(glm::dot(travel, right), 0.3);  // travelling right: it comes from the left
   EXPECT_DOUBLE_EQ(lit.directional_lights[0].irradiance.x, std::numbers::pi * kHeadlightScale);
   // The sky is brighter above than below, and nowhere black.
   EXPECT_GT(lit.sky.radiance({0, 1, 0}).x, lit.sky.radiance({0, -1, 0}).x);
