@@ -1,5 +1,7 @@
 // `prismoid view`: the window.
+#include <algorithm>
 #include <chrono>
+#include <map>
 #include <iostream>
 
 #include <glm/common.hpp>
@@ -115,6 +117,22 @@ std::vector<std::string> window_inputs(const ParsedArgs& a) {
 int report_window(const ViewerReport& report, const ViewerOptions& options, double seconds) {
   std::cout << "presented " << report.frames_presented << " frames on " << report.device_name << " in " << seconds << " s ("
             << report.frames_presented / seconds << " frames per second, window set-up included)\n";
+  if (!report.moving_frames.empty()) {  // how the window kept up while the camera moved
+    std::vector<double> ms;
+    std::map<uint32_t, size_t> levels;
+    for (const auto& [frame_ms, level] : report.moving_frames) {
+      ms.push_back(frame_ms);
+      ++levels[level];
+    }
+    std::sort(ms.begin(), ms.end());
+    const double median = ms[ms.size() / 2];
+    std::cout << "  while the camera moved: " << ms.size() << " frames, median " << median << " ms from recording to end ("
+              << 1000.0 / median << " frames per second), worst " << ms.back() << " ms; resolution:";
+    for (const auto& [level, count] : levels) std::cout << " 1/" << (1u << level) << " x" << count;
+    std::cout << "\n";
+    if (!report.still_frames_ms.empty())
+      std::cout << "  the first frame after it stopped (full resolution): " << report.still_frames_ms.front() << " ms\n";
+  }
   if (options.validation && report.validation_messages > 0) {
     std::cerr << "prismoid: the validation layer reported " << report.validation_messages << " message(s)\n";
     return kValidationMessages;

@@ -26,6 +26,11 @@ struct FrameStats {
   bool counted = false;                    // fragments counted (pipeline statistics)
   uint64_t fragments = 0;
   uint64_t primitives = 0;
+  // The volume's resolution this frame: 1/2^resolution_level of the window per side, coarser
+  // only while the camera moves (moving), to hold target_ms (app/viewer/interactive_scale.hpp).
+  uint32_t resolution_level = 0;
+  bool moving = false;
+  double target_ms = 0.0;
 };
 
 struct RenderRequest {

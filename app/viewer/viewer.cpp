@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
@@ -12,6 +13,7 @@
 #include "app/viewer/dataset_list.hpp"
 #include "app/viewer/compare_panel.hpp"
 #include "app/viewer/compare_view.hpp"
+#include "app/viewer/interactive_scale.hpp"
 #include "app/viewer/window_input.hpp"
 #include "app/viewer/window_loop.hpp"
 #include "app/viewer/viewer_session.hpp"
@@ -68,6 +70,16 @@ class VolumeWindow final : public WindowContent {
   void on_drop(const std::vector<std::string>& paths) override { open_datasets(s_, paths, s_.panel.data.array); }
   void frame_finished(std::vector<vk::PassTiming> passes, bool last) override {
     s_.stats.gpu_passes = std::move(passes);
+    finished_ms_ = 0.0;
+    for (const vk::PassTiming& p : s_.stats.gpu_passes)
+      if (std::isfinite(p.gpu_ms)) finished_ms_ += p.gpu_ms;
+    finished_level_ = in_flight_level_;
+    // Each frame's wall time from its recording to its end, against its motion and resolution
+    // (the scripted window run's numbers: docs/results.md).
+    const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - recorded_at_).count();
+    if (drawn_moving_) s_.report.moving_frames.push_back({wall_ms, in_flight_level_});
+    else if (after_motion_) s_.report.still_frames_ms.push_back(wall_ms);
+    after_motion_ = after_motion_ || drawn_moving_;
     if (!last && s_.renderer.interval_pass().counts_draws()) {
       const auto counts = s_.renderer.interval_pass().read_counts();
       s_.stats.counted = true;
@@ -91,6 +103,19 @@ class VolumeWindow final : public WindowContent {
   }
   void prepare_frame(VkExtent2D extent) override {
     sync_renderer(s_);
+    // While the camera moves (and no comparison needs the window's own size), the volume is drawn
+    // at the resolution that holds the target frame time, and shown scaled up (interactive_scale.hpp).
+    const Camera& now = s_.camera.camera();
+    const bool moved = have_camera_ && (now.eye != last_camera_.eye || now.target != last_camera_.target || now.up != last_camera_.up ||
+                                        now.fovy_degrees != last_camera_.fovy_degrees);
+    last_camera_ = now;
+    have_camera_ = true;
+    scale_.update(moved && s_.state.compare == CompareMode::Off, finished_ms_, finished_level_);
+    finished_ms_ = 0.0;  // each finished frame's time is given once
+    s_.stats.resolution_level = scale_.level();
+    s_.stats.moving = scale_.moving();
+    s_.stats.target_ms = scale_.target_ms();
+    extent = scale_.extent(extent);
     s_.renderer.resize(extent);
     try {
       s_.stats.report = s_.renderer.prepare(s_.camera.camera(), s_.state.settings);
@@ -104,6 +129,9 @@ class VolumeWindow final : public WindowContent {
     s_.renderer.resize(extent);  // the difference view's GPU frame may have left the reference's size
   }
   void record(VkCommandBuffer cmd, vk::GpuTimer& timer, VkImage target, VkExtent2D extent) override {
+    in_flight_level_ = scale_.level();
+    drawn_moving_ = scale_.moving();
+    recorded_at_ = std::chrono::steady_clock::now();
     s_.renderer.record(cmd, s_.camera.camera(), s_.state.settings, timer);
     compare_.record(cmd, s_);
     vk::ScopedPass pass(timer, cmd, "present-blit");
@@ -129,6 +157,13 @@ class VolumeWindow final : public WindowContent {
   const std::vector<ScriptCommand>& script_;
   uint32_t max_tetlet_;
   size_t next_command_ = 0;
+  InteractiveScale scale_;
+  Camera last_camera_;
+  bool have_camera_ = false;
+  uint32_t in_flight_level_ = 0, finished_level_ = 0;
+  std::chrono::steady_clock::time_point recorded_at_;
+  double finished_ms_ = 0.0;  // GPU time of the last finished frame, not yet given to scale_
+  bool drawn_moving_ = false, after_motion_ = false;  // the frame in flight moved; one moved before
 };
 
 }  // namespace

@@ -79,6 +79,11 @@ struct ViewerReport {
   std::vector<FrameComparison> comparisons;  // every comparison the difference view showed, in order
   double compare_reference_seconds = 0.0;
   std::vector<vk::PassTiming> compare_passes;  // split view: B's passes in the last finished frame
+  // Volume window: each frame drawn while the camera moved, as (wall ms from its recording to
+  // its end, its resolution level: 1/2^level per side), and the wall ms of the frames drawn with
+  // a still camera (full resolution) after the first motion.
+  std::vector<std::pair<double, uint32_t>> moving_frames;
+  std::vector<double> still_frames_ms;
 };
 
 // Opens the window on the state's visible datasets and runs until closed (a load still running

@@ -253,7 +253,10 @@ TEST(CliForward, ColoursBySurfaceArraysThroughTheTransferFunction) {
         const auto& hit = ref.pixels[p];
         const glm::dvec3 point = cam.eye + hit.t * reference::ray_direction(cam, w, h, x + 0.5, y + 0.5);
         if (!hit.hit || std::min({point.x, point.y, 1.0 - point.x, 1.0 - point.y}) < 0.03) continue;
-        const size_t row = size_t(h - 1 - y) * w + x;  // PFM rows run bottom-up
+        // io::read_pfm gives row 0 at the top (the file's bottom-up rows are turned). This read
+        // rows upside down until the default light stopped being a headlight: the square's
+        // image was symmetric top to bottom under it, so the error could not show.
+        const size_t row = size_t(y) * w + x;
         for (int c = 0; c < 3; ++c)
           EXPECT_NEAR(double(img.pixels[3 * row + c]), double(ref_rgb[3 * p + c]), 1e-4 * std::abs(double(ref_rgb[3 * p + c])) + 1e-6) << coloring << " " << x << "," << y;
         ++compared;

@@ -2,6 +2,7 @@
 // rules of the view state.
 #include <gtest/gtest.h>
 
+#include "app/viewer/interactive_scale.hpp"
 #include "app/viewer/compare.hpp"
 #include "app/viewer/tf_edit.hpp"
 #include "app/viewer/view_state.hpp"
@@ -176,6 +177,56 @@ TEST(Compare, ReferenceSizeKeepsTheAspectAndTheKeySeesEveryChange) {
   EXPECT_NE(key, app::reference_key(c, other, {64, 48}, 0));
   EXPECT_NE(key, app::reference_key(c, s, {64, 49}, 0));
   EXPECT_NE(key, app::reference_key(c, s, {64, 48}, 1));
+}
+
+}  // namespace
+}  // namespace prismoid
+
+namespace prismoid {
+namespace {
+
+// The window's resolution while the camera moves (app/viewer/interactive_scale.hpp): a frame too
+// slow for the target halves the resolution, step by step; a still camera gets full resolution
+// at once; the next motion starts where the last ended; fast frames keep full resolution.
+TEST(InteractiveScale, HoldsTheTargetWhileMovingAndRefinesWhenStill) {
+  app::InteractiveScale s(100.0);
+  const VkExtent2D window{1280, 800};
+  s.update(true, 0.0, 0);  // first frame: nothing measured yet
+  EXPECT_EQ(s.level(), 0u);
+  // Full resolution takes 1400 ms: coarser one level per measured frame, until one holds.
+  const double ms_at[4] = {1400.0, 380.0, 95.0, 30.0};
+  uint32_t frames = 0;
+  while (frames < 20) {
+    const uint32_t drawn = s.level();
+    s.update(true, ms_at[drawn], drawn);
+    ++frames;
+    if (s.level() == drawn && ms_at[drawn] <= 100.0) break;
+  }
+  EXPECT_EQ(s.level(), 2u);  // 95 ms at 1/4 per side holds 100 ms; 1/2 did not
+  EXPECT_EQ(s.extent(window).width, 320u);
+  EXPECT_EQ(s.extent(window).height, 200u);
+  // It stays there: the finer level's measured 380 ms would miss the target.
+  for (int i = 0; i < 5; ++i) s.update(true, ms_at[s.level()], s.level());
+  EXPECT_EQ(s.level(), 2u);
+  EXPECT_TRUE(s.moving());
+  // The camera stops: the next frame is full resolution.
+  s.update(false, ms_at[2], 2);
+  EXPECT_EQ(s.level(), 0u);
+  EXPECT_EQ(s.extent(window).width, 1280u);
+  EXPECT_FALSE(s.moving());
+  // It moves again: straight back to 1/4, not through the slow levels.
+  s.update(true, ms_at[0], 0);
+  EXPECT_EQ(s.level(), 2u);
+  // Where full resolution holds the target, moving changes nothing.
+  app::InteractiveScale fast(100.0);
+  for (int i = 0; i < 10; ++i) fast.update(true, 12.0, fast.level());
+  EXPECT_EQ(fast.level(), 0u);
+  // Never coarser than 1/8, and never an empty image.
+  app::InteractiveScale slow(100.0);
+  for (int i = 0; i < 20; ++i) slow.update(true, 5000.0, slow.level());
+  EXPECT_EQ(slow.level(), app::InteractiveScale::kCoarsest);
+  EXPECT_EQ(slow.extent({5, 3}).width, 1u);
+  EXPECT_EQ(slow.extent({5, 3}).height, 1u);
 }
 
 }  // namespace
