@@ -128,7 +128,8 @@ int report_window(const ViewerReport& report, const ViewerOptions& options, doub
     const double median = ms[ms.size() / 2];
     std::cout << "  while the camera moved: " << ms.size() << " frames, median " << median << " ms from recording to end ("
               << 1000.0 / median << " frames per second), worst " << ms.back() << " ms; resolution:";
-    for (const auto& [level, count] : levels) std::cout << " 1/" << (1u << level) << " x" << count;
+    for (const auto& [level, count] : levels)
+      std::cout << (level > 3 ? std::string(" coarse proxy at 1/8") : " 1/" + std::to_string(1u << level)) << " x" << count;
     std::cout << "\n";
     if (!report.still_frames_ms.empty())
       std::cout << "  the first frame after it stopped (full resolution): " << report.still_frames_ms.front() << " ms\n";

@@ -15,6 +15,9 @@ namespace prismoid::app {
 class InteractiveScale {
  public:
   static constexpr uint32_t kCoarsest = 3;  // 1/8 per side
+  // One step further where the caller has a coarse proxy of the data (scene/coarse_proxy.hpp):
+  // the proxy's fewer cells, at 1/8 per side, for data whose cost is per cell rather than per pixel.
+  static constexpr uint32_t kProxy = 4;
   explicit InteractiveScale(double target_ms = 100.0) : target_ms_(target_ms) {}
 
   // Once per frame, before it is drawn: whether the camera moved since the last frame, and the
@@ -25,10 +28,12 @@ class InteractiveScale {
   // level's would: the finer level has four times the pixels).
   void update(bool moving, double frame_ms, uint32_t frame_level);
 
+  void allow_proxy(bool allowed) { proxy_allowed_ = allowed; }
   uint32_t level() const { return level_; }
+  bool proxy() const { return level_ == kProxy; }
   bool moving() const { return moving_; }
   double target_ms() const { return target_ms_; }
-  // The size the volume is drawn at for a window of `window` pixels (at least 1x1).
+  // The size the volume is drawn at for a window of `window` pixels (at least 1x1; the proxy at 1/8).
   VkExtent2D extent(VkExtent2D window) const;
 
  private:
@@ -38,7 +43,8 @@ class InteractiveScale {
   uint32_t moving_level_ = 0;  // the level of the last moving frame
   bool moving_ = false;
   // The last frame time seen at each level (0: none since the window last switched to it).
-  std::array<double, kCoarsest + 1> measured_ms_{};
+  std::array<double, kProxy + 1> measured_ms_{};
+  bool proxy_allowed_ = false;
 };
 
 }  // namespace prismoid::app

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <sstream>
 
 #include "app/common/backend_cache.hpp"
@@ -14,6 +16,7 @@
 #include "app/viewer/compare_panel.hpp"
 #include "app/viewer/compare_view.hpp"
 #include "app/viewer/interactive_scale.hpp"
+#include "scene/coarse_proxy.hpp"
 #include "app/viewer/window_input.hpp"
 #include "app/viewer/window_loop.hpp"
 #include "app/viewer/viewer_session.hpp"
@@ -56,8 +59,8 @@ void run_script(ViewerSession& s, const CompareView& compare, const std::vector<
 // (and split view's B) blitted to the swapchain, the side panel, HUD and compare overlay.
 class VolumeWindow final : public WindowContent {
  public:
-  VolumeWindow(ViewerSession& s, CompareView& compare, const std::vector<ScriptCommand>& script, uint32_t max_tetlet)
-      : s_(s), compare_(compare), script_(script), max_tetlet_(max_tetlet) {}
+  VolumeWindow(ViewerSession& s, CompareView& compare, const std::vector<ScriptCommand>& script, uint32_t max_tetlet, double target_ms)
+      : s_(s), compare_(compare), script_(script), max_tetlet_(max_tetlet), scale_(target_ms) {}
 
   CameraController& camera() override { return s_.camera; }
   bool show_ui() const override { return s_.state.show_ui; }
@@ -110,20 +113,29 @@ class VolumeWindow final : public WindowContent {
                                         now.fovy_degrees != last_camera_.fovy_degrees);
     last_camera_ = now;
     have_camera_ = true;
+    // Past 1/8 of the window, fewer cells: a coarse proxy of the data (not for marching, whose
+    // field the proxy does not carry, nor for data already about as coarse).
+    const volume::ResolveSettings& resolve = s_.state.settings.resolve;
+    scale_.allow_proxy(!resolve.march.enabled && resolve.quantity != volume::Quantity::Isosurface &&
+                       s_.state.drawn().mesh && s_.state.drawn().mesh->tets.size() > 4 * kProxyCells);
     scale_.update(moved && s_.state.compare == CompareMode::Off, finished_ms_, finished_level_);
     finished_ms_ = 0.0;  // each finished frame's time is given once
+    if (scale_.proxy()) build_proxy();
+    if (scale_.proxy()) s_.stats.cells = proxy_mesh_->tets.size();
+    else if (s_.state.drawn().mesh) s_.stats.cells = s_.state.drawn().mesh->tets.size();
     s_.stats.resolution_level = scale_.level();
     s_.stats.moving = scale_.moving();
     s_.stats.target_ms = scale_.target_ms();
     extent = scale_.extent(extent);
-    s_.renderer.resize(extent);
+    frame::FrameRenderer& drawing = active();
+    drawing.resize(extent);
     try {
-      s_.stats.report = s_.renderer.prepare(s_.camera.camera(), s_.state.settings);
+      s_.stats.report = drawing.prepare(s_.camera.camera(), s_.state.settings);
       s_.last_good = s_.state.settings;
     } catch (const InputError& e) {  // a setting this data or device refuses: say so, keep the last good one
       s_.message(e.what());
       s_.state.settings = s_.last_good;
-      s_.stats.report = s_.renderer.prepare(s_.camera.camera(), s_.state.settings);
+      s_.stats.report = drawing.prepare(s_.camera.camera(), s_.state.settings);
     }
     compare_.update(s_);
     s_.renderer.resize(extent);  // the difference view's GPU frame may have left the reference's size
@@ -132,10 +144,11 @@ class VolumeWindow final : public WindowContent {
     in_flight_level_ = scale_.level();
     drawn_moving_ = scale_.moving();
     recorded_at_ = std::chrono::steady_clock::now();
-    s_.renderer.record(cmd, s_.camera.camera(), s_.state.settings, timer);
+    frame::FrameRenderer& drawing = active();
+    drawing.record(cmd, s_.camera.camera(), s_.state.settings, timer);
     compare_.record(cmd, s_);
     vk::ScopedPass pass(timer, cmd, "present-blit");
-    compare_.present(cmd, s_, s_.renderer.display(), target, extent);
+    compare_.present(cmd, s_, drawing.display(), target, extent);
   }
   std::optional<std::string> take_capture() override { return std::exchange(s_.capture_path, std::nullopt); }
   void capture_failed(const std::string& message) override { s_.failed("Could not write", message); }
@@ -157,7 +170,27 @@ class VolumeWindow final : public WindowContent {
   const std::vector<ScriptCommand>& script_;
   uint32_t max_tetlet_;
   size_t next_command_ = 0;
+  // What draws this frame: the data's renderer, or the coarse proxy's while the camera moves.
+  frame::FrameRenderer& active() { return scale_.proxy() && proxy_renderer_ ? *proxy_renderer_ : s_.renderer; }
+  // The proxy of the drawn data, made the first time it is needed and again when the data changes.
+  void build_proxy() {
+    const std::shared_ptr<const TetMesh>& mesh = s_.state.drawn().mesh;
+    if (proxy_renderer_ && proxy_of_ == mesh) return;
+    s_.device.wait_idle();
+    proxy_renderer_.reset();
+    proxy_mesh_ = std::make_unique<TetMesh>(coarse_proxy(*mesh, kProxyCubes));
+    proxy_renderer_.emplace(s_.device, *proxy_mesh_);
+    proxy_of_ = mesh;
+  }
+  // 16^3 cubes, 24,576 cells: lavapipe draws the default dataset, such a grid, in 60-80 ms at
+  // 160x100 (docs/results.md, "lavapipe (this machine)").
+  static constexpr uint32_t kProxyCubes = 16;
+  static constexpr size_t kProxyCells = 6 * kProxyCubes * kProxyCubes * kProxyCubes;
+
   InteractiveScale scale_;
+  std::unique_ptr<TetMesh> proxy_mesh_;
+  std::optional<frame::FrameRenderer> proxy_renderer_;
+  std::shared_ptr<const TetMesh> proxy_of_;
   Camera last_camera_;
   bool have_camera_ = false;
   uint32_t in_flight_level_ = 0, finished_level_ = 0;
@@ -232,7 +265,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   s.inputs = options.inputs;
   const uint32_t max_tetlet = volume::max_tetlet_size(device);
 
-  VolumeWindow content(s, compare, options.script, max_tetlet);
+  VolumeWindow content(s, compare, options.script, max_tetlet, options.moving_target_ms);
   WindowParts parts{window, device, swapchain, ui, capture};
   run_window_loop(parts, content, options, report);
 

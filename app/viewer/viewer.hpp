@@ -32,6 +32,8 @@ struct ViewerOptions {
   std::vector<ScriptCommand> script;
   bool print_timings = true;      // GPU times in the title bar and once a second on stdout
   bool show_ui = true;
+  // While the camera moves, frames are drawn coarser to hold this frame time (app/viewer/interactive_scale.hpp).
+  double moving_target_ms = 100.0;
   LoadRequest open_defaults;          // how files opened in the window are read (density scale, role)
   std::filesystem::path recent_file;  // the recent-files list (recent_files_path()); empty: none kept
   // The files read to start the window (datasets, --tf, --script): the window's screenshots,

@@ -21,6 +21,7 @@
 
 #include "app/cli.hpp"
 #include "app/viewer/camera_line.hpp"
+#include "app/viewer/interactive_scale.hpp"
 #include "app/viewer/viewer.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "io/image_io.hpp"
@@ -84,6 +85,37 @@ TEST(Viewer, PresentsResizesMinimizesAndClosesWithoutValidationMessages) {
   EXPECT_GE(report.swapchain_recreations, 2u);
   EXPECT_EQ(report.validation_messages, 0u);
   EXPECT_TRUE(report.messages.empty());
+}
+
+// While the camera moves, a frame slower than the target makes the next ones coarser, one level
+// at a time, down to the coarse proxy of the data; when it stops the data itself is drawn at full
+// resolution. The target is set unreachable (a microsecond), so the steps do not depend on this
+// machine's speed; the validation layer stays silent through every size and the proxy.
+TEST(Viewer, AMovingCameraStepsDownToTheProxyAndAStillOneGetsFullResolution) {
+  REQUIRE_DISPLAY();
+  std::string script;
+  for (int f = 2; f < 22; ++f) script += "frame " + std::to_string(f) + "\nrotate 5 0\n";
+  script += "frame 25\nclose\n";
+  app::ViewerOptions options = window_options(160, 120, script);
+  options.moving_target_ms = 1e-3;
+  options.settings.resolve.quantity = volume::Quantity::Color;
+  options.settings.resolve.transfer.range_hi = 6.0;
+  options.settings.ordering = frame::Ordering::GpuSort;
+  // 28^3 cubes, 131,712 cells: more than four times the proxy's 24,576, so the proxy is offered.
+  const TetMesh mesh = make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 28, [](const glm::dvec3& p) { return 2.0 * std::exp(-glm::dot(p, p)); });
+  const app::ViewerReport report = app::run_viewer(mesh, options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  ASSERT_FALSE(report.moving_frames.empty());
+  uint32_t previous = 0;
+  for (const auto& [ms, level] : report.moving_frames) {
+    EXPECT_GE(level, previous);  // never finer while every frame misses the target
+    EXPECT_LE(level, previous + 1);  // one level at a time
+    previous = level;
+  }
+  EXPECT_EQ(report.moving_frames.back().second, app::InteractiveScale::kProxy);
+  EXPECT_FALSE(report.still_frames_ms.empty());  // drawn after the motion, at full resolution
+  EXPECT_EQ(report.last_frame.resolution_level, 0u);
+  EXPECT_EQ(report.last_frame.cells, mesh.tets.size());
 }
 
 // The window draws what render draws: emission-absorption in exact order (a CPU order each

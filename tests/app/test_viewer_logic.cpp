@@ -227,6 +227,16 @@ TEST(InteractiveScale, HoldsTheTargetWhileMovingAndRefinesWhenStill) {
   EXPECT_EQ(slow.level(), app::InteractiveScale::kCoarsest);
   EXPECT_EQ(slow.extent({5, 3}).width, 1u);
   EXPECT_EQ(slow.extent({5, 3}).height, 1u);
+  // With a coarse proxy of the data on offer, one step further: the proxy, still at 1/8.
+  slow.allow_proxy(true);
+  for (int i = 0; i < 4; ++i) slow.update(true, 500.0, slow.level());
+  EXPECT_TRUE(slow.proxy());
+  EXPECT_EQ(slow.extent(window).width, 160u);
+  slow.update(true, 60.0, slow.level());  // the proxy holds the target: it stays
+  EXPECT_TRUE(slow.proxy());
+  slow.update(false, 60.0, slow.level());  // still: the data itself, full resolution
+  EXPECT_EQ(slow.level(), 0u);
+  EXPECT_FALSE(slow.proxy());
 }
 
 }  // namespace

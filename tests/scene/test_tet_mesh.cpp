@@ -3,6 +3,11 @@
 #include <cmath>
 #include <limits>
 
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+#include "scene/coarse_proxy.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
 
@@ -56,6 +61,50 @@ TEST(BoxMesh, TetrahedraFillTheBoxExactlyWithPositiveVolumes) {
   }
   EXPECT_NEAR(total, 4.0 * 4.0 * 1.0, 1e-12);
   EXPECT_NO_THROW(validate(m));
+}
+
+}  // namespace
+}  // namespace prismoid
+
+namespace prismoid {
+namespace {
+
+// The window's coarse proxy (scene/coarse_proxy.hpp) samples the data's fields at grid points:
+// on a dataset that is itself that grid it gives the data back, and outside the data nothing.
+TEST(CoarseProxy, SamplesTheFieldsAtItsGridPointsAndLeavesOutsideEmpty) {
+  const TetMesh data = make_default_volume();  // a 16^3-cube Kuhn grid, point scalars = density
+  const TetMesh same = coarse_proxy(data, 16);
+  ASSERT_EQ(same.points.size(), data.points.size());
+  EXPECT_EQ(same.tets.size(), data.tets.size());
+  for (size_t i = 0; i < data.points.size(); ++i) {
+    ASSERT_EQ(same.points[i], data.points[i]);
+    EXPECT_NEAR(same.point_scalars[i], data.point_scalars[i], 1e-12 * (1.0 + data.point_scalars[i])) << i;
+  }
+  EXPECT_NO_THROW(validate(same));
+
+  // A ball of extinction 2 seen through an 8^3 grid over its bounds: points inside carry 2,
+  // points outside 0, and only cubes reaching into the ball are kept.
+  const TetMesh ball = make_ball_mesh(glm::dvec3(0.0), 1.0, 3, 2.0);
+  const TetMesh proxy = coarse_proxy(ball, 8);
+  EXPECT_LT(proxy.tets.size(), size_t(6 * 8 * 8 * 8));
+  EXPECT_GT(proxy.tets.size(), size_t(6 * 4 * 4 * 4));
+  size_t inside = 0;
+  for (size_t i = 0; i < proxy.points.size(); ++i) {
+    const double r = glm::length(proxy.points[i]);
+    if (r < 0.9) {  // well inside the icosphere's faceted surface
+      EXPECT_NEAR(proxy.point_extinction[i], 2.0, 1e-12) << i;
+      ++inside;
+    } else if (r > 1.0 + 1e-9) {
+      EXPECT_EQ(proxy.point_extinction[i], 0.0) << i;
+    }
+  }
+  EXPECT_GT(inside, 100u);
+  for (const auto& t : proxy.tets) {
+    double most = 0.0;
+    for (uint32_t k : t) most = std::max(most, proxy.point_extinction[k]);
+    EXPECT_GT(most, 0.0);  // every kept cube reaches into the ball
+  }
+  EXPECT_NO_THROW(validate(proxy));
 }
 
 }  // namespace
