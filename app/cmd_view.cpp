@@ -129,7 +129,9 @@ int report_window(const ViewerReport& report, const ViewerOptions& options, doub
     std::cout << "  while the camera moved: " << ms.size() << " frames, median " << median << " ms from recording to end ("
               << 1000.0 / median << " frames per second), worst " << ms.back() << " ms; resolution:";
     for (const auto& [level, count] : levels)
-      std::cout << (level > 3 ? std::string(" coarse proxy at 1/8") : " 1/" + std::to_string(1u << level)) << " x" << count;
+      std::cout << (level > 4 ? std::string(" coarser proxy (10^3 cubes) at 1/8")
+                    : level > 3 ? std::string(" coarse proxy (16^3 cubes) at 1/8")
+                                : " 1/" + std::to_string(1u << level)) << " x" << count;
     std::cout << "\n";
     if (!report.still_frames_ms.empty())
       std::cout << "  the first frame after it stopped (full resolution): " << report.still_frames_ms.front() << " ms\n";

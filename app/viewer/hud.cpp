@@ -23,7 +23,8 @@ void draw_hud(const FrameStats& stats, const ViewState& state) {
   ImGui::Text("%s, %s", state.mode.c_str(), quantity_name(state.settings.resolve.quantity));
   ImGui::Text("frame (CPU) %.2f ms", stats.cpu_frame_ms);
   if (stats.resolution_level > 3)
-    ImGui::Text("moving: a coarse proxy of the data at 1/8 resolution (holding %.0f ms a frame)", stats.target_ms);
+    ImGui::Text("moving: a coarse proxy of the data (%llu cells) at 1/8 resolution (holding %.0f ms a frame)",
+                static_cast<unsigned long long>(stats.cells), stats.target_ms);
   else if (stats.resolution_level > 0)
     ImGui::Text("moving: 1/%u resolution (holding %.0f ms a frame)", 1u << stats.resolution_level, stats.target_ms);
   else

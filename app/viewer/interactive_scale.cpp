@@ -5,7 +5,7 @@
 namespace prismoid::app {
 
 void InteractiveScale::update(bool moving, double frame_ms, uint32_t frame_level) {
-  if (frame_ms > 0.0 && frame_level <= kProxy) measured_ms_[frame_level] = frame_ms;
+  if (frame_ms > 0.0 && frame_level <= kCoarsestProxy) measured_ms_[frame_level] = frame_ms;
   if (!moving) {  // still: full resolution (the level the motion ended on is kept for the next)
     moving_ = false;
     level_ = 0;
@@ -13,13 +13,13 @@ void InteractiveScale::update(bool moving, double frame_ms, uint32_t frame_level
   }
   if (!moving_) {  // the camera starts moving again: where the last motion ended
     moving_ = true;
-    move_to(proxy_allowed_ || moving_level_ < kProxy ? moving_level_ : kCoarsest);
+    move_to(proxy_allowed_ || moving_level_ < kProxy ? moving_level_ : kCoarsest);  // no proxy now: the coarsest resolution
     return;
   }
   uint32_t next = level_;
   if (const double here = measured_ms_[level_]; here > 0.0) {  // else: wait for this level's first frame
     if (here > target_ms_) {
-      next = std::min(proxy_allowed_ ? kProxy : kCoarsest, level_ + 1);
+      next = std::min(proxy_allowed_ ? kCoarsestProxy : kCoarsest, level_ + 1);
     } else if (level_ > 0) {
       // With a fifth of headroom, so that the level does not flicker between two.
       const double finer = measured_ms_[level_ - 1];

@@ -15,9 +15,10 @@ namespace prismoid::app {
 class InteractiveScale {
  public:
   static constexpr uint32_t kCoarsest = 3;  // 1/8 per side
-  // One step further where the caller has a coarse proxy of the data (scene/coarse_proxy.hpp):
-  // the proxy's fewer cells, at 1/8 per side, for data whose cost is per cell rather than per pixel.
-  static constexpr uint32_t kProxy = 4;
+  // Further steps where the caller has coarse proxies of the data (scene/coarse_proxy.hpp): the
+  // proxies' fewer cells, at 1/8 per side, for data whose cost is per cell rather than per
+  // pixel: kProxy the finer proxy, kCoarsestProxy the coarser.
+  static constexpr uint32_t kProxy = 4, kCoarsestProxy = 5;
   explicit InteractiveScale(double target_ms = 100.0) : target_ms_(target_ms) {}
 
   // Once per frame, before it is drawn: whether the camera moved since the last frame, and the
@@ -30,7 +31,8 @@ class InteractiveScale {
 
   void allow_proxy(bool allowed) { proxy_allowed_ = allowed; }
   uint32_t level() const { return level_; }
-  bool proxy() const { return level_ == kProxy; }
+  bool proxy() const { return level_ >= kProxy; }
+  uint32_t proxy_index() const { return level_ - kProxy; }  // 0: the finer proxy (when proxy())
   bool moving() const { return moving_; }
   double target_ms() const { return target_ms_; }
   // The size the volume is drawn at for a window of `window` pixels (at least 1x1; the proxy at 1/8).
@@ -43,7 +45,7 @@ class InteractiveScale {
   uint32_t moving_level_ = 0;  // the level of the last moving frame
   bool moving_ = false;
   // The last frame time seen at each level (0: none since the window last switched to it).
-  std::array<double, kProxy + 1> measured_ms_{};
+  std::array<double, kCoarsestProxy + 1> measured_ms_{};
   bool proxy_allowed_ = false;
 };
 

@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -121,7 +122,7 @@ class VolumeWindow final : public WindowContent {
     scale_.update(moved && s_.state.compare == CompareMode::Off, finished_ms_, finished_level_);
     finished_ms_ = 0.0;  // each finished frame's time is given once
     if (scale_.proxy()) build_proxy();
-    if (scale_.proxy()) s_.stats.cells = proxy_mesh_->tets.size();
+    if (scale_.proxy()) s_.stats.cells = proxies_[scale_.proxy_index()].mesh->tets.size();
     else if (s_.state.drawn().mesh) s_.stats.cells = s_.state.drawn().mesh->tets.size();
     s_.stats.resolution_level = scale_.level();
     s_.stats.moving = scale_.moving();
@@ -170,27 +171,37 @@ class VolumeWindow final : public WindowContent {
   const std::vector<ScriptCommand>& script_;
   uint32_t max_tetlet_;
   size_t next_command_ = 0;
-  // What draws this frame: the data's renderer, or the coarse proxy's while the camera moves.
-  frame::FrameRenderer& active() { return scale_.proxy() && proxy_renderer_ ? *proxy_renderer_ : s_.renderer; }
-  // The proxy of the drawn data, made the first time it is needed and again when the data changes.
+  // What draws this frame: the data's renderer, or a coarse proxy's while the camera moves.
+  frame::FrameRenderer& active() {
+    if (!scale_.proxy()) return s_.renderer;
+    Proxy& p = proxies_[scale_.proxy_index()];
+    return p.renderer ? *p.renderer : s_.renderer;
+  }
+  // The proxy of the drawn data at this level, made the first time it is needed and again when
+  // the data changes.
   void build_proxy() {
     const std::shared_ptr<const TetMesh>& mesh = s_.state.drawn().mesh;
-    if (proxy_renderer_ && proxy_of_ == mesh) return;
+    Proxy& p = proxies_[scale_.proxy_index()];
+    if (p.renderer && p.of == mesh) return;
     s_.device.wait_idle();
-    proxy_renderer_.reset();
-    proxy_mesh_ = std::make_unique<TetMesh>(coarse_proxy(*mesh, kProxyCubes));
-    proxy_renderer_.emplace(s_.device, *proxy_mesh_);
-    proxy_of_ = mesh;
+    p.renderer.reset();
+    p.mesh = std::make_unique<TetMesh>(coarse_proxy(*mesh, kProxyCubes[scale_.proxy_index()]));
+    p.renderer.emplace(s_.device, *p.mesh);
+    p.of = mesh;
   }
-  // 16^3 cubes, 24,576 cells: lavapipe draws the default dataset, such a grid, in 60-80 ms at
-  // 160x100 (docs/results.md, "lavapipe (this machine)").
-  static constexpr uint32_t kProxyCubes = 16;
-  static constexpr size_t kProxyCells = 6 * kProxyCubes * kProxyCubes * kProxyCubes;
+  // 16^3 cubes (24,576 cells): lavapipe draws the default dataset, such a grid, in 60-80 ms at
+  // 160x100 (docs/results.md, "lavapipe (this machine)"); 10^3 (6,000 cells) where that is still
+  // too slow (the mesh backend's frame there).
+  static constexpr uint32_t kProxyCubes[2] = {16, 10};
+  static constexpr size_t kProxyCells = 6 * 16 * 16 * 16;
+  struct Proxy {
+    std::unique_ptr<TetMesh> mesh;
+    std::optional<frame::FrameRenderer> renderer;
+    std::shared_ptr<const TetMesh> of;
+  };
 
   InteractiveScale scale_;
-  std::unique_ptr<TetMesh> proxy_mesh_;
-  std::optional<frame::FrameRenderer> proxy_renderer_;
-  std::shared_ptr<const TetMesh> proxy_of_;
+  std::array<Proxy, 2> proxies_;
   Camera last_camera_;
   bool have_camera_ = false;
   uint32_t in_flight_level_ = 0, finished_level_ = 0;

@@ -88,7 +88,7 @@ TEST(Viewer, PresentsResizesMinimizesAndClosesWithoutValidationMessages) {
 }
 
 // While the camera moves, a frame slower than the target makes the next ones coarser, one level
-// at a time, down to the coarse proxy of the data; when it stops the data itself is drawn at full
+// at a time, down to the coarser of the data's two proxies; when it stops the data itself is drawn at full
 // resolution. The target is set unreachable (a microsecond), so the steps do not depend on this
 // machine's speed; the validation layer stays silent through every size and the proxy.
 TEST(Viewer, AMovingCameraStepsDownToTheProxyAndAStillOneGetsFullResolution) {
@@ -112,7 +112,7 @@ TEST(Viewer, AMovingCameraStepsDownToTheProxyAndAStillOneGetsFullResolution) {
     EXPECT_LE(level, previous + 1);  // one level at a time
     previous = level;
   }
-  EXPECT_EQ(report.moving_frames.back().second, app::InteractiveScale::kProxy);
+  EXPECT_EQ(report.moving_frames.back().second, app::InteractiveScale::kCoarsestProxy);
   EXPECT_FALSE(report.still_frames_ms.empty());  // drawn after the motion, at full resolution
   EXPECT_EQ(report.last_frame.resolution_level, 0u);
   EXPECT_EQ(report.last_frame.cells, mesh.tets.size());

@@ -227,9 +227,14 @@ TEST(InteractiveScale, HoldsTheTargetWhileMovingAndRefinesWhenStill) {
   EXPECT_EQ(slow.level(), app::InteractiveScale::kCoarsest);
   EXPECT_EQ(slow.extent({5, 3}).width, 1u);
   EXPECT_EQ(slow.extent({5, 3}).height, 1u);
-  // With a coarse proxy of the data on offer, one step further: the proxy, still at 1/8.
+  // With coarse proxies of the data on offer, two steps further: the proxies, still at 1/8.
   slow.allow_proxy(true);
+  slow.update(true, 500.0, slow.level());
+  EXPECT_EQ(slow.level(), app::InteractiveScale::kProxy);
+  EXPECT_EQ(slow.proxy_index(), 0u);
   for (int i = 0; i < 4; ++i) slow.update(true, 500.0, slow.level());
+  EXPECT_EQ(slow.level(), app::InteractiveScale::kCoarsestProxy);
+  EXPECT_EQ(slow.proxy_index(), 1u);
   EXPECT_TRUE(slow.proxy());
   EXPECT_EQ(slow.extent(window).width, 160u);
   slow.update(true, 60.0, slow.level());  // the proxy holds the target: it stays
