@@ -17,13 +17,13 @@
 #include "app/viewer/compare_panel.hpp"
 #include "app/viewer/compare_view.hpp"
 #include "app/viewer/interactive_scale.hpp"
-#include "scene/coarse_proxy.hpp"
 #include "app/viewer/window_input.hpp"
 #include "app/viewer/window_loop.hpp"
 #include "app/viewer/viewer_session.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
 #include "renderer/vk/memory.hpp"
+#include "scene/coarse_proxy.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
