@@ -71,6 +71,7 @@ class VolumeWindow final : public WindowContent {
   }
   void frame_started(double cpu_frame_ms) override { s_.stats.cpu_frame_ms = cpu_frame_ms; }
   void on_key(const KeyPress& key) override { s_.on_key(key); }
+  void pointer_held(bool held) override { pointer_held_ = held; }
   void on_drop(const std::vector<std::string>& paths) override { open_datasets(s_, paths, s_.panel.data.array); }
   void frame_finished(std::vector<vk::PassTiming> passes, bool last) override {
     s_.stats.gpu_passes = std::move(passes);
@@ -119,7 +120,9 @@ class VolumeWindow final : public WindowContent {
     const volume::ResolveSettings& resolve = s_.state.settings.resolve;
     scale_.allow_proxy(!resolve.march.enabled && resolve.quantity != volume::Quantity::Isosurface &&
                        s_.state.drawn().mesh && s_.state.drawn().mesh->tets.size() > 4 * kProxyCells);
-    scale_.update(moved && s_.state.compare == CompareMode::Off, finished_ms_, finished_level_);
+    // A drag that pauses (a button held, the mouse still) keeps moving: its next motion should
+    // not wait for a full frame; the release is what asks for one.
+    scale_.update((moved || pointer_held_) && s_.state.compare == CompareMode::Off, finished_ms_, finished_level_);
     finished_ms_ = 0.0;  // each finished frame's time is given once
     if (scale_.proxy()) build_proxy();
     if (scale_.proxy()) s_.stats.cells = proxies_[scale_.proxy_index()].mesh->tets.size();
@@ -208,6 +211,7 @@ class VolumeWindow final : public WindowContent {
   std::chrono::steady_clock::time_point recorded_at_;
   double finished_ms_ = 0.0;  // GPU time of the last finished frame, not yet given to scale_
   bool drawn_moving_ = false, after_motion_ = false;  // the frame in flight moved; one moved before
+  bool pointer_held_ = false;  // a mouse button is held on the view (window_loop)
 };
 
 }  // namespace

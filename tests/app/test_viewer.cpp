@@ -65,6 +65,9 @@ app::ViewerOptions window_options(uint32_t width, uint32_t height, const std::st
   options.print_timings = false;
   options.script = app::parse_script(script, "test script");
   options.max_frames = 2000;  // a safety net: every script closes the window long before
+  // Full resolution in every frame, whatever this machine's speed, so that the scripts'
+  // screenshots are the data's (the test of moving frames sets its own target).
+  options.moving_target_ms = 1e12;
   return options;
 }
 
