@@ -79,7 +79,8 @@ ColourLook default_colour_look(const TetMesh& mesh) {
 
 // The transfer function the color options describe, over the data's scalar range unless given.
 volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh) {
-  const ColourLook look = default_colour_look(mesh);
+  // Only what is not given is worked out (the median sorts a copy of the field).
+  const ColourLook look = a.has("tf") && a.has("density-scale") ? ColourLook{} : default_colour_look(mesh);
   volume::TransferFunction tf = io::transfer_function_from(a.has("tf") ? a.values.at("tf") : std::string(kDefaultColourMap));
   if (!a.has("tf")) {
     tf.opacity = {{0.0, 0.0}, {look.opacity_from, 0.0}, {1.0, 1.0}};

@@ -64,11 +64,8 @@ void run_window_loop(WindowParts& parts, WindowContent& content, const ViewerOpt
     content.frame_started(std::chrono::duration<double, std::milli>(now - last_frame).count());
     last_frame = now;
     const bool ui_keys = content.show_ui() && ui.wants_keyboard();
-    const bool ui_mouse = content.show_ui() && ui.wants_mouse();
-    handle_mouse(window, content.camera(), mouse, swapchain.extent(), ui_mouse, ui_keys, seconds);
-    content.pointer_held(!ui_mouse && (glfwGetMouseButton(window.get(), GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS ||
-                                       glfwGetMouseButton(window.get(), GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
-                                       glfwGetMouseButton(window.get(), GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS));
+    handle_mouse(window, content.camera(), mouse, swapchain.extent(), content.show_ui() && ui.wants_mouse(), ui_keys, seconds);
+    content.pointer_held(mouse.dragging);  // handle_mouse's drag on the view (one begun on a panel is the panel's)
     for (const KeyPress& key : window.take_keys())
       if (!(content.show_ui() && ui.wants_keyboard())) content.on_key(key);
     for (const auto& dropped : window.take_drops()) content.on_drop(dropped);

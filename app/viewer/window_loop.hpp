@@ -50,8 +50,8 @@ class WindowContent {
   virtual void frame_started(double cpu_frame_ms) = 0;
   virtual void on_key(const KeyPress& key) = 0;
   virtual void on_drop(const std::vector<std::string>& paths) { (void)paths; }
-  // After the mouse was handled: whether a mouse button is held on the view (a drag in progress,
-  // moving or paused; not on the panels).
+  // After the mouse was handled: whether a drag on the view is in progress (a button held,
+  // the mouse moving or paused; a drag begun on a panel does not count).
   virtual void pointer_held(bool held) { (void)held; }
   // The frame in flight has completed: its GPU passes (the content's, present-blit, ui). `last`:
   // after the loop ended (the content reads its own counters only while the loop runs).
