@@ -136,6 +136,8 @@ int report_window(const ViewerReport& report, const ViewerOptions& options, doub
     if (!report.still_frames_ms.empty())
       std::cout << "  the first frame after it stopped (full resolution): " << report.still_frames_ms.front() << " ms\n";
   }
+  std::cout << "  input was read at least every " << report.longest_input_gap_ms << " ms (" << report.input_reads_while_drawing
+            << " readings while frames were drawn)\n";
   if (options.validation && report.validation_messages > 0) {
     std::cerr << "prismoid: the validation layer reported " << report.validation_messages << " message(s)\n";
     return kValidationMessages;

@@ -35,9 +35,14 @@ void InteractiveScale::move_to(uint32_t level) {
   moving_level_ = level;
 }
 
-VkExtent2D InteractiveScale::extent(VkExtent2D window) const {
-  const uint32_t shift = std::min(level_, kCoarsest);
-  return {std::max(1u, window.width >> shift), std::max(1u, window.height >> shift)};
-}
+namespace {
+
+VkExtent2D shrunk(VkExtent2D window, uint32_t shift) { return {std::max(1u, window.width >> shift), std::max(1u, window.height >> shift)}; }
+
+}  // namespace
+
+VkExtent2D InteractiveScale::extent(VkExtent2D window) const { return shrunk(window, std::min(level_, kCoarsest)); }
+
+VkExtent2D InteractiveScale::proxy_extent(VkExtent2D window) { return shrunk(window, kCoarsest); }
 
 }  // namespace prismoid::app

@@ -37,6 +37,8 @@ class InteractiveScale {
   double target_ms() const { return target_ms_; }
   // The size the volume is drawn at for a window of `window` pixels (at least 1x1; the proxy at 1/8).
   VkExtent2D extent(VkExtent2D window) const;
+  // The size a proxy is drawn at (1/8 per side).
+  static VkExtent2D proxy_extent(VkExtent2D window);
 
  private:
   double target_ms_;

@@ -115,21 +115,18 @@ class VolumeWindow final : public WindowContent {
                                         now.fovy_degrees != last_camera_.fovy_degrees);
     last_camera_ = now;
     have_camera_ = true;
-    // Past 1/8 of the window, fewer cells: a coarse proxy of the data (not for marching, whose
-    // field the proxy does not carry, nor for data already about as coarse).
-    const volume::ResolveSettings& resolve = s_.state.settings.resolve;
-    scale_.allow_proxy(!resolve.march.enabled && resolve.quantity != volume::Quantity::Isosurface &&
-                       s_.state.drawn().mesh && s_.state.drawn().mesh->tets.size() > 4 * kProxyCells);
+    scale_.allow_proxy(proxy_allowed());
     // A drag that pauses (a button held, the mouse still) keeps moving: its next motion should
     // not wait for a full frame; the release is what asks for one.
     scale_.update((moved || pointer_held_) && s_.state.compare == CompareMode::Off, finished_ms_, finished_level_);
     finished_ms_ = 0.0;  // each finished frame's time is given once
-    if (scale_.proxy()) build_proxy();
+    if (scale_.proxy() && build_proxy(scale_.proxy_index(), s_.state.drawn().mesh)) ++s_.report.proxies_made_in_frames;
     if (scale_.proxy()) s_.stats.cells = proxies_[scale_.proxy_index()].mesh->tets.size();
     else if (s_.state.drawn().mesh) s_.stats.cells = s_.state.drawn().mesh->tets.size();
     s_.stats.resolution_level = scale_.level();
     s_.stats.moving = scale_.moving();
     s_.stats.target_ms = scale_.target_ms();
+    window_extent_ = extent;
     extent = scale_.extent(extent);
     frame::FrameRenderer& drawing = active();
     drawing.resize(extent);
@@ -165,6 +162,34 @@ class VolumeWindow final : public WindowContent {
       s_.report.seconds_to_stop_load = std::chrono::duration<double>(std::chrono::steady_clock::now() - stop).count();
     }
   }
+  // Work made on the present thread while the loop goes on reading input: the first frame's
+  // pipelines, and, once the window falls behind at full resolution, the coarse proxies (a
+  // proxy's cells, their upload and its pipelines: about 190 ms on lavapipe for the compute
+  // backend, which would otherwise hold the loop in the middle of a drag).
+  std::function<void()> setup_work() override {
+    if (!warmed_up_) {
+      warmed_up_ = true;
+      return [this, camera = s_.camera.camera(), settings = s_.state.settings, extent = s_.swapchain.extent()] {
+        try {
+          s_.renderer.resize(extent);
+          s_.renderer.prepare(camera, settings);
+        } catch (const InputError&) {  // the first frame's prepare_frame says what was refused
+        }
+      };
+    }
+    const std::shared_ptr<const TetMesh> mesh = s_.state.drawn().mesh;
+    if (scale_.level() == 0 || !proxy_allowed() || (proxies_[0].of == mesh && proxies_[1].of == mesh)) return {};
+    return [this, mesh, camera = s_.camera.camera(), settings = s_.state.settings, extent = InteractiveScale::proxy_extent(window_extent_)] {
+      for (uint32_t i = 0; i < proxies_.size(); ++i) {
+        if (build_proxy(i, mesh)) ++s_.report.proxies_made_beside_frames;
+        try {  // its pipelines and buffers made now, not on its first frame
+          proxies_[i].renderer->resize(extent);
+          proxies_[i].renderer->prepare(camera, settings);
+        } catch (const InputError&) {  // a setting the proxy refuses: its frame will say so
+        }
+      }
+    };
+  }
   uint32_t& frame_index() override { return s_.frame_index; }
   const std::vector<std::string>& inputs() const override { return s_.inputs; }
 
@@ -180,17 +205,24 @@ class VolumeWindow final : public WindowContent {
     Proxy& p = proxies_[scale_.proxy_index()];
     return p.renderer ? *p.renderer : s_.renderer;
   }
-  // The proxy of the drawn data at this level, made the first time it is needed and again when
-  // the data changes.
-  void build_proxy() {
-    const std::shared_ptr<const TetMesh>& mesh = s_.state.drawn().mesh;
-    Proxy& p = proxies_[scale_.proxy_index()];
-    if (p.renderer && p.of == mesh) return;
+  // Past 1/8 of the window, fewer cells: a coarse proxy of the data (not for marching, whose
+  // field the proxy does not carry, nor for data already about as coarse).
+  bool proxy_allowed() const {
+    const volume::ResolveSettings& resolve = s_.state.settings.resolve;
+    return !resolve.march.enabled && resolve.quantity != volume::Quantity::Isosurface && s_.state.drawn().mesh &&
+           s_.state.drawn().mesh->tets.size() > 4 * kProxyCells;
+  }
+  // The proxy of `mesh` at proxy level `index`, made the first time it is needed (setup_work,
+  // else the frame that needs it) and again when the data changes. Whether it was made now.
+  bool build_proxy(uint32_t index, const std::shared_ptr<const TetMesh>& mesh) {
+    Proxy& p = proxies_[index];
+    if (p.renderer && p.of == mesh) return false;
     s_.device.wait_idle();
     p.renderer.reset();
-    p.mesh = std::make_unique<TetMesh>(coarse_proxy(*mesh, kProxyCubes[scale_.proxy_index()]));
+    p.mesh = std::make_unique<TetMesh>(coarse_proxy(*mesh, kProxyCubes[index]));
     p.renderer.emplace(s_.device, *p.mesh);
     p.of = mesh;
+    return true;
   }
   // 16^3 cubes (24,576 cells): lavapipe draws the default dataset, such a grid, in 60-80 ms at
   // 160x100 (docs/results.md, "lavapipe (this machine)"); 10^3 (6,000 cells) where that is still
@@ -209,9 +241,11 @@ class VolumeWindow final : public WindowContent {
   bool have_camera_ = false;
   uint32_t in_flight_level_ = 0, finished_level_ = 0;
   std::chrono::steady_clock::time_point recorded_at_;
+  VkExtent2D window_extent_{1, 1};  // the window's size at the last frame
   double finished_ms_ = 0.0;  // GPU time of the last finished frame, not yet given to scale_
   bool drawn_moving_ = false, after_motion_ = false;  // the frame in flight moved; one moved before
   bool pointer_held_ = false;  // a mouse button is held on the view (window_loop)
+  bool warmed_up_ = false;     // the first frame was prepared by setup_work
 };
 
 }  // namespace

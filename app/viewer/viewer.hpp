@@ -86,6 +86,14 @@ struct ViewerReport {
   // a still camera (full resolution) after the first motion.
   std::vector<std::pair<double, uint32_t>> moving_frames;
   std::vector<double> still_frames_ms;
+  // Volume window: coarse proxies made on the present thread while the loop read input, and
+  // made by the frame that needed them (the loop held meanwhile).
+  uint32_t proxies_made_beside_frames = 0, proxies_made_in_frames = 0;
+  // Every window: the longest wait between two readings of the input (the loop reads it every
+  // few milliseconds while a frame is drawn, and once before each frame's UI and recording),
+  // and how many readings fell while a frame was being drawn.
+  double longest_input_gap_ms = 0.0;
+  uint64_t input_reads_while_drawing = 0;
 };
 
 // Opens the window on the state's visible datasets and runs until closed (a load still running

@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 
+#include "app/viewer/present_thread.hpp"
 #include "app/viewer/window_input.hpp"
 #include "renderer/vk/error.hpp"
 
@@ -48,24 +49,57 @@ void run_window_loop(WindowParts& parts, WindowContent& content, const ViewerOpt
   };
 
   bool frame_in_flight = false;
+  PresentThread presenter;  // the frame's submission and presentation: the loop keeps reading input meanwhile
   MouseState mouse;
   glfwGetCursorPos(window.get(), &mouse.last.x, &mouse.last.y);
   auto last_frame = std::chrono::steady_clock::now();
   auto last_print = last_frame;
+  auto last_input = last_frame;
   uint32_t& frame_index = content.frame_index();
 
+  // Mouse, wheel and held keys to the camera (keys and dropped files wait in the window for the
+  // next frame: what they do may need the queue). `seconds`: since the input was last read.
+  auto read_input = [&] {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::min(std::chrono::duration<double>(now - last_input).count(), 0.1);
+    report.longest_input_gap_ms = std::max(report.longest_input_gap_ms, std::chrono::duration<double, std::milli>(now - last_input).count());
+    last_input = now;
+    handle_mouse(window, content.camera(), mouse, swapchain.extent(), content.show_ui() && ui.wants_mouse(),
+                 content.show_ui() && ui.wants_keyboard(), seconds);
+    content.pointer_held(mouse.dragging);  // handle_mouse's drag on the view (one begun on a panel is the panel's)
+  };
+  // Whether the frame handed over is still being submitted and presented, or drawn by the GPU.
+  auto drawing = [&] {
+    if (presenter.handed()) {
+      const std::optional<bool> current = presenter.poll();
+      if (!current) return true;
+      if (!*current) recreate();  // presentation found the swapchain out of date
+    }
+    return frame_in_flight && vkGetFenceStatus(device.get(), in_flight.get()) == VK_NOT_READY;
+  };
+
   while (!glfwWindowShouldClose(window.get()) && !TerminateSignals::requested()) {
+    if (drawing()) {  // only input until the frame ends: rendering never blocks it
+      glfwWaitEventsTimeout(0.004);
+      read_input();
+      ++report.input_reads_while_drawing;
+      continue;
+    }
+    if (std::function<void()> work = content.setup_work()) {
+      presenter.hand_over([work = std::move(work)] {
+        work();
+        return true;  // the swapchain untouched
+      });
+      continue;
+    }
     content.run_due();
     ++frame_index;
     if (options.max_frames && frame_index > options.max_frames) break;
     glfwPollEvents();
     const auto now = std::chrono::steady_clock::now();
-    const double seconds = std::min(std::chrono::duration<double>(now - last_frame).count(), 0.1);
     content.frame_started(std::chrono::duration<double, std::milli>(now - last_frame).count());
     last_frame = now;
-    const bool ui_keys = content.show_ui() && ui.wants_keyboard();
-    handle_mouse(window, content.camera(), mouse, swapchain.extent(), content.show_ui() && ui.wants_mouse(), ui_keys, seconds);
-    content.pointer_held(mouse.dragging);  // handle_mouse's drag on the view (one begun on a panel is the panel's)
+    read_input();
     for (const KeyPress& key : window.take_keys())
       if (!(content.show_ui() && ui.wants_keyboard())) content.on_key(key);
     for (const auto& dropped : window.take_drops()) content.on_drop(dropped);
@@ -116,11 +150,15 @@ void run_window_loop(WindowParts& parts, WindowContent& content, const ViewerOpt
     if (const std::optional<std::string> path = content.take_capture())
       parts.capture.record(cmd, swapchain.image(*index), swapchain.extent(), swapchain.format(), *path);
     vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-    submit_frame(device, cmd, image_available, swapchain.render_finished(*index), in_flight.get());
+    const VkSemaphore rendered = swapchain.render_finished(*index);
+    presenter.hand_over([&device, &swapchain, cmd, image_available, rendered, fence = in_flight.get(), image = *index] {
+      submit_frame(device, cmd, image_available, rendered, fence);
+      return swapchain.present(image, rendered);
+    });
     frame_in_flight = true;
-    if (!swapchain.present(*index, swapchain.render_finished(*index))) recreate();
     ++report.frames_presented;
   }
+  presenter.wait();  // an out-of-date swapchain no longer matters: the window is closing
   content.stopping();
   device.wait_idle();
   if (frame_in_flight) {

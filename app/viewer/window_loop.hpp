@@ -2,8 +2,12 @@
 // The one frame loop of every window (the volume window, viewer.cpp, and the surface window,
 // surface_viewer.cpp): script commands due, input, minimized windows, resizes, the fence of the
 // frame in flight, the UI, the content's frame, the UI over it, a screenshot, submission and
-// presentation; SIGTERM and SIGINT end it as closing the window does. What differs between the
+// presentation. Submission and presentation run on a thread of their own (present_thread.hpp):
+// until the frame has been drawn, the loop only reads the mouse into the camera, every few
+// milliseconds, so that no frame, however slow, holds up the input. SIGTERM and SIGINT end it
+// as closing the window does. What differs between the
 // windows is their content (WindowContent): what they draw and what their keys and panels do.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -70,6 +74,10 @@ class WindowContent {
   virtual void capture_failed(const std::string& message) = 0;
   // The loop ended (closed, SIGTERM/SIGINT, --frames), before the device is waited for.
   virtual void stopping() {}
+  // Slow set-up the content wants before its next frame (a coarse proxy's cells, upload and
+  // pipelines): run on the present thread, like a frame, while the loop reads input; it may use
+  // the queue. Empty: none.
+  virtual std::function<void()> setup_work() { return {}; }
   // The frame counter the loop advances (scripts and --frames count in it).
   virtual uint32_t& frame_index() = 0;
   virtual const std::vector<std::string>& inputs() const = 0;  // files a screenshot may not replace

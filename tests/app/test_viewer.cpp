@@ -119,6 +119,10 @@ TEST(Viewer, AMovingCameraStepsDownToTheProxyAndAStillOneGetsFullResolution) {
   EXPECT_FALSE(report.still_frames_ms.empty());  // drawn after the motion, at full resolution
   EXPECT_EQ(report.last_frame.resolution_level, 0u);
   EXPECT_EQ(report.last_frame.cells, mesh.tets.size());
+  // Both proxies were made beside the frames, on the present thread, while the loop read input;
+  // no frame stopped to make one.
+  EXPECT_EQ(report.proxies_made_beside_frames, 2u);
+  EXPECT_EQ(report.proxies_made_in_frames, 0u);
 }
 
 // The window draws what render draws: emission-absorption in exact order (a CPU order each
