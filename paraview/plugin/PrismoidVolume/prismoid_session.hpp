@@ -1,0 +1,42 @@
+#pragma once
+// The plugin's VTK-free half: one Vulkan device per process (made on the first frame) and the
+// volume renderer of the mesh last drawn. It includes nothing of VTK, so that the boundary
+// between ParaView's VTK and Prismoid's core stays in one place (vtk_to_prismoid.hpp is the
+// other side).
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "renderer/frame/frame_renderer.hpp"
+#include "scene/camera.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::paraview {
+
+class Session {
+ public:
+  Session();
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // The process's session (ParaView renders on one thread).
+  static Session& instance();
+
+  // Replaces the mesh the next frames draw; `key` names it (the caller's modification times),
+  // so the same mesh given twice is uploaded once. Whether it was replaced.
+  bool set_mesh(const std::string& key, TetMesh mesh);
+  bool has_mesh(const std::string& key) const;
+
+  // One frame of the mesh, read back (row 0 at the top). Throws vk::NoSuitableDevice when no
+  // Vulkan device can render it, InputError for settings the mesh or device refuses.
+  frame::OffscreenFrame render(const Camera& camera, const frame::FrameSettings& settings, uint32_t width, uint32_t height);
+  // The device's name (after the first frame; empty before).
+  std::string device_name() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace prismoid::paraview

@@ -1,0 +1,57 @@
+#ifndef vtkPrismoidVolumeMapper_h
+#define vtkPrismoidVolumeMapper_h
+// Prismoid's interval shading as a VTK volume mapper for unstructured grids of tetrahedra:
+// each frame is drawn offscreen with Vulkan (one device per process) from the coloured array,
+// the volume property's colour map and opacity function, the camera and the viewport, and its
+// premultiplied colour and alpha are drawn over VTK's frame.
+#include "PrismoidVolumeModuleModule.h"  // export macro
+#include <vtkUnstructuredGridVolumeMapper.h>
+
+#include <string>
+
+class vtkRayCastImageDisplayHelper;
+
+class PRISMOIDVOLUMEMODULE_EXPORT vtkPrismoidVolumeMapper : public vtkUnstructuredGridVolumeMapper
+{
+public:
+  static vtkPrismoidVolumeMapper* New();
+  vtkTypeMacro(vtkPrismoidVolumeMapper, vtkUnstructuredGridVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  // 0: the mesh-shader backend (one workgroup per cell), 1: the compute backend (per-tile
+  // rasterization, exact per-pixel order).
+  vtkSetClampMacro(Backend, int, 0, 1);
+  vtkGetMacro(Backend, int);
+  // The mesh backend's order: 0 sorted on the GPU by centroid distance, 1 exact (a
+  // topological visibility order over face adjacency, made on the CPU each frame).
+  vtkSetClampMacro(Ordering, int, 0, 1);
+  vtkGetMacro(Ordering, int);
+  // 0: emission-absorption colour through the colour map; 1: absorption only (the colour map
+  // ignored: the background dimmed by the volume's transmittance).
+  vtkSetClampMacro(Quantity, int, 0, 1);
+  vtkGetMacro(Quantity, int);
+
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  // The last frame: whether it was drawn, and the error that stopped it otherwise.
+  vtkGetMacro(LastFrameDrawn, bool);
+  const char* GetLastError() const { return this->LastError.c_str(); }
+
+protected:
+  vtkPrismoidVolumeMapper();
+  ~vtkPrismoidVolumeMapper() override;
+
+  int Backend = 0;
+  int Ordering = 0;
+  int Quantity = 0;
+  bool LastFrameDrawn = false;
+  std::string LastError;
+  vtkRayCastImageDisplayHelper* Display = nullptr;
+
+private:
+  vtkPrismoidVolumeMapper(const vtkPrismoidVolumeMapper&) = delete;
+  void operator=(const vtkPrismoidVolumeMapper&) = delete;
+};
+
+#endif

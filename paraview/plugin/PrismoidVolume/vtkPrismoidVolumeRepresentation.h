@@ -1,0 +1,39 @@
+#ifndef vtkPrismoidVolumeRepresentation_h
+#define vtkPrismoidVolumeRepresentation_h
+// ParaView's unstructured-grid volume representation with Prismoid's mapper added to its
+// mappers (AddVolumeMapper) under the name "Prismoid interval shading", and that mapper's
+// settings (backend, ordering, quantity) as properties of the representation.
+#include "PrismoidVolumeModuleModule.h"  // export macro
+#include <vtkUnstructuredGridVolumeRepresentation.h>
+
+class vtkPrismoidVolumeMapper;
+
+class PRISMOIDVOLUMEMODULE_EXPORT vtkPrismoidVolumeRepresentation : public vtkUnstructuredGridVolumeRepresentation
+{
+public:
+  static vtkPrismoidVolumeRepresentation* New();
+  vtkTypeMacro(vtkPrismoidVolumeRepresentation, vtkUnstructuredGridVolumeRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  static constexpr const char* MapperName = "Prismoid interval shading";
+
+  // Always Prismoid's mapper: the base proxy's SelectMapper property (not shown for this
+  // representation) would otherwise set ParaView's default, projected tetrahedra, at creation.
+  void SetActiveVolumeMapper(const char* name) override;
+
+  void SetPrismoidBackend(int backend);
+  void SetPrismoidOrdering(int ordering);
+  void SetPrismoidQuantity(int quantity);
+  vtkPrismoidVolumeMapper* GetPrismoidMapper() { return this->Mapper; }
+
+protected:
+  vtkPrismoidVolumeRepresentation();
+  ~vtkPrismoidVolumeRepresentation() override;
+  vtkPrismoidVolumeMapper* Mapper;
+
+private:
+  vtkPrismoidVolumeRepresentation(const vtkPrismoidVolumeRepresentation&) = delete;
+  void operator=(const vtkPrismoidVolumeRepresentation&) = delete;
+};
+
+#endif

@@ -1,0 +1,171 @@
+#include "vtk_to_prismoid.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <vtkCamera.h>
+#include <vtkCellType.h>
+#include <vtkCellTypes.h>
+#include <vtkColorTransferFunction.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPiecewiseFunction.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGridBase.h>
+#include <vtkVolumeProperty.h>
+
+namespace prismoid::paraview {
+
+namespace {
+
+double value_of(vtkDataArray* array, vtkIdType i) {
+  const int n = array->GetNumberOfComponents();
+  if (n == 1) return array->GetComponent(i, 0);
+  double sum = 0.0;
+  for (int c = 0; c < n; ++c) sum += array->GetComponent(i, c) * array->GetComponent(i, c);
+  return std::sqrt(sum);
+}
+
+std::vector<double> values_of(vtkDataArray* array, vtkIdType count, const char* what) {
+  if (array->GetNumberOfTuples() != count)
+    throw std::runtime_error(std::string("the array '") + (array->GetName() ? array->GetName() : "") + "' has " +
+                             std::to_string(array->GetNumberOfTuples()) + " values for " + std::to_string(count) + " " + what);
+  std::vector<double> values(static_cast<size_t>(count));
+  for (vtkIdType i = 0; i < count; ++i) {
+    values[size_t(i)] = value_of(array, i);
+    if (!std::isfinite(values[size_t(i)]))
+      throw std::runtime_error(std::string("the array '") + (array->GetName() ? array->GetName() : "") + "' has a non-finite value");
+  }
+  return values;
+}
+
+constexpr int kSamples = 256;  // samples of a non-linear function between its ends
+
+}  // namespace
+
+TetMesh tet_mesh_from(vtkUnstructuredGridBase* grid, vtkDataArray* scalars, bool per_cell, std::size_t& skipped) {
+  if (!scalars) throw std::runtime_error("no array to colour by: choose a point or cell array in Coloring");
+  TetMesh mesh;
+  mesh.name = "ParaView input";
+  const vtkIdType n_points = grid->GetNumberOfPoints();
+  mesh.points.resize(static_cast<size_t>(n_points));
+  for (vtkIdType i = 0; i < n_points; ++i) {
+    double p[3];
+    grid->GetPoint(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) throw std::runtime_error("point " + std::to_string(i) + " is not finite");
+    mesh.points[size_t(i)] = {p[0], p[1], p[2]};
+  }
+  std::vector<vtkIdType> kept;  // the input cell of each tetrahedron
+  vtkNew<vtkIdList> ids;
+  skipped = 0;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+    const int type = grid->GetCellType(c);
+    if (type != VTK_TETRA) {
+      const int dimension = vtkCellTypes::GetDimension(static_cast<unsigned char>(type));
+      if (dimension == 3)
+        throw std::runtime_error("cell " + std::to_string(c) + " is a 3D cell other than a tetrahedron (VTK type " + std::to_string(type) +
+                                 "): tetrahedralize the input first (Filters > Tetrahedralize)");
+      ++skipped;
+      continue;
+    }
+    grid->GetCellPoints(c, ids);
+    std::array<uint32_t, 4> tet{};
+    for (int k = 0; k < 4; ++k) tet[size_t(k)] = static_cast<uint32_t>(ids->GetId(k));
+    mesh.tets.push_back(tet);
+    kept.push_back(c);
+  }
+  if (mesh.tets.empty()) throw std::runtime_error("the input has no tetrahedra");
+  if (per_cell) {
+    const std::vector<double> all = values_of(scalars, grid->GetNumberOfCells(), "cells");
+    mesh.cell_scalars.reserve(kept.size());
+    for (vtkIdType c : kept) mesh.cell_scalars.push_back(all[size_t(c)]);
+  } else {
+    mesh.point_scalars = values_of(scalars, n_points, "points");
+  }
+  mesh.cell_extinction.assign(mesh.tets.size(), 0.0);  // colour draws extinction from the transfer function
+  return mesh;
+}
+
+volume::TransferFunction transfer_function_from(vtkVolumeProperty* property) {
+  vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
+  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
+  if (!color || color->GetSize() == 0) throw std::runtime_error("the volume has no colour map");
+  if (!opacity || opacity->GetSize() == 0) throw std::runtime_error("the volume has no opacity function");
+  const double* cr = color->GetRange();
+  const double* orange = opacity->GetRange();
+  volume::TransferFunction tf;
+  tf.name = "ParaView colour map";
+  tf.range_lo = std::min(cr[0], orange[0]);
+  tf.range_hi = std::max(cr[1], orange[1]);
+  if (!(tf.range_hi > tf.range_lo)) tf.range_hi = tf.range_lo + 1.0;  // one value: any range keeps it
+  const double span = tf.range_hi - tf.range_lo;
+  auto x_of = [&](double s) { return (s - tf.range_lo) / span; };
+
+  bool color_linear = color->GetColorSpace() == VTK_CTF_RGB;
+  for (int i = 0; i < color->GetSize(); ++i) {
+    double node[6];
+    color->GetNodeValue(i, node);
+    color_linear = color_linear && node[4] == 0.5 && node[5] == 0.0;
+  }
+  std::vector<double> at;  // scalars to sample the colour map at
+  if (color_linear) {
+    for (int i = 0; i < color->GetSize(); ++i) {
+      double node[6];
+      color->GetNodeValue(i, node);
+      at.push_back(node[0]);
+    }
+  } else {
+    for (int k = 0; k <= kSamples; ++k) at.push_back(cr[0] + (cr[1] - cr[0]) * k / kSamples);
+  }
+  for (double s : at) {
+    double rgb[3];
+    color->GetColor(s, rgb);
+    tf.color.push_back({x_of(s), {std::clamp(rgb[0], 0.0, 1.0), std::clamp(rgb[1], 0.0, 1.0), std::clamp(rgb[2], 0.0, 1.0)}});
+  }
+
+  bool opacity_linear = true;
+  for (int i = 0; i < opacity->GetSize(); ++i) {
+    double node[4];
+    opacity->GetNodeValue(i, node);
+    opacity_linear = opacity_linear && node[2] == 0.5 && node[3] == 0.0;
+  }
+  at.clear();
+  if (opacity_linear) {
+    for (int i = 0; i < opacity->GetSize(); ++i) {
+      double node[4];
+      opacity->GetNodeValue(i, node);
+      at.push_back(node[0]);
+    }
+  } else {
+    for (int k = 0; k <= kSamples; ++k) at.push_back(orange[0] + (orange[1] - orange[0]) * k / kSamples);
+  }
+  for (double s : at) tf.opacity.push_back({x_of(s), std::clamp(opacity->GetValue(s), 0.0, 1.0)});
+
+  const double unit = property->GetScalarOpacityUnitDistance(0);
+  if (!(unit > 0.0) || !std::isfinite(unit)) throw std::runtime_error("the scalar opacity unit distance must be positive");
+  tf.density_scale = 1.0 / unit;
+  volume::validate(tf);
+  return tf;
+}
+
+Camera camera_from(vtkCamera* camera) {
+  if (camera->GetParallelProjection())
+    throw std::runtime_error("parallel projection is not supported yet: turn Camera Parallel Projection off");
+  if (camera->GetUseHorizontalViewAngle()) throw std::runtime_error("a horizontal view angle is not supported yet");
+  Camera c;
+  const double* eye = camera->GetPosition();
+  const double* target = camera->GetFocalPoint();
+  const double* up = camera->GetViewUp();
+  c.eye = {eye[0], eye[1], eye[2]};
+  c.target = {target[0], target[1], target[2]};
+  c.up = {up[0], up[1], up[2]};
+  c.fovy_degrees = camera->GetViewAngle();
+  c.near_distance = std::max(camera->GetClippingRange()[0], 1e-9);
+  return c;
+}
+
+}  // namespace prismoid::paraview
