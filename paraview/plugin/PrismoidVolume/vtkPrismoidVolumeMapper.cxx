@@ -10,7 +10,11 @@
 #include <vtkDataArray.h>
 #include <vtkMatrix4x4.h>
 #include <vtkObjectFactory.h>
-#include <vtkRayCastImageDisplayHelper.h>
+#include <vtkOpenGLRenderUtilities.h>
+#include <vtkOpenGLRenderWindow.h>
+#include <vtkOpenGLState.h>
+#include <vtkTextureObject.h>
+#include <vtk_glew.h>
 #include <vtkRenderer.h>
 #include <vtkUnstructuredGridBase.h>
 #include <vtkVolume.h>
@@ -20,12 +24,9 @@
 
 vtkStandardNewMacro(vtkPrismoidVolumeMapper);
 
-vtkPrismoidVolumeMapper::vtkPrismoidVolumeMapper() : Display(vtkRayCastImageDisplayHelper::New()) {
-  // Our image holds premultiplied colour and alpha: drawn with (1, 1 - source alpha).
-  this->Display->PreMultipliedColorsOn();
-}
+vtkPrismoidVolumeMapper::vtkPrismoidVolumeMapper() : Texture(vtkTextureObject::New()) {}
 
-vtkPrismoidVolumeMapper::~vtkPrismoidVolumeMapper() { this->Display->Delete(); }
+vtkPrismoidVolumeMapper::~vtkPrismoidVolumeMapper() { this->Texture->Delete(); }
 
 void vtkPrismoidVolumeMapper::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
@@ -33,7 +34,7 @@ void vtkPrismoidVolumeMapper::PrintSelf(ostream& os, vtkIndent indent) {
      << indent << "Quantity: " << this->Quantity << "\n";
 }
 
-void vtkPrismoidVolumeMapper::ReleaseGraphicsResources(vtkWindow* window) { this->Display->ReleaseGraphicsResources(window); }
+void vtkPrismoidVolumeMapper::ReleaseGraphicsResources(vtkWindow* window) { this->Texture->ReleaseGraphicsResources(window); }
 
 namespace {
 
@@ -55,6 +56,31 @@ float nearest_bounds_depth(vtkRenderer* ren, vtkVolume* vol) {
 }
 
 }  // namespace
+
+void vtkPrismoidVolumeMapper::Blend(vtkRenderer* ren, vtkVolume* vol, int width, int height, float* premultiplied) {
+  // One texel per pixel, sampled at its centre: a quad over the whole viewport with texture
+  // coordinates 0..1 and nearest filtering puts texel (x, y) on pixel (x, y) exactly. (VTK's
+  // vtkRayCastImageDisplayHelper maps texel centres to the viewport's edges instead, stretching
+  // the image by one pixel, and filters it.)
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!window) throw std::runtime_error("the render window is not an OpenGL one");
+  vtkOpenGLState* state = window->GetState();
+  this->Texture->SetContext(window);
+  this->Texture->SetMinificationFilter(vtkTextureObject::Nearest);
+  this->Texture->SetMagnificationFilter(vtkTextureObject::Nearest);
+  if (!this->Texture->Create2DFromRaw(static_cast<unsigned int>(width), static_cast<unsigned int>(height), 4, VTK_FLOAT, premultiplied))
+    throw std::runtime_error("could not make the image's OpenGL texture");
+  vtkOpenGLState::ScopedglEnableDisable blend(state, GL_BLEND);
+  vtkOpenGLState::ScopedglBlendFuncSeparate blend_function(state);
+  vtkOpenGLState::ScopedglDepthMask depth_mask(state);
+  state->vtkglEnable(GL_BLEND);
+  state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied "over"
+  state->vtkglDepthMask(GL_FALSE);
+  const float z = 2.0f * nearest_bounds_depth(ren, vol) - 1.0f;  // drawn where the volume begins, as VTK's mappers do
+  float verts[12] = {-1.0f, -1.0f, z, 1.0f, -1.0f, z, 1.0f, 1.0f, z, -1.0f, 1.0f, z};
+  float tcoords[8] = {0.0f, 0.0f, 1.0f, 0.0f, 1.0f, 1.0f, 0.0f, 1.0f};
+  this->Texture->CopyToFrameBuffer(tcoords, verts, nullptr, nullptr);
+}
 
 void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
   namespace pv = prismoid::paraview;
@@ -88,22 +114,20 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
     const prismoid::frame::OffscreenFrame frame =
         session.render(pv::camera_from(ren->GetActiveCamera()), settings, static_cast<uint32_t>(width), static_cast<uint32_t>(height));
 
-    // VTK's image rows run bottom to top, ours top to bottom; 16 bits a channel.
-    std::vector<unsigned short> image(frame.emission.size());
+    // VTK's image rows run bottom to top, ours top to bottom.
+    std::vector<float> image(frame.emission.size());
+    const size_t row = static_cast<size_t>(width) * 4;
     for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x)
-        for (int c = 0; c < 4; ++c) {
-          const float v = frame.emission[(static_cast<size_t>(y) * width + x) * 4 + c];
-          image[(static_cast<size_t>(height - 1 - y) * width + x) * 4 + c] =
-              static_cast<unsigned short>(std::clamp(v, 0.0f, 1.0f) * 65535.0f + 0.5f);
-        }
-    int size[2] = {width, height};
-    int origin[2] = {0, 0};
-    this->Display->RenderTexture(vol, ren, size, size, size, origin, nearest_bounds_depth(ren, vol), image.data());
+      std::copy_n(frame.emission.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(y) * row), row,
+                  image.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(height - 1 - y) * row));
+    this->Blend(ren, vol, width, height, image.data());
     this->LastFrameDrawn = true;
   } catch (const std::exception& e) {
-    // A clear message in ParaView's output, never a crash: the volume is simply not drawn.
-    this->LastError = e.what();
-    vtkErrorMacro(<< "Prismoid volume: " << e.what());
+    // A clear message in ParaView's output, never a crash: the volume is simply not drawn. Said
+    // once, not at every frame the same input fails.
+    if (this->ReportedError != e.what()) vtkErrorMacro(<< "Prismoid volume: " << e.what());
+    this->LastError = this->ReportedError = e.what();
+    return;
   }
+  this->ReportedError.clear();
 }

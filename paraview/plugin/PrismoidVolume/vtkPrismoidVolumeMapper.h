@@ -9,7 +9,7 @@
 
 #include <string>
 
-class vtkRayCastImageDisplayHelper;
+class vtkTextureObject;
 
 class PRISMOIDVOLUMEMODULE_EXPORT vtkPrismoidVolumeMapper : public vtkUnstructuredGridVolumeMapper
 {
@@ -47,7 +47,10 @@ protected:
   int Quantity = 0;
   bool LastFrameDrawn = false;
   std::string LastError;
-  vtkRayCastImageDisplayHelper* Display = nullptr;
+  std::string ReportedError;  // the error last reported, until a frame is drawn
+  vtkTextureObject* Texture = nullptr;
+  // Draws a viewport-sized image of premultiplied linear RGBA (rows bottom to top) over the frame.
+  void Blend(vtkRenderer* ren, vtkVolume* vol, int width, int height, float* premultiplied);
 
 private:
   vtkPrismoidVolumeMapper(const vtkPrismoidVolumeMapper&) = delete;

@@ -1,0 +1,149 @@
+"""What the plugin's tests share: a small grid written as .vtu, ParaView set up to draw it with
+the plugin, the same frame asked of `prismoid render`, images read back as numbers."""
+import json
+import math
+import os
+import struct
+import subprocess
+import sys
+
+import numpy as np
+from paraview.simple import *  # noqa: F401,F403 (pvpython's API)
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOImage import vtkPNGReader
+
+# The colour map and opacity function every test uses: linear RGB segments (no midpoint,
+# sharpness or Lab interpolation), so that VTK's functions and Prismoid's are the same
+# piecewise-linear functions of the scalar.
+COLOURS = [0.0, 0.10, 0.20, 0.90, 0.5, 0.90, 0.90, 0.20, 1.0, 0.90, 0.10, 0.10]
+OPACITY = [0.0, 0.0, 0.5, 0.0, 0.3, 0.05, 0.5, 0.0, 1.0, 0.9, 0.5, 0.0]
+BACKGROUND = [0.2, 0.25, 0.3]
+
+
+def fail(message):
+    print("FAIL: " + message, flush=True)
+    sys.exit(1)
+
+
+def args():
+    """--prismoid BIN --plugin SO --out DIR"""
+    a = {}
+    it = iter(sys.argv[1:])
+    for k in it:
+        a[k.lstrip("-")] = next(it)
+    for k in ("prismoid", "plugin", "out"):
+        if k not in a:
+            fail("missing --" + k)
+    os.makedirs(a["out"], exist_ok=True)
+    return a
+
+
+def load_plugin(path):
+    LoadPlugin(path, ns=globals())
+
+
+def write_wavelet(path, half=6):
+    """A tetrahedralized wavelet ((2 half)^3 voxels, 5 tetrahedra each) with its point array RTData."""
+    w = Wavelet(WholeExtent=[-half, half, -half, half, -half, half])
+    t = Tetrahedralize(Input=w)
+    SaveData(path, proxy=t)
+    Delete(t)
+    Delete(w)
+
+
+def srgb(c):
+    return 12.92 * c if c <= 0.0031308 else 1.055 * c ** (1.0 / 2.4) - 0.055
+
+
+def write_prismoid_tf(path, black=False):
+    """The same colour map for `prismoid render`: it reads ParaView's JSON as sRGB and decodes it to
+    linear, while VTK uses the numbers as they are; so the file holds their sRGB encoding. `black`:
+    every colour black (absorption only, the plugin's second quantity)."""
+    rgb = []
+    for i in range(0, len(COLOURS), 4):
+        c = [0.0, 0.0, 0.0] if black else COLOURS[i + 1:i + 4]
+        rgb += [COLOURS[i]] + [srgb(x) for x in c]
+    with open(path, "w") as f:
+        json.dump([{"Name": "test", "ColorSpace": "RGB", "RGBPoints": rgb, "Points": OPACITY}], f)
+
+
+class Scene:
+    """ParaView's view of a .vtu through the plugin, the camera fixed."""
+
+    def __init__(self, vtu, size=(240, 180), unit_distance=3.0, array="RTData"):
+        self.size = size
+        self.unit_distance = unit_distance
+        self.reader = XMLUnstructuredGridReader(FileName=[vtu])
+        self.reader.UpdatePipeline()
+        self.range = self.reader.PointData[array].GetRange()
+        self.view = CreateView("RenderView")
+        self.view.ViewSize = list(size)
+        self.view.OrientationAxesVisibility = 0
+        self.view.UseColorPaletteForBackground = 0
+        self.view.Background = BACKGROUND
+        self.view.UseFXAA = 0
+        self.rep = Show(self.reader, self.view)
+        self.rep.Representation = "Prismoid Volume"
+        ColorBy(self.rep, ("POINTS", array))
+        lo, hi = self.range
+        lut = GetColorTransferFunction(array)
+        lut.ColorSpace = "RGB"
+        lut.Discretize = 0
+        lut.RGBPoints = [lo + x * (hi - lo) if i % 4 == 0 else x for i, x in enumerate(COLOURS)]
+        pwf = GetOpacityTransferFunction(array)
+        pwf.Points = [lo + x * (hi - lo) if i % 4 == 0 else x for i, x in enumerate(OPACITY)]
+        self.rep.ScalarOpacityUnitDistance = unit_distance
+        Render(self.view)  # the first render resets the camera: the fixed one is set after it
+        cam = self.view.GetActiveCamera()
+        cam.SetPosition(9.0, 14.0, 31.0)
+        cam.SetFocalPoint(0.3, -0.2, 0.1)
+        cam.SetViewUp(0.0, 1.0, 0.0)
+        cam.SetViewAngle(30.0)
+        Render(self.view)  # the clipping range (the near plane given to prismoid render) follows the camera
+
+    def screenshot(self, path):
+        Render(self.view)
+        SaveScreenshot(path, self.view, ImageResolution=list(self.size), TransparentBackground=0)
+        return read_png(path)
+
+    def camera_args(self):
+        cam = self.view.GetActiveCamera()
+        vec = lambda v: ",".join(repr(float(x)) for x in v)
+        return ["--eye", vec(cam.GetPosition()), "--target", vec(cam.GetFocalPoint()), "--up", vec(cam.GetViewUp()),
+                "--fovy", repr(cam.GetViewAngle()), "--near", repr(cam.GetClippingRange()[0])]
+
+    def prismoid(self, binary, vtu, tf_json, out, extra):
+        lo, hi = self.range
+        cmd = [binary, "render", vtu, "--quantity", "color", "--array", "RTData", "--tf", tf_json,
+               "--tf-range", "%r,%r" % (lo, hi), "--density-scale", repr(1.0 / self.unit_distance),
+               "--background", ",".join(repr(x) for x in BACKGROUND), "--size", "%dx%d" % self.size,
+               "--output", out] + self.camera_args() + extra
+        run = subprocess.run(cmd, capture_output=True, text=True)
+        if run.returncode != 0:
+            fail(" ".join(cmd) + " exited " + str(run.returncode) + ":\n" + run.stdout + run.stderr)
+        return read_pfm(out)
+
+
+def read_png(path):
+    r = vtkPNGReader()
+    r.SetFileName(path)
+    r.Update()
+    image = r.GetOutput()
+    w, h, _ = image.GetDimensions()
+    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
+    return pixels[::-1].astype(np.float64)  # row 0 at the top
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = (int(x) for x in f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    channels = 3 if kind == b"PF" else 1
+    return data.reshape(h, w, channels)[::-1].astype(np.float64)  # PFM rows run bottom to top
+
+
+def levels(pv, linear):
+    """How far ParaView's 8-bit image is from a linear image, in 8-bit levels, per pixel."""
+    return np.abs(pv - 255.0 * linear).max(axis=2)
