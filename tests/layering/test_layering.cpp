@@ -53,6 +53,10 @@ const std::vector<Rule> kRules = {
      "renderer/vk is the bottom of the renderer: everything else is built on it"},
     {{"renderer/rt/"}, {}, {"renderer/volume/", "renderer/frame/", "renderer/surface/", "renderer/reference/", "renderer/metrics/"}, {},
      "renderer/rt depends on vk and scene only"},
+    {{"paraview/"}, {}, {"io/"}, {},
+     "the ParaView plugin links ParaView's own VTK: io/, built on the system VTK 9.1, stays out of it"},
+    {{"paraview/plugin/PrismoidVolume/prismoid_session"}, {}, {"vtk"}, {},
+     "the plugin's Prismoid half includes no VTK: the boundary between ParaView's VTK and Prismoid's core is vtk_to_prismoid"},
 };
 
 struct Include {

@@ -1,6 +1,7 @@
 #include "vtkPrismoidVolumeMapper.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <exception>
 #include <sstream>
@@ -86,6 +87,8 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
   namespace pv = prismoid::paraview;
   this->LastFrameDrawn = false;
   this->LastError.clear();
+  this->LastFrameMilliseconds = 0.0;
+  const auto start = std::chrono::steady_clock::now();
   vtkUnstructuredGridBase* grid = this->GetInput();
   if (!grid || grid->GetNumberOfCells() == 0) return;  // an empty piece (one rank's share may be): nothing to draw
   try {
@@ -122,6 +125,7 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
                   image.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(height - 1 - y) * row));
     this->Blend(ren, vol, width, height, image.data());
     this->LastFrameDrawn = true;
+    this->LastFrameMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   } catch (const std::exception& e) {
     // A clear message in ParaView's output, never a crash: the volume is simply not drawn. Said
     // once, not at every frame the same input fails.

@@ -34,8 +34,10 @@ public:
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
-  // The last frame: whether it was drawn, and the error that stopped it otherwise.
+  // The last frame: whether it was drawn, and the error that stopped it otherwise; the wall
+  // time of the plugin's part of it (Prismoid's frame, its read-back and the blend), in ms.
   vtkGetMacro(LastFrameDrawn, bool);
+  vtkGetMacro(LastFrameMilliseconds, double);
   const char* GetLastError() const { return this->LastError.c_str(); }
 
 protected:
@@ -46,6 +48,7 @@ protected:
   int Ordering = 0;
   int Quantity = 0;
   bool LastFrameDrawn = false;
+  double LastFrameMilliseconds = 0.0;
   std::string LastError;
   std::string ReportedError;  // the error last reported, until a frame is drawn
   vtkTextureObject* Texture = nullptr;

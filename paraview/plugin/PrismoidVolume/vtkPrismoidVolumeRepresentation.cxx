@@ -31,3 +31,5 @@ void vtkPrismoidVolumeRepresentation::SetPrismoidQuantity(int quantity) {
   this->Mapper->SetQuantity(quantity);
   this->Modified();  // a drawing setting: no data to move again
 }
+
+double vtkPrismoidVolumeRepresentation::GetPrismoidLastFrameMilliseconds() { return this->Mapper->GetLastFrameMilliseconds(); }

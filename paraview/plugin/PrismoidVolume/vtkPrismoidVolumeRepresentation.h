@@ -25,6 +25,8 @@ public:
   void SetPrismoidOrdering(int ordering);
   void SetPrismoidQuantity(int quantity);
   vtkPrismoidVolumeMapper* GetPrismoidMapper() { return this->Mapper; }
+  // This process's last frame through the plugin: wall ms of its part (0: not drawn).
+  double GetPrismoidLastFrameMilliseconds();
 
 protected:
   vtkPrismoidVolumeRepresentation();

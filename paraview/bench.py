@@ -1,0 +1,85 @@
+"""The plugin beside ParaView's own unstructured-grid volume mappers, in pvpython or pvbatch: the
+same grid, camera, colour map and opacity function; time per frame (wall, ParaView's Render: the
+whole frame as a user waits for it) and error against Prismoid's CPU double-precision reference,
+in 8-bit levels of ParaView's image. Results: docs/results.md ("Inside ParaView").
+
+  scripts/pvpython.sh paraview/bench.py --prismoid build/app/prismoid --plugin SO --out DIR \\
+      [--half 16] [--size 512x384] [--frames 5] [--mappers all|prismoid]
+  mpirun -np N scripts/pvpython.sh --batch paraview/bench.py ... --mappers prismoid --split 1
+"""
+import os
+import statistics
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "paraview"))
+import pvtest  # noqa: E402
+
+from paraview import servermanager  # noqa: E402
+from paraview.simple import ColorBy, RedistributeDataSet, Render, Show  # noqa: E402
+
+PRISMOID = [("Prismoid, mesh backend, GPU sort", 0, 0), ("Prismoid, mesh backend, exact order", 0, 1),
+            ("Prismoid, compute backend", 1, 0)]
+VTK = ["Projected tetra", "Z sweep", "Bunyk ray cast"]
+
+
+def main():
+    a = {"half": "16", "size": "512x384", "frames": "5", "mappers": "all", "split": "0"}
+    it = iter(sys.argv[1:])
+    for k in it:
+        a[k.lstrip("-")] = next(it)
+    os.makedirs(a["out"], exist_ok=True)
+    ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
+    pvtest.load_plugin(a["plugin"])
+    vtu = os.path.join(a["out"], "wavelet_%s.vtu" % a["half"])
+    if not os.path.exists(vtu):
+        pvtest.write_wavelet(vtu, half=int(a["half"]))
+    w, h = (int(x) for x in a["size"].split("x"))
+    scene = pvtest.Scene(vtu, size=(w, h), unit_distance=3.0 * int(a["half"]) / 6.0)
+    source = scene.reader
+    if a["split"] == "1":
+        source = RedistributeDataSet(Input=source)
+        scene.rep.Visibility = 0
+        rep = Show(source, scene.view)
+        ColorBy(rep, ("POINTS", "RTData"))
+        rep.ScalarOpacityUnitDistance = scene.unit_distance
+        scene.rep = rep
+    cells = source.GetDataInformation().GetNumberOfCells()
+    tf = os.path.join(a["out"], "tf.json")
+    pvtest.write_prismoid_tf(tf)
+    reference = scene.prismoid(a["prismoid"], vtu, tf, os.path.join(a["out"], "reference_%s.pfm" % a["half"]), ["--mode", "reference"])
+    rows = []
+    cases = [(name, "Prismoid Volume", backend, ordering, None) for name, backend, ordering in PRISMOID]
+    if a["mappers"] == "all":
+        cases += [("VTK " + m, "Volume", 0, 0, m) for m in VTK]
+    for name, representation, backend, ordering, mapper in cases:
+        scene.rep.Representation = representation
+        if mapper:
+            scene.rep.SelectMapper = mapper
+        else:
+            scene.rep.PrismoidBackend = backend
+            scene.rep.PrismoidOrdering = ordering
+        Render(scene.view)  # first frame: uploads, pipelines, caches
+        times, plugin = [], []
+        for _ in range(int(a["frames"])):
+            start = time.perf_counter()
+            Render(scene.view)
+            times.append(1000.0 * (time.perf_counter() - start))
+            if not mapper:
+                scene.rep.UpdatePropertyInformation()
+                plugin.append(scene.rep.GetPropertyValue("PrismoidLastFrameMilliseconds"))
+        image = scene.screenshot(os.path.join(a["out"], "bench_%d_%s.png" % (ranks, name.replace(" ", "_").replace(",", ""))))
+        d = np.abs(image - 255.0 * reference)
+        rows.append((name, statistics.median(times), min(times), statistics.median(plugin) if plugin else None,
+                     float(np.sqrt((d ** 2).mean())), float(d.max())))
+    print("\n%d rank(s); wavelet, %d tetrahedra; %dx%d; %s frames each (median, best)" % (ranks, cells, w, h, a["frames"]))
+    print("| mapper | frame, median (best) ms | the plugin's part on rank 0, ms | RMSE vs CPU reference (8-bit levels) | largest |")
+    print("|---|---:|---:|---:|---:|")
+    for name, median, best, plugin, rmse, largest in rows:
+        print("| %s | %.0f (%.0f) | %s | %.2f | %.0f |" % (name, median, best, "%.0f" % plugin if plugin is not None else "", rmse, largest))
+    sys.stdout.flush()
+
+
+main()
