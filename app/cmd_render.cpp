@@ -56,6 +56,9 @@ const char* const kRenderHelpTail =
     "  --size WxH           image size in pixels (default 800x600)\n"
     "  --eye x,y,z --target x,y,z --up x,y,z --fovy DEG --near N\n"
     "                       camera (default: framing the data from +z, fovy 40)\n"
+    "  --depth-limit D.pfm  where each pixel's ray ends, as a depth along the viewing axis (a grey PFM of\n"
+    "                       --size, row 0 at the top; +inf where nothing is): opaque geometry in front of or\n"
+    "                       inside the volume. --volume-backend compute and --mode reference; not marching\n"
     "  --volume-backend B   what draws the intervals: mesh (mesh shaders, the default), compute (compute\n"
     "                       shaders on every core: cells binned into screen tiles, each pixel's exact\n"
     "                       intervals in its own depth order), or auto (the faster on this device, by a\n"
@@ -165,10 +168,27 @@ std::string volume_modes_help() {
 
 std::string render_help() { return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + surface_render_help(); }
 
+namespace {
+
+// --depth-limit FILE.pfm: one value per pixel of the frame, the depth along the viewing axis
+// where the ray ends (opaque geometry), +inf where nothing is; row 0 at the top as the image's.
+std::shared_ptr<const std::vector<float>> read_depth_limit(const std::string& path, VkExtent2D size) {
+  const io::FloatImage image = io::read_pfm(path);
+  if (image.channels != 1) throw InputError(path, "--depth-limit wants one value per pixel (a grey PFM), not " + std::to_string(image.channels));
+  if (image.width != size.width || image.height != size.height)
+    throw InputError(path, "is " + std::to_string(image.width) + "x" + std::to_string(image.height) + "; the frame (--size) is " +
+                               std::to_string(size.width) + "x" + std::to_string(size.height));
+  for (float d : image.pixels)
+    if (!(d > 0.0f)) throw InputError(path, "holds a depth that is not positive (or NaN): depths along the viewing axis are > 0, +inf for none");
+  return std::make_shared<const std::vector<float>>(image.pixels);
+}
+
+}  // namespace
+
 int cmd_render(const std::vector<std::string>& args) {
   if (const surface::SurfaceMode* surface = surface_mode_named(args))
     return surface->gpu() ? cmd_render_surface(args, *surface) : cmd_render_path_reference(args, *surface);
-  std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames"});
+  std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames", "depth-limit"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes", "reference-error"});
   if (a.flags.count("help")) { std::cout << render_help(); return kOk; }
@@ -188,6 +208,7 @@ int cmd_render(const std::vector<std::string>& args) {
   const volume::Quantity quantity = choice.quantity;
   const bool color = quantity == volume::Quantity::Color;
   frame::FrameSettings settings = choice.settings;
+  if (a.has("depth-limit")) settings.resolve.depth_limit = read_depth_limit(a.values.at("depth-limit"), size);
   const bool field = field_of(a).has_value();  // an analytic field: its own CPU reference
   const Camera camera = camera_from(a, bounds_of(mesh));
   frame::OffscreenFrame result;

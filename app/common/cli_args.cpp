@@ -130,6 +130,7 @@ double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& pa
 void declare_render_files(OutputFiles& files, const ParsedArgs& a) {
   for (const std::string& file : a.files) files.input(file);
   if (a.has("tf")) files.input(a.values.at("tf"));
+  if (a.has("depth-limit")) files.input(a.values.at("depth-limit"));
   if (a.has("output")) files.output(a.values.at("output"), "--output", kImageExtensions);
   if (a.has("stats")) files.output(a.values.at("stats"), "--stats", {".json"});
   if (a.has("variance")) files.output(a.values.at("variance"), "--variance", {".pfm"});

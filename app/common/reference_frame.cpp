@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -10,6 +11,7 @@
 #include "renderer/reference/analytic_march.hpp"
 #include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "scene/input_error.hpp"
 
 namespace prismoid::app {
 
@@ -29,8 +31,13 @@ frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera
   const auto start = std::chrono::steady_clock::now();
   frame::OffscreenFrame f = blank_frame(size);
   const size_t pixels = f.quantity.size();
+  const std::vector<float>* limit = resolve.depth_limit.get();  // rays end at opaque geometry
+  if (limit && limit->size() != pixels)
+    throw InputError("depth limit", "has " + std::to_string(limit->size()) + " values for a " + std::to_string(size.width) + "x" +
+                                        std::to_string(size.height) + " frame");
   if (resolve.quantity == volume::Quantity::Color) {
-    const auto image = reference::emission_absorption_image(mesh, resolve.transfer, camera, size.width, size.height);
+    const auto image =
+        reference::emission_absorption_image(mesh, resolve.transfer, camera, size.width, size.height, 0.0, 0.0, nullptr, nullptr, limit);
     f.emission.resize(pixels * 4);
     for (size_t i = 0; i < pixels; ++i) {
       const glm::dvec4 c = image.pixels[i];
@@ -43,7 +50,7 @@ frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera
     }
     f.report.ordering = "exact (per pixel, CPU)";
   } else {
-    const std::vector<double> tau = reference::optical_depth_image(mesh, camera, size.width, size.height);
+    const std::vector<double> tau = reference::optical_depth_image(mesh, camera, size.width, size.height, 0.0, 0.0, nullptr, limit);
     for (size_t i = 0; i < pixels; ++i) {
       const double t = std::exp(-tau[i]);
       f.quantity[i] = float(resolve.quantity == volume::Quantity::Transmittance ? t : tau[i]);
@@ -64,6 +71,7 @@ frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera
 // in steps of 1/2000 of the bounds' diagonal, resolved as the GPU does.
 frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                              VkExtent2D size) {
+  if (resolve.depth_limit) throw InputError("depth limit", "is not followed when marching a field or drawing an isosurface");
   const auto start = std::chrono::steady_clock::now();
   const volume::MarchSettings& m = resolve.march;
   const Bounds b = bounds_of(mesh);

@@ -89,6 +89,13 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
   for (const vk::Buffer* b : {&mesh_.positions, &mesh_.tets, &mesh_.cell_sigma, &mesh_.point_sigma, &mesh_.cell_scalar, &mesh_.point_scalar})
     report.mesh_bytes += b->size();
   const bool compute = settings.backend == IntervalBackend::Compute;
+  // Rays ending at opaque geometry: the compute backend's tile raster clips each interval there,
+  // for the quantities the CPU reference integrates; the mesh backend does not yet.
+  if (settings.resolve.depth_limit) {
+    if (!compute) throw InputError("depth limit", "needs the compute backend (--volume-backend compute)");
+    if (settings.resolve.march.enabled || settings.resolve.quantity == volume::Quantity::Isosurface)
+      throw InputError("depth limit", "is not followed when marching a field or drawing an isosurface");
+  }
   // Checks the settings before anything is planned; the compute backend needs no mesh pipeline.
   interval_.prepare(mesh_, settings.resolve, !compute);
   report.warnings =

@@ -36,7 +36,8 @@ double gradient_length(const std::array<glm::dvec3, 4>& v, const std::array<doub
 
 ColorImage emission_absorption_image(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera,
                                      uint32_t width, uint32_t height, double offset_x, double offset_y,
-                                     const volume::PreintegrationTable* table, const InputPerturbation* perturbation) {
+                                     const volume::PreintegrationTable* table, const InputPerturbation* perturbation,
+                                     const std::vector<float>* depth_limit) {
   const bool linear = !mesh.point_scalars.empty();
   if (!linear && mesh.cell_scalars.empty())
     throw InputError(mesh.name, "has no scalar field for the transfer function (choose one with --array NAME)");
@@ -88,7 +89,7 @@ ColorImage emission_absorption_image(const TetMesh& mesh, const volume::Transfer
                               window * x_gradient * (0.5 * (g.x + g.y) * length_per_depth + footprint_per_depth * in.exit);
                 }
                 along[pixel].push_back(s);
-              });
+              }, depth_limit);
   ColorImage image;
   image.width = width;
   image.height = height;

@@ -43,10 +43,12 @@ struct InputPerturbation {
 // present, else mesh.cell_scalars (constant per cell); InputError(mesh.name) when neither is.
 // With `table`, each segment is looked up in it (volume::lookup) instead of integrated
 // exactly: the image the GPU should make with that table, in exact order and double precision.
+// With `depth_limit` each ray ends there (trace_cells).
 ColorImage emission_absorption_image(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera,
                                      uint32_t width, uint32_t height, double offset_x = 0.0, double offset_y = 0.0,
                                      const volume::PreintegrationTable* table = nullptr,
-                                     const InputPerturbation* perturbation = nullptr);
+                                     const InputPerturbation* perturbation = nullptr,
+                                     const std::vector<float>* depth_limit = nullptr);
 
 // The longest edge over all cells: no segment inside a cell is longer (a convex polytope's
 // diameter is attained at two of its vertices). It bounds the pre-integration table's length axis.

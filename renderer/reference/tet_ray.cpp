@@ -93,9 +93,17 @@ struct Cell {
 
 // The cell's optical depth along the unit ray eye + t dir, counting only the part beyond the
 // near plane; `hit` says whether the ray crosses it with a positive length.
-double cell_optical_depth(const Cell& cell, const Camera& camera, const CameraFrame& f, const glm::dvec3& dir, bool& hit) {
-  const double t_near = camera.near_distance / glm::dot(dir, f.forward);
-  const Interval in = ray_tetrahedron(cell.v, camera.eye, dir, t_near, std::numeric_limits<double>::infinity());
+// The ray's parameter where it reaches depth `depth` along the viewing axis (+inf for +inf).
+double t_at_depth(double depth, const CameraFrame& f, const glm::dvec3& dir) { return depth / glm::dot(dir, f.forward); }
+
+// The pixel's depth limit (+inf without one).
+double limit_at(const std::vector<float>* depth_limit, size_t pixel) {
+  return depth_limit ? double((*depth_limit)[pixel]) : std::numeric_limits<double>::infinity();
+}
+
+double cell_optical_depth(const Cell& cell, const Camera& camera, const CameraFrame& f, const glm::dvec3& dir, bool& hit,
+                          double depth_limit = std::numeric_limits<double>::infinity()) {
+  const Interval in = ray_tetrahedron(cell.v, camera.eye, dir, t_at_depth(camera.near_distance, f, dir), t_at_depth(depth_limit, f, dir));
   hit = !in.empty();
   if (!hit) return 0.0;
   double mean_sigma = cell.sigma;
@@ -163,7 +171,7 @@ bool absorbs(size_t, const Cell& cell) {
 }  // namespace
 
 void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height, double offset_x, double offset_y,
-                 const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit) {
+                 const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit, const std::vector<float>* depth_limit) {
   const CameraFrame f = frame_of(camera, width, height);
   for_row_phases(height, [&](RowPhase rows) {
   for_each_cell(mesh, camera, f, width, height, rows, [&](size_t c, const Cell&) { return wanted(c); },
@@ -172,16 +180,18 @@ void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint
       for (double xd = x0; xd <= x1; ++xd) {
         const auto x = static_cast<uint32_t>(xd), y = static_cast<uint32_t>(yd);
         const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
-        const double t_near = camera.near_distance / glm::dot(dir, f.forward);
-        const Interval in = ray_tetrahedron(cell.v, camera.eye, dir, t_near, std::numeric_limits<double>::infinity());
-        if (!in.empty()) visit(size_t(y) * width + x, c, in, dir);
+        const size_t pixel = size_t(y) * width + x;
+        const Interval in = ray_tetrahedron(cell.v, camera.eye, dir, t_at_depth(camera.near_distance, f, dir),
+                                            t_at_depth(limit_at(depth_limit, pixel), f, dir));
+        if (!in.empty()) visit(pixel, c, in, dir);
       }
   });
   });
 }
 
 std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
-                                        double offset_x, double offset_y, std::vector<uint32_t>* cells_hit) {
+                                        double offset_x, double offset_y, std::vector<uint32_t>* cells_hit,
+                                        const std::vector<float>* depth_limit) {
   std::vector<double> image(size_t(width) * height, 0.0);
   if (cells_hit) cells_hit->assign(image.size(), 0u);
   const CameraFrame f = frame_of(camera, width, height);
@@ -192,8 +202,9 @@ std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camer
         const auto x = static_cast<uint32_t>(xd), y = static_cast<uint32_t>(yd);
         const glm::dvec3 dir = ray_direction(camera, width, height, x + 0.5 + offset_x, y + 0.5 + offset_y);
         bool hit = false;
-        image[size_t(y) * width + x] += cell_optical_depth(cell, camera, f, dir, hit);
-        if (cells_hit && hit) ++(*cells_hit)[size_t(y) * width + x];
+        const size_t pixel = size_t(y) * width + x;
+        image[pixel] += cell_optical_depth(cell, camera, f, dir, hit, limit_at(depth_limit, pixel));
+        if (cells_hit && hit) ++(*cells_hit)[pixel];
       }
   });
   });

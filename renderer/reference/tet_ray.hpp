@@ -43,8 +43,11 @@ double interpolate_linear(const std::array<glm::dvec3, 4>& v, const std::array<d
 // for different rows, never for one pixel from two threads, so it may write the pixel's own
 // state without locks.
 using CellVisitor = std::function<void(size_t pixel, size_t cell, const Interval& interval, const glm::dvec3& direction)>;
+// With `depth_limit` (one depth along the viewing axis per pixel, row-major, row 0 at the top;
+// +inf: none), each ray ends there: opaque geometry in front of or inside the volume.
 void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height, double offset_x, double offset_y,
-                 const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit);
+                 const std::function<bool(size_t cell)>& wanted, const CellVisitor& visit,
+                 const std::vector<float>* depth_limit = nullptr);
 
 // Optical depth per pixel: sum over cells of the integral of sigma along the pixel ray inside
 // the cell (sigma constant per cell, or linear when the mesh has point extinction: then the
@@ -52,9 +55,11 @@ void trace_cells(const TetMesh& mesh, const Camera& camera, uint32_t width, uint
 // counting only the part beyond the near plane. Row-major, row 0 at the top. Each pixel's
 // ray passes through its centre moved by (offset_x, offset_y) pixels. When `cells_hit` is
 // given it receives, per pixel, how many cells the ray crosses with a positive length.
+// `depth_limit` as for trace_cells.
 std::vector<double> optical_depth_image(const TetMesh& mesh, const Camera& camera, uint32_t width, uint32_t height,
                                         double offset_x = 0.0, double offset_y = 0.0,
-                                        std::vector<uint32_t>* cells_hit = nullptr);
+                                        std::vector<uint32_t>* cells_hit = nullptr,
+                                        const std::vector<float>* depth_limit = nullptr);
 
 // Per pixel, the sum over cells of the largest change of the cell's optical depth when the
 // pixel's ray moves to one of the 8 points at `radius` pixels (per axis) around its centre, or

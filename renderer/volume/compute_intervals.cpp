@@ -23,7 +23,7 @@ namespace {
 constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
 
-const std::array<vk::DescriptorBinding, 23> kBindings = {{
+const std::array<vk::DescriptorBinding, 24> kBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kCompute},
     {PRISMOID_BINDING_POSITIONS, kStorage, kCompute},
     {PRISMOID_BINDING_TETS, kStorage, kCompute},
@@ -47,6 +47,7 @@ const std::array<vk::DescriptorBinding, 23> kBindings = {{
     {PRISMOID_CI_BINDING_CHUNK_WORK, kStorage, kCompute},
     {PRISMOID_CI_BINDING_SPLIT_TILES, kStorage, kCompute},
     {PRISMOID_CI_BINDING_PARTIALS, kStorage, kCompute},
+    {PRISMOID_CI_BINDING_DEPTH_LIMIT, kStorage, kCompute},
 }};
 
 // The radix sort's scan kernels, run on the pair counts.
@@ -117,6 +118,7 @@ struct ComputeIntervals::Frame {
   uint32_t depth_bits = 0;
   uint32_t cells = 0;
   uint32_t mode = PRISMOID_CI_OPTICAL_DEPTH;
+  bool depth_limited = false;  // the settings end rays at a depth per pixel
   gpu::ComputeIntervalsPush push{};
 };
 
@@ -149,6 +151,7 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
                           VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                       vk::MemoryUse::DeviceLocal);
   stats_readback_ = vk::Buffer(device, stats_.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
+  depth_limit_ = vk::Buffer(device, sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);  // bound, unread, without a limit
   std::memset(stats_readback_.mapped(), 0, stats_readback_.size());
   scan_params_ = vk::Buffer(device, sizeof(gpu::RadixSortParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                             vk::MemoryUse::DeviceLocal);
@@ -281,6 +284,17 @@ void ComputeIntervals::prepare(const GpuTetMesh& mesh, const ResolveSettings& se
   }
   check_fits(f.cells, tiles, pairs);
   allocate(f.cells, tiles, pairs);
+  // Where each pixel's ray ends (opaque geometry), written while no frame is in flight.
+  f.depth_limited = settings.depth_limit != nullptr;
+  if (f.depth_limited) {
+    const std::vector<float>& limit = *settings.depth_limit;
+    if (limit.size() != size_t(extent.width) * extent.height)
+      throw InputError("depth limit", "has " + std::to_string(limit.size()) + " values for a " + std::to_string(extent.width) + "x" +
+                                          std::to_string(extent.height) + " frame");
+    const VkDeviceSize bytes = limit.size() * sizeof(float);
+    if (depth_limit_.size() < bytes) depth_limit_ = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);
+    depth_limit_.write(std::as_bytes(std::span(limit)));
+  }
 }
 
 void ComputeIntervals::bind_frame_inputs(const GpuTetMesh& mesh, const VolumeTargets& targets, const IntervalShadingPass& shading) {
@@ -298,6 +312,7 @@ void ComputeIntervals::bind_frame_inputs(const GpuTetMesh& mesh, const VolumeTar
       {PRISMOID_CI_BINDING_STATS, &stats_},                {PRISMOID_CI_BINDING_BIG_CELLS, &big_cells_},
       {PRISMOID_CI_BINDING_CHUNK_BASE, &chunk_base_},      {PRISMOID_CI_BINDING_CHUNK_WORK, &chunk_work_},
       {PRISMOID_CI_BINDING_SPLIT_TILES, &split_tiles_},    {PRISMOID_CI_BINDING_PARTIALS, &partials_},
+      {PRISMOID_CI_BINDING_DEPTH_LIMIT, &depth_limit_},
   };
   for (const auto& [binding, buffer] : buffers) vk::write_buffer_descriptor(device_, s, binding, kStorage, buffer->get());
   vk::write_storage_image_descriptor(device_, s, PRISMOID_CI_BINDING_OPTICAL_DEPTH, targets.optical_depth.view());
@@ -328,7 +343,7 @@ void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, c
   push.tiles = glm::uvec4(f.tiles_x, f.tiles_y, f.depth_bits, static_cast<uint32_t>(pair_capacity_));
   push.depth = glm::vec4(float(lo), hi > lo ? float(keys / (hi - lo)) : 0.0f, 0.0f, 0.0f);
   push.tie_break = glm::vec4(glm::vec3(glm::dmat3(view) * kTieBreak), 0.0f);
-  push.options = glm::uvec4(f.mode, f.extent.width, f.extent.height, 0u);
+  push.options = glm::uvec4(f.mode, f.extent.width, f.extent.height, f.depth_limited ? 1u : 0u);
   const bool colour = f.mode == PRISMOID_CI_EMISSION || f.mode == PRISMOID_CI_MARCH_COLOR;
   push.chunks = glm::uvec4(static_cast<uint32_t>(chunk_capacity_), PRISMOID_CI_LAUNCH_TILES,
                            colour ? PRISMOID_CI_CHUNK_COLOR : PRISMOID_CI_CHUNK, 0u);

@@ -116,6 +116,7 @@ class ComputeIntervals {
   vk::Buffer big_cells_;                          // per cell (at most every cell is big)
   vk::Buffer chunk_base_, split_tiles_;           // per tile
   vk::Buffer chunk_work_, partials_;              // per chunk slot (chunk_capacity_)
+  vk::Buffer depth_limit_;                        // per pixel when the settings have a depth limit (host-visible)
   uint64_t cell_capacity_ = 0, tile_capacity_ = 0, pair_capacity_ = 0, chunk_capacity_ = 0;
   uint64_t mesh_bytes_ = 0;  // the mesh's own buffers (they share the device's memory)
 

@@ -2,6 +2,8 @@
 // What a volume frame shows and how its segments are integrated: the settings both the GPU
 // passes and the frame planner read (no Vulkan here).
 #include <array>
+#include <memory>
+#include <vector>
 #include <cstdint>
 #include <glm/vec3.hpp>
 
@@ -41,6 +43,11 @@ struct ResolveSettings {
   // Tetlets: group cells so a workgroup loads their shared points once (needs tetlet_size > 1
   // and GpuTetlets of that size; cells are then drawn tetlet by tetlet, in no depth order).
   bool shared_vertices = false;
+  // Where each pixel's ray ends: the depth along the viewing axis of opaque geometry in front
+  // of or inside the volume (a slice, a surface drawn before it), one per pixel of the frame,
+  // row 0 at the top; +inf where nothing is. Null: no limit. The compute backend and the CPU
+  // reference end each interval there (optical depth, transmittance, colour).
+  std::shared_ptr<const std::vector<float>> depth_limit;
 };
 
 // The workgroup sizes there are shader variants of.

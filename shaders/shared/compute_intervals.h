@@ -44,6 +44,8 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_CI_BINDING_CHUNK_WORK 24     // uvec2 per chunk after a tile's first: the tile, the chunk's index in it
 #define PRISMOID_CI_BINDING_SPLIT_TILES 25    // uint per split tile: the tile
 #define PRISMOID_CI_BINDING_PARTIALS 26       // ChunkPartial per chunk slot and pixel of the tile (64 per slot)
+#define PRISMOID_CI_BINDING_DEPTH_LIMIT 27    // float per pixel, row 0 at the top: the depth along the viewing axis where its ray
+                                              // ends (opaque geometry; +inf: nowhere), read when push.options.w is 1
 #define PRISMOID_CI_UNSPLIT 0xFFFFFFFFu
 
 // What a frame counts (PRISMOID_CI_BINDING_STATS), read back after it.
@@ -76,7 +78,7 @@ struct ComputeIntervalsPush {
   uvec4 tiles;     // x, y: tiles per row and per column; z: depth bits of a pair key (the tile above them); w: pair capacity
   vec4 depth;      // x: the depth (minus the mesh origin's) that key 0 stands for, y: keys per unit of depth
   vec4 tie_break;  // xyz: the reference's tie-break direction (tet_ray.cpp) in camera orientation
-  uvec4 options;   // x: PRISMOID_CI_* (each tile raster variant has its own fixed), y: image width, z: image height, w: unused
+  uvec4 options;   // x: PRISMOID_CI_* (each tile raster variant has its own fixed), y: image width, z: image height, w: 1 when rays end at PRISMOID_CI_BINDING_DEPTH_LIMIT
   uvec4 chunks;    // x: chunk slots (PRISMOID_CI_BINDING_PARTIALS holds x * 64), y: the raster's launch (PRISMOID_CI_LAUNCH_*), z: pairs per chunk
 };
 

@@ -33,7 +33,7 @@ namespace prismoid::test {
 
 ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w,
                                    uint32_t h, frame::Ordering ordering, uint32_t table_size,
-                                   std::optional<frame::IntervalBackend> backend) {
+                                   std::optional<frame::IntervalBackend> backend, std::shared_ptr<const std::vector<float>> depth_limit) {
   frame::FrameRenderer renderer(device(), mesh);
   frame::FrameSettings settings = settings_on_backend();
   if (backend) settings.backend = *backend;
@@ -41,6 +41,7 @@ ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFu
   settings.resolve.transfer = tf;
   settings.resolve.preintegration_size = table_size;
   settings.ordering = ordering;
+  settings.resolve.depth_limit = depth_limit;
   const frame::OffscreenFrame gpu = renderer.render_offscreen(camera, settings, {w, h});
   const volume::PreintegrationTable* table = table_size > 0 ? &renderer.interval_pass().table() : nullptr;
   reference::InputPerturbation perturbation;
@@ -49,13 +50,13 @@ ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFu
   perturbation.relative = std::ldexp(1.0, -19);
   perturbation.window = std::ldexp(1.0, -19);
   perturbation.step = 0.25 * s;
-  const auto ref = reference::emission_absorption_image(mesh, tf, camera, w, h, 0.0, 0.0, table, &perturbation);
+  const auto ref = reference::emission_absorption_image(mesh, tf, camera, w, h, 0.0, 0.0, table, &perturbation, depth_limit.get());
 
   std::vector<double> snap_tol(size_t(w) * h, 0.0);
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       if (!dx && !dy) continue;
-      const auto shifted = reference::emission_absorption_image(mesh, tf, camera, w, h, dx * s, dy * s, table);
+      const auto shifted = reference::emission_absorption_image(mesh, tf, camera, w, h, dx * s, dy * s, table, nullptr, depth_limit.get());
       for (size_t i = 0; i < snap_tol.size(); ++i)
         for (int c = 0; c < 4; ++c) snap_tol[i] = std::max(snap_tol[i], std::abs(shifted.pixels[i][c] - ref.pixels[i][c]));
     }

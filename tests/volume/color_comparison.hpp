@@ -4,6 +4,7 @@
 // per-pixel tolerances derived in color_comparison.cpp. Any non-finite channel fails the
 // calling test.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,10 +39,12 @@ class ColorTest : public GpuTest, public OnBackend {
   // Colour through `tf` on this test's backend (`ordering` is the mesh backend's; the compute
   // backend orders each pixel itself), with a pre-integrated table of `table_size` (0: exact).
   // Static, so fixtures of other comparisons on the same backend can call it too; `backend`
-  // overrides the test's.
+  // overrides the test's. `depth_limit`: where rays end (volume::ResolveSettings), for the GPU
+  // and the reference alike.
   static ColorComparison compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w,
                                  uint32_t h, frame::Ordering ordering, uint32_t table_size = 0,
-                                 std::optional<frame::IntervalBackend> backend = std::nullopt);
+                                 std::optional<frame::IntervalBackend> backend = std::nullopt,
+                                 std::shared_ptr<const std::vector<float>> depth_limit = nullptr);
 };
 
 }  // namespace prismoid::test

@@ -7,8 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <memory>
 
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/reference/emission_absorption.hpp"
+#include "scene/input_error.hpp"
 #include "scene/generators.hpp"
 #include "volume/color_comparison.hpp"
 
@@ -124,6 +128,41 @@ TEST_P(EmissionAbsorptionTest, ExactOrderOnConvexMeshMatchesReference) {
     std::printf("  mesh order: max error %.3g, %zu pixels beyond tolerance\n", unsorted.max_error, unsorted.failures);
     EXPECT_GT(unsorted.failures, 0u) << "the tolerance cannot tell a wrong order from the right one";
   }
+}
+
+// Opaque geometry inside the volume (a slice through it, in the left half of the image) ends the
+// rays there: the compute backend clips each interval at the pixel's depth limit as the
+// reference ends its rays, within the same tolerances; the mesh backend refuses the limit.
+TEST_P(EmissionAbsorptionTest, RaysEndAtTheDepthLimitAsInTheReference) {
+  const TetMesh mesh = default_with_scalars();
+  Camera camera = fit_camera(bounds_of(mesh));
+  camera.eye = camera.target + glm::dvec3(2.0, 1.5, 4.5);
+  const uint32_t w = 40, h = 30;
+  // The depth, along the viewing axis, of the data's centre: the slice halves the volume there.
+  const float middle = float(glm::length(camera.target - camera.eye));
+  auto limit = std::make_shared<std::vector<float>>(size_t(w) * h, std::numeric_limits<float>::infinity());
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w / 2; ++x) (*limit)[size_t(y) * w + x] = middle;
+  if (!compute()) {
+    EXPECT_THROW(compare(mesh, blob_tf(), camera, w, h, frame::Ordering::Exact, 0, std::nullopt, limit), InputError);
+    return;
+  }
+  const auto c = compare(mesh, blob_tf(), camera, w, h, frame::Ordering::Exact, 0, std::nullopt, limit);
+  EXPECT_GT(c.covered, 300u);
+  EXPECT_EQ(c.failures, 0u) << c.first_failure << " (max error " << c.max_error << ")";
+  // The limit changes the image where it lies (so the comparison can tell), and only there.
+  const auto cut = reference::emission_absorption_image(mesh, blob_tf(), camera, w, h, 0.0, 0.0, nullptr, nullptr, limit.get());
+  const auto whole = reference::emission_absorption_image(mesh, blob_tf(), camera, w, h);
+  double left = 0.0, right = 0.0;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const double d = std::abs(cut.pixels[i].a - whole.pixels[i].a);
+      (x < w / 2 ? left : right) = std::max(x < w / 2 ? left : right, d);
+    }
+  EXPECT_GT(left, 0.05) << "the slice should hide a visible part of the volume";
+  EXPECT_EQ(right, 0.0);
+  std::printf("depth limit: max error %.3g, the slice changes alpha by up to %.3f\n", c.max_error, left);
 }
 
 // A field of view of 1e-6 degrees: the camera framing the data stands 2e8 from it, where floats

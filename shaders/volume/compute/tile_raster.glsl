@@ -49,6 +49,7 @@ layout(std430, set = 0, binding = PRISMOID_CI_BINDING_SPLIT_TILES) readonly buff
 layout(std430, set = 0, binding = PRISMOID_CI_BINDING_PARTIALS) writeonly buffer Partials { ChunkPartial partials[]; };
 layout(set = 0, binding = PRISMOID_CI_BINDING_OPTICAL_DEPTH, r32f) uniform writeonly image2D optical_depth_image;
 layout(set = 0, binding = PRISMOID_CI_BINDING_EMISSION, rgba32f) uniform writeonly image2D emission_image;
+layout(std430, set = 0, binding = PRISMOID_CI_BINDING_DEPTH_LIMIT) readonly buffer DepthLimit { float depth_limit[]; };
 
 #define PRISMOID_INTERVAL_RAY_COMPUTE
 #include "../analytic_field.glsl"
@@ -215,6 +216,9 @@ void raster(uint tile, uint first_pair, uint end_pair, uint slot_out) {
   vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
   vec3 ray = vec3(ndc * frame.ray_scale.xy, -1.0);
   float length_per_depth = length(ray);
+  // Opaque geometry ends the ray at this depth along the viewing axis (+inf: nowhere).
+  float limit = inf;
+  if (push.options.w == 1u && inside) limit = depth_limit[pixel.y * push.options.y + pixel.x];
   const uint mode = PRISMOID_CI_RASTER_MODE;
   float optical_depth = 0.0;
   float nearest_hit = inf;
@@ -231,6 +235,10 @@ void raster(uint tile, uint first_pair, uint end_pair, uint slot_out) {
       float enter, exit;
       if (!may_cover(slot, pixel) || !cell_interval(slot, ray, enter, exit)) continue;
       vec4 origin = s_origin[slot];
+      // Up to the opaque geometry, as the interval is clipped at the near plane; relative to
+      // c's depth like the interval's own ends.
+      exit = min(exit, limit - origin.z);
+      if (!(exit > enter)) continue;
       IntervalRay r;
       r.rel_front = enter;
       r.rel_back = exit;
