@@ -2,20 +2,20 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdint>
-#include <exception>
+#include <limits>
+#include <memory>
+#include <stdexcept>
 #include <sstream>
 #include <vector>
 
 #include <vtkCamera.h>
 #include <vtkDataArray.h>
-#include <vtkMatrix4x4.h>
 #include <vtkObjectFactory.h>
-#include <vtkOpenGLRenderUtilities.h>
 #include <vtkOpenGLRenderWindow.h>
 #include <vtkOpenGLState.h>
 #include <vtkTextureObject.h>
 #include <vtk_glew.h>
+#include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkUnstructuredGridBase.h>
 #include <vtkVolume.h>
@@ -39,26 +39,33 @@ void vtkPrismoidVolumeMapper::ReleaseGraphicsResources(vtkWindow* window) { this
 
 namespace {
 
-// The depth (0..1) of the nearest corner of the volume's bounds, where the image is drawn, as
-// VTK's own image-based unstructured mappers place theirs.
-float nearest_bounds_depth(vtkRenderer* ren, vtkVolume* vol) {
-  double b[6];
-  vol->GetBounds(b);
-  vtkMatrix4x4* m = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), 0.0, 1.0);
-  double nearest = 1.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const double p[4] = {b[corner & 1], b[2 + ((corner >> 1) & 1)], b[4 + ((corner >> 2) & 1)], 1.0};
-    double q[4];
-    m->MultiplyPoint(p, q);
-    if (q[3] <= 0.0) return 0.0;  // a corner behind the eye: the eye is at or inside the bounds
-    nearest = std::min(nearest, 0.5 * q[2] / q[3] + 0.5);
-  }
-  return static_cast<float>(std::clamp(nearest, 0.0, 1.0));
+// Where each pixel's ray meets the opaque geometry ParaView drew before the volume: its depth
+// buffer over the viewport, as depths along the viewing axis (row 0 at the top, +inf where the
+// buffer holds the far plane). VTK's perspective depth d in [0, 1] of the clipping range (n, f)
+// is z_ndc = 2d - 1 = ((f + n) - 2fn / z) / (f - n), so z = 2fn / ((f + n) - z_ndc (f - n)).
+// Empty when no pixel has geometry.
+std::vector<float> opaque_depths(vtkRenderer* ren, int x0, int y0, int width, int height) {
+  std::vector<float> window(static_cast<size_t>(width) * height);
+  if (!ren->GetRenderWindow()->GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1, window.data())) return {};
+  const double* range = ren->GetActiveCamera()->GetClippingRange();
+  const double n = range[0], f = range[1];
+  std::vector<float> depth(window.size(), std::numeric_limits<float>::infinity());
+  bool any = false;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double d = window[static_cast<size_t>(y) * width + x];
+      if (!(d < 1.0)) continue;  // the far plane: nothing drawn there
+      const double z = 2.0 * f * n / ((f + n) - (2.0 * d - 1.0) * (f - n));
+      depth[static_cast<size_t>(height - 1 - y) * width + x] = static_cast<float>(std::max(z, n));
+      any = true;
+    }
+  if (!any) depth.clear();
+  return depth;
 }
 
 }  // namespace
 
-void vtkPrismoidVolumeMapper::Blend(vtkRenderer* ren, vtkVolume* vol, int width, int height, float* premultiplied) {
+void vtkPrismoidVolumeMapper::Blend(vtkRenderer* ren, int width, int height, float* premultiplied) {
   // One texel per pixel, sampled at its centre: a quad over the whole viewport with texture
   // coordinates 0..1 and nearest filtering puts texel (x, y) on pixel (x, y) exactly. (VTK's
   // vtkRayCastImageDisplayHelper maps texel centres to the viewport's edges instead, stretching
@@ -74,11 +81,13 @@ void vtkPrismoidVolumeMapper::Blend(vtkRenderer* ren, vtkVolume* vol, int width,
   vtkOpenGLState::ScopedglEnableDisable blend(state, GL_BLEND);
   vtkOpenGLState::ScopedglBlendFuncSeparate blend_function(state);
   vtkOpenGLState::ScopedglDepthMask depth_mask(state);
+  vtkOpenGLState::ScopedglEnableDisable depth_test(state, GL_DEPTH_TEST);
   state->vtkglEnable(GL_BLEND);
   state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied "over"
   state->vtkglDepthMask(GL_FALSE);
-  const float z = 2.0f * nearest_bounds_depth(ren, vol) - 1.0f;  // drawn where the volume begins, as VTK's mappers do
-  float verts[12] = {-1.0f, -1.0f, z, 1.0f, -1.0f, z, 1.0f, 1.0f, z, -1.0f, 1.0f, z};
+  // No depth test: each pixel's rays already ended at the opaque geometry (opaque_depths).
+  state->vtkglDisable(GL_DEPTH_TEST);
+  float verts[12] = {-1.0f, -1.0f, 0.0f, 1.0f, -1.0f, 0.0f, 1.0f, 1.0f, 0.0f, -1.0f, 1.0f, 0.0f};
   float tcoords[8] = {0.0f, 0.0f, 1.0f, 0.0f, 1.0f, 1.0f, 0.0f, 1.0f};
   this->Texture->CopyToFrameBuffer(tcoords, verts, nullptr, nullptr);
 }
@@ -114,6 +123,14 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
     int width = 0, height = 0, x0 = 0, y0 = 0;
     ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
     if (width <= 0 || height <= 0) return;
+    // Opaque geometry (slices, contours, glyphs drawn before the volume) ends the rays. The
+    // compute backend follows such limits; the mesh backend does not yet, so frames with opaque
+    // geometry in view are drawn by the compute backend (the same image to rounding).
+    std::vector<float> opaque = opaque_depths(ren, x0, y0, width, height);
+    if (!opaque.empty()) {
+      settings.resolve.depth_limit = std::make_shared<const std::vector<float>>(std::move(opaque));
+      settings.backend = prismoid::frame::IntervalBackend::Compute;
+    }
     const prismoid::frame::OffscreenFrame frame =
         session.render(pv::camera_from(ren->GetActiveCamera()), settings, static_cast<uint32_t>(width), static_cast<uint32_t>(height));
 
@@ -123,7 +140,7 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
     for (int y = 0; y < height; ++y)
       std::copy_n(frame.emission.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(y) * row), row,
                   image.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(height - 1 - y) * row));
-    this->Blend(ren, vol, width, height, image.data());
+    this->Blend(ren, width, height, image.data());
     this->LastFrameDrawn = true;
     this->LastFrameMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   } catch (const std::exception& e) {

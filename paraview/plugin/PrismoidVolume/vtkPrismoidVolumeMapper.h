@@ -53,7 +53,7 @@ protected:
   std::string ReportedError;  // the error last reported, until a frame is drawn
   vtkTextureObject* Texture = nullptr;
   // Draws a viewport-sized image of premultiplied linear RGBA (rows bottom to top) over the frame.
-  void Blend(vtkRenderer* ren, vtkVolume* vol, int width, int height, float* premultiplied);
+  void Blend(vtkRenderer* ren, int width, int height, float* premultiplied);
 
 private:
   vtkPrismoidVolumeMapper(const vtkPrismoidVolumeMapper&) = delete;
