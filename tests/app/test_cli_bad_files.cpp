@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstring>
@@ -343,6 +344,43 @@ TEST(CliBadFiles, ReadingProblemsNameTheFileOrOption) {
   write_bytes(vtk, ball_legacy_vtk());
   expect_refused({"render", vtk.string(), "--array", "extinction", "--component", "7", "--size", "8x8", "--output", png}, vtk.string(),
                  "array 'extinction' has 1 component (it is a scalar); --component 7 does not exist");
+}
+
+// --depth-limit: a file of another size than the frame, of three channels, with a depth that is
+// not positive (or NaN), truncated, or not PFM at all, is refused naming it; the mesh backend
+// refuses a limit it does not follow. (What the limit does: EmissionAbsorptionTest.RaysEndAt...)
+TEST(CliBadFiles, DepthLimitFilesAreCheckedBeforeAnyFrame) {
+  const fs::path dir = work_dir();
+  auto pfm = [&](const std::string& name, uint32_t w, uint32_t h, const char* kind, const std::vector<float>& values) {
+    const fs::path path = dir / name;
+    std::ofstream out(path, std::ios::binary);
+    out << kind << "\n" << w << " " << h << "\n-1.0\n";
+    out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(float)));
+    return path.string();
+  };
+  const std::string good = pfm("limit.pfm", 8, 8, "Pf", std::vector<float>(64, 5.0f));
+  const std::string wide = pfm("wide.pfm", 9, 8, "Pf", std::vector<float>(72, 5.0f));
+  const std::string rgb = pfm("rgb.pfm", 8, 8, "PF", std::vector<float>(192, 5.0f));
+  std::vector<float> zero(64, 5.0f);
+  zero[17] = 0.0f;
+  const std::string nonpositive = pfm("zero.pfm", 8, 8, "Pf", zero);
+  std::vector<float> nan(64, 5.0f);
+  nan[3] = std::nanf("");
+  const std::string not_a_number = pfm("nan.pfm", 8, 8, "Pf", nan);
+  const std::string truncated = pfm("short.pfm", 8, 8, "Pf", std::vector<float>(10, 5.0f));
+  const std::string out = (dir / "o.png").string();
+  auto render = [&](const std::string& limit, const std::string& backend) {
+    return std::vector<std::string>{"render", "--size", "8x8", "--quantity", "color", "--volume-backend", backend, "--depth-limit", limit, "--output", out};
+  };
+  expect_refused(render(wide, "compute"), wide, "is 9x8; the frame (--size) is 8x8");
+  expect_refused(render(rgb, "compute"), rgb, "one value per pixel");
+  expect_refused(render(nonpositive, "compute"), nonpositive, "not positive");
+  expect_refused(render(not_a_number, "compute"), not_a_number, "not positive");
+  expect_refused(render(truncated, "compute"), truncated, "");
+  expect_refused(render(good, "mesh"), "depth limit", "needs the compute backend");
+  // The good file draws.
+  const CliResult r = run_for(render(good, "compute"), 120.0);
+  EXPECT_EQ(r.code, 0) << describe(render(good, "compute"), r);
 }
 
 }  // namespace
