@@ -58,7 +58,7 @@ const char* const kRenderHelpTail =
     "                       camera (default: framing the data from +z, fovy 40)\n"
     "  --depth-limit D.pfm  where each pixel's ray ends, as a depth along the viewing axis (a grey PFM of\n"
     "                       --size, row 0 at the top; +inf where nothing is): opaque geometry in front of or\n"
-    "                       inside the volume. --volume-backend compute and --mode reference; not marching\n"
+    "                       inside the volume. Not with marching or isosurfaces\n"
     "  --volume-backend B   what draws the intervals: mesh (mesh shaders, the default), compute (compute\n"
     "                       shaders on every core: cells binned into screen tiles, each pixel's exact\n"
     "                       intervals in its own depth order), or auto (the faster on this device, by a\n"

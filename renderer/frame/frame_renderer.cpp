@@ -89,10 +89,12 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
   for (const vk::Buffer* b : {&mesh_.positions, &mesh_.tets, &mesh_.cell_sigma, &mesh_.point_sigma, &mesh_.cell_scalar, &mesh_.point_scalar})
     report.mesh_bytes += b->size();
   const bool compute = settings.backend == IntervalBackend::Compute;
-  // Rays ending at opaque geometry: the compute backend's tile raster clips each interval there,
-  // for the quantities the CPU reference integrates; the mesh backend does not yet.
-  if (settings.resolve.depth_limit) {
-    if (!compute) throw InputError("depth limit", "needs the compute backend (--volume-backend compute)");
+  // Rays ending at opaque geometry: both backends clip each interval at the pixel's limit (the
+  // tile raster, the fragment stages), for the quantities the CPU reference integrates.
+  if (const auto& limit = settings.resolve.depth_limit) {
+    if (limit->size() != size_t(targets_.extent.width) * targets_.extent.height)
+      throw InputError("depth limit", "has " + std::to_string(limit->size()) + " values for a " + std::to_string(targets_.extent.width) +
+                                          "x" + std::to_string(targets_.extent.height) + " frame");
     if (settings.resolve.march.enabled || settings.resolve.quantity == volume::Quantity::Isosurface)
       throw InputError("depth limit", "is not followed when marching a field or drawing an isosurface");
   }

@@ -32,7 +32,7 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr VkQueryPipelineStatisticFlags kCountedStatistics =
     VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT | VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT;
 
-const std::array<vk::DescriptorBinding, 14> kMeshBindings = {{
+const std::array<vk::DescriptorBinding, 15> kMeshBindings = {{
     {PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT},
     {PRISMOID_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_TETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
@@ -47,6 +47,7 @@ const std::array<vk::DescriptorBinding, 14> kMeshBindings = {{
     {PRISMOID_BINDING_TETLET_POINTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_TETLET_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_MESH_BIT_EXT},
     {PRISMOID_BINDING_FIELD_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
+    {PRISMOID_BINDING_DEPTH_LIMIT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
 }};
 
 const std::array<vk::DescriptorBinding, 4> kResolveBindings = {{
@@ -167,7 +168,7 @@ IntervalShadingPass::IntervalShadingPass(const vk::Device& device) : device_(dev
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_PREINTEGRATED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
   vk::write_buffer_descriptor(device, mesh_set_.set, PRISMOID_BINDING_TRANSFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
   for (uint32_t binding : {PRISMOID_BINDING_TETLETS, PRISMOID_BINDING_TETLET_POINTS, PRISMOID_BINDING_TETLET_CELLS,
-                           PRISMOID_BINDING_FIELD_GRID})
+                           PRISMOID_BINDING_FIELD_GRID, PRISMOID_BINDING_DEPTH_LIMIT})
     vk::write_buffer_descriptor(device, mesh_set_.set, binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stub_.get());
 }
 
@@ -283,6 +284,15 @@ void IntervalShadingPass::prepare(const GpuTetMesh& mesh, const ResolveSettings&
     throw InputError("--shared-vertices", "groups several cells per workgroup: use --tetlet-size 4, 8 or 16");
   if (mesh_pipeline) pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
   if (settings.march.enabled && settings.march.field.kind == FieldKind::Grid) upload_grid(settings.march.field.grid);
+  // Where the rays end (opaque geometry), written while no frame is in flight; its size is the
+  // frame's, checked by the caller (frame_renderer.cpp).
+  if (settings.depth_limit) {
+    const std::vector<float>& limit = *settings.depth_limit;
+    const VkDeviceSize bytes = std::max<VkDeviceSize>(limit.size() * sizeof(float), sizeof(float));
+    if (depth_limit_.size() < bytes) depth_limit_ = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);
+    depth_limit_.write(std::as_bytes(std::span(limit)));
+    vk::write_buffer_descriptor(device_, mesh_set_.set, PRISMOID_BINDING_DEPTH_LIMIT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth_limit_.get());
+  }
   if (settings.quantity != Quantity::Color) return;
   if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
   validate(settings.transfer);
@@ -398,7 +408,8 @@ gpu::FrameUniforms IntervalShadingPass::frame_uniforms(const GpuTetMesh& mesh, c
   const TransferFunction& tf = settings.transfer;
   const ScalarMapping mapping = scalar_mapping(tf);
   frame.transfer = glm::vec4(float(mapping.scale), float(mapping.offset), float(table_.max_length), float(table_.size));
-  frame.options = glm::uvec4(uint32_t(table_tf_.size()), use_table ? PRISMOID_SEGMENTS_TABLE : PRISMOID_SEGMENTS_EXACT, 0u, 0u);
+  frame.options = glm::uvec4(uint32_t(table_tf_.size()), use_table ? PRISMOID_SEGMENTS_TABLE : PRISMOID_SEGMENTS_EXACT,
+                             settings.depth_limit ? 1u : 0u, 0u);
   if (march) fill_march_uniforms(frame, settings, camera, mesh.origin, mesh.extinction_cap);
   return frame;
 }

@@ -158,6 +158,7 @@ class IntervalShadingPass {
   vk::DescriptorSet resolve_set_;
   vk::Buffer frame_uniforms_;
   vk::Buffer stub_;  // bound where a frame has no order or no table
+  vk::Buffer depth_limit_;  // per pixel, when the settings end rays at opaque geometry (host-visible)
   PreintegrationTable table_;
   std::vector<TfSample> table_tf_;  // the transfer function of tf_buffer_ and table_
   vk::Buffer tf_buffer_;

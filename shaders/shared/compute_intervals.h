@@ -44,8 +44,7 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_CI_BINDING_CHUNK_WORK 24     // uvec2 per chunk after a tile's first: the tile, the chunk's index in it
 #define PRISMOID_CI_BINDING_SPLIT_TILES 25    // uint per split tile: the tile
 #define PRISMOID_CI_BINDING_PARTIALS 26       // ChunkPartial per chunk slot and pixel of the tile (64 per slot)
-#define PRISMOID_CI_BINDING_DEPTH_LIMIT 27    // float per pixel, row 0 at the top: the depth along the viewing axis where its ray
-                                              // ends (opaque geometry; +inf: nowhere), read when push.options.w is 1
+#define PRISMOID_CI_BINDING_DEPTH_LIMIT PRISMOID_BINDING_DEPTH_LIMIT  // (volume.h), read when push.options.w is 1
 #define PRISMOID_CI_UNSPLIT 0xFFFFFFFFu
 
 // What a frame counts (PRISMOID_CI_BINDING_STATS), read back after it.

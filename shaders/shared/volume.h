@@ -22,6 +22,10 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_BINDING_TETLET_CELLS 12  // readonly uvec2[]: cell index, its 4 corners as 8-bit tetlet-local indices
 #define PRISMOID_TETLET_MAX_POINTS 64     // shared-memory points per tetlet
 #define PRISMOID_BINDING_FIELD_GRID 13    // readonly float[]: a sampled grid's values, x fastest (PRISMOID_FIELD_GRID)
+// readonly float[] per pixel, row 0 at the top: the depth along the viewing axis where its ray ends
+// (opaque geometry; +inf: nowhere), read when FrameUniforms.options.z is 1. The compute backend's
+// set has it at the same binding (after its own, compute_intervals.h).
+#define PRISMOID_BINDING_DEPTH_LIMIT 27
 
 // How a segment's emission is integrated (FrameUniforms.options.y).
 #define PRISMOID_SEGMENTS_EXACT 0u   // in the fragment shader, piece by piece of the transfer function
@@ -78,7 +82,7 @@ struct FrameUniforms {
                     // z: PRISMOID_INTEGRAND_*, w: 1 when cells are drawn in the order of PRISMOID_BINDING_ORDER
   vec4 transfer;    // x, y: the transfer function's x = scalar * x + y (volume::scalar_mapping),
                     // z: table's longest length, w: table size per axis (texels)
-  uvec4 options;    // x: transfer-function sample count, y: PRISMOID_SEGMENTS_*
+  uvec4 options;    // x: transfer-function sample count, y: PRISMOID_SEGMENTS_*, z: 1 when rays end at PRISMOID_BINDING_DEPTH_LIMIT
   // Marching inside intervals (march.frag): an analytic field in world coordinates.
   mat4 camera_to_mesh;  // inverse of `view`: camera space -> mesh-local coordinates
   // xyz: the field's coordinates of mesh-local 0 (field point = field_origin + local). Zero

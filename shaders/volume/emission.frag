@@ -18,10 +18,22 @@ layout(location = 1) perprimitiveEXT flat in vec4 p_reference;  // w: the normal
 layout(location = 0) out vec4 out_color;
 
 #include "interval_ray.glsl"
+layout(std430, set = 0, binding = PRISMOID_BINDING_DEPTH_LIMIT) readonly buffer DepthLimit { float depth_limit[]; };
+
+// The depth where this pixel's ray ends (opaque geometry), +inf where nothing is.
+float pixel_depth_limit() {
+  if (frame.options.z != 1u) return uintBitsToFloat(0x7F800000u);
+  uvec2 p = uvec2(gl_FragCoord.xy);
+  return depth_limit[p.y * uint(frame.viewport.x) + p.x];
+}
 #include "segment_emission.glsl"
 
 void main() {
   IntervalRay r = interval_ray(v_inv_depth, v_relative, p_reference);
+  if (!end_at(r, pixel_depth_limit())) {
+    out_color = vec4(0.0);
+    return;
+  }
   float len = interval_length(r);
   // A non-finite interval (cannot happen for proxies that pass the area test) adds nothing.
   if (!(len > 0.0) || isinf(len)) {

@@ -44,4 +44,18 @@ IntervalRay interval_ray(vec2 inv_depth, vec4 relative, vec4 reference) {
 // The interval's length in world units.
 float interval_length(IntervalRay r) { return (r.rel_back - r.rel_front) * r.length_per_depth; }
 
+// Opaque geometry: the pixel's ray ends at depth `limit` along the viewing axis (+inf: nowhere).
+// The interval keeps what lies before it: its back end moves there, the field at it interpolated
+// along the interval (the field is linear along the ray inside a cell). False when nothing is left.
+bool end_at(inout IntervalRay r, float limit) {
+  if (!(r.front < limit)) return false;
+  if (r.back > limit) {
+    float kept = (limit - r.front) / (r.back - r.front);
+    r.field_back = mix(r.field_front, r.field_back, kept);
+    r.rel_back = r.rel_front + (limit - r.front);
+    r.back = limit;
+  }
+  return true;
+}
+
 #endif

@@ -68,7 +68,7 @@ def main():
     ColorBy(surface, None)
     surface.DiffuseColor = [0.85, 0.8, 0.7]
     failures = 0
-    for backend in (1, 0):  # the mesh backend hands frames with opaque geometry to the compute backend
+    for backend in (1, 0):
         scene.rep.PrismoidBackend = backend
         scene.rep.Visibility = 0
         slice_only = scene.screenshot(os.path.join(out, "slice_only.png"))

@@ -123,14 +123,9 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
     int width = 0, height = 0, x0 = 0, y0 = 0;
     ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
     if (width <= 0 || height <= 0) return;
-    // Opaque geometry (slices, contours, glyphs drawn before the volume) ends the rays. The
-    // compute backend follows such limits; the mesh backend does not yet, so frames with opaque
-    // geometry in view are drawn by the compute backend (the same image to rounding).
+    // Opaque geometry (slices, contours, glyphs drawn before the volume) ends the rays.
     std::vector<float> opaque = opaque_depths(ren, x0, y0, width, height);
-    if (!opaque.empty()) {
-      settings.resolve.depth_limit = std::make_shared<const std::vector<float>>(std::move(opaque));
-      settings.backend = prismoid::frame::IntervalBackend::Compute;
-    }
+    if (!opaque.empty()) settings.resolve.depth_limit = std::make_shared<const std::vector<float>>(std::move(opaque));
     const prismoid::frame::OffscreenFrame frame =
         session.render(pv::camera_from(ren->GetActiveCamera()), settings, static_cast<uint32_t>(width), static_cast<uint32_t>(height));
 
