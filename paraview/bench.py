@@ -27,10 +27,7 @@ VTK = ["Projected tetra", "Z sweep", "Bunyk ray cast"]
 
 def main():
     a = {"half": "16", "size": "512x384", "frames": "5", "mappers": "all", "split": "0"}
-    it = iter(sys.argv[1:])
-    for k in it:
-        a[k.lstrip("-")] = next(it)
-    os.makedirs(a["out"], exist_ok=True)
+    a.update(pvtest.options())
     ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
     pvtest.load_plugin(a["plugin"])
     vtu = os.path.join(a["out"], "wavelet_%s.vtu" % a["half"])

@@ -7,7 +7,6 @@ crash is seen as one (the parent checks the child's exit and its output).
 """
 import os
 import subprocess
-import sys
 
 import numpy as np
 
@@ -99,11 +98,7 @@ def parent(a):
 
 
 def main():
-    a = {}
-    it = iter(sys.argv[1:])
-    for k in it:
-        a[k.lstrip("-")] = next(it)
-    os.makedirs(a["out"], exist_ok=True)
+    a = pvtest.options()
     if "case" in a:
         child(a["case"], a)
     else:

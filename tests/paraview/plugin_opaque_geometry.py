@@ -13,7 +13,6 @@ disagree about coverage) and their neighbours are left out and counted.
 """
 import math
 import os
-import struct
 
 import numpy as np
 

@@ -16,7 +16,6 @@ Also: the same grid unsplit (all on rank 0, the other ranks' pieces empty) on 4 
 """
 import os
 import subprocess
-import sys
 
 import numpy as np
 
@@ -85,11 +84,7 @@ def driver(a):
 
 
 def main():
-    a = {}
-    it = iter(sys.argv[1:])
-    for k in it:
-        a[k.lstrip("-")] = next(it)
-    os.makedirs(a["out"], exist_ok=True)
+    a = pvtest.options()
     if "worker" in a:
         worker(a)
     else:

@@ -25,16 +25,23 @@ def fail(message):
     sys.exit(1)
 
 
-def args():
-    """--prismoid BIN --plugin SO --out DIR"""
+def options():
+    """The script's --name value pairs as a dict; --out's folder made."""
     a = {}
     it = iter(sys.argv[1:])
     for k in it:
         a[k.lstrip("-")] = next(it)
+    if "out" in a:
+        os.makedirs(a["out"], exist_ok=True)
+    return a
+
+
+def args():
+    """--prismoid BIN --plugin SO --out DIR"""
+    a = options()
     for k in ("prismoid", "plugin", "out"):
         if k not in a:
             fail("missing --" + k)
-    os.makedirs(a["out"], exist_ok=True)
     return a
 
 

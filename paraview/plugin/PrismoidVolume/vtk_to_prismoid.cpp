@@ -45,6 +45,20 @@ std::vector<double> values_of(vtkDataArray* array, vtkIdType count, const char* 
 
 constexpr int kSamples = 256;  // samples of a non-linear function between its ends
 
+// Where to sample a VTK transfer function so that the piecewise-linear function through the
+// samples is it: at its nodes when every segment is linear (midpoint 0.5 and sharpness 0, at
+// `shape` and `shape` + 1 of each node, and `linear_space`), else kSamples + 1 points over `range`.
+std::vector<double> sample_at(const std::vector<std::array<double, 6>>& nodes, size_t shape, bool linear_space, const double* range) {
+  bool linear = linear_space;
+  for (const auto& node : nodes) linear = linear && node[shape] == 0.5 && node[shape + 1] == 0.0;
+  std::vector<double> at;
+  if (linear)
+    for (const auto& node : nodes) at.push_back(node[0]);
+  else
+    for (int k = 0; k <= kSamples; ++k) at.push_back(range[0] + (range[1] - range[0]) * k / kSamples);
+  return at;
+}
+
 }  // namespace
 
 TetMesh tet_mesh_from(vtkUnstructuredGridBase* grid, vtkDataArray* scalars, bool per_cell, std::size_t& skipped) {
@@ -105,45 +119,17 @@ volume::TransferFunction transfer_function_from(vtkVolumeProperty* property) {
   const double span = tf.range_hi - tf.range_lo;
   auto x_of = [&](double s) { return (s - tf.range_lo) / span; };
 
-  bool color_linear = color->GetColorSpace() == VTK_CTF_RGB;
-  for (int i = 0; i < color->GetSize(); ++i) {
-    double node[6];
-    color->GetNodeValue(i, node);
-    color_linear = color_linear && node[4] == 0.5 && node[5] == 0.0;
-  }
-  std::vector<double> at;  // scalars to sample the colour map at
-  if (color_linear) {
-    for (int i = 0; i < color->GetSize(); ++i) {
-      double node[6];
-      color->GetNodeValue(i, node);
-      at.push_back(node[0]);
-    }
-  } else {
-    for (int k = 0; k <= kSamples; ++k) at.push_back(cr[0] + (cr[1] - cr[0]) * k / kSamples);
-  }
-  for (double s : at) {
+  // Each node is (scalar, values..., midpoint, sharpness): 6 doubles for colour, 4 for opacity.
+  std::vector<std::array<double, 6>> color_nodes(static_cast<size_t>(color->GetSize()));
+  for (int i = 0; i < color->GetSize(); ++i) color->GetNodeValue(i, color_nodes[size_t(i)].data());
+  std::vector<std::array<double, 6>> opacity_nodes(static_cast<size_t>(opacity->GetSize()));
+  for (int i = 0; i < opacity->GetSize(); ++i) opacity->GetNodeValue(i, opacity_nodes[size_t(i)].data());
+  for (double s : sample_at(color_nodes, 4, color->GetColorSpace() == VTK_CTF_RGB, cr)) {
     double rgb[3];
     color->GetColor(s, rgb);
     tf.color.push_back({x_of(s), {std::clamp(rgb[0], 0.0, 1.0), std::clamp(rgb[1], 0.0, 1.0), std::clamp(rgb[2], 0.0, 1.0)}});
   }
-
-  bool opacity_linear = true;
-  for (int i = 0; i < opacity->GetSize(); ++i) {
-    double node[4];
-    opacity->GetNodeValue(i, node);
-    opacity_linear = opacity_linear && node[2] == 0.5 && node[3] == 0.0;
-  }
-  at.clear();
-  if (opacity_linear) {
-    for (int i = 0; i < opacity->GetSize(); ++i) {
-      double node[4];
-      opacity->GetNodeValue(i, node);
-      at.push_back(node[0]);
-    }
-  } else {
-    for (int k = 0; k <= kSamples; ++k) at.push_back(orange[0] + (orange[1] - orange[0]) * k / kSamples);
-  }
-  for (double s : at) tf.opacity.push_back({x_of(s), std::clamp(opacity->GetValue(s), 0.0, 1.0)});
+  for (double s : sample_at(opacity_nodes, 2, true, orange)) tf.opacity.push_back({x_of(s), std::clamp(opacity->GetValue(s), 0.0, 1.0)});
 
   const double unit = property->GetScalarOpacityUnitDistance(0);
   if (!(unit > 0.0) || !std::isfinite(unit)) throw std::runtime_error("the scalar opacity unit distance must be positive");
