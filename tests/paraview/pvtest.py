@@ -58,6 +58,16 @@ def write_wavelet(path, half=6):
     Delete(w)
 
 
+def write_wavelet_voxels(path, half=6):
+    """The same wavelet as hexahedral cells (a Threshold keeping every voxel): ParaView's volume
+    representation and `prismoid render` each cut them into tetrahedra themselves."""
+    w = Wavelet(WholeExtent=[-half, half, -half, half, -half, half])
+    t = Threshold(Input=w, Scalars=["POINTS", "RTData"], LowerThreshold=-1e30, UpperThreshold=1e30)
+    SaveData(path, proxy=t)
+    Delete(t)
+    Delete(w)
+
+
 def srgb(c):
     return 12.92 * c if c <= 0.0031308 else 1.055 * c ** (1.0 / 2.4) - 0.055
 
