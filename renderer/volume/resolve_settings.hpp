@@ -45,8 +45,8 @@ struct ResolveSettings {
   bool shared_vertices = false;
   // Where each pixel's ray ends: the depth along the viewing axis of opaque geometry in front
   // of or inside the volume (a slice, a surface drawn before it), one per pixel of the frame,
-  // row 0 at the top; +inf where nothing is. Null: no limit. The compute backend and the CPU
-  // reference end each interval there (optical depth, transmittance, colour).
+  // row 0 at the top; +inf where nothing is. Null: no limit. Both backends and the CPU
+  // references end each interval there (optical depth, transmittance, colour).
   std::shared_ptr<const std::vector<float>> depth_limit;
 };
 

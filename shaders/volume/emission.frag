@@ -18,14 +18,6 @@ layout(location = 1) perprimitiveEXT flat in vec4 p_reference;  // w: the normal
 layout(location = 0) out vec4 out_color;
 
 #include "interval_ray.glsl"
-layout(std430, set = 0, binding = PRISMOID_BINDING_DEPTH_LIMIT) readonly buffer DepthLimit { float depth_limit[]; };
-
-// The depth where this pixel's ray ends (opaque geometry), +inf where nothing is.
-float pixel_depth_limit() {
-  if (frame.options.z != 1u) return uintBitsToFloat(0x7F800000u);
-  uvec2 p = uvec2(gl_FragCoord.xy);
-  return depth_limit[p.y * uint(frame.viewport.x) + p.x];
-}
 #include "segment_emission.glsl"
 
 void main() {

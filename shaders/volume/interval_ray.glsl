@@ -39,6 +39,15 @@ IntervalRay interval_ray(vec2 inv_depth, vec4 relative, vec4 reference) {
   r.length_per_depth = length(r.ray);
   return r;
 }
+
+// The depth along the viewing axis where this fragment's pixel ray ends (opaque geometry,
+// volume::ResolveSettings::depth_limit), +inf where nothing is.
+layout(std430, set = 0, binding = PRISMOID_BINDING_DEPTH_LIMIT) readonly buffer DepthLimit { float depth_limit[]; };
+float pixel_depth_limit() {
+  if (frame.options.z != 1u) return uintBitsToFloat(0x7F800000u);
+  uvec2 p = uvec2(gl_FragCoord.xy);
+  return depth_limit[p.y * uint(frame.viewport.x) + p.x];
+}
 #endif
 
 // The interval's length in world units.

@@ -7,14 +7,6 @@
 layout(set = 0, binding = PRISMOID_BINDING_FRAME) uniform FrameBlock { FrameUniforms frame; };
 
 #include "interval_ray.glsl"
-layout(std430, set = 0, binding = PRISMOID_BINDING_DEPTH_LIMIT) readonly buffer DepthLimit { float depth_limit[]; };
-
-// The depth where this pixel's ray ends (opaque geometry), +inf where nothing is.
-float pixel_depth_limit() {
-  if (frame.options.z != 1u) return uintBitsToFloat(0x7F800000u);
-  uvec2 p = uvec2(gl_FragCoord.xy);
-  return depth_limit[p.y * uint(frame.viewport.x) + p.x];
-}
 
 layout(location = 0) in vec2 v_inv_depth;
 layout(location = 2) in vec4 v_relative;
