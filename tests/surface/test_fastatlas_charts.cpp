@@ -1,0 +1,157 @@
+// FastAtlas's charts (renderer/surface/fastatlas/charts.hpp): the visible faces' connected
+// components against a plain breadth-first search over the same visibility; every visible face in
+// exactly one chart, named by its lowest face; charts never share a vertex, so their boundaries
+// lie only where visibility changes; each triangle's screen box, including triangles that cross
+// the near plane or lie behind the eye.
+#include <gtest/gtest.h>
+
+#include <queue>
+#include <random>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+#include <glm/vec4.hpp>
+
+#include "renderer/surface/fastatlas/charts.hpp"
+#include "scene/generators.hpp"
+
+namespace prismoid {
+namespace {
+
+using fastatlas::kNoChart;
+
+// Components of the visible faces under sharing a vertex, by breadth-first search: the twin.
+std::vector<uint32_t> components_by_search(const HalfedgeMesh& mesh, const std::vector<uint8_t>& visible) {
+  std::vector<std::vector<uint32_t>> faces_at(mesh.vertex_count());
+  for (uint32_t f = 0; f < mesh.face_count(); ++f)
+    if (visible[f])
+      for (uint32_t v : mesh.faces[f]) faces_at[v].push_back(f);
+  std::vector<uint32_t> label(mesh.face_count(), kNoChart);
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    if (!visible[f] || label[f] != kNoChart) continue;
+    std::queue<uint32_t> todo;
+    todo.push(f);
+    label[f] = f;  // the lowest face of its component: faces are visited in increasing order
+    while (!todo.empty()) {
+      const uint32_t g = todo.front();
+      todo.pop();
+      for (uint32_t v : mesh.faces[g])
+        for (uint32_t h : faces_at[v])
+          if (label[h] == kNoChart) {
+            label[h] = f;
+            todo.push(h);
+          }
+    }
+  }
+  return label;
+}
+
+void expect_charts_match_search(const HalfedgeMesh& mesh, const std::vector<uint8_t>& visible) {
+  const fastatlas::Charts charts = fastatlas::visible_charts(mesh, visible);
+  const std::vector<uint32_t> label = components_by_search(mesh, visible);
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    if (!visible[f]) {
+      EXPECT_EQ(charts.chart_of_face[f], kNoChart);
+      continue;
+    }
+    ASSERT_NE(charts.chart_of_face[f], kNoChart) << "visible face " << f << " in no chart";
+    EXPECT_EQ(charts.root[charts.chart_of_face[f]], label[f]) << "face " << f;
+    for (uint32_t v : mesh.faces[f]) EXPECT_EQ(charts.chart_of_vertex[v], charts.chart_of_face[f]) << "vertex " << v;
+  }
+  for (size_t c = 1; c < charts.root.size(); ++c) EXPECT_LT(charts.root[c - 1], charts.root[c]);
+}
+
+TEST(FastAtlasCharts, ComponentsOfVisibleFacesMatchASearchAndShareNoVertex) {
+  const HalfedgeMesh sphere = build_halfedge_mesh(make_icosphere(glm::dvec3(0.0), 1.0, 4));
+  std::mt19937 rng(1);
+  for (double p : {0.1, 0.4, 0.7, 0.95}) {
+    std::vector<uint8_t> visible(sphere.face_count());
+    for (auto& v : visible) v = std::bernoulli_distribution(p)(rng) ? 1 : 0;
+    expect_charts_match_search(sphere, visible);
+  }
+  // Half the sphere seen (z > 0): one chart, rooted at its lowest face.
+  std::vector<uint8_t> front(sphere.face_count());
+  for (uint32_t f = 0; f < sphere.face_count(); ++f) {
+    const auto& t = sphere.faces[f];
+    front[f] = (sphere.positions[t[0]] + sphere.positions[t[1]] + sphere.positions[t[2]]).z > 0.0;
+  }
+  const fastatlas::Charts half = fastatlas::visible_charts(sphere, front);
+  EXPECT_EQ(half.root.size(), 1u);
+  expect_charts_match_search(sphere, front);
+  // Nothing visible: no charts.
+  const fastatlas::Charts none = fastatlas::visible_charts(sphere, std::vector<uint8_t>(sphere.face_count(), 0));
+  EXPECT_TRUE(none.root.empty());
+  EXPECT_THROW(fastatlas::visible_charts(sphere, {1, 0}), std::invalid_argument);
+}
+
+// The renderer's own projection (scene/camera.hpp), the box's independent twin for triangles the
+// near plane does not cut.
+glm::dvec2 pixel_of(const glm::dvec3& p, const Camera& camera, uint32_t w, uint32_t h) {
+  const glm::dvec4 clip = projection_matrix(camera, double(w) / h) * view_matrix(camera, glm::dvec3(0.0)) * glm::dvec4(p, 1.0);
+  const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;  // Vulkan: y down
+  return {(ndc.x + 1.0) * 0.5 * w, (ndc.y + 1.0) * 0.5 * h};
+}
+
+TEST(FastAtlasCharts, TriangleBoxesFollowTheProjectionAndSurviveTheNearPlane) {
+  Camera camera;
+  camera.eye = {0.0, 0.0, 5.0};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.fovy_degrees = 40.0;
+  camera.near_distance = 0.1;
+  const uint32_t w = 640, h = 480;
+  // In front of the eye, inside the view: the box of the projected corners.
+  const glm::dvec3 a(-0.5, -0.3, 0.0), b(0.7, -0.2, 0.5), c(0.1, 0.6, -1.0);
+  const fastatlas::PixelBox box = fastatlas::triangle_box(a, b, c, camera, w, h);
+  glm::dvec2 lo(1e30), hi(-1e30);
+  for (const glm::dvec3& p : {a, b, c}) {
+    lo = glm::min(lo, pixel_of(p, camera, w, h));
+    hi = glm::max(hi, pixel_of(p, camera, w, h));
+  }
+  EXPECT_NEAR(box.x0, lo.x, 1e-9);
+  EXPECT_NEAR(box.x1, hi.x, 1e-9);
+  EXPECT_NEAR(box.y0, lo.y, 1e-9);
+  EXPECT_NEAR(box.y1, hi.y, 1e-9);
+  // Behind the eye: nothing.
+  EXPECT_TRUE(fastatlas::triangle_box({0, 0, 6}, {1, 0, 7}, {0, 1, 6.5}, camera, w, h).empty());
+  // Crossing the near plane, reaching far behind the eye: a finite box inside the viewport (the
+  // division by w alone would throw the behind-the-eye corner to the opposite side).
+  const fastatlas::PixelBox crossing = fastatlas::triangle_box({-0.2, -0.1, 0.0}, {0.3, 0.0, 0.0}, {0.05, 0.05, 50.0}, camera, w, h);
+  EXPECT_FALSE(crossing.empty());
+  EXPECT_GE(crossing.x0, 0.0);
+  EXPECT_LE(crossing.x1, double(w));
+  EXPECT_GE(crossing.y0, 0.0);
+  EXPECT_LE(crossing.y1, double(h));
+  EXPECT_LT(crossing.x0, pixel_of({-0.2, -0.1, 0.0}, camera, w, h).x + 1e-9);  // it covers the part before the plane
+  // A floor under the eye reaching past it on both sides covers the viewport's lower part, not more.
+  const fastatlas::PixelBox floor = fastatlas::triangle_box({-100, -1, 10}, {100, -1, 10}, {0, -1, -100}, camera, w, h);
+  EXPECT_NEAR(floor.x0, 0.0, 1e-9);
+  EXPECT_NEAR(floor.x1, double(w), 1e-9);
+  EXPECT_NEAR(floor.y1, double(h), 1e-9);
+  EXPECT_GT(floor.y0, 0.5 * h);  // below the horizon
+}
+
+TEST(FastAtlasCharts, ChartBoxesAreTheUnionOfTheirFacesInWholePixels) {
+  const HalfedgeMesh sphere = build_halfedge_mesh(make_icosphere(glm::dvec3(0.0), 1.0, 3));
+  Camera camera;
+  camera.eye = {0.0, 0.0, 4.0};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.near_distance = 0.1;
+  std::vector<uint8_t> front(sphere.face_count());
+  for (uint32_t f = 0; f < sphere.face_count(); ++f) {
+    const auto& t = sphere.faces[f];
+    front[f] = (sphere.positions[t[0]] + sphere.positions[t[1]] + sphere.positions[t[2]]).z > 0.0;
+  }
+  const fastatlas::Charts charts = fastatlas::visible_charts(sphere, front);
+  const fastatlas::ChartScreenBoxes boxes = fastatlas::chart_boxes(sphere, charts, camera, 800, 600);
+  ASSERT_EQ(boxes.boxes.size(), 1u);
+  // The visible hemisphere's silhouette: a disc of radius r = f / sqrt(d^2 - 1) pixels (f the
+  // focal length in pixels), about the centre; its box spans 2 r, the faces' box a little less.
+  const double focal = 300.0 / std::tan(glm::radians(camera.fovy_degrees) * 0.5);
+  const double r = focal / std::sqrt(16.0 - 1.0);
+  EXPECT_NEAR(boxes.boxes[0].x1 - boxes.boxes[0].x0, 2.0 * r, 0.05 * r);
+  EXPECT_EQ(boxes.width[0], uint32_t(std::ceil(boxes.boxes[0].x1) - std::floor(boxes.boxes[0].x0)));
+  EXPECT_EQ(boxes.height[0], uint32_t(std::ceil(boxes.boxes[0].y1) - std::floor(boxes.boxes[0].y0)));
+}
+
+}  // namespace
+}  // namespace prismoid
