@@ -12,6 +12,7 @@
 #include <glm/trigonometric.hpp>
 #include <glm/vec4.hpp>
 
+#include "renderer/surface/fastatlas/atlas_map.hpp"
 #include "renderer/surface/fastatlas/charts.hpp"
 #include "scene/generators.hpp"
 
@@ -151,6 +152,55 @@ TEST(FastAtlasCharts, ChartBoxesAreTheUnionOfTheirFacesInWholePixels) {
   EXPECT_NEAR(boxes.boxes[0].x1 - boxes.boxes[0].x0, 2.0 * r, 0.05 * r);
   EXPECT_EQ(boxes.width[0], uint32_t(std::ceil(boxes.boxes[0].x1) - std::floor(boxes.boxes[0].x0)));
   EXPECT_EQ(boxes.height[0], uint32_t(std::ceil(boxes.boxes[0].y1) - std::floor(boxes.boxes[0].y0)));
+}
+
+// A frame's whole atlas on the CPU: charts of a seen sphere split by an occluding band, their
+// boxes packed into an atlas too small for scale 1. Each chart's map sends its visible vertices
+// into its own placed box (so charts never overlap in the atlas: the map is injective), and
+// stretches every screen distance by exactly the packer's scale.
+TEST(FastAtlasCharts, EachChartMapsIntoItsOwnBoxAtThePackersScale) {
+  const HalfedgeMesh sphere = build_halfedge_mesh(make_icosphere(glm::dvec3(0.0), 1.0, 4));
+  Camera camera;
+  camera.eye = {0.0, 0.0, 3.0};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.near_distance = 0.1;
+  const uint32_t w = 1280, h = 720;
+  std::vector<uint8_t> seen(sphere.face_count());
+  for (uint32_t f = 0; f < sphere.face_count(); ++f) {
+    const auto& t = sphere.faces[f];
+    const glm::dvec3 c = sphere.positions[t[0]] + sphere.positions[t[1]] + sphere.positions[t[2]];
+    seen[f] = c.z > 0.0 && std::abs(c.y) > 0.6;  // the front, less a band across it: two charts
+  }
+  const fastatlas::Charts charts = fastatlas::visible_charts(sphere, seen);
+  ASSERT_EQ(charts.root.size(), 2u);
+  const fastatlas::ChartScreenBoxes boxes = fastatlas::chart_boxes(sphere, charts, camera, w, h);
+  std::vector<fastatlas::ChartBox> packer_boxes;
+  for (size_t c = 0; c < charts.root.size(); ++c) packer_boxes.push_back({boxes.width[c], boxes.height[c], charts.root[c]});
+  fastatlas::PackingOptions o;
+  o.atlas_width = 256;
+  o.atlas_height = 256;
+  const fastatlas::AtlasPacking packing = fastatlas::pack_atlas(packer_boxes, o);
+  ASSERT_TRUE(packing.fits);
+  ASSERT_LT(packing.scale, 1.0);  // the test exercises a scale below one texel per pixel
+  for (uint32_t f = 0; f < sphere.face_count(); ++f) {
+    const uint32_t c = charts.chart_of_face[f];
+    if (c == kNoChart) continue;
+    const fastatlas::ChartMap map = fastatlas::chart_map(boxes.boxes[c], packing.charts[c], packing.scale, o.border);
+    const auto& placed = packing.charts[c];
+    glm::dvec2 px[3], tx[3];
+    for (int k = 0; k < 3; ++k) {
+      px[k] = pixel_of(sphere.positions[sphere.faces[f][k]], camera, w, h);
+      tx[k] = fastatlas::to_atlas(map, px[k]);
+      EXPECT_GE(tx[k].x, double(placed.x)) << "face " << f;
+      EXPECT_LE(tx[k].x, double(placed.x + placed.width)) << "face " << f;
+      EXPECT_GE(tx[k].y, double(placed.y)) << "face " << f;
+      EXPECT_LE(tx[k].y, double(placed.y + placed.height)) << "face " << f;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const double on_screen = glm::length(px[(k + 1) % 3] - px[k]), in_atlas = glm::length(tx[(k + 1) % 3] - tx[k]);
+      EXPECT_NEAR(in_atlas, packing.scale * on_screen, 1e-9 * (1.0 + on_screen)) << "face " << f;
+    }
+  }
 }
 
 }  // namespace
