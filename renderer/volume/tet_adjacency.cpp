@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <glm/geometric.hpp>
 #include <limits>
-#include <numeric>
 #include <sstream>
 #include <string>
 #include <unordered_map>
 
 #include "renderer/volume/orientation.hpp"
 #include "renderer/volume/visibility_order.hpp"
+#include "scene/disjoint_sets.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::volume {
@@ -54,22 +54,6 @@ void check_cells(const TetMesh& mesh) {
           throw InputError(source_of(mesh), "cell " + std::to_string(c) + " uses point " + std::to_string(t[i]) + " twice");
   }
 }
-
-// Disjoint sets over boundary faces, to count the boundary's connected pieces.
-struct DisjointSets {
-  std::vector<uint32_t> parent;
-  explicit DisjointSets(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  bool unite(uint32_t a, uint32_t b) {
-    a = find(a), b = find(b);
-    if (a == b) return false;
-    parent[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
-};
 
 bool boundary_is_convex(const TetMesh& mesh, const std::vector<uint32_t>& boundary_slots) {
   if (boundary_slots.empty()) return false;

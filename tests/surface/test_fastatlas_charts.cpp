@@ -21,6 +21,26 @@ namespace {
 
 using fastatlas::kNoChart;
 
+// A camera on the +z axis at `distance`, looking at the origin.
+Camera on_z_axis(double distance) {
+  Camera camera;
+  camera.eye = {0.0, 0.0, distance};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.near_distance = 0.1;
+  return camera;
+}
+
+// Per face, whether `keep` holds for its centroid (three times it: the sum of its corners).
+template <class Keep>
+std::vector<uint8_t> faces_where(const HalfedgeMesh& mesh, Keep keep) {
+  std::vector<uint8_t> flags(mesh.face_count());
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const auto& t = mesh.faces[f];
+    flags[f] = keep(mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) ? 1 : 0;
+  }
+  return flags;
+}
+
 // Components of the visible faces under sharing a vertex, by breadth-first search: the twin.
 std::vector<uint32_t> components_by_search(const HalfedgeMesh& mesh, const std::vector<uint8_t>& visible) {
   std::vector<std::vector<uint32_t>> faces_at(mesh.vertex_count());
@@ -71,11 +91,7 @@ TEST(FastAtlasCharts, ComponentsOfVisibleFacesMatchASearchAndShareNoVertex) {
     expect_charts_match_search(sphere, visible);
   }
   // Half the sphere seen (z > 0): one chart, rooted at its lowest face.
-  std::vector<uint8_t> front(sphere.face_count());
-  for (uint32_t f = 0; f < sphere.face_count(); ++f) {
-    const auto& t = sphere.faces[f];
-    front[f] = (sphere.positions[t[0]] + sphere.positions[t[1]] + sphere.positions[t[2]]).z > 0.0;
-  }
+  const std::vector<uint8_t> front = faces_where(sphere, [](const glm::dvec3& c) { return c.z > 0.0; });
   const fastatlas::Charts half = fastatlas::visible_charts(sphere, front);
   EXPECT_EQ(half.root.size(), 1u);
   expect_charts_match_search(sphere, front);
@@ -133,15 +149,8 @@ TEST(FastAtlasCharts, TriangleBoxesFollowTheProjectionAndSurviveTheNearPlane) {
 
 TEST(FastAtlasCharts, ChartBoxesAreTheUnionOfTheirFacesInWholePixels) {
   const HalfedgeMesh sphere = build_halfedge_mesh(make_icosphere(glm::dvec3(0.0), 1.0, 3));
-  Camera camera;
-  camera.eye = {0.0, 0.0, 4.0};
-  camera.target = {0.0, 0.0, 0.0};
-  camera.near_distance = 0.1;
-  std::vector<uint8_t> front(sphere.face_count());
-  for (uint32_t f = 0; f < sphere.face_count(); ++f) {
-    const auto& t = sphere.faces[f];
-    front[f] = (sphere.positions[t[0]] + sphere.positions[t[1]] + sphere.positions[t[2]]).z > 0.0;
-  }
+  const Camera camera = on_z_axis(4.0);
+  const std::vector<uint8_t> front = faces_where(sphere, [](const glm::dvec3& c) { return c.z > 0.0; });
   const fastatlas::Charts charts = fastatlas::visible_charts(sphere, front);
   const fastatlas::ChartScreenBoxes boxes = fastatlas::chart_boxes(sphere, charts, camera, 800, 600);
   ASSERT_EQ(boxes.boxes.size(), 1u);
@@ -160,17 +169,10 @@ TEST(FastAtlasCharts, ChartBoxesAreTheUnionOfTheirFacesInWholePixels) {
 // stretches every screen distance by exactly the packer's scale.
 TEST(FastAtlasCharts, EachChartMapsIntoItsOwnBoxAtThePackersScale) {
   const HalfedgeMesh sphere = build_halfedge_mesh(make_icosphere(glm::dvec3(0.0), 1.0, 4));
-  Camera camera;
-  camera.eye = {0.0, 0.0, 3.0};
-  camera.target = {0.0, 0.0, 0.0};
-  camera.near_distance = 0.1;
+  const Camera camera = on_z_axis(3.0);
   const uint32_t w = 1280, h = 720;
-  std::vector<uint8_t> seen(sphere.face_count());
-  for (uint32_t f = 0; f < sphere.face_count(); ++f) {
-    const auto& t = sphere.faces[f];
-    const glm::dvec3 c = sphere.positions[t[0]] + sphere.positions[t[1]] + sphere.positions[t[2]];
-    seen[f] = c.z > 0.0 && std::abs(c.y) > 0.6;  // the front, less a band across it: two charts
-  }
+  // The front, less a band across it: two charts.
+  const std::vector<uint8_t> seen = faces_where(sphere, [](const glm::dvec3& c) { return c.z > 0.0 && std::abs(c.y) > 0.6; });
   const fastatlas::Charts charts = fastatlas::visible_charts(sphere, seen);
   ASSERT_EQ(charts.root.size(), 2u);
   const fastatlas::ChartScreenBoxes boxes = fastatlas::chart_boxes(sphere, charts, camera, w, h);

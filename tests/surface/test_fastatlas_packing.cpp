@@ -30,6 +30,13 @@ std::vector<ChartBox> random_boxes(size_t n, uint32_t largest, uint32_t seed) {
   return boxes;
 }
 
+PackingOptions square_atlas(uint32_t side) {
+  PackingOptions o;
+  o.atlas_width = side;
+  o.atlas_height = side;
+  return o;
+}
+
 // Every placed box inside the atlas and no two sharing a texel (checked on an occupancy grid).
 void expect_disjoint_inside(const AtlasPacking& p, const PackingOptions& o) {
   ASSERT_TRUE(p.fits);
@@ -48,9 +55,7 @@ void expect_disjoint_inside(const AtlasPacking& p, const PackingOptions& o) {
 }
 
 TEST(FastAtlasPacking, BoxesAreDisjointInsideTheAtlasAndKeepTheirScaledSize) {
-  PackingOptions o;
-  o.atlas_width = 1024;
-  o.atlas_height = 1024;
+  const PackingOptions o = square_atlas(1024);
   for (uint32_t seed = 1; seed <= 6; ++seed) {
     const auto boxes = random_boxes(3000, 300, seed);
     const AtlasPacking p = fastatlas::pack_atlas(boxes, o);
@@ -67,9 +72,7 @@ TEST(FastAtlasPacking, BoxesAreDisjointInsideTheAtlasAndKeepTheirScaledSize) {
 }
 
 TEST(FastAtlasPacking, TheChosenScaleIsTheLargestCandidateThatFits) {
-  PackingOptions o;
-  o.atlas_width = 512;
-  o.atlas_height = 512;
+  const PackingOptions o = square_atlas(512);
   const auto boxes = random_boxes(2000, 200, 7);
   const AtlasPacking p = fastatlas::pack_atlas(boxes, o);
   ASSERT_TRUE(p.fits);
@@ -86,9 +89,7 @@ TEST(FastAtlasPacking, TheChosenScaleIsTheLargestCandidateThatFits) {
 }
 
 TEST(FastAtlasPacking, TheSameBoxesGiveTheSameAtlasInAnyArrivalOrder) {
-  PackingOptions o;
-  o.atlas_width = 1024;
-  o.atlas_height = 1024;
+  const PackingOptions o = square_atlas(1024);
   const auto boxes = random_boxes(5000, 250, 11);
   const AtlasPacking a = fastatlas::pack_atlas(boxes, o);
   const AtlasPacking again = fastatlas::pack_atlas(boxes, o);
@@ -119,9 +120,7 @@ TEST(FastAtlasPacking, TheSameBoxesGiveTheSameAtlasInAnyArrivalOrder) {
 }
 
 TEST(FastAtlasPacking, AChartLargerThanTheAtlasMakesTheScaleFall) {
-  PackingOptions o;
-  o.atlas_width = 256;
-  o.atlas_height = 256;
+  const PackingOptions o = square_atlas(256);
   std::vector<ChartBox> boxes = {{1000, 600, 5}, {10, 10, 1}, {30, 4, 2}};
   const AtlasPacking p = fastatlas::pack_atlas(boxes, o);
   expect_disjoint_inside(p, o);

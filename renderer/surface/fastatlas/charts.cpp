@@ -3,44 +3,25 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 
 #include <glm/trigonometric.hpp>
 #include <glm/vec4.hpp>
 
+#include "scene/disjoint_sets.hpp"
+
 namespace prismoid::fastatlas {
-
-namespace {
-
-// Union-find over faces whose representative is always the lowest index (as the GPU's hooking
-// keeps the minimum), with path halving.
-struct LowestUnion {
-  std::vector<uint32_t> parent;
-  explicit LowestUnion(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void join(uint32_t a, uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
-
-}  // namespace
 
 Charts visible_charts(const HalfedgeMesh& mesh, const std::vector<uint8_t>& visible) {
   const size_t faces = mesh.face_count();
   if (visible.size() != faces) throw std::invalid_argument("visible_charts: one visibility flag per face");
-  LowestUnion sets(faces);
+  DisjointSets sets(faces);  // rooted at the lowest face, as the GPU's hooking keeps the minimum
   // Across shared edges.
   for (size_t h = 0; h < mesh.halfedge_count(); ++h) {
     const int32_t t = mesh.twin[h];
     if (t == kNoHalfedge) continue;
     const uint32_t f = uint32_t(h / 3), g = uint32_t(t / 3);
-    if (visible[f] && visible[g]) sets.join(f, g);
+    if (visible[f] && visible[g]) sets.unite(f, g);
   }
   // Across shared vertices: the first visible face at each vertex joins every other one there.
   std::vector<uint32_t> first_at(mesh.vertex_count(), kNoChart);
@@ -48,7 +29,7 @@ Charts visible_charts(const HalfedgeMesh& mesh, const std::vector<uint8_t>& visi
     if (!visible[f]) continue;
     for (uint32_t v : mesh.faces[f]) {
       if (first_at[v] == kNoChart) first_at[v] = f;
-      else sets.join(first_at[v], f);
+      else sets.unite(first_at[v], f);
     }
   }
   Charts charts;
