@@ -1,5 +1,6 @@
 #include "renderer/surface/surface_modes.hpp"
 
+#include "renderer/surface/fastatlas/fastatlas_backend.hpp"
 #include "renderer/surface/forward/forward_backend.hpp"
 #include "renderer/surface/htex/htex_backend.hpp"
 #include "renderer/surface/msa/msa_backend.hpp"
@@ -19,6 +20,8 @@ const std::vector<SurfaceMode>& surface_mode_table() {
        SurfaceGi::PathTraced},
       {"texel", "texel shading over a static mip-mapped atlas of planar charts", &texel_backend(), SurfaceGi::None},
       {"msa", "the meshlet shading atlas: a block per seen meshlet, sized from its pixels", &msa_backend(), SurfaceGi::None},
+      {"fastatlas", "FastAtlas: a new atlas of the visible charts every frame, packed at the largest scale that fits",
+       &fastatlas_backend(), SurfaceGi::None},
       {"path-reference", "the CPU path tracer: every light path, double precision, the reference", nullptr, SurfaceGi::None},
   };
   return table;

@@ -12,8 +12,6 @@
 
 namespace prismoid::surface {
 
-namespace {
-
 void bind_graphics(VkCommandBuffer cmd, VkPipeline pipeline, const PassBinding& b) {
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, b.layout, 0, 1, &b.set, 0, nullptr);
@@ -26,8 +24,6 @@ void set_viewport(VkCommandBuffer cmd, VkExtent2D e) {
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
 }
-
-}  // namespace
 
 std::string texture_space_device_problem(const vk::Device& device, const std::string& backend) {
   const auto& caps = device.capabilities();

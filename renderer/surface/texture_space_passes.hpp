@@ -34,6 +34,11 @@ struct PassBinding {
   std::span<const std::byte> push;
 };
 
+// Binds a graphics pipeline with the binding's set and push constants.
+void bind_graphics(VkCommandBuffer cmd, VkPipeline pipeline, const PassBinding& binding);
+// The whole of `extent` as the dynamic viewport and scissor.
+void set_viewport(VkCommandBuffer cmd, VkExtent2D extent);
+
 // Empty when the device can run a texture-space backend (gl_PrimitiveID and storage writes in
 // fragment shaders, a ray-generation shading pass launched indirectly, RGBA32F targets), else
 // why not; `backend` names it in the message.

@@ -41,4 +41,11 @@ vec3 clamp_to_triangle(vec3 b) {
   return vec3(1.0 - b.y - b.z, b.y, b.z);
 }
 
+// The sky seen through image point `frag_coord` (sky.frag's gradient).
+vec3 pixel_sky(vec2 frag_coord) {
+  vec3 d = normalize(pixel_direction(frag_coord));
+  float t = 0.5 * (1.0 + dot(d, frame.sky_up.xyz));
+  return frame.sky_bottom.rgb + (frame.sky_top.rgb - frame.sky_bottom.rgb) * t;
+}
+
 #endif

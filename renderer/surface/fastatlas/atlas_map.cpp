@@ -7,9 +7,10 @@ namespace prismoid::fastatlas {
 ChartMap chart_map(const PixelBox& box, const PlacedChart& placed, double scale, uint32_t border) {
   ChartMap m;
   m.screen_origin = {std::floor(box.x0), std::floor(box.y0)};
-  // The border's texels shared out on both sides, so bilinear taps at the chart's edge stay in
-  // its own box.
-  m.atlas_origin = glm::dvec2(placed.x, placed.y) + glm::dvec2(0.5 * border);
+  // Pixel centre p + 1/2 of the box lands on texel centre x + 1/2 + p s: at scale 1 every pixel
+  // centre is a texel centre (a lookup there reads one texel, unblurred), and at any scale the
+  // bilinear taps of every pixel centre stay within the box, border texel included.
+  m.atlas_origin = glm::dvec2(placed.x, placed.y) + glm::dvec2(0.5 * (double(border) - scale));
   m.scale = scale;
   m.turned = placed.turned;
   return m;

@@ -15,7 +15,7 @@ namespace prismoid::fastatlas {
 
 struct ChartMap {
   glm::dvec2 screen_origin{0.0};  // the chart's box corner in pixels (whole pixels: what the packer sized)
-  glm::dvec2 atlas_origin{0.0};   // where that corner lands, in texels: the placed box's corner plus half the border
+  glm::dvec2 atlas_origin{0.0};   // where that corner lands, in texels: the placed box's corner + (border - scale) / 2
   double scale = 1.0;             // texels per pixel
   bool turned = false;            // screen x runs along atlas y
 };

@@ -24,9 +24,13 @@ uint32_t scaled(uint32_t side, double scale, uint32_t border) {
 std::vector<double> candidate_scales(const PackingOptions& options) {
   std::vector<double> scales(options.candidates);
   const double ratio = options.smallest_scale / options.largest_scale;
-  for (uint32_t k = 0; k < options.candidates; ++k)
-    scales[k] = options.candidates == 1 ? options.largest_scale
-                                        : options.largest_scale * std::pow(ratio, double(k) / double(options.candidates - 1));
+  for (uint32_t k = 0; k < options.candidates; ++k) {
+    const double s = options.candidates == 1 ? options.largest_scale
+                                             : options.largest_scale * std::pow(ratio, double(k) / double(options.candidates - 1));
+    // A multiple of 2^-16, so that ceil(side * s) is exact in double here and in integers on the
+    // GPU (pack.comp): both sides round every box alike.
+    scales[k] = std::max(1.0, std::round(s * 65536.0)) / 65536.0;
+  }
   return scales;
 }
 

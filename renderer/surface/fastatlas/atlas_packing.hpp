@@ -53,7 +53,8 @@ struct AtlasPacking {
   std::vector<PlacedChart> charts;  // per input box, in the input's order
 };
 
-// The candidates' scales, largest first: geometric from largest_scale to smallest_scale.
+// The candidates' scales, largest first: geometric from largest_scale to smallest_scale, each
+// rounded to a multiple of 2^-16 (the GPU packer's fixed point).
 std::vector<double> candidate_scales(const PackingOptions& options);
 
 // The packing order: indices into `boxes`, tallest (turned) first, ties by root, then by index.

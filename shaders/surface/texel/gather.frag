@@ -16,9 +16,7 @@ void main() {
   uvec2 pixel = uvec2(gl_FragCoord.xy);
   uvec4 vis = texel_visibility[pixel.y * texel_push.image.x + pixel.x];
   if (vis.x == 0u) {
-    vec3 d = normalize(pixel_direction(gl_FragCoord.xy));
-    float t = 0.5 * (1.0 + dot(d, frame.sky_up.xyz));
-    out_color = vec4(frame.sky_bottom.rgb + (frame.sky_top.rgb - frame.sky_bottom.rgb) * t, 0.0);
+    out_color = vec4(pixel_sky(gl_FragCoord.xy), 0.0);
     return;
   }
   uint triangle = vis.x - 1u, level = vis.y;

@@ -1,0 +1,85 @@
+#version 460
+// The lookup (FastAtlas, section 5 and appendix A): per pixel, its triangle's chart maps the
+// pixel's centre into the atlas, and the four bilinear taps there are filtered with the hard-edge
+// filter: a tap counts when its texel was shaded for the pixel's own triangle or for an edge
+// neighbour meeting it at under 75 degrees (FaTriangleGpu), and the value is rebuilt from the taps
+// that count (the CPU twin fastatlas::hard_edge_filter: nearest, one, linear, clamped barycentric,
+// bilinear). Filtering is by hand in float (hardware filtering keeps only 8 bits of weight).
+// A pixel whose four taps and nearest texel hold no triangle is a counted hole. The sky where no
+// surface was seen (alpha 0).
+#extension GL_GOOGLE_include_directive : require
+#define PRISMOID_SURFACE_VERTEX_BUFFERS
+#include "../scene_bindings.glsl"
+#include "../pixel_ray.glsl"
+#include "fastatlas.glsl"
+
+layout(set = 0, binding = PRISMOID_FA_BINDING_ID_ATLAS, r32ui) uniform readonly uimage2D fa_id_atlas;
+layout(set = 0, binding = PRISMOID_FA_BINDING_COLOR_ATLAS, rgba32f) uniform readonly image2D fa_color_atlas;
+
+layout(location = 0) out vec4 out_color;
+
+const vec2 kTapAt[4] = vec2[4](vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(0.0, 1.0), vec2(1.0, 1.0));
+
+uint tap_id(ivec2 t) {
+  if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(fa_push.atlas.xy)))) return PRISMOID_FA_NONE;
+  uint id = imageLoad(fa_id_atlas, t).x;
+  return id == PRISMOID_FA_NONE ? id : id & ~PRISMOID_FA_BORDER_BIT;
+}
+
+bool usable(uint triangle, uint id) {
+  if (id == triangle) return true;
+  if (id == PRISMOID_FA_NONE) return false;
+  FaTriangleGpu tri = fa_triangles[triangle];
+  for (uint k = 0u; k < 3u; ++k)
+    if (tri.neighbours[k] == id && (tri.neighbours.w & (1u << k)) != 0u) return true;
+  return false;
+}
+
+void main() {
+  uvec2 pixel = uvec2(gl_FragCoord.xy);
+  uvec4 vis = fa_visibility[pixel.y * fa_push.image.x + pixel.x];
+  if (vis.x == 0u) {
+    out_color = vec4(pixel_sky(gl_FragCoord.xy), 0.0);
+    return;
+  }
+  if (fa_state.charts.z == 0u) {  // no candidate scale fits: nothing was shaded
+    atomicAdd(fa_state.counts.y, 1u);
+    out_color = vec4(0.0, 0.0, 0.0, 1.0);
+    return;
+  }
+  uint triangle = vis.x - 1u;
+  vec2 u = fa_to_atlas(fa_chart_map(fa_parent[triangle]), gl_FragCoord.xy) - 0.5;
+  ivec2 base = ivec2(floor(u));
+  vec2 at = u - vec2(base);
+  vec3 value[4];
+  uint used[4];
+  uint n = 0u;
+  for (uint k = 0u; k < 4u; ++k) {
+    ivec2 t = base + ivec2(kTapAt[k]);
+    uint id = tap_id(t);
+    value[k] = id == PRISMOID_FA_NONE ? vec3(0.0) : imageLoad(fa_color_atlas, t).rgb;
+    if (usable(triangle, id)) used[n++] = k;
+  }
+  vec3 c;
+  if (n == 0u) {  // the nearest texel
+    uint k = (at.x >= 0.5 ? 1u : 0u) + (at.y >= 0.5 ? 2u : 0u);
+    if (tap_id(base + ivec2(kTapAt[k])) == PRISMOID_FA_NONE) atomicAdd(fa_state.counts.y, 1u);
+    c = value[k];
+  } else if (n == 1u) {
+    c = value[used[0]];
+  } else if (n == 2u) {
+    vec2 a = kTapAt[used[0]], b = kTapAt[used[1]];
+    float s = clamp(dot(at - a, b - a) / dot(b - a, b - a), 0.0, 1.0);
+    c = mix(value[used[0]], value[used[1]], s);
+  } else if (n == 3u) {
+    vec2 a = kTapAt[used[0]], b = kTapAt[used[1]], d = kTapAt[used[2]];
+    float area = (b.x - a.x) * (d.y - a.y) - (d.x - a.x) * (b.y - a.y);
+    float lb = ((at.x - a.x) * (d.y - a.y) - (d.x - a.x) * (at.y - a.y)) / area;
+    float ld = ((b.x - a.x) * (at.y - a.y) - (at.x - a.x) * (b.y - a.y)) / area;
+    vec3 va = value[used[0]], vb = value[used[1]], vd = value[used[2]];
+    c = clamp((1.0 - lb - ld) * va + lb * vb + ld * vd, min(va, min(vb, vd)), max(va, max(vb, vd)));
+  } else {
+    c = mix(mix(value[0], value[1], at.x), mix(value[2], value[3], at.x), at.y);
+  }
+  out_color = vec4(c, 1.0);
+}
