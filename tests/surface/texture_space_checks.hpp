@@ -56,17 +56,18 @@ struct SampleCheck {
 };
 
 // Every GPU sample (alpha 1: shaded) against reference::direct_light_at its query's point. The
-// tolerance: how much the reference moves when the point moves by 2e-6 of its triangle (above a
-// float position's rounding), plus the float shading's rounding (kUlpBudget).
+// tolerance: how much the reference moves when the point moves by `probe` of its triangle (2e-6
+// by default: above a float position's rounding; a backend whose GPU point comes through a longer
+// float computation than the CPU's says how far), plus the float shading's rounding (kUlpBudget).
 inline SampleCheck check_shaded_samples(const SurfaceScene& scene, const std::vector<reference::ShadingPointQuery>& queries,
-                                        const std::vector<glm::vec4>& gpu) {
+                                        const std::vector<glm::vec4>& gpu, double probe = 2e-6) {
   constexpr double kU = 0x1p-24;
   std::vector<reference::ShadingPointQuery> probes;
   for (const auto& q : queries)
     for (int k = 0; k < 3; ++k) {
       reference::ShadingPointQuery p = q;
-      p.bary[k] += 2e-6;
-      p.bary[(k + 1) % 3] -= 2e-6;
+      p.bary[k] += probe;
+      p.bary[(k + 1) % 3] -= probe;
       probes.push_back(p);
     }
   const auto ref = reference::direct_light_at(scene, queries);

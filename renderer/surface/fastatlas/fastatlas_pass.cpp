@@ -114,7 +114,8 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
       set_layout_(vk::create_descriptor_set_layout(device, fastatlas_bindings())),
       layout_(make_layout(device, set_layout_.get())),
       shade_pipeline_(device, surface_rt_pipeline({"surface/fastatlas/shade.rgen", "surface/fastatlas/shade_unshadowed.rgen"}, layout_.get())),
-      sort_(device, std::max<uint32_t>(1, uint32_t(adjacency_.neighbours.size()))),
+      sort_by_root_(device, std::max<uint32_t>(1, uint32_t(adjacency_.neighbours.size()))),
+      sort_by_height_(device, std::max<uint32_t>(1, uint32_t(adjacency_.neighbours.size()))),
       atlas_timer_(device, 8) {
   triangles_ = uint32_t(adjacency_.neighbours.size());
   vertices_ = uint32_t(adjacency_.mesh.vertex_count());
@@ -262,10 +263,10 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
     {
       vk::ScopedPass step(atlas_timer_, cmd, "order");
       const uint32_t most = std::max(1u, triangles_);
-      sort_.record_indirect(cmd, keys_, charts_, state_, 0, most);
+      sort_by_root_.record_indirect(cmd, keys_, charts_, state_, 0, most);
       dispatch(cmd, height_keys_pipeline_.get(), g, 0);
       compute_barrier(cmd);
-      sort_.record_indirect(cmd, keys_, charts_, state_, 0, most);
+      sort_by_height_.record_indirect(cmd, keys_, charts_, state_, 0, most);
     }
     {
       vk::ScopedPass step(atlas_timer_, cmd, "packing");
@@ -346,7 +347,7 @@ FastAtlasCounters FastAtlasPass::read_counters() const {
   c.visible_triangles = s.counts.x;
   const uint64_t texels = uint64_t(settings_.atlas_width) * settings_.atlas_height;
   c.atlas_bytes = texels * (4 + 4 + 16) + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
-                  placed_.size() + front_.size() + triangle_table_.size() + sort_.bytes();
+                  placed_.size() + front_.size() + triangle_table_.size() + sort_by_root_.bytes() + sort_by_height_.bytes();
   return c;
 }
 
@@ -374,10 +375,14 @@ std::vector<std::byte> FastAtlasPass::read_image(const vk::Image& image, size_t 
   device_.submit_and_wait([&](VkCommandBuffer cmd) {
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
                        VK_ACCESS_2_TRANSFER_READ_BIT);
+    vk::image_barrier(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                      VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferImageCopy copy{};
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.imageExtent = {e.width, e.height, 1};
-    vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, staging.get(), 1, &copy);
+    vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.get(), 1, &copy);
+    vk::image_barrier(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COPY_BIT,
+                      VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   });
   std::vector<std::byte> out(staging.size());
@@ -393,6 +398,11 @@ std::vector<uint32_t> FastAtlasPass::read_id_atlas() const {
 std::vector<glm::vec4> FastAtlasPass::read_color_atlas() const {
   const size_t n = size_t(settings_.atlas_width) * settings_.atlas_height;
   return as_vector<glm::vec4>(read_image(color_atlas_, 16), n);
+}
+
+FastAtlasImage render_fastatlas(const vk::Device& device, FastAtlasPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
+                                const Camera& camera, VkExtent2D extent) {
+  return render_texture_space_frame<FastAtlasImage>(device, pass, scene, tlas, camera, extent);
 }
 
 }  // namespace prismoid::surface

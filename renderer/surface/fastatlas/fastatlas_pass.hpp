@@ -111,10 +111,18 @@ class FastAtlasPass {
   vk::Image id_atlas_, depth_atlas_, color_atlas_;
   bool color_initialized_ = false;
   std::vector<uint32_t> scales_;
-  volume::GpuRadixSort sort_;
+  // Two sorts, as a GpuRadixSort updates its descriptor sets when recorded: once per command buffer.
+  volume::GpuRadixSort sort_by_root_, sort_by_height_;
   mutable vk::GpuTimer atlas_timer_;
   std::array<std::byte, 48> frame_push_{};  // this frame's FaPush (the compute dispatches change only pass.x)
   SceneSetBinding bound_;
 };
+
+// One frame rendered and read back: what the tests use.
+struct FastAtlasImage : TextureSpaceImage {
+  FastAtlasCounters counters;
+};
+FastAtlasImage render_fastatlas(const vk::Device& device, FastAtlasPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,
+                                const Camera& camera, VkExtent2D extent);
 
 }  // namespace prismoid::surface

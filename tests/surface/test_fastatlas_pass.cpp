@@ -1,0 +1,406 @@
+// FastAtlas on the GPU (lavapipe, validation on) against its CPU twins in double precision
+// (renderer/surface/fastatlas/: visible_charts, triangle_box, pack_atlas, chart_map,
+// hard_edge_filter) and reference::direct_light_at: the charts are the CPU union-find's on the
+// same visibility, the boxes its boxes, the packing its packing of the same boxes, every shaded
+// texel the direct light at its point, every pixel the hard-edge filter of its taps; the same
+// frame twice gives the same atlas bit for bit; at scale 1 the image is the forward image; the
+// hard cases (near-plane crossings, a chart larger than the atlas, nothing visible) hold.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <set>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/reference/direct_light.hpp"
+#include "renderer/reference/tet_ray.hpp"
+#include "renderer/rt/acceleration_structure.hpp"
+#include "renderer/surface/fastatlas/atlas_filter.hpp"
+#include "renderer/surface/fastatlas/atlas_map.hpp"
+#include "renderer/surface/fastatlas/atlas_packing.hpp"
+#include "renderer/surface/fastatlas/charts.hpp"
+#include "renderer/surface/fastatlas/fastatlas_pass.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
+#include "shaders/shared/fastatlas.h"
+#include "support/gpu_fixture.hpp"
+#include "surface/surface_test_scenes.hpp"
+#include "surface/texture_space_checks.hpp"
+
+namespace prismoid::test {
+namespace {
+
+constexpr uint32_t kW = 96, kH = 72;
+constexpr uint32_t kNone = PRISMOID_FA_NONE;
+
+surface::FastAtlasSettings settings(uint32_t atlas, double scale = 1.0) {
+  surface::FastAtlasSettings s;
+  s.atlas_width = s.atlas_height = atlas;
+  s.shading_scale = scale;
+  s.shadows = false;
+  return s;
+}
+
+struct FaRig {
+  FaRig(const vk::Device& device, SurfaceScene s, const surface::FastAtlasSettings& settings)
+      : scene(std::move(s)),
+        gpu(surface::upload(device, scene)),
+        accel(device, scene),
+        pass(std::make_unique<surface::FastAtlasPass>(device, scene, settings)),
+        triangles(scene) {}
+  surface::FastAtlasImage render(const vk::Device& device, const Camera& camera, uint32_t w = kW, uint32_t h = kH) {
+    return surface::render_fastatlas(device, *pass, gpu, accel.tlas(), camera, {w, h});
+  }
+  SurfaceScene scene;
+  surface::GpuSurfaceScene gpu;
+  rt::SceneAccel accel;
+  std::unique_ptr<surface::FastAtlasPass> pass;
+  TriangleIndex triangles;
+};
+
+// The chart map of root r as the GPU's boxes, places and scale give it, in double.
+fastatlas::ChartMap map_of(const std::vector<glm::ivec4>& boxes, const std::vector<glm::uvec4>& placed, uint32_t r, double scale) {
+  const glm::ivec4 b = boxes[r];
+  const glm::uvec4 p = placed[r];
+  fastatlas::PixelBox box{double(b.x), double(b.y), double(-b.z), double(-b.w)};
+  fastatlas::PlacedChart c{p.x, p.y, p.z & 0x7fffffffu, p.w, (p.z >> 31) != 0};
+  return fastatlas::chart_map(box, c, scale, 1);
+}
+
+glm::dvec2 to_screen(const fastatlas::ChartMap& m, const glm::dvec2& texel) {
+  glm::dvec2 d = (texel - m.atlas_origin) / m.scale;
+  if (m.turned) d = glm::dvec2(d.y, d.x);
+  return m.screen_origin + d;
+}
+
+// Where the ray through image point (px, py) meets triangle t's plane (barycentric weights).
+glm::dvec3 plane_barycentrics(const SurfaceScene& scene, const TriangleIndex& index, uint32_t t, const Camera& camera, uint32_t w, uint32_t h,
+                              glm::dvec2 pixel) {
+  const auto [mesh, local] = index.local(t);
+  const SceneMesh& m = scene.meshes[mesh];
+  const auto& tri = m.triangles[local];
+  const glm::dvec3 p0 = m.positions[tri[0]], e1 = m.positions[tri[1]] - p0, e2 = m.positions[tri[2]] - p0;
+  const glm::dvec3 d = reference::ray_direction(camera, w, h, pixel.x, pixel.y);
+  const glm::dvec3 pv = glm::cross(d, e2);
+  const double det = glm::dot(e1, pv);
+  const glm::dvec3 tv = camera.eye - p0;
+  const double b1 = glm::dot(tv, pv) / det, b2 = glm::dot(d, glm::cross(tv, e1)) / det;
+  return {1.0 - b1 - b2, b1, b2};
+}
+
+class FastAtlasPassTest : public GpuTest {};
+
+// Two spheres, one partly behind the other, and a floor: charts meet occlusion boundaries and
+// silhouettes; the union-find must find exactly the CPU's components.
+SurfaceScene two_spheres() {
+  SurfaceScene s = sphere_scene({});
+  s.meshes.push_back(sphere_mesh({0.9, 0.3, -1.5}, 0.8, 3, true, 0));
+  s.meshes.push_back(horizontal_quad("floor", 0.0, -1.0, 0.0, 6.0, 0));
+  return s;
+}
+
+TEST_F(FastAtlasPassTest, ChartsAreTheCpuUnionFindsOnTheSameVisibility) {
+  FaRig rig(device(), two_spheres(), settings(512));
+  const surface::FastAtlasImage img = rig.render(device(), rig.scene.camera);
+  const std::vector<uint32_t> parent = rig.pass->read_parent();
+  // Visible: exactly the triangles holding a pixel's sample.
+  std::set<uint32_t> seen;
+  for (const glm::uvec4& v : img.visibility)
+    if (v.x != 0) seen.insert(v.x - 1);
+  std::vector<uint8_t> visible(parent.size(), 0);
+  for (size_t t = 0; t < parent.size(); ++t) {
+    visible[t] = parent[t] != kNone;
+    EXPECT_EQ(bool(visible[t]), seen.count(uint32_t(t)) == 1) << "triangle " << t;
+  }
+  const fastatlas::SceneAdjacency& adj = rig.pass->adjacency();
+  const fastatlas::Charts cpu = fastatlas::visible_charts(adj.mesh, fastatlas::face_visibility(adj, visible));
+  size_t checked = 0;
+  for (uint32_t f = 0; f < adj.mesh.face_count(); ++f) {
+    const uint32_t t = adj.mesh.triangle_of_face[f];
+    if (!visible[t]) continue;
+    const uint32_t cpu_root = adj.mesh.triangle_of_face[cpu.root[cpu.chart_of_face[f]]];
+    EXPECT_EQ(parent[t], cpu_root) << "triangle " << t;
+    ++checked;
+  }
+  EXPECT_EQ(img.counters.charts, cpu.root.size());
+  EXPECT_EQ(img.counters.visible_triangles, checked);
+  EXPECT_GE(cpu.root.size(), 3u);  // the spheres and the floor at least
+  std::printf("%zu visible triangles in %zu charts, as the CPU union-find\n", checked, cpu.root.size());
+}
+
+// Each chart's box is the CPU's (triangle_box of its triangles, whole pixels) within one pixel
+// (the GPU projects in float), and the packing is the CPU twin's on the GPU's boxes exactly:
+// order, chosen candidate, every place; no two boxes overlap and all lie inside the atlas.
+void expect_boxes_and_packing(FaRig& rig, const surface::FastAtlasImage& img, const Camera& camera, uint32_t atlas, double sf,
+                              uint32_t w = kW, uint32_t h = kH) {
+  const std::vector<uint32_t> parent = rig.pass->read_parent();
+  const std::vector<glm::ivec4> boxes = rig.pass->read_boxes();
+  const std::vector<glm::uvec4> placed = rig.pass->read_placed();
+  const fastatlas::SceneAdjacency& adj = rig.pass->adjacency();
+  std::map<uint32_t, fastatlas::PixelBox> cpu_boxes;
+  for (uint32_t f = 0; f < adj.mesh.face_count(); ++f) {
+    const uint32_t t = adj.mesh.triangle_of_face[f];
+    if (parent[t] == kNone) continue;
+    const auto& tri = adj.mesh.faces[f];
+    const fastatlas::PixelBox b =
+        fastatlas::triangle_box(adj.mesh.positions[tri[0]], adj.mesh.positions[tri[1]], adj.mesh.positions[tri[2]], camera, w, h);
+    if (b.empty()) continue;
+    auto [it, fresh] = cpu_boxes.try_emplace(parent[t], b);
+    if (!fresh) it->second = {std::min(it->second.x0, b.x0), std::min(it->second.y0, b.y0), std::max(it->second.x1, b.x1),
+                              std::max(it->second.y1, b.y1)};
+  }
+  std::vector<uint32_t> roots;
+  std::vector<fastatlas::ChartBox> chart_boxes;
+  for (size_t t = 0; t < parent.size(); ++t) {
+    if (parent[t] != t) continue;
+    roots.push_back(uint32_t(t));
+    const glm::ivec4 g = boxes[t];
+    chart_boxes.push_back({uint32_t(-g.z - g.x), uint32_t(-g.w - g.y), uint32_t(t)});
+    ASSERT_TRUE(cpu_boxes.count(uint32_t(t))) << "root " << t;
+    const fastatlas::PixelBox& c = cpu_boxes[uint32_t(t)];
+    EXPECT_LE(std::abs(g.x - std::floor(c.x0)), 1) << "root " << t;
+    EXPECT_LE(std::abs(g.y - std::floor(c.y0)), 1) << "root " << t;
+    EXPECT_LE(std::abs(-g.z - std::ceil(c.x1)), 1) << "root " << t;
+    EXPECT_LE(std::abs(-g.w - std::ceil(c.y1)), 1) << "root " << t;
+  }
+  fastatlas::PackingOptions o;
+  o.atlas_width = o.atlas_height = atlas;
+  o.largest_scale = sf;
+  o.smallest_scale = sf / 64.0;
+  const fastatlas::AtlasPacking cpu = fastatlas::pack_atlas(chart_boxes, o);
+  ASSERT_TRUE(cpu.fits);
+  EXPECT_TRUE(img.counters.fits);
+  EXPECT_EQ(img.counters.candidate, cpu.candidate);
+  EXPECT_EQ(img.counters.scale, cpu.scale);
+  EXPECT_EQ(img.counters.rows_used, cpu.height_used);
+  std::vector<uint32_t> cpu_order;
+  for (uint32_t i : fastatlas::packing_order(chart_boxes)) cpu_order.push_back(roots[i]);
+  EXPECT_EQ(rig.pass->read_sorted_charts(), cpu_order);
+  for (size_t i = 0; i < roots.size(); ++i) {
+    const glm::uvec4 g = placed[roots[i]];
+    const fastatlas::PlacedChart& c = cpu.charts[i];
+    EXPECT_EQ(g, glm::uvec4(c.x, c.y, c.width | (c.turned ? 0x80000000u : 0u), c.height)) << "root " << roots[i];
+    EXPECT_LE(c.x + c.width, atlas);
+    EXPECT_LE(c.y + c.height, atlas);
+    for (size_t j = 0; j < i; ++j) {
+      const fastatlas::PlacedChart& d = cpu.charts[j];
+      EXPECT_FALSE(c.x < d.x + d.width && d.x < c.x + c.width && c.y < d.y + d.height && d.y < c.y + c.height)
+          << "roots " << roots[i] << " and " << roots[j] << " overlap";
+    }
+  }
+}
+
+TEST_F(FastAtlasPassTest, BoxesAndPackingAreTheCpuTwinsOnTheSameFrame) {
+  FaRig rig(device(), two_spheres(), settings(512));
+  const surface::FastAtlasImage img = rig.render(device(), rig.scene.camera);
+  expect_boxes_and_packing(rig, img, rig.scene.camera, 512, 1.0);
+  EXPECT_EQ(img.counters.candidate, 0u);  // everything fits at one texel per pixel
+  EXPECT_EQ(img.counters.hole_pixels, 0u);
+}
+
+// A chart larger than the atlas: the scale falls to the largest candidate that fits (the CPU
+// twin's), and where shading is constant per face the image is still the forward one.
+TEST_F(FastAtlasPassTest, AChartLargerThanTheAtlasLowersTheScale) {
+  constexpr uint32_t w = 2 * kW, h = 2 * kH;  // the cube spans more than 64 pixels
+  FaRig rig(device(), flat_cube_scene(), settings(64));
+  const surface::FastAtlasImage img = rig.render(device(), rig.scene.camera, w, h);
+  EXPECT_GT(img.counters.candidate, 0u);
+  EXPECT_LT(img.counters.scale, 1.0);
+  expect_boxes_and_packing(rig, img, rig.scene.camera, 64, 1.0, w, h);
+  EXPECT_EQ(img.counters.hole_pixels, 0u);
+  const size_t compared = expect_equals_forward(device(), rig.gpu, rig.scene.camera, w, h, img.rgba, img.visibility);
+  EXPECT_GT(compared, size_t(w * h / 5));
+  std::printf("scale %.4f (candidate %u); %zu pixels equal to the forward image\n", img.counters.scale, img.counters.candidate, compared);
+}
+
+// The same frame twice, and a fresh pass, give the same atlas bit for bit.
+TEST_F(FastAtlasPassTest, TheSameFrameGivesTheSameAtlasBitForBit) {
+  FaRig rig(device(), two_spheres(), settings(256, 0.7));
+  const surface::FastAtlasImage first = rig.render(device(), rig.scene.camera);
+  const std::vector<uint32_t> ids = rig.pass->read_id_atlas();
+  const std::vector<glm::vec4> colors = rig.pass->read_color_atlas();
+  const std::vector<uint32_t> parent = rig.pass->read_parent();
+  const std::vector<glm::uvec4> placed = rig.pass->read_placed();
+  // Places are kept at the charts' roots only.
+  auto root_places = [&](const std::vector<glm::uvec4>& all) {
+    std::vector<glm::uvec4> out;
+    for (size_t t = 0; t < parent.size(); ++t)
+      if (parent[t] == t) out.push_back(all[t]);
+    return out;
+  };
+  size_t held = 0;
+  for (uint32_t id : ids) held += id != kNone;
+  ASSERT_GT(held, 1000u);
+  for (int run = 0; run < 2; ++run) {
+    if (run == 1) rig.pass = std::make_unique<surface::FastAtlasPass>(device(), rig.scene, settings(256, 0.7));
+    const surface::FastAtlasImage again = rig.render(device(), rig.scene.camera);
+    EXPECT_EQ(rig.pass->read_id_atlas(), ids) << "run " << run;
+    EXPECT_EQ(rig.pass->read_parent(), parent) << "run " << run;
+    EXPECT_EQ(root_places(rig.pass->read_placed()), root_places(placed)) << "run " << run;
+    const std::vector<glm::vec4> c = rig.pass->read_color_atlas();
+    size_t differ = 0;
+    for (size_t i = 0; i < ids.size(); ++i) differ += ids[i] != kNone && c[i] != colors[i];
+    EXPECT_EQ(differ, 0u) << "run " << run;
+    EXPECT_EQ(again.rgba, first.rgba) << "run " << run;
+  }
+}
+
+// Every texel holding a triangle (border texels too) is the CPU direct light where the ray
+// through its screen point meets that triangle's plane. The GPU maps the texel to the screen in
+// float (an atlas coordinate below 256: within 3e-5 pixel), so the point may move by that much:
+// 1e-4 of a triangle of a few pixels bounds it.
+TEST_F(FastAtlasPassTest, EveryShadedTexelIsTheDirectLightAtItsPoint) {
+  SphereSceneOptions o;
+  o.lights = Lights::Point;
+  FaRig rig(device(), sphere_scene(o), settings(256, 0.6));
+  const Camera camera = rig.scene.camera;
+  const surface::FastAtlasImage img = rig.render(device(), camera);
+  const std::vector<uint32_t> ids = rig.pass->read_id_atlas();
+  const std::vector<glm::vec4> colors = rig.pass->read_color_atlas();
+  const std::vector<uint32_t> parent = rig.pass->read_parent();
+  const std::vector<glm::ivec4> boxes = rig.pass->read_boxes();
+  const std::vector<glm::uvec4> placed = rig.pass->read_placed();
+  std::vector<reference::ShadingPointQuery> queries;
+  std::vector<glm::vec4> gpu;
+  size_t border = 0;
+  for (uint32_t y = 0; y < 256; ++y)
+    for (uint32_t x = 0; x < 256; ++x) {
+      const uint32_t id = ids[y * 256 + x];
+      if (id == kNone) continue;
+      const uint32_t t = id & 0x7fffffffu;
+      border += (id & PRISMOID_FA_BORDER_BIT) != 0;
+      const glm::dvec2 pixel = to_screen(map_of(boxes, placed, parent[t], img.counters.scale), glm::dvec2(x + 0.5, y + 0.5));
+      const auto [mesh, local] = rig.triangles.local(t);
+      queries.push_back({mesh, local, plane_barycentrics(rig.scene, rig.triangles, t, camera, kW, kH, pixel), camera.eye});
+      gpu.push_back(colors[y * 256 + x]);
+    }
+  ASSERT_GT(queries.size(), 500u);
+  EXPECT_GT(border, 0u);
+  EXPECT_EQ(img.counters.shaded_texels, queries.size());
+  EXPECT_EQ(img.counters.border_texels, border);
+  const SampleCheck c = check_shaded_samples(rig.scene, queries, gpu, 1e-4);
+  EXPECT_EQ(c.failures, 0u);
+  std::printf("%zu texels (%zu border) against the reference; worst error %.3g of its tolerance\n", queries.size(), border, c.worst);
+}
+
+// Every pixel is the hard-edge filter (the CPU twin) of its four taps at its atlas position; on a
+// cube seen at scale 0.45, taps across its 90-degree edges do not count, and one, two, three and
+// four usable taps all occur (none usable, where the nearest texel stands in, is rarer).
+TEST_F(FastAtlasPassTest, EveryPixelIsTheHardEdgeFilterOfItsTaps) {
+  FaRig rig(device(), flat_cube_scene(), settings(256, 0.45));
+  const Camera camera = rig.scene.camera;
+  const surface::FastAtlasImage img = rig.render(device(), camera);
+  const std::vector<uint32_t> ids = rig.pass->read_id_atlas();
+  const std::vector<glm::vec4> colors = rig.pass->read_color_atlas();
+  const std::vector<uint32_t> parent = rig.pass->read_parent();
+  const std::vector<glm::ivec4> boxes = rig.pass->read_boxes();
+  const std::vector<glm::uvec4> placed = rig.pass->read_placed();
+  const fastatlas::SceneAdjacency& adj = rig.pass->adjacency();
+  std::array<size_t, 5> cases{};
+  size_t failures = 0, compared = 0;
+  for (uint32_t py = 0; py < kH; ++py)
+    for (uint32_t px = 0; px < kW; ++px) {
+      const glm::uvec4 v = img.visibility[py * kW + px];
+      if (v.x == 0) continue;
+      const uint32_t t = v.x - 1;
+      const glm::dvec2 u = fastatlas::to_atlas(map_of(boxes, placed, parent[t], img.counters.scale), glm::dvec2(px + 0.5, py + 0.5)) - 0.5;
+      const glm::ivec2 base(int(std::floor(u.x)), int(std::floor(u.y)));
+      const glm::dvec2 at = u - glm::dvec2(base);
+      // Taps within 1e-3 texel of a texel boundary could land either side on the GPU: skipped.
+      if (std::min({at.x, at.y, 1.0 - at.x, 1.0 - at.y}) < 1e-3) continue;
+      fastatlas::FilterTaps taps;
+      int n = 0;
+      double peak = 0.0;
+      for (int k = 0; k < 4; ++k) {
+        const glm::ivec2 q = base + glm::ivec2(k & 1, k >> 1);
+        const bool inside = q.x >= 0 && q.y >= 0 && q.x < 256 && q.y < 256;
+        const uint32_t raw = inside ? ids[size_t(q.y) * 256 + size_t(q.x)] : kNone;
+        const uint32_t id = raw == kNone ? kNone : raw & 0x7fffffffu;
+        taps.value[size_t(k)] = raw == kNone ? glm::dvec3(0.0) : glm::dvec3(colors[size_t(q.y) * 256 + size_t(q.x)]);
+        bool neighbour_smooth = false;
+        for (int e = 0; e < 3; ++e) neighbour_smooth |= adj.neighbours[t][size_t(e)] == id && (adj.smooth[t] >> e & 1) != 0;
+        taps.usable[size_t(k)] = id == t || (id != kNone && neighbour_smooth);
+        n += taps.usable[size_t(k)];
+        peak = std::max(peak, std::max({taps.value[size_t(k)].x, taps.value[size_t(k)].y, taps.value[size_t(k)].z}));
+      }
+      const glm::dvec3 expect = fastatlas::hard_edge_filter(taps, at);
+      ++cases[size_t(n)];
+      ++compared;
+      // The GPU's position is within 1e-4 texel of this one: weights move by 2e-4 at most.
+      const double tol = peak * 1e-3 + 1e-6;
+      for (int ch = 0; ch < 3; ++ch)
+        if (std::abs(double(img.rgba[4 * (py * kW + px) + size_t(ch)]) - expect[ch]) > tol && failures++ < 5)
+          ADD_FAILURE() << "pixel " << px << " " << py << " (" << n << " usable taps): GPU " << img.rgba[4 * (py * kW + px) + size_t(ch)]
+                        << ", filter " << expect[ch];
+    }
+  EXPECT_EQ(failures, 0u);
+  EXPECT_GT(compared, size_t(kW * kH / 5));
+  for (int n : {1, 2, 3, 4}) EXPECT_GT(cases[size_t(n)], 0u) << n << " usable taps never occurred";
+  std::printf("%zu pixels; usable taps 0/1/2/3/4: %zu %zu %zu %zu %zu\n", compared, cases[0], cases[1], cases[2], cases[3], cases[4]);
+}
+
+// At scale 1 every pixel centre lands on a texel centre: the image is the forward image (a
+// smooth sphere, a floor, shadows off) up to the float mapping's 1e-4 texel of blending.
+TEST_F(FastAtlasPassTest, AtScaleOneTheImageIsTheForwardImage) {
+  FaRig rig(device(), two_spheres(), settings(512));
+  const Camera camera = rig.scene.camera;
+  const surface::FastAtlasImage img = rig.render(device(), camera);
+  surface::ForwardPass forward(device());
+  const std::vector<float> fwd = surface::render_forward(device(), forward, rig.gpu, camera, {kW, kH}).rgba;
+  size_t compared = 0, failures = 0;
+  for (size_t i = 0; i < img.visibility.size(); ++i) {
+    if (img.visibility[i].x == 0 || fwd[4 * i + 3] != 1.0f) continue;
+    ++compared;
+    for (size_t ch = 0; ch < 3; ++ch)
+      if (std::abs(fwd[4 * i + ch] - img.rgba[4 * i + ch]) > 2e-3 * std::max(1.0f, std::abs(fwd[4 * i + ch])) && failures++ < 5)
+        ADD_FAILURE() << "pixel " << i << ": " << img.rgba[4 * i + ch] << ", forward " << fwd[4 * i + ch];
+  }
+  EXPECT_EQ(failures, 0u);
+  EXPECT_GT(compared, size_t(kW * kH / 3));
+}
+
+// The camera just above a floor that reaches past it (its triangles cross the near plane) and
+// inside a sphere's reach: boxes stay on the screen, nothing is NaN, no pixel finds no texel.
+TEST_F(FastAtlasPassTest, TrianglesAcrossTheNearPlaneStayOnTheScreen) {
+  SurfaceScene s = two_spheres();
+  s.camera.eye = {0.0, -0.95, 2.5};
+  s.camera.target = {0.0, -0.9, 0.0};
+  FaRig rig(device(), s, settings(512));
+  const surface::FastAtlasImage img = rig.render(device(), s.camera);
+  EXPECT_TRUE(img.counters.fits);
+  EXPECT_EQ(img.counters.hole_pixels, 0u);
+  for (float v : img.rgba) ASSERT_TRUE(std::isfinite(v));
+  for (const glm::ivec4& b : rig.pass->read_boxes()) {
+    if (b.x == 0x7fffffff) continue;
+    EXPECT_GE(b.x, 0);
+    EXPECT_GE(b.y, 0);
+    EXPECT_LE(-b.z, int(kW));
+    EXPECT_LE(-b.w, int(kH));
+  }
+  expect_boxes_and_packing(rig, img, s.camera, 512, 1.0);
+}
+
+// Nothing in view: no charts, nothing shaded, the sky.
+TEST_F(FastAtlasPassTest, NothingVisibleGivesAnEmptyAtlas) {
+  SphereSceneOptions o;
+  o.sky = true;
+  SurfaceScene s = sphere_scene(o);
+  s.camera.target = {0.0, 0.0, 8.0};  // looking away
+  FaRig rig(device(), s, settings(128));
+  const surface::FastAtlasImage img = rig.render(device(), s.camera);
+  EXPECT_EQ(img.counters.charts, 0u);
+  EXPECT_EQ(img.counters.shaded_texels, 0u);
+  EXPECT_TRUE(img.counters.fits);
+  for (size_t i = 0; i < img.visibility.size(); ++i) {
+    EXPECT_EQ(img.visibility[i].x, 0u);
+    EXPECT_EQ(img.rgba[4 * i + 3], 0.0f);
+  }
+}
+
+}  // namespace
+}  // namespace prismoid::test
