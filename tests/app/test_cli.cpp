@@ -522,11 +522,11 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   // with its tetrahedra and two steps, optical depth and colour each (6); the cell-count sweep's
   // two meshes, optical depth and colour each (4); VTK's three mappers beside the default
   // dataset's colour and the ball's transmittance (6); the Cornell box in each surface mode
-  // this device draws (forward, htex, texel and msa with shadows off and on; htex-gi,
-  // htex-gi-unbiased and htex-pt with shadows: 11); and the compute backend beside the mesh-shader
+  // this device draws (forward, htex, texel, msa and fastatlas with shadows off and on; htex-gi,
+  // htex-gi-unbiased and htex-pt with shadows: 13); and the compute backend beside the mesh-shader
   // one: the default dataset's optical depth, transmittance and colour (3), the ball's optical
   // depth and transmittance (2), the cell-count sweep's two meshes in optical depth and colour (4).
-  ASSERT_EQ(rows.size(), 46u) << slurp(dir / "bench.csv");
+  ASSERT_EQ(rows.size(), 48u) << slurp(dir / "bench.csv");
   std::map<std::string, double> flip_of;  // the default dataset's colour, by mode/settings
   std::multiset<std::string> peers;        // quantity/mode of the wall-clock rows
   std::map<std::string, double> default_rmse, default_ssim;  // by quantity/mode/settings
@@ -585,7 +585,7 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   EXPECT_LT(flip_of.at("interval-exact-order/default"), flip_of.at("interval/default"));
   EXPECT_EQ(sweeps, (std::set<std::string>{"modes", "tetlet-size", "preintegration", "march-step", "cells", "surfaces"}));
   // Surface rows: each mode with shadows off and on, against the CPU direct light; the shaded
-  // samples are counted (forward: the covered pixels; htex, texel, msa: texels, at about the same rate).
+  // samples are counted (forward: the covered pixels; htex, texel, msa, fastatlas: texels, at about the same rate).
   std::set<std::string> surface_configurations;
   const size_t shaded = column("shaded");
   for (const auto& row : rows)
@@ -600,7 +600,12 @@ TEST(Cli, QuickBenchMeasuresEveryConfigurationAgainstTheReference) {
   EXPECT_LT(flip_of.at("htex-gi/shadows=on"), flip_of.at("htex-pt/shadows=on"));
   EXPECT_EQ(surface_configurations,
             (std::set<std::string>{"forward/shadows=off", "forward/shadows=on", "htex/shadows=off", "htex/shadows=on", "htex-gi/shadows=on",
-                                   "htex-gi-unbiased/shadows=on", "htex-pt/shadows=on", "texel/shadows=off", "texel/shadows=on", "msa/shadows=off", "msa/shadows=on"}));
+                                   "htex-gi-unbiased/shadows=on", "htex-pt/shadows=on", "texel/shadows=off", "texel/shadows=on", "msa/shadows=off", "msa/shadows=on",
+                                   "fastatlas/shadows=off", "fastatlas/shadows=on"}));
+  // FastAtlas at one texel per pixel puts every pixel centre on a texel centre: its error is the
+  // forward backend's.
+  for (const char* shadows : {"off", "on"})
+    EXPECT_NEAR(flip_of.at(std::string("fastatlas/shadows=") + shadows), flip_of.at(std::string("forward/shadows=") + shadows), 2e-3) << shadows;
   EXPECT_EQ(cell_counts, (std::set<std::string>{"1296", "10368"}));  // 6 * N^3 for N = 6, 12
   // The march's midpoint rule converges: a 4x finer step is more accurate for either quantity.
   ASSERT_EQ(march_rmse.size(), 4u);
