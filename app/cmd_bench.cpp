@@ -62,6 +62,9 @@ const char* const kBenchHelp =
     "                       (default cornell-box); every surface mode the device draws, against the\n"
     "                       CPU reference of what the mode computes, 4x4 supersampled\n"
     "  --surface-modes LIST the surfaces sweep's modes (default: every mode the device draws)\n"
+    "  --shading-scales L   equal terms: also bench htex, texel, msa and fastatlas at these shading-rate\n"
+    "                       factors SF (texels per pixel side; SF^2 of the samples), e.g. 0.5,0.25,0.125\n"
+    "  --fastatlas-atlases L  fastatlas rows at these atlas sides (e.g. 2048,4096,8192)\n"
     "  --shading-budget N   also bench htex, texel and msa at about N shaded samples per frame\n"
     "                       (equal terms), or at the scene's covered pixels with 'covered'\n"
     "  --surface-lights N   replace the surface scenes' lights by N shadow-casting point lights\n"
@@ -232,7 +235,8 @@ int replot(const std::filesystem::path& dir) {
 int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
   std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget",
-                                            "warm-up", "surface-lights", "surface-motion", "msa-amortize", "msa-charts"};
+                                            "warm-up", "surface-lights", "surface-motion", "msa-amortize", "msa-charts",
+                                            "shading-scales", "fastatlas-atlases"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -453,6 +457,19 @@ int cmd_bench(const std::vector<std::string>& args) {
         so.msa_amortization.push_back(every);
       }
     }
+    if (a.has("shading-scales"))
+      for (const std::string& v : split_list(a.values.at("shading-scales"))) {
+        const double sf = parse_double("shading-scales", v);
+        if (!(sf > 0.0 && sf <= 1.0)) throw InputError("--shading-scales", "each SF must lie in (0, 1], got '" + v + "'");
+        so.shading_scales.push_back(sf);
+      }
+    if (a.has("fastatlas-atlases"))
+      for (const std::string& v : split_list(a.values.at("fastatlas-atlases"))) {
+        const uint32_t side = parse_uint("fastatlas-atlases", v);
+        if (side < 64 || side > 16384 || (side & (side - 1)) != 0)
+          throw InputError("--fastatlas-atlases", "each atlas side must be a power of two from 64 to 16384, got '" + v + "'");
+        so.fastatlas_atlases.push_back(side);
+      }
     if (so.extra_lights > 0) so.supersample = 1;  // the CPU reference's cost grows with the lights: one sample per pixel
     if (a.has("shading-budget"))
       so.shading_budget = a.values.at("shading-budget") == "covered" ? bench::SurfaceBenchOptions::kBudgetCoveredPixels

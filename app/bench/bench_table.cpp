@@ -111,7 +111,7 @@ void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& r
   std::ofstream out(path);
   out << "dataset,cells,sweep,quantity,mode,settings,ordering,timer,width,height,frames,ms_median,ms_min,ms_max,cpu_ms,"
          "passes,mesh_bytes,rmse,max_abs,psnr_db,ssim,flip_mean,peak,non_finite,reference_ms,pareto,shaded,mode_bytes,"
-         "sm_mhz_min,sm_mhz_median,sm_mhz_max\n";
+         "sm_mhz_min,sm_mhz_median,sm_mhz_max,space\n";
   const auto optional_number = [](double v) { return std::isnan(v) ? std::string() : number(v); };
   for (const auto& r : rows)
     out << '"' << r.dataset << "\"," << r.cells << ',' << r.sweep << ',' << r.quantity << ',' << r.mode << ",\"" << r.settings
@@ -121,7 +121,8 @@ void write_csv(const std::filesystem::path& path, const std::vector<BenchRow>& r
         << number(r.error.psnr_db) << ',' << number(r.ssim) << ',' << (std::isnan(r.flip) ? "" : number(r.flip)) << ','
         << number(r.peak) << ',' << r.error.non_finite << ','
         << number(r.reference_ms) << ',' << (r.pareto ? 1 : 0) << ',' << r.shaded << ',' << r.mode_bytes << ','
-        << optional_number(r.sm_mhz_min) << ',' << optional_number(r.sm_mhz_median) << ',' << optional_number(r.sm_mhz_max) << '\n';
+        << optional_number(r.sm_mhz_min) << ',' << optional_number(r.sm_mhz_median) << ',' << optional_number(r.sm_mhz_max) << ",\""
+        << r.space << "\"\n";
   out.close();
   if (!out) throw InputError(path.string(), "cannot write the CSV");
 }
@@ -174,7 +175,7 @@ std::vector<BenchRow> read_csv(const std::filesystem::path& path) {
     return it == header.end() ? header.size() : size_t(it - header.begin());
   };
   const size_t shaded = optional_column("shaded"), mode_bytes = optional_column("mode_bytes"), sm_min = optional_column("sm_mhz_min"),
-               sm_median = optional_column("sm_mhz_median"), sm_max = optional_column("sm_mhz_max");
+               sm_median = optional_column("sm_mhz_median"), sm_max = optional_column("sm_mhz_max"), space = optional_column("space");
   std::vector<BenchRow> rows;
   for (size_t number = 2; std::getline(in, line); ++number) {
     if (line.empty()) continue;
@@ -213,6 +214,7 @@ std::vector<BenchRow> read_csv(const std::filesystem::path& path) {
       if (shaded < f.size()) r.shaded = std::stoull(f[shaded]);
       if (mode_bytes < f.size()) r.mode_bytes = std::stoull(f[mode_bytes]);
       if (sm_min < f.size()) r.sm_mhz_min = csv_number(f[sm_min]);
+      if (space < f.size()) r.space = f[space];
       if (sm_median < f.size()) r.sm_mhz_median = csv_number(f[sm_median]);
       if (sm_max < f.size()) r.sm_mhz_max = csv_number(f[sm_max]);
       rows.push_back(std::move(r));

@@ -151,9 +151,9 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     const SurfaceScene scene = with_default_lighting(raw, raw.camera);
     const Camera& camera = scene.camera;
     std::map<std::string, ReferenceImage> references;
-    surface::SurfaceRenderer renderer(device, scene);
+    surface::SurfaceRenderer main_renderer(device, scene);
     std::vector<bool> shadow_settings{false};
-    if (renderer.can_shadow()) shadow_settings.push_back(true);
+    if (main_renderer.can_shadow()) shadow_settings.push_back(true);
     struct Run {
       std::string mode;
       uint32_t budget = 0;  // 0: the mode's own rate
@@ -161,14 +161,24 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       bool moving = false;  // the camera orbits (options.motion_degrees per frame)
       uint32_t amortize = 0;  // msa: shade every n-th frame
       msa::Parametrization charts = msa::Parametrization::Projection;  // msa
+      double sf = 1.0;        // shading-rate factor (SurfaceBenchOptions::shading_scales)
+      uint32_t atlas = 0;     // fastatlas: the atlas side (0: the backend's default)
     };
     std::vector<Run> runs;
-    for (const std::string& mode : renderer.modes()) {
+    for (const std::string& mode : main_renderer.modes()) {
       if (!options.modes.empty() && std::find(options.modes.begin(), options.modes.end(), mode) == options.modes.end()) continue;
       // Shading-rate rows for the modes whose backend takes a rate (texture space, without GI).
       const bool texture_space = !gi_mode(mode) && (knobs(mode) & (surface::kTuneLodBias | surface::kTuneBlockBudget)) != 0;
       const std::vector<msa::Parametrization> chart_kinds =
           knobs(mode) & surface::kTuneCharts ? options.msa_charts : std::vector{msa::Parametrization::Projection};
+      std::vector<uint32_t> atlases{0u};
+      if (mode == "fastatlas" && !options.fastatlas_atlases.empty()) atlases = options.fastatlas_atlases;
+      for (const uint32_t atlas : atlases)
+        for (const double sf : options.shading_scales)
+          if (texture_space && sf < 1.0) runs.push_back({mode, 0u, false, false, 0u, msa::Parametrization::Projection, sf, atlas});
+      for (const uint32_t atlas : atlases)
+        if (atlas != 0) runs.push_back({mode, 0u, false, false, 0u, msa::Parametrization::Projection, 1.0, atlas});
+      if (atlases.front() != 0) continue;  // fastatlas's rows are per atlas side
       for (const msa::Parametrization charts : chart_kinds) {
         runs.push_back({mode, 0u, false, false, 0u, charts});
         if (options.shading_budget > 0 && texture_space) runs.push_back({mode, options.shading_budget, false, false, 0u, charts});
@@ -178,19 +188,32 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
           for (const uint32_t n : options.msa_amortization) runs.push_back({mode, 0u, false, true, n, charts});
       }
     }
+    // FastAtlas at other atlas sides: a renderer each (a backend's options are fixed at its making).
+    std::map<uint32_t, std::unique_ptr<surface::SurfaceRenderer>> atlas_renderers;
+    for (const Run& run : runs)
+      if (run.atlas != 0 && !atlas_renderers.count(run.atlas))
+        atlas_renderers[run.atlas] =
+            std::make_unique<surface::SurfaceRenderer>(device, scene, surface::SurfaceOptions{{"atlas", std::to_string(run.atlas)}});
+    // Rows at the modes' own rate first: the SF rows of block-budget modes size their budgets from them.
+    std::stable_sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.sf > b.sf; });
     std::map<std::string, uint64_t> unbiased_shaded;  // mode/shadows -> shaded samples at the mode's own rate
     uint32_t covered_pixels = 0;                      // of the scene's first frame
     for (const bool shadows : shadow_settings)
     for (const Run& run : runs) {
       const std::string& mode = run.mode;
+      surface::SurfaceRenderer& renderer = run.atlas != 0 ? *atlas_renderers.at(run.atlas) : main_renderer;
       uint32_t budget = run.budget;
       if (budget == SurfaceBenchOptions::kBudgetCoveredPixels) budget = std::max(1u, covered_pixels);
       renderer.set_shadows(shadows);
-      const std::string rate_key = mode + (shadows ? "/on" : "/off");
+      const std::string rate_key = mode + (shadows ? "/on" : "/off") + (run.atlas ? "/" + std::to_string(run.atlas) : "");
       float lod_bias = 0.0f;
       const bool block_budget = (knobs(mode) & surface::kTuneBlockBudget) != 0;  // a budget of block texels, not a level bias
       if (budget > 0 && !block_budget && unbiased_shaded.count(rate_key) && unbiased_shaded.at(rate_key) > budget)
         lod_bias = float(0.5 * std::log2(double(unbiased_shaded.at(rate_key)) / double(budget)));
+      if (run.sf < 1.0) {
+        if (!block_budget) lod_bias = float(-std::log2(run.sf));
+        else if (unbiased_shaded.count(rate_key)) budget = std::max(1u, uint32_t(double(unbiased_shaded.at(rate_key)) * run.sf * run.sf));
+      }
       renderer.set_shading_rate(lod_bias, block_budget ? budget : 0u);
       renderer.set_msa_amortization(run.amortize);
       renderer.set_msa_charts(run.charts);
@@ -247,7 +270,10 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (run.moving) m.settings += " camera=moving(" + app::json_number(options.motion_degrees) + "deg/frame)";
       if (run.amortize > 0) m.settings += " amortize=" + std::to_string(run.amortize);
       if (run.charts == msa::Parametrization::Conformal) m.settings += " charts=conformal";
-      if (budget > 0) m.settings += " budget=" + std::to_string(budget) + (block_budget ? "" : " lod-bias=" + std::to_string(lod_bias));
+      if (run.atlas != 0) m.settings += " atlas=" + std::to_string(run.atlas);
+      if (run.sf < 1.0) m.settings += " sf=" + app::json_number(run.sf);
+      if (budget > 0 && run.sf == 1.0)
+        m.settings += " budget=" + std::to_string(budget) + (block_budget ? "" : " lod-bias=" + std::to_string(lod_bias));
       if (gi_mode(mode)) m.settings += " frames=" + std::to_string(renderer.gi_frames());
       m.ordering = "-";
       m.width = extent.width;
@@ -256,7 +282,17 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.mesh_bytes = renderer.gpu_scene().bytes;
       const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
       m.shaded = (shaded_sum + options.frames / 2) / options.frames;  // the mean over the measured frames
-      if (budget == 0 && !run.still && !run.moving && run.charts == msa::Parametrization::Projection) unbiased_shaded[rate_key] = counts.shaded;
+      if (budget == 0 && run.sf == 1.0 && !run.still && !run.moving && run.charts == msa::Parametrization::Projection)
+        unbiased_shaded[rate_key] = counts.shaded;
+      // FastAtlas's atlasing steps (its own timestamps, the last measured frame) after the frame's
+      // passes, named "atlasing/<step>": parts of "atlasing", not further passes. Its stretch
+      // between screen and atlas is 1/s, L2 and L-infinity alike.
+      for (const auto& [name, value] : counts.stats) {
+        if (name.rfind("atlasing_", 0) == 0 && std::holds_alternative<double>(value))
+          m.passes += ";atlasing/" + name.substr(9, name.size() - 9 - 3) + "=" + app::json_number(std::get<double>(value));
+        if ((name == "stretch" || name == "atlas_fill") && std::holds_alternative<double>(value))
+          m.space += (m.space.empty() ? "" : ";") + name + "=" + app::json_number(std::get<double>(value));
+      }
       m.mode_bytes = counts.mode_bytes;
       m.error = reference::image_error(image, reference, peak, 4, 3);
       m.ssim = reference::ssim(image, reference, extent.width, extent.height, peak, 4, 3);

@@ -46,6 +46,14 @@ struct SurfaceBenchOptions {
   std::vector<uint32_t> msa_amortization;
   // The msa rows' charts, each kind a set of rows (--msa-charts projection,conformal).
   std::vector<msa::Parametrization> msa_charts{msa::Parametrization::Projection};
+  // Equal terms (--shading-scales): each texture-space mode without GI also at these shading-rate
+  // factors SF < 1 (texels per pixel side, the FastAtlas paper's pre-scale; SF^2 of the samples):
+  // htex, texel and fastatlas by a level-of-detail bias of -log2 SF, msa by a block budget of SF^2
+  // times its own row's shaded texels. Settings say "sf=0.5".
+  std::vector<double> shading_scales;
+  // FastAtlas's atlas sides (--fastatlas-atlases 2048,4096,8192): one set of fastatlas rows per
+  // side (settings "atlas=N"); empty: the backend's default.
+  std::vector<uint32_t> fastatlas_atlases;
 };
 
 // Which CPU reference a mode is held to, in words (the report's notes say it).

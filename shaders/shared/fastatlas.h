@@ -12,6 +12,10 @@ PRISMOID_SHARED_BEGIN
 // triangle, so that the border pass reads only what the raster wrote (the result does not
 // depend on the order its invocations run in).
 #define PRISMOID_FA_BORDER_BIT 0x80000000u
+// A texel the seed pass gave to a triangle the raster left without one (seeds.comp) carries this
+// bit: it sorts after every rasterized triangle and before every border under atomicMin.
+#define PRISMOID_FA_SEED_BIT 0x40000000u
+#define PRISMOID_FA_TRIANGLE_MASK 0x3fffffffu
 // Candidate scales are multiples of 2^-16 (PRISMOID_FA_SCALE_ONE = 1), so the GPU's and the CPU
 // twin's rounded box sizes agree exactly: ceil(side * num / 2^16) in integers.
 #define PRISMOID_FA_SCALE_ONE 65536u

@@ -57,12 +57,16 @@ TEST(FastAtlasFilter, TwoTapsAreLinearAlongTheirLine) {
   expect_near(fastatlas::hard_edge_filter(diagonal, glm::dvec2(0.2, 0.6)), 0.6 * diagonal.value[0] + 0.4 * diagonal.value[3]);
 }
 
-TEST(FastAtlasFilter, OneTapIsThatTexelAndNoneIsTheNearest) {
+TEST(FastAtlasFilter, OneTapIsThatTexelAndNoneIsTheNearestHeldTexel) {
   const FilterTaps one = taps(false, false, true, false);
   expect_near(fastatlas::hard_edge_filter(one, glm::dvec2(0.9, 0.1)), one.value[2]);
   const FilterTaps none = taps(false, false, false, false);
   expect_near(fastatlas::hard_edge_filter(none, glm::dvec2(0.9, 0.1)), none.value[1]);
   expect_near(fastatlas::hard_edge_filter(none, glm::dvec2(0.2, 0.7)), none.value[2]);
+  // An empty nearest texel (a triangle with no texel of its own): the first tap holding one.
+  FilterTaps empty_nearest = none;
+  empty_nearest.held = {false, true, false, true};
+  expect_near(fastatlas::hard_edge_filter(empty_nearest, glm::dvec2(0.2, 0.7)), none.value[1]);
 }
 
 TEST(FastAtlasFilter, TapsCountForTheOwnTriangleAndGentleNeighboursOnly) {

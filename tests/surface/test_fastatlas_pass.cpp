@@ -27,6 +27,7 @@
 #include "renderer/surface/fastatlas/charts.hpp"
 #include "renderer/surface/fastatlas/fastatlas_pass.hpp"
 #include "renderer/surface/forward/forward_pass.hpp"
+#include "scene/surface_generators.hpp"
 #include "shaders/shared/fastatlas.h"
 #include "support/gpu_fixture.hpp"
 #include "surface/surface_test_scenes.hpp"
@@ -272,7 +273,7 @@ TEST_F(FastAtlasPassTest, EveryShadedTexelIsTheDirectLightAtItsPoint) {
     for (uint32_t x = 0; x < 256; ++x) {
       const uint32_t id = ids[y * 256 + x];
       if (id == kNone) continue;
-      const uint32_t t = id & 0x7fffffffu;
+      const uint32_t t = id & PRISMOID_FA_TRIANGLE_MASK;
       border += (id & PRISMOID_FA_BORDER_BIT) != 0;
       const glm::dvec2 pixel = to_screen(map_of(boxes, placed, parent[t], img.counters.scale), glm::dvec2(x + 0.5, y + 0.5));
       const auto [mesh, local] = rig.triangles.local(t);
@@ -320,8 +321,9 @@ TEST_F(FastAtlasPassTest, EveryPixelIsTheHardEdgeFilterOfItsTaps) {
         const glm::ivec2 q = base + glm::ivec2(k & 1, k >> 1);
         const bool inside = q.x >= 0 && q.y >= 0 && q.x < 256 && q.y < 256;
         const uint32_t raw = inside ? ids[size_t(q.y) * 256 + size_t(q.x)] : kNone;
-        const uint32_t id = raw == kNone ? kNone : raw & 0x7fffffffu;
+        const uint32_t id = raw == kNone ? kNone : raw & PRISMOID_FA_TRIANGLE_MASK;
         taps.value[size_t(k)] = raw == kNone ? glm::dvec3(0.0) : glm::dvec3(colors[size_t(q.y) * 256 + size_t(q.x)]);
+        taps.held[size_t(k)] = raw != kNone;
         bool neighbour_smooth = false;
         for (int e = 0; e < 3; ++e) neighbour_smooth |= adj.neighbours[t][size_t(e)] == id && (adj.smooth[t] >> e & 1) != 0;
         taps.usable[size_t(k)] = id == t || (id != kNone && neighbour_smooth);
@@ -383,6 +385,39 @@ TEST_F(FastAtlasPassTest, TrianglesAcrossTheNearPlaneStayOnTheScreen) {
     EXPECT_LE(-b.w, int(kH));
   }
   expect_boxes_and_packing(rig, img, s.camera, 512, 1.0);
+}
+
+// At a low scale a small separate object (its own chart) can be smaller than a texel: no texel
+// centre lies in any of its triangles, so the raster gives it none (the Cornell box's ceiling
+// light at 96 x 72 and a quarter of a texel per pixel side). The seed pass gives it one, which
+// the borders grow, so its pixels read its own shading (the light's emission), not a hole.
+TEST_F(FastAtlasPassTest, AChartSmallerThanATexelIsSeeded) {
+  SurfaceScene s = with_default_lighting(make_cornell_box(), make_cornell_box().camera);
+  uint32_t first_light = 0, light_end = 0;
+  for (const SceneMesh& m : s.meshes) {
+    if (glm::length(s.materials[m.material].emission) > 0.0) {
+      light_end = first_light + uint32_t(m.triangles.size());
+      break;
+    }
+    first_light += uint32_t(m.triangles.size());
+  }
+  ASSERT_GT(light_end, first_light);
+  FaRig rig(device(), s, settings(256, 0.25));
+  const surface::FastAtlasImage img = rig.render(device(), rig.scene.camera);
+  size_t light_pixels = 0;
+  for (const glm::uvec4& v : img.visibility) light_pixels += v.x > first_light && v.x <= light_end;
+  ASSERT_GT(light_pixels, 0u);
+  size_t light_texels = 0, seeded = 0;
+  for (uint32_t id : rig.pass->read_id_atlas()) {
+    const uint32_t t = id & PRISMOID_FA_TRIANGLE_MASK;
+    if (id == kNone || t < first_light || t >= light_end) continue;
+    ++light_texels;
+    seeded += (id & PRISMOID_FA_SEED_BIT) != 0;
+  }
+  EXPECT_GT(seeded, 0u);
+  EXPECT_GT(light_texels, seeded);  // the border grew around the seed
+  EXPECT_EQ(img.counters.hole_pixels, 0u);
+  std::printf("the light: %zu pixels, %zu texels (%zu seeded)\n", light_pixels, light_texels, seeded);
 }
 
 // Nothing in view: no charts, nothing shaded, the sky.

@@ -21,8 +21,9 @@ glm::dvec3 hard_edge_filter(const FilterTaps& taps, const glm::dvec2& at) {
   for (int i = 0; i < 4; ++i)
     if (taps.usable[i]) used[n++] = i;
   if (n == 0) {  // the nearest texel
-    const int i = (at.x >= 0.5 ? 1 : 0) + (at.y >= 0.5 ? 2 : 0);
-    return taps.value[i];
+    int i = (at.x >= 0.5 ? 1 : 0) + (at.y >= 0.5 ? 2 : 0);
+    for (int j = 0; j < 4 && !taps.held[size_t(i)]; ++j) i = j;
+    return taps.value[size_t(i)];
   }
   if (n == 1) return taps.value[used[0]];
   if (n == 2) {

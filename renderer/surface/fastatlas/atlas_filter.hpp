@@ -6,7 +6,8 @@
 // only when its texel was shaded for the fragment's own triangle, or for a neighbour meeting it
 // at a dihedral angle under a threshold (75 degrees in the paper); the value is rebuilt from the
 // taps that count:
-//   0: the nearest texel (nothing better is known);   1: that texel;
+//   0: the nearest texel (nothing better is known), or where it holds no triangle the first tap
+//      that holds one (a triangle too small for a texel of its own at a low scale);   1: that texel;
 //   2: linear interpolation between them, at the sample's projection onto the line through them;
 //   3: barycentric interpolation over their triangle (Sen, Shadow silhouette maps), clamped
 //      per channel to the three values, since outside the triangle it would extrapolate;
@@ -22,6 +23,7 @@ namespace prismoid::fastatlas {
 struct FilterTaps {
   std::array<glm::dvec3, 4> value;
   std::array<bool, 4> usable{};
+  std::array<bool, 4> held{true, true, true, true};  // the texel holds a triangle (shaded)
 };
 
 // The filtered value at `at` = (fx, fy) in [0, 1]^2, the sample's place between the four taps.

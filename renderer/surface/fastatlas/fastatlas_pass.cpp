@@ -163,6 +163,7 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
   chart_list_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/chart_list.comp", layout_.get());
   height_keys_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/height_keys.comp", layout_.get());
   pack_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/pack.comp", layout_.get());
+  seeds_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/seeds.comp", layout_.get());
   border_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/border.comp", layout_.get());
 }
 
@@ -315,6 +316,8 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
     }
     {
       vk::ScopedPass step(atlas_timer_, cmd, "borders");
+      dispatch(cmd, seeds_pipeline_.get(), g, 0);
+      compute_barrier(cmd);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, border_pipeline_.get());
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
       vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);

@@ -12,7 +12,8 @@
 //    measured in place of its bucketed cuckoo hashing), packing (pack.comp: every candidate scale
 //    at once, then the largest that fits laid out again), the triangle-ID atlas (atlas.vert: each
 //    chart's triangles drawn by their own screen projection where the packer placed them) and
-//    its borders (border.comp). Each of these is timed apart (atlas_timings()).
+//    its borders (seeds.comp gives each triangle the raster left without a texel one, border.comp
+//    the ring around). Each of these is timed apart (atlas_timings()).
 //  - "shading": one ray-generation invocation per texel of the rows used (fa_shade.glsl).
 //  - "lookup": per pixel, its chart's map into the atlas and the hard-edge-filtered taps.
 // The CPU twins: fastatlas::visible_charts, triangle_box, pack_atlas, chart_map, hard_edge_filter.
@@ -103,7 +104,7 @@ class FastAtlasPass {
   vk::UniquePipelineLayout layout_;
   vk::UniquePipeline depth_pipeline_, visible_pipeline_, atlas_pipeline_, lookup_pipeline_;
   vk::UniquePipeline vertices_pipeline_, hook_pipeline_, boxes_pipeline_, chart_list_pipeline_, height_keys_pipeline_, pack_pipeline_,
-      border_pipeline_;
+      seeds_pipeline_, border_pipeline_;
   rt::RayTracingPipeline shade_pipeline_;
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_, triangle_table_, parent_, vertex_first_, boxes_, keys_, charts_, placed_, candidates_, front_, state_,

@@ -4,7 +4,7 @@
 // (ties: the lower triangle), so that bilinear taps at a chart's edge read shading of its own
 // surface. The paper rasterizes a second time with conservative rasterization and a strict depth
 // test; lavapipe has no VK_EXT_conservative_rasterization, and this pass gives the same one-texel
-// ring on every device. It reads only what the raster wrote (PRISMOID_FA_BORDER_BIT marks what it
+// ring on every device. It reads only what the raster and the seed pass wrote (PRISMOID_FA_BORDER_BIT marks what it
 // writes), so the result does not depend on the order its invocations run in.
 #extension GL_GOOGLE_include_directive : require
 #define PRISMOID_SURFACE_VERTEX_BUFFERS
@@ -18,7 +18,7 @@ layout(set = 0, binding = PRISMOID_FA_BINDING_ID_ATLAS, r32ui) uniform uimage2D 
 uint raster_id(ivec2 t) {
   if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(fa_push.atlas.xy)))) return PRISMOID_FA_NONE;
   uint id = imageLoad(fa_id_atlas, t).x;
-  return (id & PRISMOID_FA_BORDER_BIT) != 0u ? PRISMOID_FA_NONE : id;
+  return (id & PRISMOID_FA_BORDER_BIT) != 0u ? PRISMOID_FA_NONE : id & PRISMOID_FA_TRIANGLE_MASK;
 }
 
 bool in_placed_box(uint root, ivec2 t) {

@@ -20,7 +20,7 @@ void main() {
   ivec2 t = ivec2(gl_LaunchIDEXT.xy);
   uint id = imageLoad(fa_id_atlas, t).x;
   if (id == PRISMOID_FA_NONE) return;
-  uint triangle = id & ~PRISMOID_FA_BORDER_BIT;
+  uint triangle = id & PRISMOID_FA_TRIANGLE_MASK;
   vec2 pixel = fa_to_screen(fa_chart_map(fa_parent[triangle]), vec2(t) + 0.5);
   vec3 bary;
   if (!pixel_barycentrics(triangle, pixel, bary)) bary = vec3(1.0 / 3.0);

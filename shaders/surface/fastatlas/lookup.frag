@@ -5,7 +5,9 @@
 // neighbour meeting it at under 75 degrees (FaTriangleGpu), and the value is rebuilt from the taps
 // that count (the CPU twin fastatlas::hard_edge_filter: nearest, one, linear, clamped barycentric,
 // bilinear). Filtering is by hand in float (hardware filtering keeps only 8 bits of weight).
-// A pixel whose four taps and nearest texel hold no triangle is a counted hole. The sky where no
+// A triangle too small to hold a texel centre at a low scale has no texel of its own (the paper's
+// "tiny but distinct details" that downscaling drops): its pixels take the nearest texel, or the
+// first tap holding any triangle; a pixel whose four taps hold none is a counted hole. The sky where no
 // surface was seen (alpha 0).
 #extension GL_GOOGLE_include_directive : require
 #define PRISMOID_SURFACE_VERTEX_BUFFERS
@@ -23,7 +25,7 @@ const vec2 kTapAt[4] = vec2[4](vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(0.0, 1.0), v
 uint tap_id(ivec2 t) {
   if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(fa_push.atlas.xy)))) return PRISMOID_FA_NONE;
   uint id = imageLoad(fa_id_atlas, t).x;
-  return id == PRISMOID_FA_NONE ? id : id & ~PRISMOID_FA_BORDER_BIT;
+  return id == PRISMOID_FA_NONE ? id : id & PRISMOID_FA_TRIANGLE_MASK;
 }
 
 bool usable(uint triangle, uint id) {
@@ -61,8 +63,9 @@ void main() {
     if (usable(triangle, id)) used[n++] = k;
   }
   vec3 c;
-  if (n == 0u) {  // the nearest texel
+  if (n == 0u) {  // the nearest texel; where it is empty, the first tap that holds a triangle
     uint k = (at.x >= 0.5 ? 1u : 0u) + (at.y >= 0.5 ? 2u : 0u);
+    for (uint j = 0u; j < 4u && tap_id(base + ivec2(kTapAt[k])) == PRISMOID_FA_NONE; ++j) k = j;
     if (tap_id(base + ivec2(kTapAt[k])) == PRISMOID_FA_NONE) atomicAdd(fa_state.counts.y, 1u);
     c = value[k];
   } else if (n == 1u) {
