@@ -445,8 +445,10 @@ int cmd_bench(const std::vector<std::string>& args) {
     if (a.has("msa-charts")) {
       so.msa_charts.clear();
       for (const std::string& kind : split_list(a.values.at("msa-charts"))) {
-        if (kind != "projection" && kind != "conformal") throw InputError("--msa-charts", "must list projection or conformal, got '" + kind + "'");
-        so.msa_charts.push_back(kind == "conformal" ? msa::Parametrization::Conformal : msa::Parametrization::Projection);
+        msa::Parametrization p;
+        if (!msa::parse_parametrization(kind, p))
+          throw InputError("--msa-charts", "must list projection, conformal, perspective or orthographic, got '" + kind + "'");
+        so.msa_charts.push_back(p);
       }
     }
     if (a.has("msa-amortize")) {

@@ -174,8 +174,9 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       std::vector<uint32_t> atlases{0u};
       if (mode == "fastatlas" && !options.fastatlas_atlases.empty()) atlases = options.fastatlas_atlases;
       for (const uint32_t atlas : atlases)
-        for (const double sf : options.shading_scales)
-          if (texture_space && sf < 1.0) runs.push_back({mode, 0u, false, false, 0u, msa::Parametrization::Projection, sf, atlas});
+        for (const msa::Parametrization charts : chart_kinds)
+          for (const double sf : options.shading_scales)
+            if (texture_space && sf < 1.0) runs.push_back({mode, 0u, false, false, 0u, charts, sf, atlas});
       for (const uint32_t atlas : atlases)
         if (atlas != 0) runs.push_back({mode, 0u, false, false, 0u, msa::Parametrization::Projection, 1.0, atlas});
       if (atlases.front() != 0) continue;  // fastatlas's rows are per atlas side
@@ -205,7 +206,8 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       uint32_t budget = run.budget;
       if (budget == SurfaceBenchOptions::kBudgetCoveredPixels) budget = std::max(1u, covered_pixels);
       renderer.set_shadows(shadows);
-      const std::string rate_key = mode + (shadows ? "/on" : "/off") + (run.atlas ? "/" + std::to_string(run.atlas) : "");
+      const std::string rate_key = mode + (shadows ? "/on" : "/off") + (run.atlas ? "/" + std::to_string(run.atlas) : "") + "/" +
+                                   msa::parametrization_name(run.charts);
       float lod_bias = 0.0f;
       const bool block_budget = (knobs(mode) & surface::kTuneBlockBudget) != 0;  // a budget of block texels, not a level bias
       if (budget > 0 && !block_budget && unbiased_shaded.count(rate_key) && unbiased_shaded.at(rate_key) > budget)
@@ -269,7 +271,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (run.still) m.settings += " camera=still";
       if (run.moving) m.settings += " camera=moving(" + app::json_number(options.motion_degrees) + "deg/frame)";
       if (run.amortize > 0) m.settings += " amortize=" + std::to_string(run.amortize);
-      if (run.charts == msa::Parametrization::Conformal) m.settings += " charts=conformal";
+      if (run.charts != msa::Parametrization::Projection) m.settings += std::string(" charts=") + msa::parametrization_name(run.charts);
       if (run.atlas != 0) m.settings += " atlas=" + std::to_string(run.atlas);
       if (run.sf < 1.0) m.settings += " sf=" + app::json_number(run.sf);
       if (budget > 0 && run.sf == 1.0)
@@ -282,7 +284,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.mesh_bytes = renderer.gpu_scene().bytes;
       const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
       m.shaded = (shaded_sum + options.frames / 2) / options.frames;  // the mean over the measured frames
-      if (budget == 0 && run.sf == 1.0 && !run.still && !run.moving && run.charts == msa::Parametrization::Projection)
+      if (budget == 0 && run.sf == 1.0 && !run.still && !run.moving)
         unbiased_shaded[rate_key] = counts.shaded;
       // FastAtlas's atlasing steps (its own timestamps, the last measured frame) after the frame's
       // passes, named "atlasing/<step>": parts of "atlasing", not further passes. Its stretch

@@ -77,8 +77,9 @@ struct SurfaceSession {
   // K: msa's meshlet charts, projected or conformal (rebuilt at the next msa frame).
   void toggle_charts() {
     device.wait_idle();
-    renderer.set_msa_charts(renderer.msa_charts() == msa::Parametrization::Conformal ? msa::Parametrization::Projection
-                                                                                   : msa::Parametrization::Conformal);
+    // K cycles the charts: static projection, static conformal, per-frame perspective (MSA-P),
+    // per-frame orthographic (MSA-O).
+    renderer.set_msa_charts(msa::Parametrization((uint32_t(renderer.msa_charts()) + 1) % 4));
   }
   void next_mode() {
     const auto& modes = renderer.modes();
@@ -187,7 +188,7 @@ void draw_surface_panel(SurfaceSession& s) {
       ImGui::Text("%s shades every %u frames while moving (T)", s.mode.c_str(), n);
   }
   if (knobs & surface::kTuneCharts)
-    ImGui::Text("meshlet charts: %s (K)", s.renderer.msa_charts() == msa::Parametrization::Conformal ? "conformal" : "projected");
+    ImGui::Text("meshlet charts: %s (K)", msa::parametrization_name(s.renderer.msa_charts()));
   ImGui::Separator();
   double total = 0.0;
   for (const auto& p : s.passes) {
@@ -314,7 +315,7 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
   report.camera = s.camera.camera();
   report.mode = s.mode;
   report.msa_amortization = s.renderer.msa_amortization();
-  report.msa_conformal_charts = s.renderer.msa_charts() == msa::Parametrization::Conformal;
+  report.msa_charts = msa::parametrization_name(s.renderer.msa_charts());
   report.validation_messages = instance.validation_log().count();
   return report;
 }

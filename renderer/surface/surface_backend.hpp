@@ -21,6 +21,7 @@
 #include "renderer/frame/frame_plan.hpp"
 #include "renderer/rt/acceleration_structure.hpp"
 #include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/surface/msa/meshlets.hpp"
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
@@ -72,7 +73,7 @@ struct SurfaceTuning {
   std::optional<float> lod_bias;          // texture-space level-of-detail bias: +1 halves the texels per side
   std::optional<uint32_t> block_budget;   // block texels per frame (0: none)
   uint32_t amortize_every = 0;            // shade held samples again only every n-th frame (0: by the eye rule)
-  std::optional<bool> conformal_charts;   // conformal rather than projected charts
+  std::optional<msa::Parametrization> msa_charts;  // the meshlet shading atlas's charts
 };
 
 // One frame to record.
@@ -143,7 +144,7 @@ enum TuningKnob : uint32_t {
   kTuneLodBias = 1u << 0,      // SurfaceTuning::lod_bias
   kTuneBlockBudget = 1u << 1,  // SurfaceTuning::block_budget
   kTuneAmortize = 1u << 2,     // SurfaceTuning::amortize_every
-  kTuneCharts = 1u << 3,       // SurfaceTuning::conformal_charts
+  kTuneCharts = 1u << 3,       // SurfaceTuning::msa_charts
 };
 
 // A backend as the mode table names it: plain data and three functions.

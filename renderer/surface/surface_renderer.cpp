@@ -167,14 +167,11 @@ void SurfaceRenderer::set_msa_amortization(uint32_t every_n_frames) {
 }
 
 void SurfaceRenderer::set_msa_charts(msa::Parametrization charts) {
-  const bool conformal = charts == msa::Parametrization::Conformal;
-  const bool changed = conformal != tuning_.conformal_charts.value_or(false);
-  tuning_.conformal_charts = conformal;
+  const bool changed = charts != tuning_.msa_charts.value_or(msa::Parametrization::Projection);
+  tuning_.msa_charts = charts;
   if (changed) retune();
 }
 
-msa::Parametrization SurfaceRenderer::msa_charts() const {
-  return tuning_.conformal_charts.value_or(false) ? msa::Parametrization::Conformal : msa::Parametrization::Projection;
-}
+msa::Parametrization SurfaceRenderer::msa_charts() const { return tuning_.msa_charts.value_or(msa::Parametrization::Projection); }
 
 }  // namespace prismoid::surface

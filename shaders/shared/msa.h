@@ -41,6 +41,8 @@ PRISMOID_SHARED_BEGIN
 
 #define PRISMOID_MSA_FLAG_SHADOWS 1u
 #define PRISMOID_MSA_FLAG_SHADE_ALL 2u  // a shading frame: every visible block is shaded (else only new blocks)
+#define PRISMOID_MSA_FLAG_FRAME_CHARTS 4u  // charts are made every frame (frame_charts.comp): shading takes the nearest triangle
+#define PRISMOID_MSA_FLAG_PERSPECTIVE 8u   // with FRAME_CHARTS: perspective charts (MSA-P), else orthographic (MSA-O)
 
 // allocate.comp's steps.
 #define PRISMOID_MSA_STEP_DEMAND 0u    // per meshlet: texels wanted at full density -> state.demand.x
@@ -53,14 +55,14 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_MSA_STEP_TASKS 7u     // per meshlet: tiles of blocks to shade
 
 struct MsaTriangleGpu {
-  vec4 c01;    // chart corner 0 xy, corner 1 xy (world units)
+  vec4 c01;    // chart corner 0 xy, corner 1 xy (world units; pixels for perspective per-frame charts)
   vec4 c2;     // chart corner 2 xy, zw: 0
   uvec4 info;  // x: meshlet, yzw: 0
 };
 
 struct MsaMeshletGpu {
   vec4 extent;  // xy: chart rectangle, zw: 0
-  uvec4 info;   // x: first entry in the meshlet-triangle list, y: triangle count, zw: 0
+  uvec4 info;   // x: first entry in the meshlet-triangle list, y: triangle count, z: 1 when its chart is perspective this frame, w: 0
 };
 
 struct MsaBlockGpu {
@@ -85,7 +87,7 @@ struct MsaStateGpu {
 struct MsaPush {
   uvec4 image;   // x: width, y: height, z: flags (PRISMOID_MSA_FLAG_*), w: this frame's stamp (>= 1)
   uvec4 atlas;   // x: atlas width (texels), y: superblock columns, z: meshlets, w: step
-  uvec4 limits;  // x: superblocks, y: texel budget per frame (0: none), zw: 0
+  uvec4 limits;  // x: superblocks, y: texel budget per frame (0: none), z: the near plane's distance (float bits), w: 0
 };
 
 PRISMOID_SHARED_END

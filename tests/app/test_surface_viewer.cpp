@@ -68,7 +68,7 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   EXPECT_EQ(report.validation_messages, 0u);
   EXPECT_EQ(report.mode, "htex-gi");  // M cycled from forward to htex; the script then chose GI
   EXPECT_EQ(report.msa_amortization, 8u);  // T twice: every 4th, then every 8th frame
-  EXPECT_TRUE(report.msa_conformal_charts);  // K
+  EXPECT_EQ(report.msa_charts, "conformal");  // K
   ASSERT_EQ(report.files_written.size(), 9u);
 
   // Refused: an unknown mode, and a volume verb; each named in a message.

@@ -101,7 +101,31 @@ double segment_distance(const glm::dvec2& q, const glm::dvec2& a, const glm::dve
   const double t = l > 0.0 ? std::clamp(glm::dot(q - a, ab) / l, 0.0, 1.0) : 0.0;
   return glm::length(q - (a + t * ab));
 }
-TexelChoice choose(const MsaRig& rig, uint32_t meshlet, const glm::dvec2& q, double s) {
+// Per-frame charts: the corners' camera depths, and a surface point's depth along the view.
+glm::dvec3 corner_depths(const MsaRig& rig, const Camera& camera, uint32_t t) {
+  const auto [mesh, local] = rig.local_triangle(t);
+  const SceneMesh& m = rig.scene.meshes[mesh];
+  glm::dvec3 z;
+  for (int k = 0; k < 3; ++k) z[k] = glm::dot(m.positions[m.triangles[local][size_t(k)]] - camera.eye, glm::normalize(camera.target - camera.eye));
+  return z;
+}
+// A perspective chart's image weights to surface weights (w_i / z_i renormalized), and back.
+glm::dvec3 surface_weights(const glm::dvec3& w, const glm::dvec3& z) {
+  const glm::dvec3 b = w / z;
+  return b / (b.x + b.y + b.z);
+}
+glm::dvec3 image_weights(const glm::dvec3& b, const glm::dvec3& z) {
+  const glm::dvec3 w = b * z;
+  return w / (w.x + w.y + w.z);
+}
+
+// With per-frame charts (`frame`, made for `camera`), the chart corners are the frame's, a
+// perspective meshlet's chart weights are turned into surface weights, and of the triangles
+// containing the point the nearest along the view is taken (the GPU's rule where the projection
+// folds; two at the same depth on the same chart point are the same surface point, as on a shared
+// edge, so either is right).
+TexelChoice choose(const MsaRig& rig, uint32_t meshlet, const glm::dvec2& q, double s, const msa::FrameCharts* frame = nullptr,
+                   const Camera* camera = nullptr) {
   std::vector<uint32_t> tris = rig.meshlets.meshlets[meshlet].triangles;
   std::sort(tris.begin(), tris.end());
   TexelChoice c;
@@ -109,14 +133,24 @@ TexelChoice choose(const MsaRig& rig, uint32_t meshlet, const glm::dvec2& q, dou
   double best = 1e300, second = 1e300;
   uint32_t nearest = PRISMOID_MSA_NONE;
   glm::dvec3 nearest_bary(0.0);
+  double nearest_depth = 1e300;
   for (uint32_t t : tris) {
-    const auto& k = rig.meshlets.corner_chart[t];
+    const auto& k = frame ? frame->corner_chart[t] : rig.meshlets.corner_chart[t];
     const glm::dvec2 d1 = k[1] - k[0], d2 = k[2] - k[0], r = q - k[0];
     const double det = d1.x * d2.y - d1.y * d2.x;
     if (det == 0.0) continue;
     const double b1 = (r.x * d2.y - r.y * d2.x) / det, b2 = (d1.x * r.y - d1.y * r.x) / det;
-    const glm::dvec3 w(1.0 - b1 - b2, b1, b2);
+    glm::dvec3 w(1.0 - b1 - b2, b1, b2);
     const bool inside = std::min({w.x, w.y, w.z}) >= 0.0;
+    if (frame && frame->perspective[meshlet]) w = surface_weights(w, corner_depths(rig, *camera, t));
+    if (frame && inside) {  // the nearest containing triangle along the view
+      const double depth = glm::dot(w, corner_depths(rig, *camera, t));
+      if (c.triangle == PRISMOID_MSA_NONE || depth < nearest_depth) {
+        c.triangle = t;
+        c.bary = w;
+        nearest_depth = depth;
+      }
+    }
     const double dist = inside ? 0.0 : std::min({segment_distance(q, k[0], k[1]), segment_distance(q, k[1], k[2]), segment_distance(q, k[2], k[0])});
     const double edge = std::min({segment_distance(q, k[0], k[1]), segment_distance(q, k[1], k[2]), segment_distance(q, k[2], k[0])});
     if (inside && c.triangle == PRISMOID_MSA_NONE) {
@@ -207,15 +241,29 @@ TEST_F(MsaPassTest, EverySeenMeshletGetsADisjointBlockOfTheSizeItsPixelsAskFor) 
 
 // Both charts: the orthogonal projection (GGX and diffuse) and the conformal one (diffuse).
 TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
-  for (const int variant : {0, 1, 2}) {
+  // Variants: diffuse, GGX, conformal charts, and the per-frame perspective (MSA-P) and
+  // orthographic (MSA-O) charts, whose corners are the CPU twin's (msa::frame_charts).
+  for (const int variant : {0, 1, 2, 3, 4}) {
     const bool ggx = variant == 1;
-    const msa::Parametrization charts = variant == 2 ? msa::Parametrization::Conformal : msa::Parametrization::Projection;
+    const msa::Parametrization charts = variant == 2   ? msa::Parametrization::Conformal
+                                        : variant == 3 ? msa::Parametrization::Perspective
+                                        : variant == 4 ? msa::Parametrization::Orthographic
+                                                       : msa::Parametrization::Projection;
     SphereSceneOptions o;
     o.ggx = ggx;
     o.sky = true;
-    MsaRig rig(device(), sphere_scene(o), unshadowed(), msa::Clustering::NormalCone, charts);
+    surface::MsaSettings settings = unshadowed();
+    settings.frame_charts = charts;
+    MsaRig rig(device(), sphere_scene(o), settings, msa::Clustering::NormalCone, charts);
     const Camera camera = rig.scene.camera;
     const surface::MsaImage img = rig.render(device(), camera);
+    const bool per_frame = msa::per_frame(charts);
+    const msa::FrameCharts frame = msa::frame_charts(rig.scene, rig.meshlets, camera, kW, kH, per_frame ? charts : msa::Parametrization::Orthographic);
+    const auto meshlet_table = rig.read<gpu::MsaMeshletGpu>(rig.pass->meshlet_table());
+    // The extent the GPU sized the block from (per-frame: its own float projection's).
+    auto extent_of = [&](uint32_t m) {
+      return per_frame ? glm::dvec2(meshlet_table[m].extent.x, meshlet_table[m].extent.y) : rig.meshlets.meshlets[m].extent;
+    };
     const auto blocks = rig.read<gpu::MsaBlockGpu>(rig.pass->blocks());
     const auto tasks = rig.read<uint32_t>(rig.pass->tasks());
     const auto result = rig.read<glm::vec4>(rig.pass->result());
@@ -227,11 +275,11 @@ TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
     for (uint32_t k = 0; k < img.counters.shaded_tiles; ++k) {
       const uint32_t m = tasks[k] >> 12, tile = tasks[k] & 0xfff;
       const glm::uvec2 size = surface::msa_class_size(blocks[m].block.z);
-      const double s = surface::msa_block_scale(rig.meshlets.meshlets[m].extent, blocks[m].block.z);
+      const double s = surface::msa_block_scale(extent_of(m), blocks[m].block.z);
       for (uint32_t q = 0; q < 64; ++q) {
         const glm::uvec2 local((tile % (size.x / 8)) * 8 + q % 8, (tile / (size.x / 8)) * 8 + q / 8);
         const size_t slot = size_t(blocks[m].block.y + local.y) * width + blocks[m].block.x + local.x;
-        const TexelChoice ch = choose(rig, m, (glm::dvec2(local) + 0.5 - 1.0) / s, s);
+        const TexelChoice ch = choose(rig, m, (glm::dvec2(local) + 0.5 - 1.0) / s, s, per_frame ? &frame : nullptr, &camera);
         if (ch.ambiguous) {
           ++ambiguous;
           continue;
@@ -247,7 +295,9 @@ TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
       }
     }
     EXPECT_EQ(wrong_empty, 0u) << "texels outside every meshlet triangle must stay empty";
-    EXPECT_LT(double(ambiguous), 0.01 * double(queries.size()));
+    // Per-frame charts fold where a meshlet turns from the eye: a farther layer's edges near a texel
+    // mark it ambiguous too (the CPU rule counts every edge within the margin), about 5 % here.
+    EXPECT_LT(double(ambiguous), (per_frame ? 0.08 : 0.01) * double(queries.size()));
     std::vector<glm::vec4> gpu_values;
     for (size_t k : slots) gpu_values.push_back(result[k]);
     const SampleCheck shading = check_shaded_samples(rig.scene, queries, gpu_values);
@@ -260,8 +310,15 @@ TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
       ++pixels;
       const uint32_t t = img.visibility[i].x - 1, m = rig.meshlets.meshlet_of_triangle[t];
       const glm::uvec2 size = surface::msa_class_size(blocks[m].block.z);
-      const double s = surface::msa_block_scale(rig.meshlets.meshlets[m].extent, blocks[m].block.z);
-      const glm::dvec2 f = 1.0 + rig.chart_point(t, stored_barycentrics(img.visibility[i])) * s - 0.5;
+      const double s = surface::msa_block_scale(extent_of(m), blocks[m].block.z);
+      glm::dvec3 b = stored_barycentrics(img.visibility[i]);
+      glm::dvec2 chart = rig.chart_point(t, b);
+      if (per_frame) {
+        if (frame.perspective[m]) b = image_weights(b, corner_depths(rig, camera, t));
+        const auto& k = frame.corner_chart[t];
+        chart = b.x * k[0] + b.y * k[1] + b.z * k[2];
+      }
+      const glm::dvec2 f = 1.0 + chart * s - 0.5;
       const glm::dvec2 fl = glm::floor(f), a = f - fl;
       const double w[4] = {(1 - a.x) * (1 - a.y), a.x * (1 - a.y), (1 - a.x) * a.y, a.x * a.y};
       std::vector<std::pair<glm::vec4, double>> taps;
@@ -278,7 +335,12 @@ TEST_F(MsaPassTest, ShadesEveryBlockTexelAndDisplaysTheBilinearLookup) {
     EXPECT_EQ(img.counters.hole_pixels, 0u);
     std::printf("[ %s ] %zu texels of %u tiles checked (%zu empty, %zu ambiguous): worst %.3g of tolerance; display %zu pixels, worst %.3g of "
                 "tolerance; %zu meshlets\n",
-                variant == 2 ? "diffuse, conformal charts" : ggx ? "GGX" : "diffuse", queries.size(), img.counters.shaded_tiles, empty, ambiguous, shading.worst, pixels, worst_display,
+                variant == 4   ? "diffuse, orthographic per-frame charts (MSA-O)"
+                : variant == 3 ? "diffuse, perspective per-frame charts (MSA-P)"
+                : variant == 2 ? "diffuse, conformal charts"
+                : ggx          ? "GGX"
+                               : "diffuse",
+                queries.size(), img.counters.shaded_tiles, empty, ambiguous, shading.worst, pixels, worst_display,
                 rig.meshlets.meshlets.size());
   }
 }
@@ -292,6 +354,54 @@ TEST_F(MsaPassTest, FlatShadedCubeEqualsTheForwardImage) {
 // A still camera: the second frame keeps every block and shades nothing, drawing the same image;
 // invalidate_shading() shades every block again; with an amortization period of 3 the blocks are
 // shaded again on the third frame after the last shading, and not before.
+// Per-frame charts (MSA-P, MSA-O): the charts the GPU made this frame are the CPU twin's
+// projections (msa::frame_charts): pixels for perspective charts (float: within 1e-3 pixel),
+// camera-space world units for orthographic ones; a sphere's meshlets are all beyond the near
+// plane, so every one is perspective under MSA-P.
+TEST_F(MsaPassTest, PerFrameChartsAreTheCamerasProjections) {
+  for (const msa::Parametrization kind : {msa::Parametrization::Perspective, msa::Parametrization::Orthographic}) {
+    surface::MsaSettings s = unshadowed();
+    s.frame_charts = kind;
+    MsaRig rig(device(), sphere_scene({}), s, msa::Clustering::NormalCone, kind);
+    const Camera camera = rig.scene.camera;
+    rig.render(device(), camera);
+    const auto triangles = rig.read<gpu::MsaTriangleGpu>(rig.pass->triangle_table());
+    const auto meshlets = rig.read<gpu::MsaMeshletGpu>(rig.pass->meshlet_table());
+    const msa::FrameCharts cpu = msa::frame_charts(rig.scene, rig.meshlets, camera, kW, kH, kind);
+    const double tol = kind == msa::Parametrization::Perspective ? 1e-3 : 1e-5;
+    size_t failures = 0;
+    for (size_t t = 0; t < cpu.corner_chart.size(); ++t) {
+      const glm::dvec2 g[3] = {glm::dvec2(triangles[t].c01.x, triangles[t].c01.y), glm::dvec2(triangles[t].c01.z, triangles[t].c01.w),
+                               glm::dvec2(triangles[t].c2.x, triangles[t].c2.y)};
+      for (int k = 0; k < 3; ++k)
+        if (glm::length(g[k] - cpu.corner_chart[t][size_t(k)]) > tol && failures++ < 5)
+          ADD_FAILURE() << msa::parametrization_name(kind) << " triangle " << t << " corner " << k << ": GPU " << g[k].x << " " << g[k].y
+                        << ", CPU " << cpu.corner_chart[t][size_t(k)].x << " " << cpu.corner_chart[t][size_t(k)].y;
+    }
+    for (size_t m = 0; m < cpu.extent.size(); ++m) {
+      EXPECT_NEAR(meshlets[m].extent.x, cpu.extent[m].x, tol) << m;
+      EXPECT_NEAR(meshlets[m].extent.y, cpu.extent[m].y, tol) << m;
+      EXPECT_EQ(meshlets[m].info.z, uint32_t(cpu.perspective[m])) << m;
+      if (kind == msa::Parametrization::Perspective) EXPECT_EQ(cpu.perspective[m], 1u) << m;
+    }
+    EXPECT_EQ(failures, 0u);
+  }
+}
+
+// Where shading is constant per face, per-frame charts draw the forward image: the perspective
+// chart's image-to-surface weights and the nearest triangle where the projection folds are right.
+TEST_F(MsaPassTest, PerFrameChartsDrawTheFlatCubeAsForward) {
+  for (const msa::Parametrization kind : {msa::Parametrization::Perspective, msa::Parametrization::Orthographic}) {
+    surface::MsaSettings s = unshadowed();
+    s.frame_charts = kind;
+    MsaRig rig(device(), flat_cube_scene(), s, msa::Clustering::NormalCone, kind);
+    const surface::MsaImage img = rig.render(device(), rig.scene.camera);
+    EXPECT_GT(expect_equals_forward(device(), rig.gpu, rig.scene.camera, kW, kH, img.rgba, img.visibility), size_t(kW * kH / 5))
+        << msa::parametrization_name(kind);
+    EXPECT_EQ(img.counters.hole_pixels, 0u);
+  }
+}
+
 TEST_F(MsaPassTest, StillCameraReusesBlocksAndAmortizationShadesEveryNthFrame) {
   MsaRig rig(device(), sphere_scene({}), unshadowed());
   const Camera camera = rig.scene.camera;

@@ -80,6 +80,42 @@ TEST_F(SurfaceRendererTest, EveryModeRecordsExactlyThePassesOfItsPlan) {
   EXPECT_EQ(frames, renderer.modes().size() * shadow_settings.size());
 }
 
+// Reuse where a mode's shading space is made from the whole view: FastAtlas's atlas is the same
+// bit for bit while nothing changes, so such a frame shades nothing and shows the same image; its
+// atlas and the meshlet atlas's per-frame charts (MSA-P, MSA-O) change when the camera turns,
+// even with the eye where it was (a still eye, which keeps static charts' shading), so that
+// frame shades again.
+TEST_F(SurfaceRendererTest, PerFrameAtlasesReuseShadingOnlyForTheSameView) {
+  const SurfaceScene box = make_cornell_box();
+  const SurfaceScene scene = with_default_lighting(box, box.camera);
+  surface::SurfaceRenderer renderer(device(), scene);
+  renderer.resize({32, 24});
+  renderer.set_shadows(false);
+  Camera turned = scene.camera;
+  turned.target += glm::dvec3(0.05, 0.0, 0.0);  // the eye stays
+  record_frame(renderer, scene.camera, "fastatlas");
+  ASSERT_GT(renderer.read_counts().shaded, 0u);
+  const std::vector<float> first = read_display(renderer);
+  record_frame(renderer, scene.camera, "fastatlas");
+  EXPECT_EQ(renderer.read_counts().shaded, 0u);
+  EXPECT_EQ(read_display(renderer), first);
+  record_frame(renderer, turned, "fastatlas");
+  EXPECT_GT(renderer.read_counts().shaded, 0u) << "the view turned: a new atlas";
+  for (const msa::Parametrization charts : {msa::Parametrization::Perspective, msa::Parametrization::Orthographic}) {
+    renderer.set_msa_charts(charts);
+    record_frame(renderer, scene.camera, "msa");
+    ASSERT_GT(renderer.read_counts().shaded, 0u) << msa::parametrization_name(charts);
+    record_frame(renderer, scene.camera, "msa");
+    EXPECT_EQ(renderer.read_counts().shaded, 0u) << msa::parametrization_name(charts);
+    record_frame(renderer, turned, "msa");
+    EXPECT_GT(renderer.read_counts().shaded, 0u) << msa::parametrization_name(charts) << ": the view turned";
+  }
+  renderer.set_msa_charts(msa::Parametrization::Projection);
+  record_frame(renderer, scene.camera, "msa");
+  record_frame(renderer, turned, "msa");
+  EXPECT_EQ(renderer.read_counts().shaded, 0u) << "static charts: a still eye keeps every block's shading";
+}
+
 // A scene nothing lights (no lights, no emitters, a black sky): the planner leaves out the
 // shadow rays and a GI mode's GI passes, the backend records the frame without them, and every
 // covered pixel is black (no sky term, no light, no stale indirect radiance).

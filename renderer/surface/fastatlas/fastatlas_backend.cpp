@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "renderer/surface/fastatlas/fastatlas_pass.hpp"
@@ -43,16 +44,25 @@ class FastAtlasBackend final : public SurfaceBackend {
     // The shading-rate control (SF, section 6 of the paper): the window's and the bench's level-
     // of-detail bias halves the texels per side for each +1.
     if (f.tuning.lod_bias) s.shading_scale = options_.shading_scale * std::exp2(-double(*f.tuning.lod_bias));
-    // The planner's rule (plan_shading_reuse): a still eye gives the same atlas bit for bit, so
-    // its shading is kept; a moved eye shades again.
+    // The planner's rule (plan_shading_reuse) keeps shading while the eye stays; but the atlas
+    // is made from the whole view, so only the same view (and settings) gives the same atlas bit
+    // for bit and keeps its shading; a turned camera shades again.
     last_reuse_ = reuse_.plan(f.camera, f.shadows);
     const FastAtlasSettings& now = pass_->settings();
+    const bool same_view = last_camera_ && last_camera_->eye == f.camera.eye && last_camera_->target == f.camera.target &&
+                           last_camera_->up == f.camera.up && last_camera_->fovy_degrees == f.camera.fovy_degrees &&
+                           last_camera_->near_distance == f.camera.near_distance && extent_.width == f.extent.width &&
+                           extent_.height == f.extent.height;
+    if (!last_reuse_.invalidate && !same_view) {
+      last_reuse_.invalidate = true;
+      last_reuse_.reason = "the view changed: a new atlas";
+    }
     s.reuse = !last_reuse_.invalidate && now.shading_scale == s.shading_scale && now.atlas_width == s.atlas_width &&
-              now.atlas_height == s.atlas_height && extent_.width == f.extent.width &&
-              extent_.height == f.extent.height;
+              now.atlas_height == s.atlas_height;
     pass_->set_settings(s);
     pass_->record(f.cmd, scene_.gpu(), scene_.accel().tlas(), *targets_, f.camera, f.timer);
     reuse_.recorded(f.camera, f.shadows);
+    last_camera_ = f.camera;
     extent_ = f.extent;
   }
 
@@ -111,6 +121,7 @@ class FastAtlasBackend final : public SurfaceBackend {
   std::unique_ptr<FastAtlasPass> pass_;
   std::unique_ptr<TextureSpaceTargets> targets_;
   VkExtent2D extent_{};
+  std::optional<Camera> last_camera_;
   ReuseHistory reuse_;
   ShadingReuse last_reuse_;
 };

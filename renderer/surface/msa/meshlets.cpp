@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include <glm/trigonometric.hpp>
 #include <glm/geometric.hpp>
 #include <meshoptimizer.h>
 
@@ -270,6 +271,60 @@ MeshletStats meshlet_stats(const SurfaceScene& scene, const MeshletSet& set, dou
   if (block_area > 0.0) stats.block_fill = scaled_area / block_area;
   if (sampling_weight > 0.0) stats.sampling_mean = sampling_sum / sampling_weight;
   return stats;
+}
+
+const char* parametrization_name(Parametrization p) {
+  switch (p) {
+    case Parametrization::Projection: return "projection";
+    case Parametrization::Conformal: return "conformal";
+    case Parametrization::Perspective: return "perspective";
+    case Parametrization::Orthographic: return "orthographic";
+  }
+  return "projection";
+}
+
+bool parse_parametrization(const std::string& word, Parametrization& out) {
+  for (Parametrization p : {Parametrization::Projection, Parametrization::Conformal, Parametrization::Perspective, Parametrization::Orthographic})
+    if (word == parametrization_name(p)) {
+      out = p;
+      return true;
+    }
+  return false;
+}
+
+FrameCharts frame_charts(const SurfaceScene& scene, const MeshletSet& set, const Camera& camera, uint32_t width, uint32_t height,
+                         Parametrization kind) {
+  std::vector<glm::dvec3> corners;  // per global triangle corner, in camera space
+  for (const SceneMesh& mesh : scene.meshes)
+    for (const auto& t : mesh.triangles)
+      for (uint32_t k : t) corners.push_back(glm::dvec3(view_matrix(camera, camera.eye) * glm::dvec4(mesh.positions[k] - camera.eye, 1.0)));
+  const double tan_half = std::tan(glm::radians(camera.fovy_degrees) * 0.5), aspect = double(width) / double(height);
+  FrameCharts out;
+  out.corner_chart.assign(set.corner_chart.size(), {});
+  out.extent.assign(set.meshlets.size(), glm::dvec2(0.0));
+  out.perspective.assign(set.meshlets.size(), 0);
+  for (size_t m = 0; m < set.meshlets.size(); ++m) {
+    const Meshlet& meshlet = set.meshlets[m];
+    bool perspective = kind == Parametrization::Perspective;
+    for (uint32_t t : meshlet.triangles)
+      for (int k = 0; k < 3; ++k) perspective = perspective && -corners[3 * size_t(t) + size_t(k)].z >= camera.near_distance;
+    glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (uint32_t t : meshlet.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec3 v = corners[3 * size_t(t) + size_t(k)];
+        const glm::dvec2 q = perspective ? glm::dvec2((v.x / (-v.z * tan_half * aspect) + 1.0) * 0.5 * width,
+                                                      (1.0 - v.y / (-v.z * tan_half)) * 0.5 * height)
+                                         : glm::dvec2(v.x, v.y);
+        out.corner_chart[t][size_t(k)] = q;
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+      }
+    for (uint32_t t : meshlet.triangles)
+      for (auto& q : out.corner_chart[t]) q -= lo;
+    if (!meshlet.triangles.empty()) out.extent[m] = glm::max(hi - lo, glm::dvec2(0.0));
+    out.perspective[m] = perspective;
+  }
+  return out;
 }
 
 }  // namespace prismoid::msa

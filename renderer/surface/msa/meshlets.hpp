@@ -26,11 +26,13 @@
 // non-finite corner) is a meshlet of its own: corners at 0, extent 0, normal 0.
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "scene/camera.hpp"
 #include "scene/surface_scene.hpp"
 
 namespace prismoid::msa {
@@ -41,8 +43,18 @@ inline constexpr uint32_t kMeshoptMaxVertices = 64;
 enum class Clustering { Meshoptimizer, NormalCone };
 // A meshlet's chart: the orthogonal projection described above, or the least-squares conformal
 // map of the same triangles (charts::conformal_chart: the paper's LSCM; a meshlet whose
-// conformal chart would flip or overlap keeps its projection).
-enum class Parametrization { Projection, Conformal };
+// conformal chart would flip or overlap keeps its projection): both static (the paper's MSA-UV).
+// Or made anew every frame from the camera (the paper's MSA-P and MSA-O, what the FastAtlas
+// paper compares against): the meshlet's perspective projection into the image (pixels), or its
+// orthographic projection onto the image plane (world units along the camera's right and up).
+// build_meshlets gives the per-frame kinds the static projection (the GPU replaces it each frame).
+enum class Parametrization { Projection, Conformal, Perspective, Orthographic };
+// Whether the kind's charts are made every frame.
+inline bool per_frame(Parametrization p) { return p == Parametrization::Perspective || p == Parametrization::Orthographic; }
+// The --msa-charts word of each: projection, conformal, perspective, orthographic.
+const char* parametrization_name(Parametrization p);
+// The kind of that word; false for none.
+bool parse_parametrization(const std::string& word, Parametrization& out);
 
 struct MeshletSettings {
   Clustering clustering = Clustering::NormalCone;
@@ -92,6 +104,18 @@ struct MeshletStats {
 // InputError(scene.name, ...) when `set` is not one of the scene's or texels_per_unit is not
 // positive and finite.
 MeshletStats meshlet_stats(const SurfaceScene& scene, const MeshletSet& set, double texels_per_unit);
+
+// The per-frame charts of `set` for `camera` and a width x height image (the CPU twin of
+// shaders/surface/msa/frame_charts.comp, in double): per meshlet, Perspective: its corners'
+// image positions in pixels (y down), unless a corner lies nearer than the near plane, then as
+// Orthographic: their camera-space x and y; shifted so that the lower corner is at 0.
+struct FrameCharts {
+  std::vector<std::array<glm::dvec2, 3>> corner_chart;  // per global triangle
+  std::vector<glm::dvec2> extent;                       // per meshlet
+  std::vector<uint8_t> perspective;                     // per meshlet: 1 when its chart is perspective
+};
+FrameCharts frame_charts(const SurfaceScene& scene, const MeshletSet& set, const Camera& camera, uint32_t width, uint32_t height,
+                         Parametrization kind);
 
 // Block-size arithmetic (the twins of shaders/surface/msa/msa.glsl; shaders/shared/msa.h): a
 // chart of `extent` at `density` texels per unit wants w x h texels, w the smallest power of two

@@ -14,7 +14,7 @@ namespace {
 
 struct MsaOptions {
   msa::Clustering clustering = msa::Clustering::NormalCone;
-  bool conformal = false;
+  msa::Parametrization charts = msa::Parametrization::Projection;
   std::optional<uint32_t> superblocks;
   uint32_t budget = 0;
 };
@@ -23,10 +23,16 @@ MsaOptions read_options(const SurfaceOptions& o) {
   MsaOptions m;
   m.clustering = option_choice(o, "meshlets", "normal-cone", {"normal-cone", "meshoptimizer"}) == "meshoptimizer" ? msa::Clustering::Meshoptimizer
                                                                                                                   : msa::Clustering::NormalCone;
-  m.conformal = option_choice(o, "msa-charts", "projection", {"projection", "conformal"}) == "conformal";
+  msa::parse_parametrization(option_choice(o, "msa-charts", "projection", {"projection", "conformal", "perspective", "orthographic"}),
+                             m.charts);
   if (o.count("msa-superblocks")) m.superblocks = option_uint(o, "msa-superblocks", 0);
   m.budget = option_uint(o, "shading-budget", 0);
   return m;
+}
+
+bool same_view(const Camera& a, const Camera& b, VkExtent2D ea, VkExtent2D eb) {
+  return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovy_degrees == b.fovy_degrees && a.near_distance == b.near_distance &&
+         ea.width == eb.width && ea.height == eb.height;
 }
 
 class MsaBackend final : public SurfaceBackend {
@@ -35,12 +41,10 @@ class MsaBackend final : public SurfaceBackend {
 
   void record(const BackendFrame& f) override {
     const vk::Device& device = scene_.device();
-    const bool conformal = f.tuning.conformal_charts.value_or(options_.conformal);
+    const msa::Parametrization charts = f.tuning.msa_charts.value_or(options_.charts);
     if (!pass_) {
-      meshlets_ = std::make_unique<msa::MeshletSet>(msa::build_meshlets(
-          scene_.scene(), {.clustering = options_.clustering,
-                           .parametrization = conformal ? msa::Parametrization::Conformal : msa::Parametrization::Projection}));
-      conformal_ = conformal;
+      meshlets_ = std::make_unique<msa::MeshletSet>(msa::build_meshlets(scene_.scene(), {.clustering = options_.clustering, .parametrization = charts}));
+      charts_ = charts;
       MsaSettings settings;
       settings.shadows = f.shadows;
       // As many superblocks (1 MiB each) as one storage buffer holds, up to 256 (16 M texels).
@@ -52,12 +56,22 @@ class MsaBackend final : public SurfaceBackend {
     MsaSettings settings = pass_->settings();
     settings.shadows = f.shadows;
     settings.budget_texels = f.tuning.block_budget.value_or(options_.budget);
-    settings.shade_every = f.tuning.amortize_every;
+    // Per-frame charts (MSA-P, MSA-O) change with any change of the view, so a block's texels keep
+    // their meaning only while the camera stays exactly where it was: no amortization over them.
+    const bool frame_charts = msa::per_frame(charts_);
+    settings.shade_every = frame_charts ? 0u : f.tuning.amortize_every;
+    settings.frame_charts = charts_;
     pass_->set_settings(settings);
     // The planner's rule: a still eye reuses every block's shading; a moved eye shades them again,
     // unless amortized (then only the first frame and changed settings do, and shade_every).
-    last_reuse_ = reuse_.plan(f.camera, f.shadows, f.tuning.amortize_every > 0);
+    last_reuse_ = reuse_.plan(f.camera, f.shadows, settings.shade_every > 0);
+    if (frame_charts && !last_reuse_.invalidate && last_camera_ && !same_view(*last_camera_, f.camera, last_extent_, f.extent)) {
+      last_reuse_.invalidate = true;
+      last_reuse_.reason = "the view changed: per-frame charts are made anew";
+    }
     if (last_reuse_.invalidate) pass_->invalidate_shading();
+    last_camera_ = f.camera;
+    last_extent_ = f.extent;
     pass_->record(f.cmd, scene_.gpu(), scene_.accel().tlas(), *targets_, f.camera, f.timer);
     reuse_.recorded(f.camera, f.shadows);
   }
@@ -67,7 +81,7 @@ class MsaBackend final : public SurfaceBackend {
   void forget_shading() override { reuse_.forget(); }
   void retune(const SurfaceTuning& tuning) override {
     reuse_.forget();
-    if (pass_ && tuning.conformal_charts.value_or(options_.conformal) != conformal_) {  // rebuilt with the new charts at the next frame
+    if (pass_ && tuning.msa_charts.value_or(options_.charts) != charts_) {  // rebuilt with the new charts at the next frame
       pass_.reset();
       meshlets_.reset();
     }
@@ -102,7 +116,7 @@ class MsaBackend final : public SurfaceBackend {
     c.stats = {
         {"meshlets", uint64_t(meshlets_->meshlets.size())},
         {"clustering", std::string(options_.clustering == msa::Clustering::Meshoptimizer ? "meshoptimizer" : "normal-cone")},
-        {"charts", std::string(conformal_ ? "conformal" : "projection")},
+        {"charts", std::string(msa::parametrization_name(charts_))},
         {"conformal_fallbacks", uint64_t(meshlets_->conformal_fallbacks)},
         {"superblocks", uint64_t(settings.superblocks)},
         {"shading_budget", uint64_t(settings.budget_texels)},
@@ -122,7 +136,9 @@ class MsaBackend final : public SurfaceBackend {
   SharedSurfaceScene& scene_;
   MsaOptions options_;
   std::unique_ptr<msa::MeshletSet> meshlets_;
-  bool conformal_ = false;  // meshlets_'s charts
+  msa::Parametrization charts_ = msa::Parametrization::Projection;  // meshlets_'s charts
+  std::optional<Camera> last_camera_;
+  VkExtent2D last_extent_{};
   std::unique_ptr<MsaPass> pass_;
   std::unique_ptr<MsaTargets> targets_;
   ReuseHistory reuse_;
@@ -154,8 +170,9 @@ const SurfaceBackendInfo& msa_backend() {
       .options = {{"meshlets", false}, {"msa-charts", false}, {"msa-superblocks", false}, {"shading-budget", false}, {"no-shadows", true}},
       .options_help =
           "--no-shadows; --meshlets normal-cone|meshoptimizer (default normal-cone), --msa-charts\n"
-          "projection|conformal (the meshlets' charts: orthogonal projection, default, or least-squares\n"
-          "conformal maps, the paper's LSCM), --msa-superblocks N (256x256 texels each, default 64),\n"
+          "projection|conformal|perspective|orthographic (the meshlets' charts: static orthogonal projection,\n"
+          "default, or least-squares conformal maps, the paper's LSCM; or made every frame from the camera:\n"
+          "perspective, MSA-P, or orthographic, MSA-O), --msa-superblocks N (256x256 texels each, default 64),\n"
           "--shading-budget TEXELS (block texels per frame; default none)",
       .tuning = kTuneBlockBudget | kTuneAmortize | kTuneCharts,
       .device_problem = msa_device_problem,

@@ -1,6 +1,7 @@
 #include "renderer/surface/msa/msa_pass.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -127,6 +128,7 @@ MsaPass::MsaPass(const vk::Device& device, const msa::MeshletSet& meshlets, cons
   mark_pipeline_ = std::move(mark.visible);
   display_pipeline_ = create_fullscreen(device, layout_.get(), "surface/msa/display.frag");
   allocate_pipeline_ = vk::create_compute_pipeline(device, "surface/msa/allocate.comp", layout_.get());
+  frame_charts_pipeline_ = vk::create_compute_pipeline(device, "surface/msa/frame_charts.comp", layout_.get());
   reset_atlas();
 }
 
@@ -192,11 +194,17 @@ void MsaPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccele
   if (shade_all) frames_since_shading_ = 0;
 
   gpu::MsaPush push{};
-  push.image = glm::uvec4(e.width, e.height, (settings_.shadows ? PRISMOID_MSA_FLAG_SHADOWS : 0u) | (shade_all ? PRISMOID_MSA_FLAG_SHADE_ALL : 0u),
+  const bool frame_charts = msa::per_frame(settings_.frame_charts);
+  const uint32_t chart_flags = frame_charts ? PRISMOID_MSA_FLAG_FRAME_CHARTS | (settings_.frame_charts == msa::Parametrization::Perspective
+                                                                                    ? PRISMOID_MSA_FLAG_PERSPECTIVE
+                                                                                    : 0u)
+                                            : 0u;
+  push.image = glm::uvec4(e.width, e.height,
+                          (settings_.shadows ? PRISMOID_MSA_FLAG_SHADOWS : 0u) | (shade_all ? PRISMOID_MSA_FLAG_SHADE_ALL : 0u) | chart_flags,
                           frame_stamp_);
   const uint32_t meshlet_count = uint32_t(meshlets_.meshlets.size());
   push.atlas = glm::uvec4(atlas_width(), columns_, meshlet_count, 0u);
-  push.limits = glm::uvec4(settings_.superblocks, settings_.budget_texels, 0u, 0u);
+  push.limits = glm::uvec4(settings_.superblocks, settings_.budget_texels, std::bit_cast<uint32_t>(float(camera.near_distance)), 0u);
   const PassBinding binding{layout_.get(), set_.set, kPushStages, std::as_bytes(std::span(&push, 1))};
 
   // This frame's densities, counters and visibility start at zero; blocks, classes, pool and atlas carry over.
@@ -212,6 +220,17 @@ void MsaPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccele
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   {
     vk::ScopedPass pass(timer, cmd, "pre-z + visibility");
+    if (frame_charts) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, frame_charts_pipeline_.get());
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
+      vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
+      const uint32_t groups = (std::max(1u, meshlet_count) + 63) / 64, x = std::min(groups, 32768u);
+      vkCmdDispatch(cmd, x, (groups + x - 1) / x, 1);
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                         VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
+                             VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                         VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    }
     record_depth_then_visible(cmd, scene, targets.depth, e, depth_pipeline_.get(), mark_pipeline_.get(), binding);
   }
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,

@@ -2,7 +2,8 @@
 // The meshlet shading atlas backend (Neff et al. 2022, "Meshlets and How to Shade Them: A Study
 // on Texture-Space Shading") over the meshlets and charts of meshlets.hpp (the paper's
 // pre-charted variant, MSA-UV, with planar charts). Per frame:
-//  - "pre-z + visibility": a depth pre-pass, then an EQUAL-tested pass once per visible pixel
+//  - "pre-z + visibility": with per-frame charts (MSA-P, MSA-O) first every meshlet's chart from
+//    this frame's camera (frame_charts.comp); a depth pre-pass, then an EQUAL-tested pass once per visible pixel
 //    (shaders/surface/msa/mark.frag): the pixel's barycentric weights to a visibility buffer;
 //    its meshlet marked seen with the density it wants (texels per chart unit so that a texel
 //    is at most a pixel: the maximum over the meshlet's pixels).
@@ -50,6 +51,10 @@ struct MsaSettings {
   // blocks are shaded. 0: held blocks are shaded again only after invalidate_shading() (the
   // caller's rule: a moved eye), which keeps the image exact.
   uint32_t shade_every = 0;
+  // Projection or Conformal: the meshlets' static charts (MeshletSet::corner_chart). Perspective or
+  // Orthographic: charts made every frame from the camera (frame_charts.comp, in the visibility
+  // pass), MSA-P and MSA-O; the caller shades again whenever the view changes.
+  msa::Parametrization frame_charts = msa::Parametrization::Projection;
 };
 
 std::string msa_device_problem(const vk::Device& device);
@@ -98,6 +103,8 @@ class MsaPass {
   uint32_t atlas_width() const;
   uint32_t atlas_height() const;
   const vk::Buffer& blocks() const { return blocks_; }
+  const vk::Buffer& triangle_table() const { return triangles_; }  // MsaTriangleGpu per triangle: the charts in use
+  const vk::Buffer& meshlet_table() const { return meshlet_table_; }  // MsaMeshletGpu per meshlet
   const vk::Buffer& density() const { return density_; }
   const vk::Buffer& result() const { return result_; }
   const vk::Buffer& tasks() const { return tasks_; }
@@ -112,7 +119,7 @@ class MsaPass {
   uint32_t columns_ = 1, rows_ = 1;
   vk::UniqueDescriptorSetLayout set_layout_;
   vk::UniquePipelineLayout layout_;
-  vk::UniquePipeline depth_pipeline_, mark_pipeline_, display_pipeline_, allocate_pipeline_;
+  vk::UniquePipeline depth_pipeline_, mark_pipeline_, display_pipeline_, allocate_pipeline_, frame_charts_pipeline_;
   rt::RayTracingPipeline shade_pipeline_;
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_, triangles_, meshlet_table_, meshlet_triangles_, blocks_, density_, classes_, class_superblocks_, free_slots_,

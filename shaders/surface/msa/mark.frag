@@ -26,9 +26,8 @@ void main() {
   vec3 point = clamp_to_triangle(b);
   msa_visibility[pixel.y * msa_push.image.x + pixel.x] = uvec4(triangle + 1u, 0u, floatBitsToUint(point.y), floatBitsToUint(point.z));
   MsaTriangleGpu t = msa_triangles[triangle];
-  vec3 dx = bx - b, dy = by - b;
-  vec2 cx = dx.x * t.c01.xy + dx.y * t.c01.zw + dx.z * t.c2.xy;
-  vec2 cy = dy.x * t.c01.xy + dy.y * t.c01.zw + dy.z * t.c2.xy;
+  vec2 c = msa_chart_point(triangle, b);
+  vec2 cx = msa_chart_point(triangle, bx) - c, cy = msa_chart_point(triangle, by) - c;
   float footprint = max(length(cx), length(cy));
   // A pixel whose footprint cannot be measured (ray parallel to the plane) still marks the
   // meshlet seen, at the least density a float can carry.

@@ -5,8 +5,9 @@
 
 #include "../../shared/msa.h"
 
-layout(std430, set = 0, binding = PRISMOID_MSA_BINDING_TRIANGLES) readonly buffer MsaTriangleBuffer { MsaTriangleGpu msa_triangles[]; };
-layout(std430, set = 0, binding = PRISMOID_MSA_BINDING_MESHLETS) readonly buffer MsaMeshletBuffer { MsaMeshletGpu msa_meshlets[]; };
+// Triangles' chart corners and meshlets' extents: written only by frame_charts.comp (per-frame charts).
+layout(std430, set = 0, binding = PRISMOID_MSA_BINDING_TRIANGLES) buffer MsaTriangleBuffer { MsaTriangleGpu msa_triangles[]; };
+layout(std430, set = 0, binding = PRISMOID_MSA_BINDING_MESHLETS) buffer MsaMeshletBuffer { MsaMeshletGpu msa_meshlets[]; };
 layout(std430, set = 0, binding = PRISMOID_MSA_BINDING_MESHLET_TRIANGLES) readonly buffer MsaMeshletTriangleBuffer { uint msa_meshlet_triangles[]; };
 layout(std430, set = 0, binding = PRISMOID_MSA_BINDING_BLOCKS) buffer MsaBlockBuffer { MsaBlockGpu msa_blocks[]; };
 layout(std430, set = 0, binding = PRISMOID_MSA_BINDING_DENSITY) buffer MsaDensityBuffer { uint msa_density[]; };
@@ -61,10 +62,37 @@ uint msa_slots_per_superblock(uint c) {
   return (PRISMOID_MSA_SUPERBLOCK / size.x) * (PRISMOID_MSA_SUPERBLOCK / size.y);
 }
 
+#ifdef PRISMOID_SURFACE_VERTEX_BUFFERS
+#include "../pixel_ray.glsl"
+
+// Whether the triangle's meshlet has a perspective chart this frame (frame_charts.comp).
+bool msa_perspective(uint triangle) { return msa_meshlets[msa_triangles[triangle].info.x].info.z == 1u; }
+
+// The triangle's corners' distances along the view (camera-space depth).
+vec3 msa_corner_depths(uint triangle) {
+  vec3 z;
+  for (uint k = 0u; k < 3u; ++k) z[k] = -(frame.view * vec4(triangle_corner(triangle, k), 1.0)).z;
+  return z;
+}
+
+// A perspective chart is affine in the image, not on the surface: the weights of a surface point
+// in the image are its barycentric weights times its corners' depths, renormalized, and back.
+vec3 msa_image_weights(vec3 bary, vec3 z) {
+  vec3 w = bary * z;
+  return w / (w.x + w.y + w.z);
+}
+vec3 msa_surface_weights(vec3 w, vec3 z) {
+  vec3 b = w / z;
+  return b / (b.x + b.y + b.z);
+}
+
+// The chart point of the surface point with barycentric weights `bary`.
 vec2 msa_chart_point(uint triangle, vec3 bary) {
   MsaTriangleGpu t = msa_triangles[triangle];
+  if (msa_perspective(triangle)) bary = msa_image_weights(bary, msa_corner_depths(triangle));
   return bary.x * t.c01.xy + bary.y * t.c01.zw + bary.z * t.c2.xy;
 }
+#endif
 
 uint msa_texel_index(uvec2 t) { return t.y * msa_push.atlas.x + t.x; }
 

@@ -43,15 +43,30 @@ void main() {
   uint best = PRISMOID_MSA_NONE;
   vec3 best_bary = vec3(0.0);
   float best_distance = sqrt(2.0) / s;  // the dilation: taps of any point inside lie within sqrt(2) texels
+  // Per-frame charts project the meshlet onto the image plane, where its triangles can overlap
+  // (a fold away from the eye, or its back behind its front): of the triangles holding the point
+  // the one nearest the eye along the view, as the image shows it, is shaded.
+  bool nearest = (msa_push.image.z & PRISMOID_MSA_FLAG_FRAME_CHARTS) != 0u;
+  bool perspective = meshlet.info.z == 1u;
+  float best_depth = 3.0e38;
+  bool inside = false;
   for (uint k = 0u; k < meshlet.info.y; ++k) {
     uint triangle = msa_meshlet_triangles[meshlet.info.x + k];
     vec3 w = msa_chart_barycentric(triangle, q);
     if (w == vec3(-1.0)) continue;
+    if (perspective) w = msa_surface_weights(w, msa_corner_depths(triangle));
     if (min(w.x, min(w.y, w.z)) >= 0.0) {
-      best = triangle;
-      best_bary = w;
-      break;
+      float depth = nearest ? dot(triangle_point(triangle, w) - frame.eye.xyz, frame.camera_forward.xyz) : 0.0;
+      if (!inside || depth < best_depth) {
+        best = triangle;
+        best_bary = w;
+        best_depth = depth;
+      }
+      inside = true;
+      if (!nearest) break;
+      continue;
     }
+    if (inside) continue;
     MsaTriangleGpu t = msa_triangles[triangle];
     float d = min(msa_segment_distance(q, t.c01.xy, t.c01.zw), min(msa_segment_distance(q, t.c01.zw, t.c2.xy), msa_segment_distance(q, t.c2.xy, t.c01.xy)));
     if (d <= best_distance) {
