@@ -308,13 +308,21 @@ FrameCharts frame_charts(const SurfaceScene& scene, const MeshletSet& set, const
     bool perspective = kind == Parametrization::Perspective;
     for (uint32_t t : meshlet.triangles)
       for (int k = 0; k < 3; ++k) perspective = perspective && -corners[3 * size_t(t) + size_t(k)].z >= camera.near_distance;
+    // Orthographic: along the direction from the eye to the meshlet's centre (camera space).
+    glm::dvec3 centre(0.0);
+    for (uint32_t t : meshlet.triangles)
+      for (int k = 0; k < 3; ++k) centre += corners[3 * size_t(t) + size_t(k)];
+    const glm::dvec3 axis = glm::length(centre) > 0.0 ? glm::normalize(centre) : glm::dvec3(0.0, 0.0, -1.0);
+    glm::dvec3 side = glm::cross(axis, glm::dvec3(0.0, 1.0, 0.0));
+    side = glm::length(side) > 1e-6 ? glm::normalize(side) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 rise = glm::cross(side, axis);
     glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (uint32_t t : meshlet.triangles)
       for (int k = 0; k < 3; ++k) {
         const glm::dvec3 v = corners[3 * size_t(t) + size_t(k)];
         const glm::dvec2 q = perspective ? glm::dvec2((v.x / (-v.z * tan_half * aspect) + 1.0) * 0.5 * width,
                                                       (1.0 - v.y / (-v.z * tan_half)) * 0.5 * height)
-                                         : glm::dvec2(v.x, v.y);
+                                         : glm::dvec2(glm::dot(v, side), glm::dot(v, rise));
         out.corner_chart[t][size_t(k)] = q;
         lo = glm::min(lo, q);
         hi = glm::max(hi, q);

@@ -46,7 +46,7 @@ enum class Clustering { Meshoptimizer, NormalCone };
 // conformal chart would flip or overlap keeps its projection): both static (the paper's MSA-UV).
 // Or made anew every frame from the camera (the paper's MSA-P and MSA-O, what the FastAtlas
 // paper compares against): the meshlet's perspective projection into the image (pixels), or its
-// orthographic projection onto the image plane (world units along the camera's right and up).
+// orthographic projection with the camera looking towards the meshlet's centre (world units).
 // build_meshlets gives the per-frame kinds the static projection (the GPU replaces it each frame).
 enum class Parametrization { Projection, Conformal, Perspective, Orthographic };
 // Whether the kind's charts are made every frame.
@@ -108,7 +108,9 @@ MeshletStats meshlet_stats(const SurfaceScene& scene, const MeshletSet& set, dou
 // The per-frame charts of `set` for `camera` and a width x height image (the CPU twin of
 // shaders/surface/msa/frame_charts.comp, in double): per meshlet, Perspective: its corners'
 // image positions in pixels (y down), unless a corner lies nearer than the near plane, then as
-// Orthographic: their camera-space x and y; shifted so that the lower corner is at 0.
+// Orthographic: their projection along the direction from the eye to the meshlet's centre (the
+// mean of its triangles' corners) onto the plane across it, world units; shifted so that the
+// lower corner is at 0.
 struct FrameCharts {
   std::vector<std::array<glm::dvec2, 3>> corner_chart;  // per global triangle
   std::vector<glm::dvec2> extent;                       // per meshlet

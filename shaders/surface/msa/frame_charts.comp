@@ -3,9 +3,12 @@
 // visibility pass, every meshlet's chart is made anew from this frame's camera. Perspective: each
 // corner's position in the image (pixels, y down), so a texel per chart unit is a texel per pixel;
 // a meshlet with a corner nearer than the near plane, where the division would fold it, takes the
-// orthographic chart instead. Orthographic: each corner's camera-space x and y (world units
-// along the camera's right and up). The chart is shifted so that its lower corner is at 0, and its
-// rectangle is the meshlet's extent. The CPU twin is msa::frame_chart_corners.
+// orthographic chart instead. Orthographic (the paper's "camera looking towards the meshlet
+// center"): the corners projected along the direction from the eye to the meshlet's centre (the
+// mean of its triangles' corners) onto the plane across it, in world units; a surface seen edge-on
+// along the camera's own axis (a floor at eye height) is not degenerate there. The chart is shifted
+// so that its lower corner is at 0, and its rectangle is the meshlet's extent. The CPU twin is
+// msa::frame_charts.
 #extension GL_GOOGLE_include_directive : require
 #define PRISMOID_SURFACE_VERTEX_BUFFERS
 #include "../scene_bindings.glsl"
@@ -24,6 +27,16 @@ void main() {
     for (uint c = 0u; c < 3u; ++c)
       if (-(frame.view * vec4(triangle_corner(t, c), 1.0)).z < near) perspective = false;
   }
+  // The orthographic projection's axes (camera space): across the direction to the centre.
+  vec3 centre = vec3(0.0);
+  for (uint k = 0u; k < meshlet.info.y; ++k) {
+    uint t = msa_meshlet_triangles[meshlet.info.x + k];
+    for (uint c = 0u; c < 3u; ++c) centre += (frame.view * vec4(triangle_corner(t, c), 1.0)).xyz;
+  }
+  vec3 axis = length(centre) > 0.0 ? normalize(centre) : vec3(0.0, 0.0, -1.0);
+  vec3 side = cross(axis, vec3(0.0, 1.0, 0.0));
+  side = length(side) > 1e-6 ? normalize(side) : vec3(1.0, 0.0, 0.0);
+  vec3 rise = cross(side, axis);
   vec2 lo = vec2(3.0e38), hi = vec2(-3.0e38);
   for (uint pass = 0u; pass < 2u; ++pass)
     for (uint k = 0u; k < meshlet.info.y; ++k) {
@@ -33,7 +46,7 @@ void main() {
         vec3 v = (frame.view * vec4(triangle_corner(t, c), 1.0)).xyz;
         q[c] = perspective ? vec2((v.x / (-v.z * frame.camera_right.w) + 1.0) * 0.5 * float(msa_push.image.x),
                                   (1.0 - v.y / (-v.z * frame.camera_up.w)) * 0.5 * float(msa_push.image.y))
-                           : v.xy;
+                           : vec2(dot(v, side), dot(v, rise));
         lo = min(lo, q[c]);
         hi = max(hi, q[c]);
       }

@@ -3,7 +3,7 @@
 // (8, 8, tiles) by vkCmdTraceRaysIndirectKHR. The texel's centre, mapped back into the meshlet's
 // chart, lies in one of its triangles (the lowest in the meshlet's list on a shared edge), or
 // within sqrt(2) texels of the nearest one (the one-texel dilation bilinear taps need: the point
-// extrapolated in that triangle's plane), or outside the meshlet (alpha 0: never read). The shared
+// extrapolated in that triangle's plane, up to a triangle's width out), or outside the meshlet (alpha 0: never read). The shared
 // shading code shades the point. Included by shade.rgen (shadow rays) and shade_unshadowed.rgen.
 #extension GL_GOOGLE_include_directive : require
 #ifndef PRISMOID_SURFACE_VERTEX_BUFFERS
@@ -72,7 +72,10 @@ void main() {
     if (d <= best_distance) {
       best_distance = d;
       best = triangle;
-      best_bary = w;
+      // A border texel near a triangle seen almost edge-on in the chart would extrapolate far along
+      // its plane (weights in the tens): beyond a triangle's width out, the nearest point of the
+      // triangle stands in, which rounding cannot move far.
+      best_bary = min(w.x, min(w.y, w.z)) < -1.0 ? clamp_to_triangle(w) : w;
     }
   }
   if (best == PRISMOID_MSA_NONE) {
