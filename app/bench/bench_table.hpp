@@ -29,8 +29,9 @@ struct BenchRow {
   uint64_t mesh_bytes = 0;  // the mesh's GPU buffers
   uint64_t shaded = 0;      // surfaces: shading-code invocations per measured frame, the mean (pixels or texels); 0: not counted
   uint64_t mode_bytes = 0;  // surfaces: the mode's own GPU memory beyond the scene (Htex: pool and tables)
-  // surfaces: what the mode measured of its own shading space, name=value ';'-separated (FastAtlas:
-  // its Sander stretch between screen and atlas, L2 = L-infinity = 1/s, and its atlas fill); empty: none.
+  // surfaces: what the mode measured of its own shading space, name=value ';'-separated: Sander's
+  // stretch between screen and atlas (stretch_l2, stretch_linf: FastAtlas, msa) and FastAtlas's
+  // atlas fill; empty: none.
   std::string space;
   reference::ImageError error;
   double ssim = 0;          // mean structural similarity to the reference

@@ -287,12 +287,12 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (budget == 0 && run.sf == 1.0 && !run.still && !run.moving)
         unbiased_shaded[rate_key] = counts.shaded;
       // FastAtlas's atlasing steps (its own timestamps, the last measured frame) after the frame's
-      // passes, named "atlasing/<step>": parts of "atlasing", not further passes. Its stretch
-      // between screen and atlas is 1/s, L2 and L-infinity alike.
+      // passes, named "atlasing/<step>": parts of "atlasing", not further passes. The atlases'
+      // stretch between screen and atlas (FastAtlas, msa), and FastAtlas's fill, go to `space`.
       for (const auto& [name, value] : counts.stats) {
         if (name.rfind("atlasing_", 0) == 0 && std::holds_alternative<double>(value))
           m.passes += ";atlasing/" + name.substr(9, name.size() - 9 - 3) + "=" + app::json_number(std::get<double>(value));
-        if ((name == "stretch" || name == "atlas_fill") && std::holds_alternative<double>(value))
+        if ((name == "stretch_l2" || name == "stretch_linf" || name == "atlas_fill") && std::holds_alternative<double>(value))
           m.space += (m.space.empty() ? "" : ";") + name + "=" + app::json_number(std::get<double>(value));
       }
       m.mode_bytes = counts.mode_bytes;

@@ -56,6 +56,7 @@ struct FaStateGpu {
   uvec4 trace;     // xyz: VkTraceRaysIndirectCommandKHR of the shading pass (atlas width, rows used, 1); w: texels shaded
   uvec4 dispatch;  // xyz: VkDispatchIndirectCommand of the border pass; w: border texels filled
   uvec4 counts;    // x: visible triangles, y: lookup pixels without a usable texel (holes), z: texels holding a triangle, w: 0
+  uvec4 stretch;   // lookup: x, w: low and high word of the sum over pixels of (Gamma^2 + gamma^2) / 2 in 1/4096 (shaders/surface/stretch.glsl), y: pixels, z: largest Gamma (float bits)
 };
 
 struct FaPush {
@@ -68,7 +69,7 @@ PRISMOID_SHARED_END
 
 #ifdef __cplusplus
 static_assert(sizeof(prismoid::gpu::FaTriangleGpu) == 32);
-static_assert(sizeof(prismoid::gpu::FaStateGpu) == 64);
+static_assert(sizeof(prismoid::gpu::FaStateGpu) == 80);
 static_assert(sizeof(prismoid::gpu::FaPush) == 48);
 #endif
 #endif

@@ -82,6 +82,7 @@ struct MsaStateGpu {
   uvec4 blocks;  // x: seen meshlets, y: blocks allocated this frame, z: blocks released this frame, w: blocks shaded this frame
   uvec4 demand;  // x: texels wanted at full density, y: texels of the blocks held after allocation, z: gather pixels with no shaded tap, w: 0
   vec4 budget;   // x: density factor applied (1: none), yzw: 0
+  uvec4 stretch; // display: x, w: low and high word of the sum over pixels of (Gamma^2 + gamma^2) / 2 in 1/4096 (shaders/surface/stretch.glsl), y: pixels, z: largest Gamma (float bits)
 };
 
 struct MsaPush {
@@ -97,7 +98,7 @@ static_assert(sizeof(prismoid::gpu::MsaTriangleGpu) == 48);
 static_assert(sizeof(prismoid::gpu::MsaMeshletGpu) == 32);
 static_assert(sizeof(prismoid::gpu::MsaBlockGpu) == 32);
 static_assert(sizeof(prismoid::gpu::MsaClassGpu) == 32);
-static_assert(sizeof(prismoid::gpu::MsaStateGpu) == 80);
+static_assert(sizeof(prismoid::gpu::MsaStateGpu) == 96);
 static_assert(sizeof(prismoid::gpu::MsaPush) == 48);
 #endif
 #endif

@@ -212,6 +212,10 @@ TEST_F(FastAtlasPassTest, AChartLargerThanTheAtlasLowersTheScale) {
   const surface::FastAtlasImage img = rig.render(device(), rig.scene.camera, w, h);
   EXPECT_GT(img.counters.candidate, 0u);
   EXPECT_LT(img.counters.scale, 1.0);
+  // Sander's stretch between screen and atlas, measured per pixel as for the other atlases: 1 / s
+  // everywhere (the fixed point of the sum rounds by 1e-4).
+  EXPECT_NEAR(img.counters.stretch_l2, 1.0 / img.counters.scale, 1e-3);
+  EXPECT_NEAR(img.counters.stretch_linf, 1.0 / img.counters.scale, 1e-4);
   expect_boxes_and_packing(rig, img, rig.scene.camera, 64, 1.0, w, h);
   EXPECT_EQ(img.counters.hole_pixels, 0u);
   const size_t compared = expect_equals_forward(device(), rig.gpu, rig.scene.camera, w, h, img.rgba, img.visibility);

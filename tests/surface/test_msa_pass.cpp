@@ -388,6 +388,27 @@ TEST_F(MsaPassTest, PerFrameChartsAreTheCamerasProjections) {
           ADD_FAILURE() << msa::parametrization_name(kind) << " triangle " << t << " corner " << k << ": GPU " << g[k].x << " " << g[k].y
                         << ", CPU " << cpu.corner_chart[t][size_t(k)].x << " " << cpu.corner_chart[t][size_t(k)].y;
     }
+    // Stretch: a perspective chart's unit is a pixel, so each pixel's stretch is 1 / its block's
+    // scale: the largest over the seen meshlets, and the root mean square over the pixels.
+    if (kind == msa::Parametrization::Perspective) {
+      const surface::MsaImage img = rig.render(device(), camera);
+      const auto blocks = rig.read<gpu::MsaBlockGpu>(rig.pass->blocks());
+      double sum = 0.0, worst = 0.0;
+      size_t pixels = 0;
+      for (const glm::uvec4& v : img.visibility) {
+        if (v.x == 0) continue;
+        const uint32_t m = rig.meshlets.meshlet_of_triangle[v.x - 1];
+        const double g = 1.0 / surface::msa_block_scale(glm::dvec2(meshlets[m].extent.x, meshlets[m].extent.y), blocks[m].block.z);
+        sum += g * g;
+        worst = std::max(worst, g);
+        ++pixels;
+      }
+      // The GPU differences chart points one pixel apart in float, through the ray-plane weights
+      // and the perspective conversion: ~1e-4 of the stretch each.
+      EXPECT_NEAR(img.counters.stretch_l2, std::sqrt(sum / double(pixels)), 1e-3);
+      EXPECT_NEAR(img.counters.stretch_linf, worst, 1e-3 * worst);
+      std::printf("MSA-P stretch: L2 %.4f, L-infinity %.4f\n", img.counters.stretch_l2, img.counters.stretch_linf);
+    }
     for (size_t m = 0; m < cpu.extent.size(); ++m) {
       EXPECT_NEAR(meshlets[m].extent.x, cpu.extent[m].x, tol) << m;
       EXPECT_NEAR(meshlets[m].extent.y, cpu.extent[m].y, tol) << m;

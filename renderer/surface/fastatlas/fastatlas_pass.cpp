@@ -348,6 +348,11 @@ FastAtlasCounters FastAtlasPass::read_counters() const {
   c.border_texels = s.dispatch.w;
   c.hole_pixels = s.counts.y;
   c.visible_triangles = s.counts.x;
+  if (s.stretch.y > 0) {
+    const double sum = (double(s.stretch.w) * 4294967296.0 + double(s.stretch.x)) / 4096.0;
+    c.stretch_l2 = std::sqrt(sum / double(s.stretch.y));
+    c.stretch_linf = double(std::bit_cast<float>(s.stretch.z));
+  }
   const uint64_t texels = uint64_t(settings_.atlas_width) * settings_.atlas_height;
   c.atlas_bytes = texels * (4 + 4 + 16) + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
                   placed_.size() + front_.size() + triangle_table_.size() + sort_by_root_.bytes() + sort_by_height_.bytes();

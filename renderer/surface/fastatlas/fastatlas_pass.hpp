@@ -61,6 +61,9 @@ struct FastAtlasCounters {
   uint32_t shaded_texels = 0;   // texels shaded this frame (0 when reused)
   uint32_t border_texels = 0;   // texels the border pass filled
   uint32_t hole_pixels = 0;     // pixels without a usable texel
+  // Sander's stretch between screen and atlas over the looked-up pixels, measured as for the
+  // other atlases (shaders/surface/stretch.glsl): L2 and L-infinity, both 1 / scale.
+  double stretch_l2 = 0.0, stretch_linf = 0.0;
   uint64_t atlas_bytes = 0;     // the atlas images and the per-frame buffers
 };
 

@@ -121,6 +121,8 @@ class MsaBackend final : public SurfaceBackend {
         {"superblocks", uint64_t(settings.superblocks)},
         {"shading_budget", uint64_t(settings.budget_texels)},
         {"budget_factor", double(m.budget_factor)},
+        {"stretch_l2", m.stretch_l2},
+        {"stretch_linf", m.stretch_linf},
         {"seen_meshlets", uint64_t(m.seen_meshlets)},
         {"allocated_blocks", uint64_t(m.allocated_blocks)},
         {"block_texels", uint64_t(m.held_texels)},

@@ -278,6 +278,11 @@ MsaCounters MsaPass::read_counters() const {
   c.demand_texels = s.demand.x;
   c.held_texels = s.demand.y;
   c.budget_factor = s.budget.x;
+  if (s.stretch.y > 0) {
+    const double sum = (double(s.stretch.w) * 4294967296.0 + double(s.stretch.x)) / 4096.0;
+    c.stretch_l2 = std::sqrt(sum / double(s.stretch.y));
+    c.stretch_linf = double(std::bit_cast<float>(s.stretch.z));
+  }
   c.atlas_bytes = result_.size() + tasks_.size() + blocks_.size() + free_slots_.size() + class_superblocks_.size() + triangles_.size() +
                   meshlet_table_.size() + meshlet_triangles_.size();
   return c;

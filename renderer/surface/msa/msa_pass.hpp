@@ -77,6 +77,9 @@ struct MsaCounters {
   uint64_t demand_texels = 0;      // block texels wanted before the budget
   uint64_t held_texels = 0;        // block texels of the seen meshlets after allocation
   float budget_factor = 1.0f;
+  // Sander's stretch between screen and atlas over the displayed pixels (shaders/surface/stretch.glsl):
+  // L2 (root mean square) and L-infinity (largest); 0 when no pixel was measured.
+  double stretch_l2 = 0.0, stretch_linf = 0.0;
   uint64_t atlas_bytes = 0;
 };
 

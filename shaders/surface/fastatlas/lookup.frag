@@ -14,6 +14,7 @@
 #include "../scene_bindings.glsl"
 #include "../pixel_ray.glsl"
 #include "fastatlas.glsl"
+#include "../stretch.glsl"
 
 layout(set = 0, binding = PRISMOID_FA_BINDING_ID_ATLAS, r32ui) uniform readonly uimage2D fa_id_atlas;
 layout(set = 0, binding = PRISMOID_FA_BINDING_COLOR_ATLAS, rgba32f) uniform readonly image2D fa_color_atlas;
@@ -50,7 +51,18 @@ void main() {
     return;
   }
   uint triangle = vis.x - 1u;
-  vec2 u = fa_to_atlas(fa_chart_map(fa_parent[triangle]), gl_FragCoord.xy) - 0.5;
+  FaChartMap map = fa_chart_map(fa_parent[triangle]);
+  vec2 u = fa_to_atlas(map, gl_FragCoord.xy) - 0.5;
+  // The stretch between screen and atlas here (1 / s for every pixel, by construction: measured
+  // all the same, as for the other atlases).
+  float big, small;
+  if (pixel_stretch(fa_to_atlas(map, gl_FragCoord.xy + vec2(1.0, 0.0)) - 0.5 - u, fa_to_atlas(map, gl_FragCoord.xy + vec2(0.0, 1.0)) - 0.5 - u,
+                    big, small)) {
+    uint term = stretch_sum_term(big, small);
+    if (atomicAdd(fa_state.stretch.x, term) > 0xffffffffu - term) atomicAdd(fa_state.stretch.w, 1u);  // the carry
+    atomicAdd(fa_state.stretch.y, 1u);
+    atomicMax(fa_state.stretch.z, floatBitsToUint(big));
+  }
   ivec2 base = ivec2(floor(u));
   vec2 at = u - vec2(base);
   vec3 value[4];

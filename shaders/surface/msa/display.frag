@@ -10,6 +10,7 @@
 #include "../scene_bindings.glsl"
 #include "../pixel_ray.glsl"
 #include "msa.glsl"
+#include "../stretch.glsl"
 
 layout(location = 0) out vec4 out_color;
 
@@ -17,9 +18,7 @@ void main() {
   uvec2 pixel = uvec2(gl_FragCoord.xy);
   uvec4 vis = msa_visibility[pixel.y * msa_push.image.x + pixel.x];
   if (vis.x == 0u) {
-    vec3 d = normalize(pixel_direction(gl_FragCoord.xy));
-    float t = 0.5 * (1.0 + dot(d, frame.sky_up.xyz));
-    out_color = vec4(frame.sky_bottom.rgb + (frame.sky_top.rgb - frame.sky_bottom.rgb) * t, 0.0);
+    out_color = vec4(pixel_sky(gl_FragCoord.xy), 0.0);
     return;
   }
   uint triangle = vis.x - 1u;
@@ -32,7 +31,18 @@ void main() {
   if (b.block.z != PRISMOID_MSA_NONE) {
     uvec2 size = msa_class_size(b.block.z);
     float s = msa_block_scale(msa_meshlets[m].extent.xy, b.block.z);
-    vec2 f = 1.0 + msa_chart_point(triangle, bary) * s - 0.5;  // relative to the block's origin
+    vec2 chart = msa_chart_point(triangle, bary);
+    vec2 f = 1.0 + chart * s - 0.5;  // relative to the block's origin
+    // The stretch between screen and atlas here: the chart's change one pixel right and down.
+    vec3 bx, by;
+    float big, small;
+    if (pixel_barycentrics(triangle, gl_FragCoord.xy + vec2(1.0, 0.0), bx) && pixel_barycentrics(triangle, gl_FragCoord.xy + vec2(0.0, 1.0), by) &&
+        pixel_stretch((msa_chart_point(triangle, bx) - chart) * s, (msa_chart_point(triangle, by) - chart) * s, big, small)) {
+      uint term = stretch_sum_term(big, small);
+    if (atomicAdd(msa_state.stretch.x, term) > 0xffffffffu - term) atomicAdd(msa_state.stretch.w, 1u);  // the carry
+      atomicAdd(msa_state.stretch.y, 1u);
+      atomicMax(msa_state.stretch.z, floatBitsToUint(big));
+    }
     vec2 fl = floor(f);
     vec2 a = f - fl;
     vec4 w = vec4((1.0 - a.x) * (1.0 - a.y), a.x * (1.0 - a.y), (1.0 - a.x) * a.y, a.x * a.y);
