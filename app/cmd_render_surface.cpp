@@ -68,8 +68,9 @@ const surface::SurfaceMode* surface_mode_named(const std::vector<std::string>& a
 
 std::string surface_render_help() {
   std::ostringstream out;
-  out << "\nSurface modes (FILE: cornell-box, furnace:A[:LE] or a surface file .vtp .stl .obj .ply .off; a file\n"
-         "without lights gets a key light and a sky; linear RGB; --size default 256x256; --array, --component,\n"
+  out << "\nSurface modes (FILE: cornell-box, furnace:A[:LE], a surface file .vtp .stl .obj .ply .off, or\n"
+         "tiled:N:FILE, N x N copies of one side by side; a file without lights gets a key light and a sky;\n"
+         "linear RGB; --size default 256x256; --array, --component,\n"
          "--tf and --tf-range colour a surface file by a data array, as in the window):\n";
   for (const surface::SurfaceMode& m : surface::surface_mode_table()) out << "  " << m.name << ": " << m.summary << "\n";
   out << "Their options, by backend (the modes of one backend share them):\n";

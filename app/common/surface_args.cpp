@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "io/surface_io.hpp"
 #include "io/transfer_function_io.hpp"
@@ -89,10 +90,61 @@ void color_by_array(SurfaceScene& scene, const SurfaceMesh& surface, const Surfa
   mesh.color_binding = per_point ? ColorBinding::PerVertex : ColorBinding::PerTriangle;
 }
 
+namespace {
+
+// "tiled:N:FILE": N x N copies of FILE's surface side by side in a wall facing the camera (+z),
+// a gap of a fifth of the mesh's size between them: a scene of many scans from one, as large as
+// a benchmark wants (the FastAtlas comparison's 10^6 triangles and more). Arrays are dropped.
+std::optional<SurfaceScene> tiled_scene(const std::string& spec) {
+  if (spec.rfind("tiled:", 0) != 0) return std::nullopt;
+  const size_t colon = spec.find(':', 6);
+  if (colon == std::string::npos) throw InputError(spec, "a tiled scene is tiled:N:FILE (N copies a side)");
+  const std::string count = spec.substr(6, colon - 6), file = spec.substr(colon + 1);
+  uint32_t n = 0;
+  try {
+    size_t used = 0;
+    const unsigned long v = std::stoul(count, &used);
+    if (used != count.size() || v < 1 || v > 64) throw std::out_of_range("n");
+    n = uint32_t(v);
+  } catch (const std::exception&) {
+    throw InputError(spec, "the copies a side must be a whole number from 1 to 64, got '" + count + "'");
+  }
+  if (!io::is_surface_path(file)) throw InputError(file, "tiled:N:FILE wants a surface file (.vtp .stl .obj .ply .off)");
+  const SurfaceMesh one = io::read_surface(file);
+  if (one.points.empty()) throw InputError(file, "has no points to tile");
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  for (const glm::dvec3& p : one.points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::dvec3 size = hi - lo;
+  const double step = 1.2 * std::max({size.x, size.y, 1e-30});
+  if (uint64_t(one.triangles.size()) * n * n > 0xffffffffull / 3 || uint64_t(one.points.size()) * n * n > 0xffffffffull)
+    throw InputError(spec, "too many triangles for one scene");
+  SurfaceMesh wall;
+  wall.name = one.name + " x" + std::to_string(n * n);
+  for (uint32_t j = 0; j < n; ++j)
+    for (uint32_t i = 0; i < n; ++i) {
+      const glm::dvec3 offset(step * i, step * j, 0.0);
+      const uint32_t base = uint32_t(wall.points.size());
+      for (const glm::dvec3& p : one.points) wall.points.push_back(p + offset);
+      for (const auto& t : one.triangles) wall.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+  SurfaceScene scene = make_surface_scene(wall);
+  scene.name = "tiled:" + std::to_string(n) + ":" + one.name;
+  return scene;
+}
+
+}  // namespace
+
 SurfaceScene surface_scene_from(const ParsedArgs& a, const std::string& mode) {
   if (a.files.size() != 1)
-    throw InputError("render", "--mode " + mode + " renders one surface scene: cornell-box, furnace:A[:LE] or a surface file");
+    throw InputError("render", "--mode " + mode + " renders one surface scene: cornell-box, furnace:A[:LE], tiled:N:FILE or a surface file");
   const std::string& file = a.files.front();
+  if (std::optional<SurfaceScene> tiled = tiled_scene(file)) {
+    if (!array_coloring_from(a).array.empty()) throw InputError(file, "a tiled scene keeps no data arrays for --array");
+    return *tiled;
+  }
   const SurfaceArrayColoring coloring = array_coloring_from(a);
   if (is_named_surface_scene(file)) {
     if (!coloring.array.empty()) throw InputError(file, "has no data arrays for --array (a built-in scene)");
@@ -104,7 +156,7 @@ SurfaceScene surface_scene_from(const ParsedArgs& a, const std::string& mode) {
     color_by_array(scene, surface, coloring);
     return scene;
   }
-  throw InputError(file, "--mode " + mode + " renders surfaces: cornell-box, furnace:A[:LE], .vtp .stl .obj .ply .off");
+  throw InputError(file, "--mode " + mode + " renders surfaces: cornell-box, furnace:A[:LE], tiled:N:FILE, .vtp .stl .obj .ply .off");
 }
 
 Camera surface_camera(const ParsedArgs& a, Camera c) {
