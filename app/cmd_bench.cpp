@@ -65,6 +65,8 @@ const char* const kBenchHelp =
     "  --shading-scales L   equal terms: also bench htex, texel, msa and fastatlas at these shading-rate\n"
     "                       factors SF (texels per pixel side; SF^2 of the samples), e.g. 0.5,0.25,0.125\n"
     "  --fastatlas-atlases L  fastatlas rows at these atlas sides (e.g. 2048,4096,8192)\n"
+    "  --surface-shadows S  surface rows with shadows on, off or both (default both; off alone where\n"
+    "                       the device traces no rays)\n"
     "  --shading-budget N   also bench htex, texel and msa at about N shaded samples per frame\n"
     "                       (equal terms), or at the scene's covered pixels with 'covered'\n"
     "  --surface-lights N   replace the surface scenes' lights by N shadow-casting point lights\n"
@@ -236,7 +238,7 @@ int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
   std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget",
                                             "warm-up", "surface-lights", "surface-motion", "msa-amortize", "msa-charts",
-                                            "shading-scales", "fastatlas-atlases"};
+                                            "shading-scales", "fastatlas-atlases", "surface-shadows"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -458,6 +460,12 @@ int cmd_bench(const std::vector<std::string>& args) {
         if (every < 2) throw InputError("--msa-amortize", "each n must be at least 2 (1 shades every frame: the moving msa row)");
         so.msa_amortization.push_back(every);
       }
+    }
+    if (a.has("surface-shadows")) {
+      const std::string v = a.values.at("surface-shadows");
+      if (v != "on" && v != "off" && v != "both") throw InputError("--surface-shadows", "must be on, off or both, got '" + v + "'");
+      so.shadows_on = v != "off";
+      so.shadows_off = v != "on";
     }
     if (a.has("shading-scales"))
       for (const std::string& v : split_list(a.values.at("shading-scales"))) {

@@ -18,7 +18,7 @@ cp build/app/prismoid "$out/"
 # test_surface_gpu: forward and shadowed forward; test_htex_gpu: the Htex passes;
 # test_restir_gi: ReSTIR GI on the dense set; test_htex_gi: ReSTIR GI hosted by Htex;
 # test_texel_gpu: texel shading; test_msa_gpu: the meshlet shading atlas.
-gpu_tests="test_gpu test_rt test_surface_gpu test_htex_gpu test_restir_gi test_htex_gi test_texel_gpu test_msa_gpu"
+gpu_tests="test_gpu test_rt test_surface_gpu test_htex_gpu test_restir_gi test_htex_gi test_texel_gpu test_msa_gpu test_fastatlas_gpu test_surface_renderer"
 for t in $gpu_tests; do [ -x "build/tests/$t" ] && cp "build/tests/$t" "$out/"; done
 # glibc and the dynamic linker come from the target machine (newer glibc runs older binaries).
 ldd build/app/prismoid | awk '/=> \// {print $3}' |

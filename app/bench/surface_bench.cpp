@@ -152,8 +152,9 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     const Camera& camera = scene.camera;
     std::map<std::string, ReferenceImage> references;
     surface::SurfaceRenderer main_renderer(device, scene);
-    std::vector<bool> shadow_settings{false};
-    if (main_renderer.can_shadow()) shadow_settings.push_back(true);
+    std::vector<bool> shadow_settings;
+    if (options.shadows_off || !main_renderer.can_shadow()) shadow_settings.push_back(false);
+    if (options.shadows_on && main_renderer.can_shadow()) shadow_settings.push_back(true);
     struct Run {
       std::string mode;
       uint32_t budget = 0;  // 0: the mode's own rate

@@ -54,6 +54,8 @@ struct SurfaceBenchOptions {
   // FastAtlas's atlas sides (--fastatlas-atlases 2048,4096,8192): one set of fastatlas rows per
   // side (settings "atlas=N"); empty: the backend's default.
   std::vector<uint32_t> fastatlas_atlases;
+  // Which shadow settings get rows (--surface-shadows on|off|both); both: where the device traces rays.
+  bool shadows_off = true, shadows_on = true;
 };
 
 // Which CPU reference a mode is held to, in words (the report's notes say it).
