@@ -49,9 +49,9 @@ exec "$here/${PRISMOID_BUNDLE_EXE:-prismoid}" "$@"
 LAUNCH
 chmod +x "$out/prismoid.sh"
 # The GPU tests with the same environment (validation layer on, as here).
-# bundle/run-tests.sh [SUITE] [gtest options]: test_gpu, or test_SUITE (rt, surface_gpu,
+# bundle/run-tests.sh [SUITE] [gtest options]: test_gpu, or test_SUITE (rt, surface_gpu, fastatlas_gpu, surface_renderer,
 # htex_gpu, restir_gi, htex_gi, texel_gpu, msa_gpu).
-printf '#!/usr/bin/env bash\nexe=test_gpu\ncase "${1:-}" in rt|surface_gpu|htex_gpu|restir_gi|htex_gi|texel_gpu|msa_gpu) exe=test_$1; shift ;; esac\nPRISMOID_BUNDLE_EXE=$exe exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
+printf '#!/usr/bin/env bash\nexe=test_gpu\ncase "${1:-}" in rt|surface_gpu|htex_gpu|restir_gi|htex_gi|texel_gpu|msa_gpu|fastatlas_gpu|surface_renderer) exe=test_$1; shift ;; esac\nPRISMOID_BUNDLE_EXE=$exe exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
 chmod +x "$out/run-tests.sh"
 # About 80 MB with the VTK, TetGen and image libraries: over the 64 MiB a device call carries, so
 # it also travels packed (about 17 MB): carry $out.tar.xz and unpack it there first.

@@ -32,7 +32,7 @@ bool has_feature(const DeviceCapabilities& caps, Feature f) {
 const std::vector<ModeRequirements>& mode_requirements() {
   static const std::vector<ModeRequirements> table = {
       {"volume: interval shading", {Feature::MeshShader}, {Feature::Timestamps}, "one mesh-shader workgroup emits tetrahedron proxies"},
-      {"surface: forward, htex, meshlet atlas, texel", {}, {Feature::MeshShader, Feature::Timestamps}, "rasterization and compute"},
+      {"surface: forward, htex, meshlet atlas, texel, fastatlas", {}, {Feature::MeshShader, Feature::Timestamps}, "rasterization and compute"},
       {"surface GI: ReSTIR GI", {Feature::RayTracingPipeline, Feature::AccelerationStructure}, {Feature::RayQuery},
        "rays traced with ray-tracing pipelines; ray queries used only where present"},
   };
