@@ -255,6 +255,22 @@ TEST_F(FastAtlasPassTest, TheSameFrameGivesTheSameAtlasBitForBit) {
   }
 }
 
+// Only the rows a frame uses are cleared and drawn, so rows the last frame used beyond them must be
+// cleared too: after a frame at scale 1, one at a quarter leaves nothing below its own rows.
+TEST_F(FastAtlasPassTest, AFrameUsingFewerRowsLeavesNoneOfTheLastOnesBelow) {
+  FaRig rig(device(), two_spheres(), settings(256, 1.0));
+  const surface::FastAtlasImage big = rig.render(device(), rig.scene.camera);
+  surface::FastAtlasSettings quarter = settings(256, 0.25);
+  rig.pass->set_settings(quarter);
+  const surface::FastAtlasImage small = rig.render(device(), rig.scene.camera);
+  ASSERT_LT(small.counters.rows_used, big.counters.rows_used);
+  const std::vector<uint32_t> ids = rig.pass->read_id_atlas();
+  size_t stale = 0;
+  for (size_t i = size_t(small.counters.rows_used) * 256; i < ids.size(); ++i) stale += ids[i] != kNone;
+  EXPECT_EQ(stale, 0u);
+  EXPECT_EQ(small.counters.hole_pixels, 0u);
+}
+
 // Every texel holding a triangle (border texels too) is the CPU direct light where the ray
 // through its screen point meets that triangle's plane. The GPU maps the texel to the screen in
 // float (an atlas coordinate below 256: within 3e-5 pixel), so the point may move by that much:

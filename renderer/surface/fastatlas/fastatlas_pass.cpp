@@ -41,6 +41,8 @@ std::vector<vk::DescriptorBinding> fastatlas_bindings() {
   b.push_back({PRISMOID_FA_BINDING_ID_ATLAS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kStages});
   b.push_back({PRISMOID_FA_BINDING_COLOR_ATLAS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kStages});
   b.push_back({PRISMOID_FA_BINDING_SCALES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
+  b.push_back({PRISMOID_FA_BINDING_DEPTH_ATLAS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kStages});
+  b.push_back({PRISMOID_FA_BINDING_HISTORY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
   return b;
 }
 
@@ -134,6 +136,8 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
   candidates_ = storage(device, PRISMOID_FA_MAX_CANDIDATES * 16);
   state_ = storage(device, sizeof(gpu::FaStateGpu), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
   readback_ = vk::Buffer(device, sizeof(gpu::FaStateGpu), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
+  history_ = storage(device, 16);
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_FA_BINDING_HISTORY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, history_.get());
   set_settings(settings_);
   const VkDescriptorType s = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   const std::pair<uint32_t, const vk::Buffer*> buffers[] = {
@@ -147,15 +151,14 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
   DepthThenVisiblePipelines visible = create_depth_then_visible(device, layout_.get(), "surface/fastatlas/visible.frag");
   depth_pipeline_ = std::move(visible.depth);
   visible_pipeline_ = std::move(visible.visible);
-  vk::VertexPipelineDesc atlas;
+  vk::VertexPipelineDesc atlas;  // no attachments: both draws write storage images
   atlas.vertex_shader = "surface/fastatlas/atlas.vert";
-  atlas.fragment_shader = "surface/fastatlas/atlas.frag";
+  atlas.fragment_shader = "surface/fastatlas/atlas_depth.frag";
   atlas.layout = layout_.get();
-  atlas.color_formats = {kIdFormat};
-  atlas.depth_format = kTextureSpaceDepthFormat;
-  atlas.depth_compare = VK_COMPARE_OP_GREATER;  // reversed z: the nearer surface keeps the texel
-  atlas.depth_write = true;
+  atlas_depth_pipeline_ = vk::create_vertex_pipeline(device, atlas);
+  atlas.fragment_shader = "surface/fastatlas/atlas.frag";
   atlas_pipeline_ = vk::create_vertex_pipeline(device, atlas);
+  clear_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/clear.comp", layout_.get());
   lookup_pipeline_ = create_fullscreen(device, layout_.get(), "surface/fastatlas/lookup.frag");
   vertices_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/vertices.comp", layout_.get());
   hook_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/hook.comp", layout_.get());
@@ -179,19 +182,30 @@ void FastAtlasPass::set_settings(const FastAtlasSettings& settings) {
   }
   if (!resized) return;
   const VkExtent2D e{s.atlas_width, s.atlas_height};
-  id_atlas_ = vk::Image(device_, e, kIdFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  depth_atlas_ = vk::Image(device_, e, kTextureSpaceDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+  constexpr VkImageUsageFlags kAtlasUsage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  id_atlas_ = vk::Image(device_, e, kIdFormat, kAtlasUsage);
+  depth_atlas_ = vk::Image(device_, e, kIdFormat, kAtlasUsage);
   color_atlas_ = vk::Image(device_, e, kAtlasColorFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   front_ = storage(device_, uint64_t(PRISMOID_FA_MAX_CANDIDATES + 1) * s.atlas_width * 4);
   vk::write_buffer_descriptor(device_, set_.set, PRISMOID_FA_BINDING_FRONT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, front_.get());
   vk::write_storage_image_descriptor(device_, set_.set, PRISMOID_FA_BINDING_ID_ATLAS, id_atlas_.view());
   vk::write_storage_image_descriptor(device_, set_.set, PRISMOID_FA_BINDING_COLOR_ATLAS, color_atlas_.view());
-  // The colour atlas lives in GENERAL from now on; the ID atlas is made afresh every frame.
+  vk::write_storage_image_descriptor(device_, set_.set, PRISMOID_FA_BINDING_DEPTH_ATLAS, depth_atlas_.view());
+  // The atlases live in GENERAL; the ID and depth atlases start empty (each frame clears the rows
+  // it and the last frame used), and no rows were used yet.
   device_.submit_and_wait([&](VkCommandBuffer cmd) {
-    vk::image_barrier(cmd, color_atlas_.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
-                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
-    vk::image_barrier(cmd, id_atlas_.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
-                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    for (const vk::Image* image : {&color_atlas_, &id_atlas_, &depth_atlas_})
+      vk::image_barrier(cmd, image->get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
+                        VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    VkClearColorValue none{};
+    none.uint32[0] = PRISMOID_FA_NONE;
+    vkCmdClearColorImage(cmd, id_atlas_.get(), VK_IMAGE_LAYOUT_GENERAL, &none, 1, &all);
+    const VkClearColorValue zero{};
+    vkCmdClearColorImage(cmd, depth_atlas_.get(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &all);
+    vkCmdFillBuffer(cmd, history_.get(), 0, VK_WHOLE_SIZE, 0u);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                       VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
   });
   settings_.reuse = false;
 }
@@ -279,40 +293,26 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
     }
     {
       vk::ScopedPass step(atlas_timer_, cmd, "id raster");
-      constexpr VkPipelineStageFlags2 kTests = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-      vk::image_barrier(cmd, id_atlas_.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kShaderStages, kShaderAccess,
-                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-      vk::image_barrier(cmd, depth_atlas_.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, kTests,
-                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, kTests,
-                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
-      VkRenderingAttachmentInfo id{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      id.imageView = id_atlas_.view();
-      id.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-      id.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-      id.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-      id.clearValue.color.uint32[0] = PRISMOID_FA_NONE;
-      VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      depth.imageView = depth_atlas_.view();
-      depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-      depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-      depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-      depth.clearValue.depthStencil = {0.0f, 0};  // reversed z: 0 is infinitely far
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clear_pipeline_.get());
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
+      vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
+      vkCmdDispatchIndirect(cmd, state_.get(), offsetof(gpu::FaStateGpu, clear));
       const VkExtent2D ae{settings_.atlas_width, settings_.atlas_height};
       VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
       rendering.renderArea = {{0, 0}, ae};
       rendering.layerCount = 1;
-      rendering.colorAttachmentCount = 1;
-      rendering.pColorAttachments = &id;
-      rendering.pDepthAttachment = &depth;
-      vkCmdBeginRendering(cmd, &rendering);
-      set_viewport(cmd, ae);
-      if (triangles_ > 0) {
-        bind_graphics(cmd, atlas_pipeline_.get(), binding);
-        vkCmdDraw(cmd, 3 * triangles_, 1, 0, 0);
+      for (VkPipeline pipeline : {atlas_depth_pipeline_.get(), atlas_pipeline_.get()}) {
+        vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kShaderAccess,
+                           VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kShaderAccess);
+        vkCmdBeginRendering(cmd, &rendering);
+        set_viewport(cmd, ae);
+        if (triangles_ > 0) {
+          bind_graphics(cmd, pipeline, binding);
+          vkCmdDraw(cmd, 3 * triangles_, 1, 0, 0);
+        }
+        vkCmdEndRendering(cmd);
       }
-      vkCmdEndRendering(cmd);
-      vk::image_barrier(cmd, id_atlas_.get(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, kShaderStages, kShaderAccess);
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kShaderAccess, kShaderStages, kShaderAccess);
     }
     {
       vk::ScopedPass step(atlas_timer_, cmd, "borders");
@@ -354,7 +354,7 @@ FastAtlasCounters FastAtlasPass::read_counters() const {
     c.stretch_linf = double(std::bit_cast<float>(s.stretch.z));
   }
   const uint64_t texels = uint64_t(settings_.atlas_width) * settings_.atlas_height;
-  c.atlas_bytes = texels * (4 + 4 + 16) + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
+  c.atlas_bytes = texels * (4 + 4 + 16) + history_.size() + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
                   placed_.size() + front_.size() + triangle_table_.size() + sort_by_root_.bytes() + sort_by_height_.bytes();
   return c;
 }

@@ -10,8 +10,9 @@
 //    box clipped at the near plane alone, folded into its root's; chart_list.comp), order (two
 //    stable GPU radix sorts: by root, then by turned height: the paper's deterministic pre-order,
 //    measured in place of its bucketed cuckoo hashing), packing (pack.comp: every candidate scale
-//    at once, then the largest that fits laid out again), the triangle-ID atlas (atlas.vert: each
-//    chart's triangles drawn by their own screen projection where the packer placed them) and
+//    at once, then the largest that fits laid out again), the triangle-ID atlas (clear.comp over
+//    the rows used, then atlas.vert twice: each chart's triangles drawn by their own screen
+//    projection where the packer placed them, the nearest depth kept, then its triangle) and
 //    its borders (seeds.comp gives each triangle the raster left without a texel one, border.comp
 //    the ring around). Each of these is timed apart (atlas_timings()).
 //  - "shading": one ray-generation invocation per texel of the rows used (fa_shade.glsl).
@@ -105,14 +106,14 @@ class FastAtlasPass {
   uint32_t triangles_ = 0, vertices_ = 0;
   vk::UniqueDescriptorSetLayout set_layout_;
   vk::UniquePipelineLayout layout_;
-  vk::UniquePipeline depth_pipeline_, visible_pipeline_, atlas_pipeline_, lookup_pipeline_;
+  vk::UniquePipeline depth_pipeline_, visible_pipeline_, atlas_depth_pipeline_, atlas_pipeline_, lookup_pipeline_, clear_pipeline_;
   vk::UniquePipeline vertices_pipeline_, hook_pipeline_, boxes_pipeline_, chart_list_pipeline_, height_keys_pipeline_, pack_pipeline_,
       seeds_pipeline_, border_pipeline_;
   rt::RayTracingPipeline shade_pipeline_;
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_, triangle_table_, parent_, vertex_first_, boxes_, keys_, charts_, placed_, candidates_, front_, state_,
-      scales_buffer_, readback_;
-  vk::Image id_atlas_, depth_atlas_, color_atlas_;
+      scales_buffer_, history_, readback_;
+  vk::Image id_atlas_, depth_atlas_, color_atlas_;  // R32_UINT, R32_UINT (depth bits), RGBA32F: storage images
   bool color_initialized_ = false;
   std::vector<uint32_t> scales_;
   // Two sorts, as a GpuRadixSort updates its descriptor sets when recorded: once per command buffer.

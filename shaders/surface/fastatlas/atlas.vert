@@ -3,7 +3,8 @@
 // packer placed the chart, by its own screen projection scaled and moved (fa_to_atlas), with
 // the original frustum's side planes as clip distances so that only what lies on the screen is
 // kept; depth is the screen's, so where a chart overlaps itself the nearer surface wins, as on
-// the screen. The map is applied to homogeneous coordinates (a * clip.xy + b * clip.w), so the
+// the screen (two draws: atlas_depth.frag keeps each texel's nearest depth, atlas.frag the
+// triangle there). The map is applied to homogeneous coordinates (a * clip.xy + b * clip.w), so the
 // hardware's clipping stays right for triangles that cross w = 0. Vertices are pulled: vertex
 // 3 t + k is corner k of triangle t; triangles not visible this frame collapse to a point.
 #extension GL_GOOGLE_include_directive : require
@@ -13,6 +14,9 @@
 #include "fastatlas.glsl"
 
 layout(location = 0) flat out uint out_triangle;
+
+// Both draws of the atlas (atlas_depth.frag, atlas.frag) must see the same depth bit for bit.
+invariant gl_Position;
 
 out float gl_ClipDistance[4];
 

@@ -16,7 +16,8 @@ layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = 0, binding = PRISMOID_FA_BINDING_ID_ATLAS, r32ui) uniform uimage2D fa_id_atlas;
 
 uint raster_id(ivec2 t) {
-  if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(fa_push.atlas.xy)))) return PRISMOID_FA_NONE;
+  // Rows past those used this frame were not cleared (clear.comp): nothing there.
+  if (any(lessThan(t, ivec2(0))) || t.x >= int(fa_push.atlas.x) || t.y >= int(fa_state.charts.w)) return PRISMOID_FA_NONE;
   uint id = imageLoad(fa_id_atlas, t).x;
   return (id & PRISMOID_FA_BORDER_BIT) != 0u ? PRISMOID_FA_NONE : id & PRISMOID_FA_TRIANGLE_MASK;
 }

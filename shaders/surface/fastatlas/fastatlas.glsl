@@ -19,6 +19,7 @@ layout(std430, set = 0, binding = PRISMOID_FA_BINDING_FRONT) coherent buffer FaF
 layout(std430, set = 0, binding = PRISMOID_FA_BINDING_STATE) buffer FaStateBuffer { FaStateGpu fa_state; };
 layout(std430, set = 0, binding = PRISMOID_FA_BINDING_VISIBILITY) buffer FaVisibilityBuffer { uvec4 fa_visibility[]; };
 layout(std430, set = 0, binding = PRISMOID_FA_BINDING_SCALES) readonly buffer FaScaleBuffer { uint fa_scales[]; };
+layout(std430, set = 0, binding = PRISMOID_FA_BINDING_HISTORY) buffer FaHistoryBuffer { uvec4 fa_history; };
 
 layout(push_constant) uniform FaPushBlock { FaPush fa_push; };
 

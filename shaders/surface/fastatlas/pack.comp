@@ -54,6 +54,8 @@ void main() {
         fa_state.charts.yzw = uvec3(candidate, 0u, 0u);
         fa_state.trace.xyz = uvec3(W, 0u, 1u);
         fa_state.dispatch.xyz = uvec3(0u, 0u, 1u);
+        fa_state.clear.xyz = uvec3((W + 15u) / 16u, (fa_history.x + 15u) / 16u, 1u);
+        fa_history.x = 0u;
       }
       return;
     }
@@ -122,4 +124,8 @@ void main() {
   // Reuse (nothing moved: this atlas is the last one, bit for bit) shades nothing.
   fa_state.trace.xyz = uvec3(W, (fa_push.image.z & PRISMOID_FA_FLAG_REUSE) != 0u ? 0u : s_used, 1u);
   fa_state.dispatch.xyz = uvec3((W + 15u) / 16u, (s_used + 15u) / 16u, 1u);
+  // The clear covers this frame's rows and whatever the last frame left below them.
+  uint clear_rows = max(s_used, fa_history.x);
+  fa_history.x = s_used;
+  fa_state.clear.xyz = uvec3((W + 15u) / 16u, (clear_rows + 15u) / 16u, 1u);
 }
