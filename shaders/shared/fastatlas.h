@@ -42,6 +42,7 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_FA_BINDING_SCALES 29       // uint[MAX_CANDIDATES]: candidate scales * 2^16, largest first
 #define PRISMOID_FA_BINDING_DEPTH_ATLAS 30  // r32ui storage image: the nearest depth per texel (reversed z, float bits; 0: none)
 #define PRISMOID_FA_BINDING_HISTORY 31      // uvec4: x: atlas rows the last frame used (persists: this frame clears up to the larger)
+#define PRISMOID_FA_BINDING_VISIBLE 32      // uint[]: this frame's visible triangles, in whatever order (the atlas draws them)
 
 #define PRISMOID_FA_FLAG_SHADOWS 1u
 #define PRISMOID_FA_FLAG_REUSE 2u   // keep last frame's shading: the shading pass launches nothing
@@ -59,6 +60,7 @@ struct FaStateGpu {
   uvec4 dispatch;  // xyz: VkDispatchIndirectCommand of the border pass; w: border texels filled
   uvec4 counts;    // x: visible triangles, y: lookup pixels without a usable texel (holes), z: texels holding a triangle, w: 0
   uvec4 clear;     // xyz: VkDispatchIndirectCommand of the clear pass (rows used now or last frame), w: 0
+  uvec4 draw;      // VkDrawIndirectCommand of the atlas draws: 3 vertices per visible triangle, 1 instance once packed (0: nothing fits)
   uvec4 stretch;   // lookup: x, w: low and high word of the sum over pixels of (Gamma^2 + gamma^2) / 2 in 1/4096 (shaders/surface/stretch.glsl), y: pixels, z: largest Gamma (float bits)
 };
 
@@ -72,7 +74,7 @@ PRISMOID_SHARED_END
 
 #ifdef __cplusplus
 static_assert(sizeof(prismoid::gpu::FaTriangleGpu) == 32);
-static_assert(sizeof(prismoid::gpu::FaStateGpu) == 96);
+static_assert(sizeof(prismoid::gpu::FaStateGpu) == 112);
 static_assert(sizeof(prismoid::gpu::FaPush) == 48);
 #endif
 #endif

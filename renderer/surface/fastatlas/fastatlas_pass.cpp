@@ -43,6 +43,7 @@ std::vector<vk::DescriptorBinding> fastatlas_bindings() {
   b.push_back({PRISMOID_FA_BINDING_SCALES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
   b.push_back({PRISMOID_FA_BINDING_DEPTH_ATLAS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kStages});
   b.push_back({PRISMOID_FA_BINDING_HISTORY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
+  b.push_back({PRISMOID_FA_BINDING_VISIBLE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
   return b;
 }
 
@@ -137,6 +138,8 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
   state_ = storage(device, sizeof(gpu::FaStateGpu), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
   readback_ = vk::Buffer(device, sizeof(gpu::FaStateGpu), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
   history_ = storage(device, 16);
+  visible_ = storage(device, t * 4);
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_FA_BINDING_VISIBLE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visible_.get());
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_FA_BINDING_HISTORY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, history_.get());
   set_settings(settings_);
   const VkDescriptorType s = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -306,10 +309,8 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
                            VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kShaderAccess);
         vkCmdBeginRendering(cmd, &rendering);
         set_viewport(cmd, ae);
-        if (triangles_ > 0) {
-          bind_graphics(cmd, pipeline, binding);
-          vkCmdDraw(cmd, 3 * triangles_, 1, 0, 0);
-        }
+        bind_graphics(cmd, pipeline, binding);
+        vkCmdDrawIndirect(cmd, state_.get(), offsetof(gpu::FaStateGpu, draw), 1, 0);
         vkCmdEndRendering(cmd);
       }
       vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kShaderAccess, kShaderStages, kShaderAccess);
@@ -354,7 +355,7 @@ FastAtlasCounters FastAtlasPass::read_counters() const {
     c.stretch_linf = double(std::bit_cast<float>(s.stretch.z));
   }
   const uint64_t texels = uint64_t(settings_.atlas_width) * settings_.atlas_height;
-  c.atlas_bytes = texels * (4 + 4 + 16) + history_.size() + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
+  c.atlas_bytes = texels * (4 + 4 + 16) + history_.size() + visible_.size() + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
                   placed_.size() + front_.size() + triangle_table_.size() + sort_by_root_.bytes() + sort_by_height_.bytes();
   return c;
 }

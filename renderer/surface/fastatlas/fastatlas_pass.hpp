@@ -112,7 +112,7 @@ class FastAtlasPass {
   rt::RayTracingPipeline shade_pipeline_;
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_, triangle_table_, parent_, vertex_first_, boxes_, keys_, charts_, placed_, candidates_, front_, state_,
-      scales_buffer_, history_, readback_;
+      scales_buffer_, history_, visible_, readback_;
   vk::Image id_atlas_, depth_atlas_, color_atlas_;  // R32_UINT, R32_UINT (depth bits), RGBA32F: storage images
   bool color_initialized_ = false;
   std::vector<uint32_t> scales_;

@@ -6,7 +6,7 @@
 // the screen (two draws: atlas_depth.frag keeps each texel's nearest depth, atlas.frag the
 // triangle there). The map is applied to homogeneous coordinates (a * clip.xy + b * clip.w), so the
 // hardware's clipping stays right for triangles that cross w = 0. Vertices are pulled: vertex
-// 3 t + k is corner k of triangle t; triangles not visible this frame collapse to a point.
+// 3 i + k is corner k of the i-th visible triangle (fa_visible; an indirect draw of them alone).
 #extension GL_GOOGLE_include_directive : require
 #define PRISMOID_SURFACE_VERTEX_BUFFERS
 #include "../scene_bindings.glsl"
@@ -21,7 +21,7 @@ invariant gl_Position;
 out float gl_ClipDistance[4];
 
 void main() {
-  uint t = uint(gl_VertexIndex) / 3u, k = uint(gl_VertexIndex) % 3u;
+  uint t = fa_visible[uint(gl_VertexIndex) / 3u], k = uint(gl_VertexIndex) % 3u;
   out_triangle = t;
   uint root = fa_parent[t];
   if (root == PRISMOID_FA_NONE || fa_state.charts.z == 0u) {

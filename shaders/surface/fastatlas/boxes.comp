@@ -20,6 +20,9 @@ void main() {
   uint root = fa_find(t);
   fa_parent[t] = root;
   atomicAdd(fa_state.counts.x, 1u);
+  // The atlas draws only the visible triangles (in the order they arrive: its result does not
+  // depend on it, atlas.frag).
+  fa_visible[atomicAdd(fa_state.draw.x, 3u) / 3u] = t;
   float near = uintBitsToFloat(fa_push.pass.z);
   vec3 v[3];
   for (uint k = 0u; k < 3u; ++k) v[k] = (frame.view * vec4(triangle_corner(t, k), 1.0)).xyz;

@@ -20,6 +20,7 @@ layout(std430, set = 0, binding = PRISMOID_FA_BINDING_STATE) buffer FaStateBuffe
 layout(std430, set = 0, binding = PRISMOID_FA_BINDING_VISIBILITY) buffer FaVisibilityBuffer { uvec4 fa_visibility[]; };
 layout(std430, set = 0, binding = PRISMOID_FA_BINDING_SCALES) readonly buffer FaScaleBuffer { uint fa_scales[]; };
 layout(std430, set = 0, binding = PRISMOID_FA_BINDING_HISTORY) buffer FaHistoryBuffer { uvec4 fa_history; };
+layout(std430, set = 0, binding = PRISMOID_FA_BINDING_VISIBLE) buffer FaVisibleBuffer { uint fa_visible[]; };
 
 layout(push_constant) uniform FaPushBlock { FaPush fa_push; };
 

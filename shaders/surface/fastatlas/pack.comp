@@ -124,6 +124,7 @@ void main() {
   // Reuse (nothing moved: this atlas is the last one, bit for bit) shades nothing.
   fa_state.trace.xyz = uvec3(W, (fa_push.image.z & PRISMOID_FA_FLAG_REUSE) != 0u ? 0u : s_used, 1u);
   fa_state.dispatch.xyz = uvec3((W + 15u) / 16u, (s_used + 15u) / 16u, 1u);
+  fa_state.draw.y = 1u;  // the atlas draws run (instance count 1)
   // The clear covers this frame's rows and whatever the last frame left below them.
   uint clear_rows = max(s_used, fa_history.x);
   fa_history.x = s_used;
