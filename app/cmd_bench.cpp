@@ -179,6 +179,21 @@ void write_plots(const std::filesystem::path& dir, const std::vector<bench::Benc
   }
   for (auto& plot : bench::bench_plots(scaling))
     if (plot.first == "time_vs_cells.png") plots.push_back(std::move(plot));
+  // Surface rows with a shading rate: FLIP against the samples shaded, a line per mode and
+  // settings through its rates (sf=...; the mode's own rate is sf=1).
+  std::vector<bench::RatePoint> rates;
+  for (const auto& r : rows) {
+    if (r.sweep != "surfaces" || !std::isfinite(r.flip) || r.shaded == 0) continue;
+    std::string series = r.mode, label = "sf=1";
+    std::istringstream words(r.settings);
+    for (std::string w; words >> w;) {
+      if (w.rfind("sf=", 0) == 0) label = w;
+      else if (w.rfind("shadows=", 0) != 0) series += " " + w;
+    }
+    if (r.settings.find("shadows=on") != std::string::npos) series += " (shadows)";
+    rates.push_back({r.dataset + " " + std::to_string(r.width) + "x" + std::to_string(r.height), series, label, double(r.shaded), r.flip});
+  }
+  for (auto& plot : bench::shading_rate_plots(rates)) plots.push_back(std::move(plot));
   for (const auto& [file, spec] : plots) {
     const std::string png = (dir / file).string();
     try {

@@ -356,10 +356,10 @@ std::string file_safe(const std::string& name) {
 }
 
 // The first-appearance order of the values key gives.
-template <class Key>
-std::vector<std::string> in_order(const std::vector<BenchPoint>& points, Key key) {
+template <class Point, class Key>
+std::vector<std::string> in_order(const std::vector<Point>& points, Key key) {
   std::vector<std::string> out;
-  for (const BenchPoint& p : points)
+  for (const Point& p : points)
     if (std::find(out.begin(), out.end(), key(p)) == out.end()) out.push_back(key(p));
   return out;
 }
@@ -436,6 +436,36 @@ std::vector<std::pair<std::string, PlotSpec>> bench_plots(const std::vector<Benc
       spec.series.push_back(std::move(s));
     }
     plots.emplace_back(unique_name("time_vs_cells"), std::move(spec));
+  }
+  return plots;
+}
+
+std::vector<std::pair<std::string, PlotSpec>> shading_rate_plots(const std::vector<RatePoint>& points) {
+  std::vector<std::pair<std::string, PlotSpec>> plots;
+  std::set<std::string> used;
+  for (const std::string& dataset : in_order(points, [](const RatePoint& p) { return p.dataset; })) {
+    PlotSpec spec;
+    spec.title = dataset + ": FLIP against shaded samples (equal terms)";
+    spec.x_label = "samples shaded per frame (pixels or texels)";
+    spec.y_label = "mean FLIP against the CPU reference";
+    spec.log_x = spec.log_y = true;
+    size_t count = 0;
+    for (const std::string& series : in_order(points, [](const RatePoint& p) { return p.series; })) {
+      PlotSeries s;
+      s.name = series;
+      s.line = true;
+      for (const RatePoint& p : points)
+        if (p.dataset == dataset && p.series == series) s.points.push_back({p.samples, p.flip, p.label});
+      if (s.points.empty()) continue;
+      std::stable_sort(s.points.begin(), s.points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
+      count += s.points.size();
+      spec.series.push_back(std::move(s));
+    }
+    if (count < 2) continue;
+    std::string name = "flip_vs_samples_" + file_safe(dataset) + ".png";
+    for (int k = 2; used.count(name); ++k) name = "flip_vs_samples_" + file_safe(dataset) + "-" + std::to_string(k) + ".png";
+    used.insert(name);
+    plots.emplace_back(name, std::move(spec));
   }
   return plots;
 }

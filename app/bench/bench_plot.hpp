@@ -87,6 +87,19 @@ struct BenchPoint {
                                    // are not compared
 };
 
+// A surface row on the shading-rate plot: its scene, the configuration it belongs to (mode and
+// settings but the rate), its rate's label, the samples it shaded per frame and its mean FLIP.
+struct RatePoint {
+  std::string dataset, series, label;
+  double samples = 0;
+  double flip = 0;
+};
+
+// Per scene (and image size, in the dataset name the caller gives), FLIP against the samples
+// shaded per frame, log-log, a line per configuration through its rates:
+// flip_vs_samples_<dataset>.png. Scenes with fewer than two points get none.
+std::vector<std::pair<std::string, PlotSpec>> shading_rate_plots(const std::vector<RatePoint>& points);
+
 // The plots of a bench run, each with its file name (no folder):
 // - per dataset, quantity and image size, error against GPU time, log-log, a series per mode with
 //   the points labelled by their settings, and the Pareto front (within that dataset, quantity

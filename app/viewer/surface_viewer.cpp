@@ -6,6 +6,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "app/common/output_files.hpp"
 #include "app/viewer/camera_line.hpp"
@@ -37,6 +38,13 @@ struct SurfaceSession {
   Bounds bounds;
   ViewerReport& report;
   std::string mode;
+  // Split view: the left half shows `mode`, the right half `compare_mode` (the same camera, each
+  // frame both drawn in full by the one renderer); B toggles it, `compare split|off` and
+  // `compare-mode NAME` script it.
+  bool split = false;
+  std::string compare_mode;
+  std::vector<vk::PassTiming> compare_passes;
+  size_t left_passes = 0;  // of the last recorded frame's timed passes, how many were the left mode's
   bool show_ui = true;
   std::string panel_message;
   std::optional<std::string> capture_path;
@@ -81,6 +89,20 @@ struct SurfaceSession {
     // per-frame orthographic (MSA-O).
     renderer.set_msa_charts(msa::Parametrization((uint32_t(renderer.msa_charts()) + 1) % 4));
   }
+  void set_compare_mode(const std::string& name) {
+    const std::string problem = renderer.mode_problem(name);
+    if (problem.empty()) compare_mode = name;
+    message(problem);
+  }
+  // B: the split view on or off; its right mode is the one after this one unless one was chosen.
+  void toggle_split() {
+    split = !split;
+    if (split && compare_mode.empty()) {
+      const auto& modes = renderer.modes();
+      const auto it = std::find(modes.begin(), modes.end(), mode);
+      compare_mode = (it == modes.end() || it + 1 == modes.end()) ? modes.front() : *(it + 1);
+    }
+  }
   void next_mode() {
     const auto& modes = renderer.modes();
     const auto it = std::find(modes.begin(), modes.end(), mode);
@@ -123,6 +145,7 @@ struct SurfaceSession {
     if (camera_key(camera, key, aspect())) return;
     switch (key.key) {
       case GLFW_KEY_M: next_mode(); break;
+      case GLFW_KEY_B: toggle_split(); break;
       case GLFW_KEY_T: next_amortization(); break;
       case GLFW_KEY_K: toggle_charts(); break;
       case GLFW_KEY_L: set_shadows(!renderer.shadows()); break;
@@ -145,6 +168,10 @@ struct SurfaceSession {
     if (c.verb == "key") on_key(key_from_name(a[0]));
     else if (c.verb == "mode") set_mode(a[0]);
     else if (c.verb == "shadows") set_shadows(script_on_off(c));
+    else if (c.verb == "compare") {
+      if (a[0] != "split" && a[0] != "off") throw std::invalid_argument("compare takes split or off in the surface window");
+      if ((a[0] == "split") != split) toggle_split();
+    } else if (c.verb == "compare-mode") set_compare_mode(a[0]);
     else if (run_camera_command(camera, c, swapchain.extent(), bounds)) {
     } else if (c.verb == "ui") show_ui = script_on_off(c);
     else if (c.verb == "screenshot") request_screenshot(a[0]);
@@ -189,11 +216,26 @@ void draw_surface_panel(SurfaceSession& s) {
   }
   if (knobs & surface::kTuneCharts)
     ImGui::Text("meshlet charts: %s (K)", msa::parametrization_name(s.renderer.msa_charts()));
+  bool split = s.split;
+  if (ImGui::Checkbox("split view (B)", &split)) s.toggle_split();
+  if (s.split) {
+    ImGui::SameLine();
+    if (ImGui::BeginCombo("right", s.compare_mode.c_str())) {
+      for (const std::string& m : s.renderer.modes())
+        if (ImGui::Selectable(m.c_str(), m == s.compare_mode)) s.set_compare_mode(m);
+      ImGui::EndCombo();
+    }
+  }
   ImGui::Separator();
+  if (s.split) ImGui::Text("left: %s", s.mode.c_str());
   double total = 0.0;
   for (const auto& p : s.passes) {
     ImGui::Text("%s %.3f ms", p.name.c_str(), p.gpu_ms);
     total += p.gpu_ms;
+  }
+  if (s.split) {
+    ImGui::Text("right: %s", s.compare_mode.c_str());
+    for (const auto& p : s.compare_passes) ImGui::Text("%s %.3f ms", p.name.c_str(), p.gpu_ms);
   }
   ImGui::Text("GPU total %.3f ms, frame (CPU) %.2f ms", total, s.cpu_frame_ms);
   ImGui::Text("shaded %llu %s", static_cast<unsigned long long>(s.counts.shaded), s.counts.shaded_what.c_str());
@@ -213,14 +255,19 @@ void draw_surface_panel(SurfaceSession& s) {
   ImGui::End();
 }
 
-void blit_to_swapchain(VkCommandBuffer cmd, const vk::Image& source, VkImage target, VkExtent2D extent) {
-  vk::image_barrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                    VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+// Columns [x0, x1) of `source` to the same columns of the swapchain image (the whole of it, or
+// one half of the split view); `first` moves the target into TRANSFER_DST first.
+void blit_to_swapchain(VkCommandBuffer cmd, const vk::Image& source, VkImage target, VkExtent2D extent, uint32_t x0, uint32_t x1, bool first) {
+  if (first)
+    vk::image_barrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                      VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
   VkImageBlit region{};
   region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.dstSubresource = region.srcSubresource;
-  region.srcOffsets[1] = {int32_t(source.extent().width), int32_t(source.extent().height), 1};
-  region.dstOffsets[1] = {int32_t(extent.width), int32_t(extent.height), 1};
+  region.srcOffsets[0] = {int32_t(x0), 0, 0};
+  region.srcOffsets[1] = {int32_t(x1), int32_t(source.extent().height), 1};
+  region.dstOffsets[0] = {int32_t(x0), 0, 0};
+  region.dstOffsets[1] = {int32_t(x1), int32_t(extent.height), 1};
   vkCmdBlitImage(cmd, source.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
                  VK_FILTER_NEAREST);
 }
@@ -245,6 +292,12 @@ class SurfaceWindow final : public WindowContent {
   void frame_started(double cpu_frame_ms) override { s_.cpu_frame_ms = cpu_frame_ms; }
   void on_key(const KeyPress& key) override { s_.on_key(key); }
   void frame_finished(std::vector<vk::PassTiming> passes, bool last) override {
+    // Split view: the left mode's passes, then the right one's, then the blits.
+    s_.compare_passes.clear();
+    if (s_.split && s_.left_passes < passes.size()) {
+      s_.compare_passes.assign(passes.begin() + std::ptrdiff_t(s_.left_passes), passes.end());
+      passes.resize(s_.left_passes);
+    }
     s_.passes = std::move(passes);
     if (!last) s_.counts = s_.renderer.read_counts();
   }
@@ -259,9 +312,22 @@ class SurfaceWindow final : public WindowContent {
   }
   void prepare_frame(VkExtent2D extent) override { s_.renderer.resize(extent); }
   void record(VkCommandBuffer cmd, vk::GpuTimer& timer, VkImage target, VkExtent2D extent) override {
+    const size_t first = timer.recorded().size();
     s_.renderer.record(cmd, s_.camera.camera(), s_.mode, timer);
+    s_.left_passes = timer.recorded().size() - first;
+    if (!s_.split || s_.compare_mode.empty()) {
+      vk::ScopedPass pass(timer, cmd, "present-blit");
+      blit_to_swapchain(cmd, s_.renderer.display(), target, extent, 0, extent.width, true);
+      return;
+    }
+    // The left half now: the right mode may share the left one's backend and image.
+    const uint32_t half = extent.width / 2;
+    blit_to_swapchain(cmd, s_.renderer.display(), target, extent, 0, half, true);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    s_.renderer.record(cmd, s_.camera.camera(), s_.compare_mode, timer);
     vk::ScopedPass pass(timer, cmd, "present-blit");
-    blit_to_swapchain(cmd, s_.renderer.display(), target, extent);
+    blit_to_swapchain(cmd, s_.renderer.display(), target, extent, half, extent.width, false);
   }
   std::optional<std::string> take_capture() override { return std::exchange(s_.capture_path, std::nullopt); }
   void capture_failed(const std::string& message) override { s_.message(message); }
@@ -316,6 +382,8 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
   report.mode = s.mode;
   report.msa_amortization = s.renderer.msa_amortization();
   report.msa_charts = msa::parametrization_name(s.renderer.msa_charts());
+  report.compare_mode = s.split ? s.compare_mode : std::string();
+  report.compare_passes = s.compare_passes;
   report.validation_messages = instance.validation_log().count();
   return report;
 }

@@ -63,6 +63,7 @@ struct ViewerReport {
   std::string mode;                      // at the end
   uint32_t msa_amortization = 0;         // surface window: msa shades every n-th frame (0: every frame), at the end
   std::string msa_charts = "projection";  // surface window: msa's meshlet charts at the end (msa::parametrization_name)
+  std::string compare_mode;               // surface window: the split view's right mode at the end ("" when off)
   volume::Quantity quantity{};           // at the end
   std::vector<std::string> files_written;  // screenshots and renders, in order
   std::vector<std::string> camera_lines;   // printed by C / print-camera

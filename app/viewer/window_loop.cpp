@@ -37,7 +37,7 @@ void run_window_loop(WindowParts& parts, WindowContent& content, const ViewerOpt
   vk::Swapchain& swapchain = parts.swapchain;
   ImGuiLayer& ui = parts.ui;
 
-  vk::GpuTimer timer(device, 16);
+  vk::GpuTimer timer(device, 32);  // a split view records two modes' passes in one frame
   FrameResources frame_resources(device);
   const VkSemaphore image_available = frame_resources.image_available.get();
   const vk::UniqueFence& in_flight = frame_resources.in_flight;

@@ -427,6 +427,28 @@ TEST(BenchPlots, OneErrorPlotPerDatasetAndQuantityAndOneScalingPlot) {
   EXPECT_TRUE(bench_plots({}).empty());
 }
 
+// The equal-terms plot: per scene, a line per configuration through its rates, by samples.
+TEST(BenchPlots, ShadingRatePlotsALinePerConfigurationPerScene) {
+  const std::vector<RatePoint> points = {
+      {"bunny 1920x1080", "fastatlas atlas=8192", "sf=1", 250000, 0.0013}, {"bunny 1920x1080", "fastatlas atlas=8192", "sf=0.5", 63000, 0.0023},
+      {"bunny 1920x1080", "msa charts=perspective", "sf=1", 568000, 0.0021}, {"bunny 1920x1080", "msa charts=perspective", "sf=0.5", 97000, 0.0056},
+      {"dragon 1920x1080", "fastatlas atlas=8192", "sf=1", 218000, 0.0020},  // one point: no plot
+  };
+  const auto plots = shading_rate_plots(points);
+  ASSERT_EQ(plots.size(), 1u);
+  EXPECT_EQ(plots[0].first, "flip_vs_samples_bunny-1920x1080.png");
+  const PlotSpec& p = plots[0].second;
+  EXPECT_TRUE(p.log_x && p.log_y);
+  ASSERT_EQ(p.series.size(), 2u);
+  EXPECT_EQ(p.series[0].name, "fastatlas atlas=8192");
+  EXPECT_TRUE(p.series[0].line);
+  ASSERT_EQ(p.series[0].points.size(), 2u);
+  EXPECT_EQ(p.series[0].points[0].x, 63000.0);  // by samples
+  EXPECT_EQ(p.series[0].points[0].label, "sf=0.5");
+  EXPECT_EQ(p.series[1].points[1].y, 0.0021);
+  EXPECT_TRUE(shading_rate_plots({}).empty());
+}
+
 TEST(BenchPlots, FileNamesStayUniqueWhenDatasetsLookAlike) {
   const std::vector<BenchPoint> rows = {{"a b", "color", "interval", "", 10, 1.0, 0.1},
                                         {"a:b", "color", "interval", "", 10, 1.0, 0.1}};

@@ -227,5 +227,54 @@ TEST(SurfaceViewer, BadSizesAndOutputsOverTheSceneAreRefusedAndTheWindowGoesOn) 
   EXPECT_EQ(kept, "the scene's own bytes");
 }
 
+// The split view: the left half is the left mode's image as it shows alone, the right half the
+// right mode's (htex-gi: its indirect light in place of the sky's ambient term changes most
+// pixels, so a right half from the left mode, or a swap, would fail), and both modes' passes
+// are reported.
+TEST(SurfaceViewer, SplitViewShowsTwoModesSideBySide) {
+  ASSERT_TRUE(app::display_available()) << "this test needs a display: run it through scripts/test.sh, which starts Xvfb";
+  const fs::path dir = fs::temp_directory_path() / "prismoid-surface-split";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  app::ViewerOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.validation = true;
+  options.print_timings = false;
+  options.max_frames = 200;
+  options.script = app::parse_script("frame 2\nui off\nshadows off\nmode forward\nframe 3\nscreenshot " + (dir / "forward.png").string() +
+                                         "\ncompare-mode htex-gi\ncompare split\nframe 12\nscreenshot " + (dir / "split.png").string() +
+                                         "\nframe 13\ncompare bogus\nframe 14\nclose\n",
+                                     "test script");
+  const SurfaceScene scene = with_default_lighting(make_cornell_box(), make_cornell_box().camera);
+  const app::ViewerReport report = app::run_surface_viewer(scene, options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  EXPECT_EQ(report.mode, "forward");
+  EXPECT_EQ(report.compare_mode, "htex-gi");
+  std::vector<std::string> right;
+  for (const auto& p : report.compare_passes) right.push_back(p.name);
+  EXPECT_NE(std::find(right.begin(), right.end(), "present-blit"), right.end());
+  EXPECT_NE(std::find(right.begin(), right.end(), "gather"), right.end()) << "htex-gi's passes";
+  ASSERT_EQ(report.messages.size(), 1u);  // compare bogus
+  EXPECT_NE(report.messages[0].find("compare takes split or off"), std::string::npos) << report.messages[0];
+  int w = 0, h = 0, w2 = 0, h2 = 0;
+  const std::vector<unsigned char> alone = read_rgb(dir / "forward.png", w, h);
+  const std::vector<unsigned char> split = read_rgb(dir / "split.png", w2, h2);
+  ASSERT_EQ(w, w2);
+  ASSERT_EQ(h, h2);
+  size_t left_differs = 0, right_differs = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      bool differs = false;
+      for (int c = 0; c < 3; ++c) {
+        const size_t i = (size_t(y) * size_t(w) + size_t(x)) * 3 + size_t(c);
+        differs = differs || std::abs(int(alone[i]) - int(split[i])) > 2;
+      }
+      (x < w / 2 ? left_differs : right_differs) += differs;
+    }
+  EXPECT_EQ(left_differs, 0u);
+  EXPECT_GT(right_differs, size_t(w * h) / 4) << "the right half shows the forward image, not htex-gi's";
+}
+
 }  // namespace
 }  // namespace prismoid

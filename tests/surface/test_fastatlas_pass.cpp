@@ -94,6 +94,18 @@ glm::dvec3 plane_barycentrics(const SurfaceScene& scene, const TriangleIndex& in
   return {1.0 - b1 - b2, b1, b2};
 }
 
+// The last frame's atlases and per-chart buffers, read back.
+struct AtlasReadback {
+  std::vector<uint32_t> ids, parent;
+  std::vector<glm::vec4> colors;
+  std::vector<glm::ivec4> boxes;
+  std::vector<glm::uvec4> placed;
+  explicit AtlasReadback(const surface::FastAtlasPass& pass)
+      : ids(pass.read_id_atlas()), parent(pass.read_parent()), colors(pass.read_color_atlas()), boxes(pass.read_boxes()),
+        placed(pass.read_placed()) {}
+  fastatlas::ChartMap map(uint32_t triangle, double scale) const { return map_of(boxes, placed, parent[triangle], scale); }
+};
+
 class FastAtlasPassTest : public GpuTest {};
 
 // Two spheres, one partly behind the other, and a floor: charts meet occlusion boundaries and
@@ -282,11 +294,8 @@ TEST_F(FastAtlasPassTest, EveryShadedTexelIsTheDirectLightAtItsPoint) {
   FaRig rig(device(), sphere_scene(o), settings(256, 0.6));
   const Camera camera = rig.scene.camera;
   const surface::FastAtlasImage img = rig.render(device(), camera);
-  const std::vector<uint32_t> ids = rig.pass->read_id_atlas();
-  const std::vector<glm::vec4> colors = rig.pass->read_color_atlas();
-  const std::vector<uint32_t> parent = rig.pass->read_parent();
-  const std::vector<glm::ivec4> boxes = rig.pass->read_boxes();
-  const std::vector<glm::uvec4> placed = rig.pass->read_placed();
+  const AtlasReadback a(*rig.pass);
+  const std::vector<uint32_t>& ids = a.ids;
   std::vector<reference::ShadingPointQuery> queries;
   std::vector<glm::vec4> gpu;
   size_t border = 0;
@@ -296,10 +305,10 @@ TEST_F(FastAtlasPassTest, EveryShadedTexelIsTheDirectLightAtItsPoint) {
       if (id == kNone) continue;
       const uint32_t t = id & PRISMOID_FA_TRIANGLE_MASK;
       border += (id & PRISMOID_FA_BORDER_BIT) != 0;
-      const glm::dvec2 pixel = to_screen(map_of(boxes, placed, parent[t], img.counters.scale), glm::dvec2(x + 0.5, y + 0.5));
+      const glm::dvec2 pixel = to_screen(a.map(t, img.counters.scale), glm::dvec2(x + 0.5, y + 0.5));
       const auto [mesh, local] = rig.triangles.local(t);
       queries.push_back({mesh, local, plane_barycentrics(rig.scene, rig.triangles, t, camera, kW, kH, pixel), camera.eye});
-      gpu.push_back(colors[y * 256 + x]);
+      gpu.push_back(a.colors[y * 256 + x]);
     }
   ASSERT_GT(queries.size(), 500u);
   EXPECT_GT(border, 0u);
@@ -317,11 +326,9 @@ TEST_F(FastAtlasPassTest, EveryPixelIsTheHardEdgeFilterOfItsTaps) {
   FaRig rig(device(), flat_cube_scene(), settings(256, 0.45));
   const Camera camera = rig.scene.camera;
   const surface::FastAtlasImage img = rig.render(device(), camera);
-  const std::vector<uint32_t> ids = rig.pass->read_id_atlas();
-  const std::vector<glm::vec4> colors = rig.pass->read_color_atlas();
-  const std::vector<uint32_t> parent = rig.pass->read_parent();
-  const std::vector<glm::ivec4> boxes = rig.pass->read_boxes();
-  const std::vector<glm::uvec4> placed = rig.pass->read_placed();
+  const AtlasReadback a(*rig.pass);
+  const std::vector<uint32_t>& ids = a.ids;
+  const std::vector<glm::vec4>& colors = a.colors;
   const fastatlas::SceneAdjacency& adj = rig.pass->adjacency();
   std::array<size_t, 5> cases{};
   size_t failures = 0, compared = 0;
@@ -330,7 +337,7 @@ TEST_F(FastAtlasPassTest, EveryPixelIsTheHardEdgeFilterOfItsTaps) {
       const glm::uvec4 v = img.visibility[py * kW + px];
       if (v.x == 0) continue;
       const uint32_t t = v.x - 1;
-      const glm::dvec2 u = fastatlas::to_atlas(map_of(boxes, placed, parent[t], img.counters.scale), glm::dvec2(px + 0.5, py + 0.5)) - 0.5;
+      const glm::dvec2 u = fastatlas::to_atlas(a.map(t, img.counters.scale), glm::dvec2(px + 0.5, py + 0.5)) - 0.5;
       const glm::ivec2 base(int(std::floor(u.x)), int(std::floor(u.y)));
       const glm::dvec2 at = u - glm::dvec2(base);
       // Taps within 1e-3 texel of a texel boundary could land either side on the GPU: skipped.
