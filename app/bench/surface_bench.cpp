@@ -175,20 +175,16 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       std::vector<uint32_t> atlases{0u};
       if (mode == "fastatlas" && !options.fastatlas_atlases.empty()) atlases = options.fastatlas_atlases;
       for (const uint32_t atlas : atlases)
-        for (const msa::Parametrization charts : chart_kinds)
+        for (const msa::Parametrization charts : chart_kinds) {
+          runs.push_back({mode, 0u, false, false, 0u, charts, 1.0, atlas});
+          if (options.shading_budget > 0 && texture_space) runs.push_back({mode, options.shading_budget, false, false, 0u, charts, 1.0, atlas});
+          if (options.still_rows && texture_space) runs.push_back({mode, 0u, true, false, 0u, charts, 1.0, atlas});
+          if (options.motion_degrees > 0.0 && !gi_mode(mode)) runs.push_back({mode, 0u, false, true, 0u, charts, 1.0, atlas});
+          if (options.motion_degrees > 0.0 && (knobs(mode) & surface::kTuneAmortize))
+            for (const uint32_t n : options.msa_amortization) runs.push_back({mode, 0u, false, true, n, charts, 1.0, atlas});
           for (const double sf : options.shading_scales)
             if (texture_space && sf < 1.0) runs.push_back({mode, 0u, false, false, 0u, charts, sf, atlas});
-      for (const uint32_t atlas : atlases)
-        if (atlas != 0) runs.push_back({mode, 0u, false, false, 0u, msa::Parametrization::Projection, 1.0, atlas});
-      if (atlases.front() != 0) continue;  // fastatlas's rows are per atlas side
-      for (const msa::Parametrization charts : chart_kinds) {
-        runs.push_back({mode, 0u, false, false, 0u, charts});
-        if (options.shading_budget > 0 && texture_space) runs.push_back({mode, options.shading_budget, false, false, 0u, charts});
-        if (options.still_rows && texture_space) runs.push_back({mode, 0u, true, false, 0u, charts});
-        if (options.motion_degrees > 0.0 && !gi_mode(mode)) runs.push_back({mode, 0u, false, true, 0u, charts});
-        if (options.motion_degrees > 0.0 && (knobs(mode) & surface::kTuneAmortize))
-          for (const uint32_t n : options.msa_amortization) runs.push_back({mode, 0u, false, true, n, charts});
-      }
+        }
     }
     // FastAtlas at other atlas sides: a renderer each (a backend's options are fixed at its making).
     std::map<uint32_t, std::unique_ptr<surface::SurfaceRenderer>> atlas_renderers;
