@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/tet_ray.hpp"
@@ -446,6 +447,52 @@ TEST_F(FastAtlasPassTest, AChartSmallerThanATexelIsSeeded) {
   EXPECT_GT(light_texels, seeded);  // the border grew around the seed
   EXPECT_EQ(img.counters.hole_pixels, 0u);
   std::printf("the light: %zu pixels, %zu texels (%zu seeded)\n", light_pixels, light_texels, seeded);
+}
+
+// A million visible triangles: a grid in a plane facing the camera, each 2 x 1 pixel quad split
+// along its diagonal so that each triangle holds exactly one pixel centre (a quarter pixel from
+// the diagonal) of a 1024 x 1024 image. Every triangle is visible, all in one chart, packed at
+// scale 1 in a 2K atlas, and the image is the forward image.
+TEST_F(FastAtlasPassTest, AMillionVisibleTrianglesMakeOneChart) {
+  constexpr uint32_t kSide = 1024;
+  SurfaceScene s = sphere_scene({});
+  s.meshes.clear();
+  s.point_lights.clear();
+  s.meshes.push_back({});
+  SceneMesh& grid = s.meshes.back();
+  grid.name = "grid";
+  Camera& c = s.camera;
+  c.eye = {0.0, 0.0, 4.0};
+  c.target = {0.0, 0.0, 0.0};
+  c.up = {0.0, 1.0, 0.0};
+  c.fovy_degrees = 40.0;
+  const double pixel = 2.0 * 4.0 * std::tan(glm::radians(20.0)) / kSide;  // world size of a pixel in the plane z = 0
+  const double x0 = -0.5 * kSide * pixel, y0 = 0.5 * kSide * pixel;      // the image's top-left corner
+  for (uint32_t j = 0; j <= kSide; ++j)
+    for (uint32_t i = 0; i <= kSide / 2; ++i) grid.positions.push_back({x0 + 2.0 * i * pixel, y0 - double(j) * pixel, 0.0});
+  const uint32_t row = kSide / 2 + 1;
+  for (uint32_t j = 0; j < kSide; ++j)
+    for (uint32_t i = 0; i < kSide / 2; ++i) {
+      const uint32_t a = j * row + i, b = a + 1, cc = a + row, d = cc + 1;
+      grid.triangles.push_back({a, d, b});   // above the diagonal from the top-left to the bottom-right corner
+      grid.triangles.push_back({a, cc, d});  // below it
+    }
+  FaRig rig(device(), s, settings(2048));
+  const surface::FastAtlasImage img = rig.render(device(), c, kSide, kSide);
+  EXPECT_EQ(img.counters.visible_triangles, grid.triangles.size());
+  EXPECT_GE(img.counters.visible_triangles, 1000000u);
+  EXPECT_EQ(img.counters.charts, 1u);
+  EXPECT_TRUE(img.counters.fits);
+  EXPECT_EQ(img.counters.scale, 1.0);
+  EXPECT_EQ(img.counters.hole_pixels, 0u);
+  surface::ForwardPass forward(device());
+  const std::vector<float> fwd = surface::render_forward(device(), forward, rig.gpu, c, {kSide, kSide}).rgba;
+  size_t failures = 0;
+  for (size_t i = 0; i < img.visibility.size(); ++i)
+    for (size_t ch = 0; ch < 3; ++ch)
+      if (std::abs(fwd[4 * i + ch] - img.rgba[4 * i + ch]) > 2e-3 * std::max(1.0f, std::abs(fwd[4 * i + ch])) && failures++ < 5)
+        ADD_FAILURE() << "pixel " << i << ": " << img.rgba[4 * i + ch] << ", forward " << fwd[4 * i + ch];
+  EXPECT_EQ(failures, 0u);
 }
 
 // Nothing in view: no charts, nothing shaded, the sky.
