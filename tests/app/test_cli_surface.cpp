@@ -130,5 +130,30 @@ TEST(CliSurface, EveryGpuModeOfTheTableRendersByItsName) {
   }
 }
 
+// The options and scene names the per-frame atlases brought, given carelessly: each refused with
+// exit 2 and a message naming the option or the name, and no image written.
+TEST(CliSurface, PerFrameAtlasOptionsGivenBadlyAreRefusedByName) {
+  const fs::path out = work_dir() / "refused.pfm";
+  const std::pair<std::string, std::string> cases[] = {
+      {"cornell-box --mode fastatlas --atlas 3000", "--atlas: the atlas side must be a power of two"},
+      {"cornell-box --mode fastatlas --atlas 32768", "--atlas: the atlas side must be a power of two"},
+      {"cornell-box --mode fastatlas --atlas abc", "--atlas"},
+      {"cornell-box --mode fastatlas --shading-scale nan", "--shading-scale"},
+      {"cornell-box --mode fastatlas --shading-scale -1", "--shading-scale"},
+      {"cornell-box --mode fastatlas --shading-scale 5", "--shading-scale: at most 4"},
+      {"cornell-box --mode msa --msa-charts sideways", "--msa-charts"},
+      {"tiled:0:bunny.off --mode forward", "tiled:0:bunny.off: the copies a side must be a whole number from 1 to 64"},
+      {"tiled:2 --mode forward", "tiled:2: a tiled scene is tiled:N:FILE"},
+      {"tiled:2:no-such-file.off --mode forward", "no-such-file.off"},
+  };
+  for (const auto& [args, message] : cases) {
+    fs::remove(out);
+    const CliRun r = run("render " + args + " --size 16x12 --output " + out.string());
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
 }  // namespace
 }  // namespace prismoid

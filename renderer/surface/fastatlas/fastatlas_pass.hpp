@@ -114,7 +114,6 @@ class FastAtlasPass {
   vk::Buffer frame_uniforms_, triangle_table_, parent_, vertex_first_, boxes_, keys_, charts_, placed_, candidates_, front_, state_,
       scales_buffer_, history_, visible_, readback_;
   vk::Image id_atlas_, depth_atlas_, color_atlas_;  // R32_UINT, R32_UINT (depth bits), RGBA32F: storage images
-  bool color_initialized_ = false;
   std::vector<uint32_t> scales_;
   // Two sorts, as a GpuRadixSort updates its descriptor sets when recorded: once per command buffer.
   volume::GpuRadixSort sort_by_root_, sort_by_height_;

@@ -24,7 +24,7 @@ void main() {
   uint t = fa_visible[uint(gl_VertexIndex) / 3u], k = uint(gl_VertexIndex) % 3u;
   out_triangle = t;
   uint root = fa_parent[t];
-  if (root == PRISMOID_FA_NONE || fa_state.charts.z == 0u) {
+  if (root == PRISMOID_FA_NONE || fa_state.charts.z == 0u) {  // not reached through the indirect draw: kept as a guard
     gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
     for (int i = 0; i < 4; ++i) gl_ClipDistance[i] = -1.0;
     return;
