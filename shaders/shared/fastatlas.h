@@ -43,9 +43,17 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_FA_BINDING_DEPTH_ATLAS 30  // r32ui storage image: the nearest depth per texel (reversed z, float bits; 0: none)
 #define PRISMOID_FA_BINDING_HISTORY 31      // uvec4: x: atlas rows the last frame used (persists: this frame clears up to the larger)
 #define PRISMOID_FA_BINDING_VISIBLE 32      // uint[]: this frame's visible triangles, in whatever order (the atlas draws them)
+// Temporal reuse (FastAtlas, appendix D): the last frame's atlas and maps, copied at this frame's start.
+#define PRISMOID_FA_BINDING_PREV_COLOR 33   // rgba32f storage image: the last frame's colour atlas (rows it used)
+#define PRISMOID_FA_BINDING_PREV_PARENT 34  // uint[] per triangle: the last frame's roots
+#define PRISMOID_FA_BINDING_PREV_BOXES 35   // ivec4[] per triangle: the last frame's chart boxes
+#define PRISMOID_FA_BINDING_PREV_PLACED 36  // uvec4[] per triangle: the last frame's places
+#define PRISMOID_FA_BINDING_PREV_STATE 37   // FaStateGpu: the last frame's (its chosen candidate)
+#define PRISMOID_FA_BINDING_PREV_FRAME 38   // uniform SurfaceFrame: the last frame's camera
 
 #define PRISMOID_FA_FLAG_SHADOWS 1u
 #define PRISMOID_FA_FLAG_REUSE 2u   // keep last frame's shading: the shading pass launches nothing
+#define PRISMOID_FA_FLAG_TEMPORAL 4u  // take a texel's shading from the last atlas where its surface point had it there
 
 // Per triangle, built once at load from the halfedge meshes (vertices welded by position).
 struct FaTriangleGpu {
@@ -61,6 +69,7 @@ struct FaStateGpu {
   uvec4 counts;    // x: visible triangles, y: lookup pixels without a usable texel (holes), z: texels holding a triangle, w: 0
   uvec4 clear;     // xyz: VkDispatchIndirectCommand of the clear pass (rows used now or last frame), w: 0
   uvec4 draw;      // VkDrawIndirectCommand of the atlas draws: 3 vertices per visible triangle, 1 instance once packed (0: nothing fits)
+  uvec4 copy;      // xyz: VkDispatchIndirectCommand copying the rows the last frame used (temporal reuse); w: texels reused
   uvec4 stretch;   // lookup: x, w: low and high word of the sum over pixels of (Gamma^2 + gamma^2) / 2 in 1/4096 (shaders/surface/stretch.glsl), y: pixels, z: largest Gamma (float bits)
 };
 
@@ -74,7 +83,7 @@ PRISMOID_SHARED_END
 
 #ifdef __cplusplus
 static_assert(sizeof(prismoid::gpu::FaTriangleGpu) == 32);
-static_assert(sizeof(prismoid::gpu::FaStateGpu) == 112);
+static_assert(sizeof(prismoid::gpu::FaStateGpu) == 128);
 static_assert(sizeof(prismoid::gpu::FaPush) == 48);
 #endif
 #endif

@@ -315,6 +315,11 @@ TEST_F(FastAtlasPassTest, EveryShadedTexelIsTheDirectLightAtItsPoint) {
   EXPECT_GT(border, 0u);
   EXPECT_EQ(img.counters.shaded_texels, queries.size());
   EXPECT_EQ(img.counters.border_texels, border);
+  // Alpha holds the texel's triangle + 1 (temporal reuse's check); the shading check wants 1.
+  for (size_t k = 0; k < gpu.size(); ++k) {
+    EXPECT_EQ(gpu[k].w, float(queries[k].triangle + 1)) << k;  // one mesh: local = global
+    gpu[k].w = 1.0f;
+  }
   const SampleCheck c = check_shaded_samples(rig.scene, queries, gpu, 1e-4);
   EXPECT_EQ(c.failures, 0u);
   std::printf("%zu texels (%zu border) against the reference; worst error %.3g of its tolerance\n", queries.size(), border, c.worst);
@@ -493,6 +498,50 @@ TEST_F(FastAtlasPassTest, AMillionVisibleTrianglesMakeOneChart) {
       if (std::abs(fwd[4 * i + ch] - img.rgba[4 * i + ch]) > 2e-3 * std::max(1.0f, std::abs(fwd[4 * i + ch])) && failures++ < 5)
         ADD_FAILURE() << "pixel " << i << ": " << img.rgba[4 * i + ch] << ", forward " << fwd[4 * i + ch];
   EXPECT_EQ(failures, 0u);
+}
+
+// Temporal reuse (appendix D) with a refresh every 3 frames, the camera orbiting a diffuse sphere
+// lit by a point light (shading that does not depend on the eye): the frames between refreshes take
+// most texels from the last atlas, shade the rest, and draw the image a fresh frame draws within
+// what moving a point by half a texel changes; every third frame shades everything again; no
+// reused texel carries another triangle's shading (each carries its own triangle in alpha).
+TEST_F(FastAtlasPassTest, TemporalReuseCarriesShadingBetweenRefreshes) {
+  SphereSceneOptions o;
+  o.lights = Lights::Point;
+  surface::FastAtlasSettings s = settings(512);
+  s.refresh = 3;
+  FaRig rig(device(), sphere_scene(o), s);
+  FaRig fresh(device(), sphere_scene(o), settings(512));
+  Camera c = rig.scene.camera;
+  double peak = 0.0;
+  for (int frame = 0; frame < 7; ++frame) {
+    c.eye = glm::dvec3(4.0 * std::sin(0.01 * frame), 0.0, 4.0 * std::cos(0.01 * frame));  // 0.57 degrees a frame
+    const surface::FastAtlasImage img = rig.render(device(), c);
+    const bool refresh = frame % 3 == 0;
+    EXPECT_EQ(img.counters.temporal, !refresh) << "frame " << frame;
+    if (refresh) {
+      EXPECT_EQ(img.counters.reused_texels, 0u) << "frame " << frame;
+      continue;
+    }
+    const uint32_t all = img.counters.reused_texels + img.counters.shaded_texels;
+    EXPECT_GT(img.counters.reused_texels, all / 2) << "frame " << frame;
+    EXPECT_GT(img.counters.shaded_texels, 0u) << "frame " << frame << ": texels new to the view are shaded";
+    // Every texel holds its own triangle's shading, reused or not.
+    const AtlasReadback a(*rig.pass);
+    size_t foreign = 0;
+    for (size_t i = 0; i < a.ids.size(); ++i)
+      if (a.ids[i] != kNone) foreign += a.colors[i].w != float((a.ids[i] & PRISMOID_FA_TRIANGLE_MASK) + 1);
+    EXPECT_EQ(foreign, 0u) << "frame " << frame;
+    const surface::FastAtlasImage truth = fresh.render(device(), c);
+    double worst = 0.0;
+    for (size_t i = 0; i < img.rgba.size(); ++i) {
+      worst = std::max(worst, double(std::abs(img.rgba[i] - truth.rgba[i])));
+      peak = std::max(peak, double(truth.rgba[i]));
+    }
+    // Diffuse shading under a point light moves by at most a few percent of the peak over half a
+    // texel of the sphere (a texel is a pixel here: 1/40 of the sphere's radius).
+    EXPECT_LT(worst, 0.05 * peak) << "frame " << frame;
+  }
 }
 
 // Nothing in view: no charts, nothing shaded, the sky.

@@ -22,6 +22,8 @@ FastAtlasSettings read_options(const SurfaceOptions& o) {
   s.atlas_width = s.atlas_height = side;
   s.shading_scale = option_number(o, "shading-scale", 1.0, true);
   if (s.shading_scale > 4.0) throw InputError("--shading-scale", "at most 4 (16 texels per pixel)");
+  s.refresh = option_uint(o, "atlas-refresh", 0);
+  if (s.refresh > 1000) throw InputError("--atlas-refresh", "at most 1000 frames between refreshes");
   return s;
 }
 
@@ -71,7 +73,10 @@ class FastAtlasBackend final : public SurfaceBackend {
     targets_.reset();
     reuse_.forget();
   }
-  void forget_shading() override { reuse_.forget(); }
+  void forget_shading() override {
+    reuse_.forget();
+    if (pass_) pass_->forget_last_frame();
+  }
 
   BackendCounts read_counts() const override {
     BackendCounts c;
@@ -89,6 +94,7 @@ class FastAtlasBackend final : public SurfaceBackend {
                " rows; " + std::to_string(t.shaded_texels) + " texels shaded (" + last_reuse_.reason + ")" +
                (t.hole_pixels ? ", HOLES " + std::to_string(t.hole_pixels) : "");
     c.space = "fastatlas atlas " + size + " texels, " + std::to_string(t.charts) + " charts, " + scale;
+    if (t.temporal) c.detail += "; " + std::to_string(t.reused_texels) + " texels from the last frame";
     c.summary.push_back("; " + std::to_string(t.charts) + " charts of " + std::to_string(t.visible_triangles) + " visible triangles; " + scale +
                         "; " + std::to_string(t.rows_used) + " atlas rows used; shaded " + std::to_string(t.shaded_texels) + " texels (" +
                         percent(t.shaded_texels / texels) + " % of the atlas), " + std::to_string(t.border_texels) + " of them border" +
@@ -111,6 +117,9 @@ class FastAtlasBackend final : public SurfaceBackend {
         {"hole_pixels", uint64_t(t.hole_pixels)},
         {"atlas_bytes", t.atlas_bytes},
         {"reused", pass_->settings().reuse},
+        {"atlas_refresh", uint64_t(s.refresh)},
+        {"temporal", t.temporal},
+        {"reused_texels", uint64_t(t.reused_texels)},
     };
     for (const vk::PassTiming& p : pass_->atlas_timings()) c.stats.emplace_back("atlasing_" + p.name + "_ms", p.gpu_ms);
     return c;
@@ -152,10 +161,12 @@ const SurfaceBackendInfo& fastatlas_backend() {
               .gi = {},
               .display = {"lookup", "per pixel, its chart's map into the atlas and the hard-edge filter over four taps; the sky elsewhere", ""},
           },
-      .options = {{"atlas", false}, {"shading-scale", false}, {"no-shadows", true}},
+      .options = {{"atlas", false}, {"shading-scale", false}, {"atlas-refresh", false}, {"no-shadows", true}},
       .options_help =
           "--no-shadows; --atlas N (the atlas side in texels, a power of two; default 4096), --shading-scale SF\n"
-          "(texels per pixel side at the largest candidate scale: 0.5 shades a quarter; default 1)",
+          "(texels per pixel side at the largest candidate scale: 0.5 shades a quarter; default 1),\n"
+          "--atlas-refresh N (temporal reuse while the camera moves: shade everything every N-th frame and\n"
+          "take the last frame's shading where it holds the same surface point in between; default 0: off)",
       .tuning = kTuneLodBias,
       .device_problem = fastatlas_device_problem,
       .command_options = [](SurfaceOptions given, frame::SurfaceGi) {

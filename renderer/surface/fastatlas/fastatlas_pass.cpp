@@ -44,6 +44,10 @@ std::vector<vk::DescriptorBinding> fastatlas_bindings() {
   b.push_back({PRISMOID_FA_BINDING_DEPTH_ATLAS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kStages});
   b.push_back({PRISMOID_FA_BINDING_HISTORY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
   b.push_back({PRISMOID_FA_BINDING_VISIBLE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
+  b.push_back({PRISMOID_FA_BINDING_PREV_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kStages});
+  for (uint32_t binding = PRISMOID_FA_BINDING_PREV_PARENT; binding <= PRISMOID_FA_BINDING_PREV_STATE; ++binding)
+    b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
+  b.push_back({PRISMOID_FA_BINDING_PREV_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kStages});
   return b;
 }
 
@@ -140,6 +144,18 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
   history_ = storage(device, 16);
   visible_ = storage(device, t * 4);
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_FA_BINDING_VISIBLE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visible_.get());
+  prev_parent_ = storage(device, t * 4);
+  prev_boxes_ = storage(device, t * 16);
+  prev_placed_ = storage(device, t * 16);
+  prev_state_ = storage(device, sizeof(gpu::FaStateGpu));
+  prev_frame_ = vk::Buffer(device, sizeof(gpu::SurfaceFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
+  const std::pair<uint32_t, const vk::Buffer*> previous[] = {{PRISMOID_FA_BINDING_PREV_PARENT, &prev_parent_},
+                                                             {PRISMOID_FA_BINDING_PREV_BOXES, &prev_boxes_},
+                                                             {PRISMOID_FA_BINDING_PREV_PLACED, &prev_placed_},
+                                                             {PRISMOID_FA_BINDING_PREV_STATE, &prev_state_}};
+  for (const auto& [binding, buffer] : previous)
+    vk::write_buffer_descriptor(device, set_.set, binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer->get());
+  vk::write_buffer_descriptor(device, set_.set, PRISMOID_FA_BINDING_PREV_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, prev_frame_.get());
   vk::write_buffer_descriptor(device, set_.set, PRISMOID_FA_BINDING_HISTORY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, history_.get());
   set_settings(settings_);
   const VkDescriptorType s = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -162,6 +178,7 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
   atlas.fragment_shader = "surface/fastatlas/atlas.frag";
   atlas_pipeline_ = vk::create_vertex_pipeline(device, atlas);
   clear_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/clear.comp", layout_.get());
+  copy_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/copy.comp", layout_.get());
   lookup_pipeline_ = create_fullscreen(device, layout_.get(), "surface/fastatlas/lookup.frag");
   vertices_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/vertices.comp", layout_.get());
   hook_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/hook.comp", layout_.get());
@@ -177,11 +194,23 @@ void FastAtlasPass::set_settings(const FastAtlasSettings& settings) {
   const FastAtlasSettings& s = checked(device_, settings);
   const bool resized = !id_atlas_.get() || s.atlas_width != settings_.atlas_width || s.atlas_height != settings_.atlas_height;
   const bool rescaled = scales_.empty() || s.shading_scale != settings_.shading_scale;
+  const bool retemporal = !prev_color_.get() || (s.refresh > 0) != (settings_.refresh > 0);
+  if (resized || rescaled || s.shadows != settings_.shadows || retemporal) last_frame_.reset();  // nothing of the last frame to reuse
   settings_ = s;
   if (rescaled) {
     scales_ = candidate_numerators(s.shading_scale);
     scales_buffer_ = vk::upload_buffer(device_, std::as_bytes(std::span(scales_)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     vk::write_buffer_descriptor(device_, set_.set, PRISMOID_FA_BINDING_SCALES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scales_buffer_.get());
+  }
+  if (resized || retemporal) {
+    // Temporal reuse keeps the last frame's colour atlas; without it a 1 x 1 stands in.
+    const VkExtent2D pe = s.refresh > 0 ? VkExtent2D{s.atlas_width, s.atlas_height} : VkExtent2D{1, 1};
+    prev_color_ = vk::Image(device_, pe, kAtlasColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
+    vk::write_storage_image_descriptor(device_, set_.set, PRISMOID_FA_BINDING_PREV_COLOR, prev_color_.view());
+    device_.submit_and_wait([&](VkCommandBuffer cmd) {
+      vk::image_barrier(cmd, prev_color_.get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
+                        VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    });
   }
   if (!resized) return;
   const VkExtent2D e{s.atlas_width, s.atlas_height};
@@ -236,7 +265,15 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
   const gpu::SurfaceFrame frame = surface_frame(scene, camera, e, glm::dvec2(0.0));
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
   gpu::FaPush push{};
-  const uint32_t flags = (settings_.shadows ? PRISMOID_FA_FLAG_SHADOWS : 0u) | (settings_.reuse ? PRISMOID_FA_FLAG_REUSE : 0u);
+  // Temporal reuse: between refreshes, where the last frame of these settings and image size exists.
+  const bool same_image = last_frame_ && last_frame_->viewport.x == float(e.width) && last_frame_->viewport.y == float(e.height);
+  temporal_ = settings_.refresh > 0 && !settings_.reuse && same_image && triangles_ < (1u << 24) &&
+              frames_since_refresh_ + 1 < settings_.refresh;
+  frames_since_refresh_ = temporal_ ? frames_since_refresh_ + 1 : 0;
+  if (temporal_) prev_frame_.write(std::as_bytes(std::span(&*last_frame_, 1)));
+  if (settings_.refresh > 0) last_frame_ = frame;
+  const uint32_t flags = (settings_.shadows ? PRISMOID_FA_FLAG_SHADOWS : 0u) | (settings_.reuse ? PRISMOID_FA_FLAG_REUSE : 0u) |
+                         (temporal_ ? PRISMOID_FA_FLAG_TEMPORAL : 0u);
   push.image = glm::uvec4(e.width, e.height, flags, triangles_);
   push.atlas = glm::uvec4(settings_.atlas_width, settings_.atlas_height, 1u, uint32_t(scales_.size()));
   const float near = float(camera.near_distance);
@@ -246,8 +283,17 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
 
   atlas_timer_.reset(cmd);
   // Everything per frame starts afresh; the colour atlas carries over (reuse).
+  // The last frame's writes (its shading among them, which copy.comp reads) before anything of this one.
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
-                     VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  if (temporal_) {  // the last frame's maps, before this frame's start over
+    for (const auto& [from, to] : {std::pair{&parent_, &prev_parent_}, {&boxes_, &prev_boxes_}, {&placed_, &prev_placed_}, {&state_, &prev_state_}}) {
+      const VkBufferCopy all{0, 0, from->size()};
+      vkCmdCopyBuffer(cmd, from->get(), to->get(), 1, &all);
+    }
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                       VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  }
   vkCmdFillBuffer(cmd, targets.visibility.get(), 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cmd, parent_.get(), 0, VK_WHOLE_SIZE, PRISMOID_FA_NONE);
   vkCmdFillBuffer(cmd, vertex_first_.get(), 0, VK_WHOLE_SIZE, PRISMOID_FA_NONE);
@@ -317,6 +363,12 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
     }
     {
       vk::ScopedPass step(atlas_timer_, cmd, "borders");
+      if (temporal_) {  // the last frame's colour rows, before shading writes over them
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, copy_pipeline_.get());
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
+        vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
+        vkCmdDispatchIndirect(cmd, state_.get(), offsetof(gpu::FaStateGpu, copy));
+      }
       dispatch(cmd, seeds_pipeline_.get(), g, 0);
       compute_barrier(cmd);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, border_pipeline_.get());
@@ -346,6 +398,8 @@ FastAtlasCounters FastAtlasPass::read_counters() const {
   c.rows_used = s.charts.w;
   c.scale = c.fits && c.candidate < scales_.size() ? double(scales_[c.candidate]) / PRISMOID_FA_SCALE_ONE : 0.0;
   c.shaded_texels = s.trace.w;
+  c.reused_texels = s.copy.w;
+  c.temporal = temporal_;
   c.border_texels = s.dispatch.w;
   c.hole_pixels = s.counts.y;
   c.visible_triangles = s.counts.x;
@@ -355,7 +409,8 @@ FastAtlasCounters FastAtlasPass::read_counters() const {
     c.stretch_linf = double(std::bit_cast<float>(s.stretch.z));
   }
   const uint64_t texels = uint64_t(settings_.atlas_width) * settings_.atlas_height;
-  c.atlas_bytes = texels * (4 + 4 + 16) + history_.size() + visible_.size() + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
+  c.atlas_bytes = texels * (4 + 4 + 16) + history_.size() + visible_.size() +
+                  (settings_.refresh > 0 ? texels * 16 + prev_parent_.size() + prev_boxes_.size() + prev_placed_.size() : 0) + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
                   placed_.size() + front_.size() + triangle_table_.size() + sort_by_root_.bytes() + sort_by_height_.bytes();
   return c;
 }

@@ -27,6 +27,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,7 @@
 #include "renderer/vk/timer.hpp"
 #include "renderer/volume/visibility_sort.hpp"
 #include "scene/camera.hpp"
+#include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
 
@@ -47,6 +49,11 @@ struct FastAtlasSettings {
   double shading_scale = 1.0;                        // SF: texels per pixel side at the largest candidate
   bool shadows = true;
   bool reuse = false;  // keep the last frame's shading (the atlas is the same: nothing moved)
+  // Temporal reuse across a moving camera (the paper's appendix D): 0 off; n: every n-th frame
+  // shades every texel, the frames between take a texel's shading from the last frame's atlas
+  // where the last frame shaded the same surface point's triangle there (view-dependent terms then
+  // lag by up to n - 1 frames: the paper's approximation). Off for scenes of 2^24 triangles or more.
+  uint32_t refresh = 0;
 };
 
 // Empty when the device can run FastAtlas, else why not.
@@ -60,6 +67,8 @@ struct FastAtlasCounters {
   double scale = 0.0;           // its texels per pixel side
   uint32_t rows_used = 0;       // atlas rows the charts reach
   uint32_t shaded_texels = 0;   // texels shaded this frame (0 when reused)
+  uint32_t reused_texels = 0;   // texels taken from the last frame's atlas (temporal reuse)
+  bool temporal = false;        // this frame took shading from the last one where it could
   uint32_t border_texels = 0;   // texels the border pass filled
   uint32_t hole_pixels = 0;     // pixels without a usable texel
   // Sander's stretch between screen and atlas over the looked-up pixels, measured as for the
@@ -83,6 +92,8 @@ class FastAtlasPass {
   // The atlasing steps' GPU times of the last frame (charts, boxes, order, packing, id raster, borders).
   std::vector<vk::PassTiming> atlas_timings() const { return atlas_timer_.read(); }
   const FastAtlasSettings& settings() const { return settings_; }
+  // The next frame shades every texel (temporal reuse starts over).
+  void forget_last_frame() { last_frame_.reset(); }
   void set_settings(const FastAtlasSettings& settings);
   const fastatlas::SceneAdjacency& adjacency() const { return adjacency_; }
 
@@ -112,8 +123,13 @@ class FastAtlasPass {
   rt::RayTracingPipeline shade_pipeline_;
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_, triangle_table_, parent_, vertex_first_, boxes_, keys_, charts_, placed_, candidates_, front_, state_,
-      scales_buffer_, history_, visible_, readback_;
+      scales_buffer_, history_, visible_, readback_, prev_parent_, prev_boxes_, prev_placed_, prev_state_, prev_frame_;
   vk::Image id_atlas_, depth_atlas_, color_atlas_;  // R32_UINT, R32_UINT (depth bits), RGBA32F: storage images
+  vk::Image prev_color_;                            // temporal reuse: the last frame's colour atlas (1 x 1 when off)
+  vk::UniquePipeline copy_pipeline_;
+  std::optional<gpu::SurfaceFrame> last_frame_;     // temporal reuse: the last frame's camera
+  uint32_t frames_since_refresh_ = 0;
+  bool temporal_ = false;                           // the last recorded frame's
   std::vector<uint32_t> scales_;
   // Two sorts, as a GpuRadixSort updates its descriptor sets when recorded: once per command buffer.
   volume::GpuRadixSort sort_by_root_, sort_by_height_;

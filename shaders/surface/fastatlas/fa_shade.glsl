@@ -15,6 +15,34 @@
 
 layout(set = 0, binding = PRISMOID_FA_BINDING_ID_ATLAS, r32ui) uniform readonly uimage2D fa_id_atlas;
 layout(set = 0, binding = PRISMOID_FA_BINDING_COLOR_ATLAS, rgba32f) uniform writeonly image2D fa_color_atlas;
+layout(set = 0, binding = PRISMOID_FA_BINDING_PREV_COLOR, rgba32f) uniform readonly image2D fa_prev_color;
+layout(std430, set = 0, binding = PRISMOID_FA_BINDING_PREV_PARENT) readonly buffer FaPrevParentBuffer { uint fa_prev_parent[]; };
+layout(std430, set = 0, binding = PRISMOID_FA_BINDING_PREV_BOXES) readonly buffer FaPrevBoxBuffer { ivec4 fa_prev_boxes[]; };
+layout(std430, set = 0, binding = PRISMOID_FA_BINDING_PREV_PLACED) readonly buffer FaPrevPlacedBuffer { uvec4 fa_prev_placed[]; };
+layout(std430, set = 0, binding = PRISMOID_FA_BINDING_PREV_STATE) readonly buffer FaPrevStateBuffer { FaStateGpu fa_prev_state; };
+layout(set = 0, binding = PRISMOID_FA_BINDING_PREV_FRAME) uniform FaPrevFrameBlock { SurfaceFrame fa_prev_frame; };
+
+// Temporal reuse (appendix D): the shading the last frame's atlas holds for surface point p of
+// `triangle` (scene-local), where the last frame saw that triangle and the texel under p's place
+// there was shaded for it (its alpha holds triangle + 1); false where it cannot tell. The shading
+// of the last view is kept as it was (the paper's approximation: a moving eye's view-dependent
+// terms lag by the frames since the last refresh).
+bool fa_last_shading(uint triangle, vec3 p, out vec4 value) {
+  uint root = fa_prev_parent[triangle];
+  if (root == PRISMOID_FA_NONE || fa_prev_state.charts.z != 1u) return false;
+  vec4 clip = fa_prev_frame.projection * (fa_prev_frame.view * vec4(p, 1.0));
+  if (!(clip.w > 0.0)) return false;
+  vec2 pixel = (clip.xy / clip.w + 1.0) * 0.5 * fa_prev_frame.viewport.xy;
+  ivec4 box = fa_prev_boxes[root];
+  uvec4 placed = fa_prev_placed[root];
+  float scale = float(fa_scales[min(fa_prev_state.charts.y, PRISMOID_FA_MAX_CANDIDATES - 1u)]) / float(PRISMOID_FA_SCALE_ONE);
+  vec2 d = (pixel - vec2(box.xy)) * scale;
+  vec2 u = vec2(placed.xy) + 0.5 * (float(fa_push.atlas.z) - scale) + ((placed.z >> 31) != 0u ? d.yx : d);
+  ivec2 q = ivec2(floor(u));
+  if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(fa_push.atlas.xy)))) return false;
+  value = imageLoad(fa_prev_color, q);
+  return value.a == float(triangle + 1u);
+}
 
 void main() {
   ivec2 t = ivec2(gl_LaunchIDEXT.xy);
@@ -24,7 +52,15 @@ void main() {
   vec2 pixel = fa_to_screen(fa_chart_map(fa_parent[triangle]), vec2(t) + 0.5);
   vec3 bary;
   if (!pixel_barycentrics(triangle, pixel, bary)) bary = vec3(1.0 / 3.0);
-  ShadingInput s = shading_input_at(triangle, bary, triangle_point(triangle, bary), frame.eye.xyz);
-  imageStore(fa_color_atlas, t, vec4(shade_surface_point(s.point, s.material, s.emission), 1.0));
+  vec3 p = triangle_point(triangle, bary);
+  vec4 last;
+  if ((fa_push.image.z & PRISMOID_FA_FLAG_TEMPORAL) != 0u && fa_last_shading(triangle, p, last)) {
+    imageStore(fa_color_atlas, t, last);
+    atomicAdd(fa_state.copy.w, 1u);
+    return;
+  }
+  ShadingInput s = shading_input_at(triangle, bary, p, frame.eye.xyz);
+  // Alpha: the triangle + 1 (exact in float up to 2^24 triangles), for temporal reuse's check.
+  imageStore(fa_color_atlas, t, vec4(shade_surface_point(s.point, s.material, s.emission), float(triangle + 1u)));
   atomicAdd(fa_state.trace.w, 1u);
 }

@@ -55,6 +55,7 @@ void main() {
         fa_state.trace.xyz = uvec3(W, 0u, 1u);
         fa_state.dispatch.xyz = uvec3(0u, 0u, 1u);
         fa_state.clear.xyz = uvec3((W + 15u) / 16u, (fa_history.x + 15u) / 16u, 1u);
+        fa_state.copy.xyz = uvec3(0u, 0u, 1u);
         fa_history.x = 0u;
       }
       return;
@@ -127,6 +128,7 @@ void main() {
   fa_state.draw.y = 1u;  // the atlas draws run (instance count 1)
   // The clear covers this frame's rows and whatever the last frame left below them.
   uint clear_rows = max(s_used, fa_history.x);
+  fa_state.copy.xyz = uvec3((W + 15u) / 16u, (fa_history.x + 15u) / 16u, 1u);  // the last frame's rows
   fa_history.x = s_used;
   fa_state.clear.xyz = uvec3((W + 15u) / 16u, (clear_rows + 15u) / 16u, 1u);
 }
