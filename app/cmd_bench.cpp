@@ -65,6 +65,8 @@ const char* const kBenchHelp =
     "  --shading-scales L   equal terms: also bench htex, texel, msa and fastatlas at these shading-rate\n"
     "                       factors SF (texels per pixel side; SF^2 of the samples), e.g. 0.5,0.25,0.125\n"
     "  --fastatlas-atlases L  fastatlas rows at these atlas sides (e.g. 2048,4096,8192)\n"
+    "  --fastatlas-refresh L  with --surface-motion: fastatlas rows with temporal reuse refreshed every\n"
+    "                       n frames (e.g. 10, the paper's)\n"
     "  --surface-shadows S  surface rows with shadows on, off or both (default both; off alone where\n"
     "                       the device traces no rays)\n"
     "  --shading-budget N   also bench htex, texel and msa at about N shaded samples per frame\n"
@@ -253,7 +255,7 @@ int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
   std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget",
                                             "warm-up", "surface-lights", "surface-motion", "msa-amortize", "msa-charts",
-                                            "shading-scales", "fastatlas-atlases", "surface-shadows"};
+                                            "shading-scales", "fastatlas-atlases", "surface-shadows", "fastatlas-refresh"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -474,6 +476,14 @@ int cmd_bench(const std::vector<std::string>& args) {
         const uint32_t every = parse_uint("msa-amortize", n);
         if (every < 2) throw InputError("--msa-amortize", "each n must be at least 2 (1 shades every frame: the moving msa row)");
         so.msa_amortization.push_back(every);
+      }
+    }
+    if (a.has("fastatlas-refresh")) {
+      if (!a.has("surface-motion")) throw InputError("--fastatlas-refresh", "needs --surface-motion (temporal reuse matters while the camera moves)");
+      for (const std::string& n : split_list(a.values.at("fastatlas-refresh"))) {
+        const uint32_t every = parse_uint("fastatlas-refresh", n);
+        if (every < 2 || every > 1000) throw InputError("--fastatlas-refresh", "each n must lie in [2, 1000] (1 refreshes every frame: the moving row)");
+        so.fastatlas_refresh.push_back(every);
       }
     }
     if (a.has("surface-shadows")) {

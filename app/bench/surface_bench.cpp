@@ -164,6 +164,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       msa::Parametrization charts = msa::Parametrization::Projection;  // msa
       double sf = 1.0;        // shading-rate factor (SurfaceBenchOptions::shading_scales)
       uint32_t atlas = 0;     // fastatlas: the atlas side (0: the backend's default)
+      uint32_t refresh = 0;   // fastatlas: temporal reuse refreshed every n frames (0: off)
     };
     std::vector<Run> runs;
     for (const std::string& mode : main_renderer.modes()) {
@@ -182,16 +183,22 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
           if (options.motion_degrees > 0.0 && !gi_mode(mode)) runs.push_back({mode, 0u, false, true, 0u, charts, 1.0, atlas});
           if (options.motion_degrees > 0.0 && (knobs(mode) & surface::kTuneAmortize))
             for (const uint32_t n : options.msa_amortization) runs.push_back({mode, 0u, false, true, n, charts, 1.0, atlas});
+          if (options.motion_degrees > 0.0 && mode == "fastatlas")
+            for (const uint32_t n : options.fastatlas_refresh) runs.push_back({mode, 0u, false, true, 0u, charts, 1.0, atlas, n});
           for (const double sf : options.shading_scales)
             if (texture_space && sf < 1.0) runs.push_back({mode, 0u, false, false, 0u, charts, sf, atlas});
         }
     }
-    // FastAtlas at other atlas sides: a renderer each (a backend's options are fixed at its making).
-    std::map<uint32_t, std::unique_ptr<surface::SurfaceRenderer>> atlas_renderers;
+    // FastAtlas at other atlas sides or with temporal reuse: a renderer each (a backend's options
+    // are fixed at its making).
+    std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<surface::SurfaceRenderer>> atlas_renderers;
     for (const Run& run : runs)
-      if (run.atlas != 0 && !atlas_renderers.count(run.atlas))
-        atlas_renderers[run.atlas] =
-            std::make_unique<surface::SurfaceRenderer>(device, scene, surface::SurfaceOptions{{"atlas", std::to_string(run.atlas)}});
+      if ((run.atlas != 0 || run.refresh != 0) && !atlas_renderers.count({run.atlas, run.refresh})) {
+        surface::SurfaceOptions o;
+        if (run.atlas != 0) o["atlas"] = std::to_string(run.atlas);
+        if (run.refresh != 0) o["atlas-refresh"] = std::to_string(run.refresh);
+        atlas_renderers[{run.atlas, run.refresh}] = std::make_unique<surface::SurfaceRenderer>(device, scene, o);
+      }
     // Rows at the modes' own rate first: the SF rows of block-budget modes size their budgets from them.
     std::stable_sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.sf > b.sf; });
     std::map<std::string, uint64_t> unbiased_shaded;  // mode/shadows -> shaded samples at the mode's own rate
@@ -199,7 +206,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     for (const bool shadows : shadow_settings)
     for (const Run& run : runs) {
       const std::string& mode = run.mode;
-      surface::SurfaceRenderer& renderer = run.atlas != 0 ? *atlas_renderers.at(run.atlas) : main_renderer;
+      surface::SurfaceRenderer& renderer = run.atlas != 0 || run.refresh != 0 ? *atlas_renderers.at({run.atlas, run.refresh}) : main_renderer;
       uint32_t budget = run.budget;
       if (budget == SurfaceBenchOptions::kBudgetCoveredPixels) budget = std::max(1u, covered_pixels);
       renderer.set_shadows(shadows);
@@ -270,6 +277,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (run.amortize > 0) m.settings += " amortize=" + std::to_string(run.amortize);
       if (run.charts != msa::Parametrization::Projection) m.settings += std::string(" charts=") + msa::parametrization_name(run.charts);
       if (run.atlas != 0) m.settings += " atlas=" + std::to_string(run.atlas);
+      if (run.refresh != 0) m.settings += " refresh=" + std::to_string(run.refresh);
       if (run.sf < 1.0) m.settings += " sf=" + app::json_number(run.sf);
       if (budget > 0 && run.sf == 1.0)
         m.settings += " budget=" + std::to_string(budget) + (block_budget ? "" : " lod-bias=" + std::to_string(lod_bias));
@@ -281,7 +289,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.mesh_bytes = renderer.gpu_scene().bytes;
       const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
       m.shaded = (shaded_sum + options.frames / 2) / options.frames;  // the mean over the measured frames
-      if (budget == 0 && run.sf == 1.0 && !run.still && !run.moving)
+      if (budget == 0 && run.sf == 1.0 && !run.still && !run.moving && run.refresh == 0)
         unbiased_shaded[rate_key] = counts.shaded;
       // FastAtlas's atlasing steps (its own timestamps, the last measured frame) after the frame's
       // passes, named "atlasing/<step>": parts of "atlasing", not further passes. The atlases'

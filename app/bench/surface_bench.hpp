@@ -54,6 +54,8 @@ struct SurfaceBenchOptions {
   // FastAtlas's atlas sides (--fastatlas-atlases 2048,4096,8192): one set of fastatlas rows per
   // side (settings "atlas=N"); empty: the backend's default.
   std::vector<uint32_t> fastatlas_atlases;
+  // With motion: fastatlas rows with temporal reuse refreshed every n frames (--fastatlas-refresh LIST).
+  std::vector<uint32_t> fastatlas_refresh;
   // Which shadow settings get rows (--surface-shadows on|off|both); both: where the device traces rays.
   bool shadows_off = true, shadows_on = true;
 };
