@@ -80,20 +80,6 @@ glm::dvec2 to_screen(const fastatlas::ChartMap& m, const glm::dvec2& texel) {
   return m.screen_origin + d;
 }
 
-// Where the ray through image point (px, py) meets triangle t's plane (barycentric weights).
-glm::dvec3 plane_barycentrics(const SurfaceScene& scene, const TriangleIndex& index, uint32_t t, const Camera& camera, uint32_t w, uint32_t h,
-                              glm::dvec2 pixel) {
-  const auto [mesh, local] = index.local(t);
-  const SceneMesh& m = scene.meshes[mesh];
-  const auto& tri = m.triangles[local];
-  const glm::dvec3 p0 = m.positions[tri[0]], e1 = m.positions[tri[1]] - p0, e2 = m.positions[tri[2]] - p0;
-  const glm::dvec3 d = reference::ray_direction(camera, w, h, pixel.x, pixel.y);
-  const glm::dvec3 pv = glm::cross(d, e2);
-  const double det = glm::dot(e1, pv);
-  const glm::dvec3 tv = camera.eye - p0;
-  const double b1 = glm::dot(tv, pv) / det, b2 = glm::dot(d, glm::cross(tv, e1)) / det;
-  return {1.0 - b1 - b2, b1, b2};
-}
 
 // The last frame's atlases and per-chart buffers, read back.
 struct AtlasReadback {
@@ -308,7 +294,7 @@ TEST_F(FastAtlasPassTest, EveryShadedTexelIsTheDirectLightAtItsPoint) {
       border += (id & PRISMOID_FA_BORDER_BIT) != 0;
       const glm::dvec2 pixel = to_screen(a.map(t, img.counters.scale), glm::dvec2(x + 0.5, y + 0.5));
       const auto [mesh, local] = rig.triangles.local(t);
-      queries.push_back({mesh, local, plane_barycentrics(rig.scene, rig.triangles, t, camera, kW, kH, pixel), camera.eye});
+      queries.push_back({mesh, local, ray_plane_weights(rig.scene, rig.triangles, t, camera, kW, kH, pixel.x, pixel.y), camera.eye});
       gpu.push_back(a.colors[y * 256 + x]);
     }
   ASSERT_GT(queries.size(), 500u);

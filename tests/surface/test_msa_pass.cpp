@@ -73,19 +73,8 @@ float as_float(uint32_t bits) {
   return f;
 }
 
-// Barycentric weights of the point where the ray through image point (x, y) meets the
-// triangle's plane (double).
 glm::dvec3 ray_plane_barycentric(const MsaRig& rig, const Camera& camera, uint32_t triangle, double x, double y) {
-  const auto [mesh, local] = rig.local_triangle(triangle);
-  const SceneMesh& m = rig.scene.meshes[mesh];
-  const auto& t = m.triangles[local];
-  const glm::dvec3 p0 = m.positions[t[0]], e1 = m.positions[t[1]] - p0, e2 = m.positions[t[2]] - p0;
-  const glm::dvec3 d = reference::ray_direction(camera, kW, kH, x, y);
-  const glm::dvec3 pv = glm::cross(d, e2);
-  const double det = glm::dot(e1, pv);
-  const glm::dvec3 tv = camera.eye - p0;
-  const double b1 = glm::dot(tv, pv) / det, b2 = glm::dot(d, glm::cross(tv, e1)) / det;
-  return {1.0 - b1 - b2, b1, b2};
+  return ray_plane_weights(rig.scene, rig.triangles, triangle, camera, kW, kH, x, y);
 }
 
 // The CPU's rule for a block texel: its chart point's triangle (the first in id order that

@@ -10,9 +10,11 @@
 #include <utility>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
 #include "renderer/reference/direct_light.hpp"
+#include "renderer/reference/tet_ray.hpp"
 #include "renderer/surface/forward/forward_pass.hpp"
 #include "scene/surface_scene.hpp"
 #include "surface/forward_comparison.hpp"
@@ -48,6 +50,22 @@ class TriangleIndex {
  private:
   std::vector<uint32_t> first_;
 };
+
+// Barycentric weights of the point where the ray through image point (x, y) of a width x height
+// image meets global triangle `triangle`'s plane (double; Moeller-Trumbore without the inside test).
+inline glm::dvec3 ray_plane_weights(const SurfaceScene& scene, const TriangleIndex& index, uint32_t triangle, const Camera& camera,
+                                    uint32_t width, uint32_t height, double x, double y) {
+  const auto [mesh, local] = index.local(triangle);
+  const SceneMesh& m = scene.meshes[mesh];
+  const auto& t = m.triangles[local];
+  const glm::dvec3 p0 = m.positions[t[0]], e1 = m.positions[t[1]] - p0, e2 = m.positions[t[2]] - p0;
+  const glm::dvec3 d = reference::ray_direction(camera, width, height, x, y);
+  const glm::dvec3 pv = glm::cross(d, e2);
+  const double det = glm::dot(e1, pv);
+  const glm::dvec3 tv = camera.eye - p0;
+  const double b1 = glm::dot(tv, pv) / det, b2 = glm::dot(d, glm::cross(tv, e1)) / det;
+  return {1.0 - b1 - b2, b1, b2};
+}
 
 struct SampleCheck {
   size_t failures = 0;
