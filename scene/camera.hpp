@@ -15,6 +15,7 @@ struct Camera {
   glm::dvec3 up{0.0, 1.0, 0.0};
   double fovy_degrees = 40.0;
   double near_distance = 0.01;
+  bool operator==(const Camera&) const = default;  // the same view, exactly
 };
 
 // World -> camera transform for a scene whose coordinates are given relative to `origin`.

@@ -1,5 +1,6 @@
 #include "renderer/surface/fastatlas/fastatlas_backend.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -45,16 +46,13 @@ class FastAtlasBackend final : public SurfaceBackend {
     s.shadows = f.shadows;
     // The shading-rate control (SF, section 6 of the paper): the window's and the bench's level-
     // of-detail bias halves the texels per side for each +1.
-    if (f.tuning.lod_bias) s.shading_scale = options_.shading_scale * std::exp2(-double(*f.tuning.lod_bias));
+    if (f.tuning.lod_bias) s.shading_scale = std::min(4.0, options_.shading_scale * std::exp2(-double(*f.tuning.lod_bias)));
     // The planner's rule (plan_shading_reuse) keeps shading while the eye stays; but the atlas
     // is made from the whole view, so only the same view (and settings) gives the same atlas bit
     // for bit and keeps its shading; a turned camera shades again.
     last_reuse_ = reuse_.plan(f.camera, f.shadows);
     const FastAtlasSettings& now = pass_->settings();
-    const bool same_view = last_camera_ && last_camera_->eye == f.camera.eye && last_camera_->target == f.camera.target &&
-                           last_camera_->up == f.camera.up && last_camera_->fovy_degrees == f.camera.fovy_degrees &&
-                           last_camera_->near_distance == f.camera.near_distance && extent_.width == f.extent.width &&
-                           extent_.height == f.extent.height;
+    const bool same_view = last_camera_ == f.camera && extent_.width == f.extent.width && extent_.height == f.extent.height;
     if (!last_reuse_.invalidate && !same_view) {
       last_reuse_.invalidate = true;
       last_reuse_.reason = "the view changed: a new atlas";

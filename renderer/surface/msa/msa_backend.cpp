@@ -30,10 +30,7 @@ MsaOptions read_options(const SurfaceOptions& o) {
   return m;
 }
 
-bool same_view(const Camera& a, const Camera& b, VkExtent2D ea, VkExtent2D eb) {
-  return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovy_degrees == b.fovy_degrees && a.near_distance == b.near_distance &&
-         ea.width == eb.width && ea.height == eb.height;
-}
+bool same_view(const Camera& a, const Camera& b, VkExtent2D ea, VkExtent2D eb) { return a == b && ea.width == eb.width && ea.height == eb.height; }
 
 class MsaBackend final : public SurfaceBackend {
  public:
