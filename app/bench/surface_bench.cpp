@@ -294,11 +294,11 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       // FastAtlas's atlasing steps (its own timestamps, the last measured frame) after the frame's
       // passes, named "atlasing/<step>": parts of "atlasing", not further passes. The atlases'
       // stretch between screen and atlas (FastAtlas, msa), and FastAtlas's fill, go to `space`.
-      for (const auto& [name, value] : counts.stats) {
-        if (name.rfind("atlasing_", 0) == 0 && std::holds_alternative<double>(value))
-          m.passes += ";atlasing/" + name.substr(9, name.size() - 9 - 3) + "=" + app::json_number(std::get<double>(value));
-        if ((name == "stretch_l2" || name == "stretch_linf" || name == "atlas_fill") && std::holds_alternative<double>(value))
-          m.space += (m.space.empty() ? "" : ";") + name + "=" + app::json_number(std::get<double>(value));
+      for (const auto& [stat, value] : counts.stats) {
+        if (stat.rfind("atlasing_", 0) == 0 && std::holds_alternative<double>(value))
+          m.passes += ";atlasing/" + stat.substr(9, stat.size() - 9 - 3) + "=" + app::json_number(std::get<double>(value));
+        if ((stat == "stretch_l2" || stat == "stretch_linf" || stat == "atlas_fill") && std::holds_alternative<double>(value))
+          m.space += (m.space.empty() ? "" : ";") + stat + "=" + app::json_number(std::get<double>(value));
       }
       m.mode_bytes = counts.mode_bytes;
       m.error = reference::image_error(image, reference, peak, 4, 3);

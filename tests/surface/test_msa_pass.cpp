@@ -402,7 +402,9 @@ TEST_F(MsaPassTest, PerFrameChartsAreTheCamerasProjections) {
       EXPECT_NEAR(meshlets[m].extent.x, cpu.extent[m].x, tol) << m;
       EXPECT_NEAR(meshlets[m].extent.y, cpu.extent[m].y, tol) << m;
       EXPECT_EQ(meshlets[m].info.z, uint32_t(cpu.perspective[m])) << m;
-      if (kind == msa::Parametrization::Perspective) EXPECT_EQ(cpu.perspective[m], 1u) << m;
+      if (kind == msa::Parametrization::Perspective) {
+        EXPECT_EQ(cpu.perspective[m], 1u) << m;
+      }
     }
     EXPECT_EQ(failures, 0u);
   }

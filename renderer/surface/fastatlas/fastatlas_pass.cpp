@@ -247,14 +247,23 @@ void FastAtlasPass::bind(const GpuSurfaceScene& scene, VkAccelerationStructureKH
   bound_.update(device_, set_.set, scene, tlas, targets.visibility, PRISMOID_FA_BINDING_VISIBILITY);
 }
 
-void FastAtlasPass::dispatch(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t group_count, uint32_t pass) {
+void FastAtlasPass::bind_compute(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t pass) {
   gpu::FaPush push{};
   std::memcpy(&push, frame_push_.data(), sizeof(push));
   push.pass.x = pass;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
   vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
+}
+
+void FastAtlasPass::dispatch(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t group_count, uint32_t pass) {
+  bind_compute(cmd, pipeline, pass);
   vkCmdDispatch(cmd, group_count, 1, 1);
+}
+
+void FastAtlasPass::dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize state_offset) {
+  bind_compute(cmd, pipeline, 0);
+  vkCmdDispatchIndirect(cmd, state_.get(), state_offset);
 }
 
 void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, TextureSpaceTargets& targets,
@@ -342,10 +351,7 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
     }
     {
       vk::ScopedPass step(atlas_timer_, cmd, "id raster");
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clear_pipeline_.get());
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
-      vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
-      vkCmdDispatchIndirect(cmd, state_.get(), offsetof(gpu::FaStateGpu, clear));
+      dispatch_indirect(cmd, clear_pipeline_.get(), offsetof(gpu::FaStateGpu, clear));
       const VkExtent2D ae{settings_.atlas_width, settings_.atlas_height};
       VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
       rendering.renderArea = {{0, 0}, ae};
@@ -364,17 +370,11 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
     {
       vk::ScopedPass step(atlas_timer_, cmd, "borders");
       if (temporal_) {  // the last frame's colour rows, before shading writes over them
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, copy_pipeline_.get());
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
-        vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
-        vkCmdDispatchIndirect(cmd, state_.get(), offsetof(gpu::FaStateGpu, copy));
+        dispatch_indirect(cmd, copy_pipeline_.get(), offsetof(gpu::FaStateGpu, copy));
       }
       dispatch(cmd, seeds_pipeline_.get(), g, 0);
       compute_barrier(cmd);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, border_pipeline_.get());
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
-      vkCmdPushConstants(cmd, layout_.get(), kPushStages, 0, sizeof(push), &push);
-      vkCmdDispatchIndirect(cmd, state_.get(), offsetof(gpu::FaStateGpu, dispatch));
+      dispatch_indirect(cmd, border_pipeline_.get(), offsetof(gpu::FaStateGpu, dispatch));
       vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kShaderAccess, kShaderStages | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                          kShaderAccess | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     }

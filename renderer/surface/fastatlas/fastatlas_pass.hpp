@@ -108,7 +108,11 @@ class FastAtlasPass {
 
  private:
   void bind(const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas, const TextureSpaceTargets& targets);
+  // Binds a compute pipeline with the set and this frame's push constants (pass.x = `pass`).
+  void bind_compute(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t pass);
   void dispatch(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t groups, uint32_t pass);
+  // An indirect dispatch whose group counts a pass left in the state buffer at `state_offset`.
+  void dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize state_offset);
   std::vector<std::byte> read_image(const vk::Image& image, size_t texel_bytes) const;
 
   const vk::Device& device_;
