@@ -144,7 +144,6 @@ DeviceCapabilities describe(VkPhysicalDevice device, uint32_t index) {
   caps.pipeline_statistics = features.features.pipelineStatisticsQuery == VK_TRUE;
   caps.geometry_shader = features.features.geometryShader == VK_TRUE;
   caps.fragment_stores = features.features.fragmentStoresAndAtomics == VK_TRUE;
-  caps.clip_distance = features.features.shaderClipDistance == VK_TRUE;
   caps.max_image_dimension_2d = props.properties.limits.maxImageDimension2D;
   caps.subpixel_precision_bits = props.properties.limits.subPixelPrecisionBits;
   caps.max_storage_buffer_range = props.properties.limits.maxStorageBufferRange;

@@ -40,7 +40,6 @@ struct DeviceCapabilities {
   bool pipeline_statistics = false;  // counts of fragment-shader invocations and primitives
   bool geometry_shader = false;  // the feature fragment shaders need to read gl_PrimitiveID (surface shading)
   bool fragment_stores = false;  // fragmentStoresAndAtomics: fragment shaders may write storage images (counters)
-  bool clip_distance = false;    // shaderClipDistance: gl_ClipDistance (FastAtlas clips its atlas raster at the screen's sides)
   uint32_t max_image_dimension_2d = 0;  // the widest 2D image (FastAtlas's atlas side)
   bool swapchain = false;
   uint32_t max_mesh_output_vertices = 0;

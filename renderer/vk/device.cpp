@@ -60,7 +60,6 @@ Device::Device(const Instance& instance, const DeviceCapabilities& caps, const D
   features.features.pipelineStatisticsQuery = caps.pipeline_statistics ? VK_TRUE : VK_FALSE;
   features.features.geometryShader = caps.geometry_shader ? VK_TRUE : VK_FALSE;  // gl_PrimitiveID in fragment shaders
   features.features.fragmentStoresAndAtomics = caps.fragment_stores ? VK_TRUE : VK_FALSE;
-  features.features.shaderClipDistance = caps.clip_distance ? VK_TRUE : VK_FALSE;
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};

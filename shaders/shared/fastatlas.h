@@ -16,6 +16,13 @@ PRISMOID_SHARED_BEGIN
 // bit: it sorts after every rasterized triangle and before every border under atomicMin.
 #define PRISMOID_FA_SEED_BIT 0x40000000u
 #define PRISMOID_FA_TRIANGLE_MASK 0x3fffffffu
+// A visible triangle (fa_visible) whose texels the chunk pass covers (raster_chunks.comp).
+#define PRISMOID_FA_LISTED_BIT 0x80000000u
+// The compute raster of the ID atlas (fa_raster.glsl): a triangle whose texel box holds at most
+// PRISMOID_FA_RASTER_INLINE texels is covered by one invocation; a larger one in chunks of
+// PRISMOID_FA_CHUNK x PRISMOID_FA_CHUNK texels, a workgroup each.
+#define PRISMOID_FA_RASTER_INLINE 64u
+#define PRISMOID_FA_CHUNK 32u
 // Candidate scales are multiples of 2^-16 (PRISMOID_FA_SCALE_ONE = 1), so the GPU's and the CPU
 // twin's rounded box sizes agree exactly: ceil(side * num / 2^16) in integers.
 #define PRISMOID_FA_SCALE_ONE 65536u
@@ -42,7 +49,7 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_FA_BINDING_SCALES 29       // uint[MAX_CANDIDATES]: candidate scales * 2^16, largest first
 #define PRISMOID_FA_BINDING_DEPTH_ATLAS 30  // r32ui storage image: the nearest depth per texel (reversed z, float bits; 0: none)
 #define PRISMOID_FA_BINDING_HISTORY 31      // uvec4: x: atlas rows the last frame used (persists: this frame clears up to the larger)
-#define PRISMOID_FA_BINDING_VISIBLE 32      // uint[]: this frame's visible triangles, in whatever order (the atlas draws them)
+#define PRISMOID_FA_BINDING_VISIBLE 32      // uint[]: this frame's visible triangles, in whatever order (the atlas raster's work; LISTED_BIT: in chunks)
 // Temporal reuse (FastAtlas, appendix D): the last frame's atlas and maps, copied at this frame's start.
 #define PRISMOID_FA_BINDING_PREV_COLOR 33   // rgba32f storage image: the last frame's colour atlas (rows it used)
 #define PRISMOID_FA_BINDING_PREV_PARENT 34  // uint[] per triangle: the last frame's roots
@@ -50,6 +57,7 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_FA_BINDING_PREV_PLACED 36  // uvec4[] per triangle: the last frame's places
 #define PRISMOID_FA_BINDING_PREV_STATE 37   // FaStateGpu: the last frame's (its chosen candidate)
 #define PRISMOID_FA_BINDING_PREV_FRAME 38   // uniform SurfaceFrame: the last frame's camera
+#define PRISMOID_FA_BINDING_RASTER_CHUNKS 39 // uvec2[FaPush::pass.w]: large triangles' chunks (triangle, chunk x | y << 16; NONE: empty)
 
 #define PRISMOID_FA_FLAG_SHADOWS 1u
 #define PRISMOID_FA_FLAG_REUSE 2u   // keep last frame's shading: the shading pass launches nothing
@@ -68,7 +76,7 @@ struct FaStateGpu {
   uvec4 dispatch;  // xyz: VkDispatchIndirectCommand of the border pass; w: border texels filled
   uvec4 counts;    // x: visible triangles, y: lookup pixels without a usable texel (holes), z: texels holding a triangle, w: 0
   uvec4 clear;     // xyz: VkDispatchIndirectCommand of the clear pass (rows used now or last frame), w: 0
-  uvec4 draw;      // VkDrawIndirectCommand of the atlas draws: 3 vertices per visible triangle, 1 instance once packed (0: nothing fits)
+  uvec4 raster;    // xyz: VkDispatchIndirectCommand of the ID atlas raster over the visible triangles (0 groups: nothing fits); w: chunks listed (may pass the capacity)
   uvec4 copy;      // xyz: VkDispatchIndirectCommand copying the rows the last frame used (temporal reuse); w: texels reused
   uvec4 stretch;   // lookup: x, w: low and high word of the sum over pixels of (Gamma^2 + gamma^2) / 2 in 1/4096 (shaders/surface/stretch.glsl), y: pixels, z: largest Gamma (float bits)
 };
@@ -76,7 +84,8 @@ struct FaStateGpu {
 struct FaPush {
   uvec4 image;   // x: width, y: height, z: flags (PRISMOID_FA_FLAG_*), w: triangles
   uvec4 atlas;   // x: width (power of two), y: height, z: border texels, w: candidates
-  uvec4 pass;    // x: packing dispatch (0: every candidate, 1: place the chosen one), y: welded vertices, zw: 0
+  uvec4 pass;    // x: packing dispatch (0: every candidate, 1: place the chosen one), or raster pass (0: depth, 1: IDs);
+                 // y: welded vertices, z: the near plane's distance (float bits), w: the raster's chunk capacity
 };
 
 PRISMOID_SHARED_END

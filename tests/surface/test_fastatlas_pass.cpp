@@ -386,6 +386,126 @@ TEST_F(FastAtlasPassTest, EveryPixelIsTheHardEdgeFilterOfItsTaps) {
   std::printf("%zu pixels; usable taps 0/1/2/3/4: %zu %zu %zu %zu %zu\n", compared, cases[0], cases[1], cases[2], cases[3], cases[4]);
 }
 
+// Two large triangles sharing a corner (one chart, through the vertex merge), the second partly
+// behind the first: the chart overlaps itself on the screen, and the ID atlas's depth test
+// decides which triangle a texel shows.
+SurfaceScene overlapping_pair() {
+  SurfaceScene s = sphere_scene({});
+  s.meshes.clear();
+  s.meshes.push_back({});
+  SceneMesh& m = s.meshes.back();
+  m.name = "pair";
+  m.positions = {{0.0, 1.2, -1.0}, {-1.6, -1.0, 0.0}, {0.6, -1.0, 0.0}, {-0.6, -1.0, -2.0}, {1.6, -1.0, -2.0}};
+  m.triangles = {{0, 3, 4}, {0, 1, 2}};  // the one behind first: the lower ID must not win by being lower
+  s.camera.eye = {0.0, 0.0, 4.0};
+  s.camera.target = {0.0, 0.0, -1.0};
+  return s;
+}
+
+// The compute raster of the ID atlas (fa_raster.glsl) against a CPU ray cast in double: at every
+// texel of every chart's box, the ray through the screen point the chart maps the texel centre to
+// is cast against the chart's triangles. Where one holds the point clearly (weights above 1e-4,
+// beyond the near plane, on the screen) the texel holds a triangle of the chart that holds it, at
+// the nearest depth up to 1e-5 (ties: either); where none holds it even loosely, the raster wrote
+// nothing there; nothing the raster wrote lies outside its triangle. Scenes: spheres and a floor
+// whose two large triangles go through the chunk pass, the floor across the near plane, a chart
+// overlapping itself, a scale that is not a whole number.
+TEST_F(FastAtlasPassTest, TheIdAtlasHoldsTheNearestTriangleOfItsChartAtEachTexel) {
+  SurfaceScene near_floor = two_spheres();
+  near_floor.camera.eye = {0.0, -0.95, 2.5};
+  near_floor.camera.target = {0.0, -0.9, 0.0};
+  struct Case {
+    const char* name;
+    SurfaceScene scene;
+    double scale;
+  };
+  Case cases[] = {{"two spheres", two_spheres(), 1.0}, {"two spheres at 0.61", two_spheres(), 0.61},
+                  {"floor across the near plane", near_floor, 1.0}, {"overlapping pair", overlapping_pair(), 1.0}};
+  for (Case& k : cases) {
+    SCOPED_TRACE(k.name);
+    FaRig rig(device(), k.scene, settings(512, k.scale));
+    const Camera& camera = rig.scene.camera;
+    const surface::FastAtlasImage img = rig.render(device(), camera);
+    ASSERT_TRUE(img.counters.fits);
+    const AtlasReadback a(*rig.pass);
+    std::map<uint32_t, std::vector<uint32_t>> chart_triangles;
+    for (uint32_t t = 0; t < a.parent.size(); ++t)
+      if (a.parent[t] != kNone) chart_triangles[a.parent[t]].push_back(t);
+    const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+    struct Hit {
+      uint32_t triangle;
+      double depth;
+      bool clear;  // weights above 1e-4, beyond the near plane by 1e-5 of it, on the screen by 1e-4 pixel
+    };
+    size_t covered = 0, overlapped = 0, failures = 0;
+    for (const auto& [root, members] : chart_triangles) {
+      const glm::uvec4 p = a.placed[root];
+      const fastatlas::ChartMap map = a.map(root, img.counters.scale);
+      for (uint32_t y = p.y; y < p.y + p.w; ++y)
+        for (uint32_t x = p.x; x < p.x + (p.z & 0x7fffffffu); ++x) {
+          const glm::dvec2 q = to_screen(map, {x + 0.5, y + 0.5});
+          const double margin = 1e-4;
+          const bool on_screen = q.x >= -margin && q.y >= -margin && q.x <= kW + margin && q.y <= kH + margin;
+          const bool well_on_screen = q.x >= margin && q.y >= margin && q.x <= kW - margin && q.y <= kH - margin;
+          std::vector<Hit> hits;  // the chart's triangles holding the point, loosely
+          if (on_screen) {
+            const glm::dvec3 d = reference::ray_direction(camera, kW, kH, q.x, q.y);
+            for (uint32_t t : members) {
+              const glm::dvec3 w = ray_plane_weights(rig.scene, rig.triangles, t, camera, kW, kH, q.x, q.y);
+              if (!(std::min({w.x, w.y, w.z}) >= -1e-4)) continue;
+              const auto [mesh, local] = rig.triangles.local(t);
+              const SceneMesh& m = rig.scene.meshes[mesh];
+              const auto& tri = m.triangles[local];
+              const glm::dvec3 point = w.x * m.positions[tri[0]] + w.y * m.positions[tri[1]] + w.z * m.positions[tri[2]];
+              const double depth = glm::dot(point - camera.eye, forward);
+              if (!(depth >= camera.near_distance * (1.0 - 1e-5)) || glm::dot(point - camera.eye, d) <= 0.0) continue;
+              hits.push_back({t, depth, std::min({w.x, w.y, w.z}) > 1e-4 && depth > camera.near_distance * (1.0 + 1e-5) && well_on_screen});
+            }
+          }
+          const uint32_t id = a.ids[size_t(y) * 512 + x];
+          const bool rasterized = id != kNone && (id & (PRISMOID_FA_BORDER_BIT | PRISMOID_FA_SEED_BIT)) == 0;
+          const bool clear = std::any_of(hits.begin(), hits.end(), [](const Hit& h) { return h.clear; });
+          covered += clear;
+          overlapped += clear && hits.size() >= 2 &&
+                        std::any_of(hits.begin(), hits.end(), [&](const Hit& h) { return h.depth > hits[0].depth * 1.01 || h.depth < hits[0].depth * 0.99; });
+          auto fail = [&](const std::string& what) {
+            if (failures++ < 8) ADD_FAILURE() << "texel (" << x << ", " << y << "), chart " << root << ", id " << id << ": " << what;
+          };
+          if (clear && !rasterized) fail("the chart holds its centre, the raster left it empty");
+          if (!rasterized) continue;
+          const auto own = std::find_if(hits.begin(), hits.end(), [&](const Hit& h) { return h.triangle == id; });
+          if (own == hits.end()) {
+            fail("its triangle does not hold its centre");
+            continue;
+          }
+          double nearest = own->depth;
+          for (const Hit& h : hits) nearest = std::min(nearest, h.depth);
+          if (own->depth > nearest * (1.0 + 1e-5)) fail("a nearer triangle of the chart holds its centre");
+        }
+    }
+    EXPECT_EQ(failures, 0u);
+    EXPECT_GT(covered, size_t(kW * kH / 10) * k.scale * k.scale);
+    if (std::string(k.name) == "overlapping pair") EXPECT_GT(overlapped, 100u);  // the depth test was needed
+    std::printf("%s: %zu texels held clearly, %zu of them by more than one depth\n", k.name, covered, overlapped);
+  }
+}
+
+// A chunk list too short for the large triangles: they are covered in one invocation each
+// (raster.comp's fallback), and the atlas is the same bit for bit.
+TEST_F(FastAtlasPassTest, AFullChunkListGivesTheSameAtlas) {
+  FaRig rig(device(), two_spheres(), settings(512));
+  const surface::FastAtlasImage first = rig.render(device(), rig.scene.camera);
+  const std::vector<uint32_t> ids = rig.pass->read_id_atlas();
+  for (uint32_t capacity : {1u, 3u}) {
+    surface::FastAtlasSettings s = settings(512);
+    s.raster_chunks = capacity;
+    rig.pass = std::make_unique<surface::FastAtlasPass>(device(), rig.scene, s);
+    const surface::FastAtlasImage again = rig.render(device(), rig.scene.camera);
+    EXPECT_EQ(rig.pass->read_id_atlas(), ids) << capacity << " chunks";
+    EXPECT_EQ(again.rgba, first.rgba) << capacity << " chunks";
+  }
+}
+
 // At scale 1 every pixel centre lands on a texel centre: the image is the forward image (a
 // smooth sphere, a floor, shadows off) up to the float mapping's 1e-4 texel of blending.
 TEST_F(FastAtlasPassTest, AtScaleOneTheImageIsTheForwardImage) {

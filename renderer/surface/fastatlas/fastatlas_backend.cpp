@@ -139,7 +139,7 @@ class FastAtlasBackend final : public SurfaceBackend {
 const SurfaceBackendInfo& fastatlas_backend() {
   static const SurfaceBackendInfo info{
       .name = "fastatlas",
-      .needs = "geometryShader, fragmentStoresAndAtomics, shaderClipDistance, ray-tracing pipelines with indirect tracing",
+      .needs = "geometryShader, fragmentStoresAndAtomics, ray-tracing pipelines with indirect tracing",
       .passes =
           {
               .pre_z = {"pre-z + visibility",

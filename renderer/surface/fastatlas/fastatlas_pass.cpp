@@ -14,7 +14,6 @@
 #include "renderer/surface/surface_frame.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
-#include "renderer/vk/graphics_pipeline.hpp"
 #include "scene/input_error.hpp"
 #include "shaders/shared/fastatlas.h"
 #include "shaders/shared/surface.h"
@@ -48,6 +47,7 @@ std::vector<vk::DescriptorBinding> fastatlas_bindings() {
   for (uint32_t binding = PRISMOID_FA_BINDING_PREV_PARENT; binding <= PRISMOID_FA_BINDING_PREV_STATE; ++binding)
     b.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
   b.push_back({PRISMOID_FA_BINDING_PREV_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kStages});
+  b.push_back({PRISMOID_FA_BINDING_RASTER_CHUNKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStages});
   return b;
 }
 
@@ -108,10 +108,7 @@ uint32_t groups(uint32_t n) { return std::max(1u, (n + PRISMOID_FA_WORKGROUP - 1
 }  // namespace
 
 std::string fastatlas_device_problem(const vk::Device& device) {
-  if (std::string p = texture_space_device_problem(device, "FastAtlas"); !p.empty()) return p;
-  const auto& caps = device.capabilities();
-  if (!caps.clip_distance) return caps.name + " has no gl_ClipDistance (shaderClipDistance), which the atlas raster clips with";
-  return {};
+  return texture_space_device_problem(device, "FastAtlas");
 }
 
 FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene, const FastAtlasSettings& settings)
@@ -170,13 +167,8 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
   DepthThenVisiblePipelines visible = create_depth_then_visible(device, layout_.get(), "surface/fastatlas/visible.frag");
   depth_pipeline_ = std::move(visible.depth);
   visible_pipeline_ = std::move(visible.visible);
-  vk::VertexPipelineDesc atlas;  // no attachments: both draws write storage images
-  atlas.vertex_shader = "surface/fastatlas/atlas.vert";
-  atlas.fragment_shader = "surface/fastatlas/atlas_depth.frag";
-  atlas.layout = layout_.get();
-  atlas_depth_pipeline_ = vk::create_vertex_pipeline(device, atlas);
-  atlas.fragment_shader = "surface/fastatlas/atlas.frag";
-  atlas_pipeline_ = vk::create_vertex_pipeline(device, atlas);
+  raster_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/raster.comp", layout_.get());
+  raster_chunks_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/raster_chunks.comp", layout_.get());
   clear_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/clear.comp", layout_.get());
   copy_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/copy.comp", layout_.get());
   lookup_pipeline_ = create_fullscreen(device, layout_.get(), "surface/fastatlas/lookup.frag");
@@ -192,7 +184,8 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
 
 void FastAtlasPass::set_settings(const FastAtlasSettings& settings) {
   const FastAtlasSettings& s = checked(device_, settings);
-  const bool resized = !id_atlas_.get() || s.atlas_width != settings_.atlas_width || s.atlas_height != settings_.atlas_height;
+  const bool resized = !id_atlas_.get() || s.atlas_width != settings_.atlas_width || s.atlas_height != settings_.atlas_height ||
+                       s.raster_chunks != settings_.raster_chunks;
   const bool rescaled = scales_.empty() || s.shading_scale != settings_.shading_scale;
   const bool retemporal = !prev_color_.get() || (s.refresh > 0) != (settings_.refresh > 0);
   if (resized || rescaled || s.shadows != settings_.shadows || retemporal) last_frame_.reset();  // nothing of the last frame to reuse
@@ -219,6 +212,12 @@ void FastAtlasPass::set_settings(const FastAtlasSettings& settings) {
   depth_atlas_ = vk::Image(device_, e, kIdFormat, kAtlasUsage);
   color_atlas_ = vk::Image(device_, e, kAtlasColorFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   front_ = storage(device_, uint64_t(PRISMOID_FA_MAX_CANDIDATES + 1) * s.atlas_width * 4);
+  // Chunks for twice the atlas's area (large triangles overlap where charts fold over themselves);
+  // past that the raster covers a triangle in one invocation (raster.comp), slower, not wrong.
+  chunk_capacity_ = s.raster_chunks > 0 ? s.raster_chunks
+                                        : std::max(4096u, uint32_t(2 * uint64_t(s.atlas_width) * s.atlas_height / (PRISMOID_FA_CHUNK * PRISMOID_FA_CHUNK)));
+  chunks_ = storage(device_, uint64_t(chunk_capacity_) * 8);
+  vk::write_buffer_descriptor(device_, set_.set, PRISMOID_FA_BINDING_RASTER_CHUNKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunks_.get());
   vk::write_buffer_descriptor(device_, set_.set, PRISMOID_FA_BINDING_FRONT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, front_.get());
   vk::write_storage_image_descriptor(device_, set_.set, PRISMOID_FA_BINDING_ID_ATLAS, id_atlas_.view());
   vk::write_storage_image_descriptor(device_, set_.set, PRISMOID_FA_BINDING_COLOR_ATLAS, color_atlas_.view());
@@ -261,8 +260,8 @@ void FastAtlasPass::dispatch(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t 
   vkCmdDispatch(cmd, group_count, 1, 1);
 }
 
-void FastAtlasPass::dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize state_offset) {
-  bind_compute(cmd, pipeline, 0);
+void FastAtlasPass::dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize state_offset, uint32_t pass) {
+  bind_compute(cmd, pipeline, pass);
   vkCmdDispatchIndirect(cmd, state_.get(), state_offset);
 }
 
@@ -286,7 +285,7 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
   push.image = glm::uvec4(e.width, e.height, flags, triangles_);
   push.atlas = glm::uvec4(settings_.atlas_width, settings_.atlas_height, 1u, uint32_t(scales_.size()));
   const float near = float(camera.near_distance);
-  push.pass = glm::uvec4(0u, vertices_, std::bit_cast<uint32_t>(near), 0u);
+  push.pass = glm::uvec4(0u, vertices_, std::bit_cast<uint32_t>(near), chunk_capacity_);
   std::memcpy(frame_push_.data(), &push, sizeof(push));
   const PassBinding binding{layout_.get(), set_.set, kPushStages, std::as_bytes(std::span(&push, 1))};
 
@@ -352,20 +351,16 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
     {
       vk::ScopedPass step(atlas_timer_, cmd, "id raster");
       dispatch_indirect(cmd, clear_pipeline_.get(), offsetof(gpu::FaStateGpu, clear));
-      const VkExtent2D ae{settings_.atlas_width, settings_.atlas_height};
-      VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-      rendering.renderArea = {{0, 0}, ae};
-      rendering.layerCount = 1;
-      for (VkPipeline pipeline : {atlas_depth_pipeline_.get(), atlas_pipeline_.get()}) {
-        vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kShaderAccess,
-                           VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kShaderAccess);
-        vkCmdBeginRendering(cmd, &rendering);
-        set_viewport(cmd, ae);
-        bind_graphics(cmd, pipeline, binding);
-        vkCmdDrawIndirect(cmd, state_.get(), offsetof(gpu::FaStateGpu, draw), 1, 0);
-        vkCmdEndRendering(cmd);
+      compute_barrier(cmd);
+      // Depth, then IDs (fa_raster.glsl): each a pass over the small triangles and one over the
+      // large ones' chunks, in a fixed number of workgroups that walk the chunk list.
+      const uint32_t chunk_groups = std::min(1024u, chunk_capacity_);
+      for (uint32_t raster_pass : {0u, 1u}) {
+        dispatch_indirect(cmd, raster_pipeline_.get(), offsetof(gpu::FaStateGpu, raster), raster_pass);
+        compute_barrier(cmd);
+        dispatch(cmd, raster_chunks_pipeline_.get(), chunk_groups, raster_pass);
+        compute_barrier(cmd);
       }
-      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kShaderAccess, kShaderStages, kShaderAccess);
     }
     {
       vk::ScopedPass step(atlas_timer_, cmd, "borders");
@@ -411,7 +406,7 @@ FastAtlasCounters FastAtlasPass::read_counters() const {
   const uint64_t texels = uint64_t(settings_.atlas_width) * settings_.atlas_height;
   c.atlas_bytes = texels * (4 + 4 + 16) + history_.size() + visible_.size() +
                   (settings_.refresh > 0 ? texels * 16 + prev_parent_.size() + prev_boxes_.size() + prev_placed_.size() : 0) + parent_.size() + vertex_first_.size() + boxes_.size() + keys_.size() + charts_.size() +
-                  placed_.size() + front_.size() + triangle_table_.size() + sort_by_root_.bytes() + sort_by_height_.bytes();
+                  placed_.size() + front_.size() + chunks_.size() + triangle_table_.size() + sort_by_root_.bytes() + sort_by_height_.bytes();
   return c;
 }
 

@@ -54,6 +54,10 @@ struct FastAtlasSettings {
   // where the last frame shaded the same surface point's triangle there (view-dependent terms then
   // lag by up to n - 1 frames: the paper's approximation). Off for scenes of 2^24 triangles or more.
   uint32_t refresh = 0;
+  // Chunks the ID atlas raster may list for large triangles (0: twice the atlas's area in chunks).
+  // A triangle past the list is covered by one invocation instead, slower and the same texels; a
+  // small list makes tests take that path.
+  uint32_t raster_chunks = 0;
 };
 
 // Empty when the device can run FastAtlas, else why not.
@@ -112,7 +116,7 @@ class FastAtlasPass {
   void bind_compute(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t pass);
   void dispatch(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t groups, uint32_t pass);
   // An indirect dispatch whose group counts a pass left in the state buffer at `state_offset`.
-  void dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize state_offset);
+  void dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize state_offset, uint32_t pass = 0);
   std::vector<std::byte> read_image(const vk::Image& image, size_t texel_bytes) const;
 
   const vk::Device& device_;
@@ -121,13 +125,15 @@ class FastAtlasPass {
   uint32_t triangles_ = 0, vertices_ = 0;
   vk::UniqueDescriptorSetLayout set_layout_;
   vk::UniquePipelineLayout layout_;
-  vk::UniquePipeline depth_pipeline_, visible_pipeline_, atlas_depth_pipeline_, atlas_pipeline_, lookup_pipeline_, clear_pipeline_;
+  vk::UniquePipeline depth_pipeline_, visible_pipeline_, raster_pipeline_, raster_chunks_pipeline_, lookup_pipeline_, clear_pipeline_;
   vk::UniquePipeline vertices_pipeline_, hook_pipeline_, boxes_pipeline_, chart_list_pipeline_, height_keys_pipeline_, pack_pipeline_,
       seeds_pipeline_, border_pipeline_;
   rt::RayTracingPipeline shade_pipeline_;
   vk::DescriptorSet set_;
   vk::Buffer frame_uniforms_, triangle_table_, parent_, vertex_first_, boxes_, keys_, charts_, placed_, candidates_, front_, state_,
-      scales_buffer_, history_, visible_, readback_, prev_parent_, prev_boxes_, prev_placed_, prev_state_, prev_frame_;
+      scales_buffer_, history_, visible_, readback_, prev_parent_, prev_boxes_, prev_placed_, prev_state_, prev_frame_,
+      chunks_;  // the ID atlas raster's chunks of large triangles (chunk_capacity_ of them)
+  uint32_t chunk_capacity_ = 0;
   vk::Image id_atlas_, depth_atlas_, color_atlas_;  // R32_UINT, R32_UINT (depth bits), RGBA32F: storage images
   vk::Image prev_color_;                            // temporal reuse: the last frame's colour atlas (1 x 1 when off)
   vk::UniquePipeline copy_pipeline_;

@@ -54,6 +54,7 @@ void main() {
         fa_state.charts.yzw = uvec3(candidate, 0u, 0u);
         fa_state.trace.xyz = uvec3(W, 0u, 1u);
         fa_state.dispatch.xyz = uvec3(0u, 0u, 1u);
+        fa_state.raster.xyz = uvec3(0u, 1u, 1u);
         fa_state.clear.xyz = uvec3((W + 15u) / 16u, (fa_history.x + 15u) / 16u, 1u);
         fa_state.copy.xyz = uvec3(0u, 0u, 1u);
         fa_history.x = 0u;
@@ -125,7 +126,7 @@ void main() {
   // Reuse (nothing moved: this atlas is the last one, bit for bit) shades nothing.
   fa_state.trace.xyz = uvec3(W, (fa_push.image.z & PRISMOID_FA_FLAG_REUSE) != 0u ? 0u : s_used, 1u);
   fa_state.dispatch.xyz = uvec3((W + 15u) / 16u, (s_used + 15u) / 16u, 1u);
-  fa_state.draw.y = 1u;  // the atlas draws run (instance count 1)
+  fa_state.raster.xyz = uvec3((fa_state.counts.x + PRISMOID_FA_WORKGROUP - 1u) / PRISMOID_FA_WORKGROUP, 1u, 1u);  // the atlas raster runs
   // The clear covers this frame's rows and whatever the last frame left below them.
   uint clear_rows = max(s_used, fa_history.x);
   fa_state.copy.xyz = uvec3((W + 15u) / 16u, (fa_history.x + 15u) / 16u, 1u);  // the last frame's rows
