@@ -11,8 +11,9 @@
 //    stable GPU radix sorts: by root, then by turned height: the paper's deterministic pre-order,
 //    measured in place of its bucketed cuckoo hashing), packing (pack.comp: every candidate scale
 //    at once, then the largest that fits laid out again), the triangle-ID atlas (clear.comp over
-//    the rows used, then atlas.vert twice: each chart's triangles drawn by their own screen
-//    projection where the packer placed them, the nearest depth kept, then its triangle) and
+//    the rows used, then raster.comp and raster_chunks.comp twice, in compute: each chart's
+//    visible triangles covered by their own screen projection where the packer placed them, the
+//    nearest depth kept, then its triangle; fa_raster.glsl) and
 //    its borders (seeds.comp gives each triangle the raster left without a texel one, border.comp
 //    the ring around). Each of these is timed apart (atlas_timings()).
 //  - "shading": one ray-generation invocation per texel of the rows used (fa_shade.glsl).
