@@ -404,12 +404,14 @@ SurfaceScene overlapping_pair() {
 
 // The compute raster of the ID atlas (fa_raster.glsl) against a CPU ray cast in double: at every
 // texel of every chart's box, the ray through the screen point the chart maps the texel centre to
-// is cast against the chart's triangles. Where one holds the point clearly (weights above 1e-4,
-// beyond the near plane, on the screen) the texel holds a triangle of the chart that holds it, at
-// the nearest depth up to 1e-5 (ties: either); where none holds it even loosely, the raster wrote
-// nothing there; nothing the raster wrote lies outside its triangle. Scenes: spheres and a floor
-// whose two large triangles go through the chunk pass, the floor across the near plane, a chart
-// overlapping itself, a scale that is not a whole number.
+// is cast against the chart's triangles. Where that point is a pixel centre at which the
+// visibility pass found a triangle of the chart, the texel holds that triangle. Elsewhere, where
+// a triangle of the chart holds the point clearly (weights above 1e-4, beyond the near plane, on
+// the screen), the texel holds one that holds it, at the nearest depth up to 1e-5 (ties: either);
+// where none holds it even loosely, the raster wrote nothing there; nothing the raster wrote lies
+// outside its triangle. Scenes: spheres and a floor whose two large triangles go through the
+// chunk pass, at scale 1 and at a scale where no texel centre is a pixel centre; the floor across
+// the near plane; a chart overlapping itself (there, at 0.61, depth decides).
 TEST_F(FastAtlasPassTest, TheIdAtlasHoldsTheNearestTriangleOfItsChartAtEachTexel) {
   SurfaceScene near_floor = two_spheres();
   near_floor.camera.eye = {0.0, -0.95, 2.5};
@@ -420,7 +422,8 @@ TEST_F(FastAtlasPassTest, TheIdAtlasHoldsTheNearestTriangleOfItsChartAtEachTexel
     double scale;
   };
   Case cases[] = {{"two spheres", two_spheres(), 1.0}, {"two spheres at 0.61", two_spheres(), 0.61},
-                  {"floor across the near plane", near_floor, 1.0}, {"overlapping pair", overlapping_pair(), 1.0}};
+                  {"floor across the near plane", near_floor, 1.0}, {"overlapping pair", overlapping_pair(), 1.0},
+                  {"overlapping pair at 0.61", overlapping_pair(), 0.61}};
   for (Case& k : cases) {
     SCOPED_TRACE(k.name);
     FaRig rig(device(), k.scene, settings(512, k.scale));
@@ -437,13 +440,26 @@ TEST_F(FastAtlasPassTest, TheIdAtlasHoldsTheNearestTriangleOfItsChartAtEachTexel
       double depth;
       bool clear;  // weights above 1e-4, beyond the near plane by 1e-5 of it, on the screen by 1e-4 pixel
     };
-    size_t covered = 0, overlapped = 0, failures = 0;
+    size_t covered = 0, overlapped = 0, as_seen = 0, failures = 0;
     for (const auto& [root, members] : chart_triangles) {
       const glm::uvec4 p = a.placed[root];
       const fastatlas::ChartMap map = a.map(root, img.counters.scale);
       for (uint32_t y = p.y; y < p.y + p.w; ++y)
         for (uint32_t x = p.x; x < p.x + (p.z & 0x7fffffffu); ++x) {
           const glm::dvec2 q = to_screen(map, {x + 0.5, y + 0.5});
+          const uint32_t id = a.ids[size_t(y) * 512 + x];
+          const bool rasterized = id != kNone && (id & (PRISMOID_FA_BORDER_BIT | PRISMOID_FA_SEED_BIT)) == 0;
+          // A pixel centre where the visibility pass found a triangle of this chart: that one.
+          const glm::dvec2 corner = q - 0.5;
+          if (corner == glm::floor(corner) && corner.x >= 0 && corner.y >= 0 && corner.x < kW && corner.y < kH) {
+            const uint32_t v = img.visibility[size_t(corner.y) * kW + size_t(corner.x)].x;
+            if (v != 0 && a.parent[v - 1] == root) {
+              ++as_seen;
+              if (id != v - 1 && failures++ < 8)
+                ADD_FAILURE() << "texel (" << x << ", " << y << "), chart " << root << ": " << id << ", the visibility pass saw " << v - 1;
+              continue;
+            }
+          }
           const double margin = 1e-4;
           const bool on_screen = q.x >= -margin && q.y >= -margin && q.x <= kW + margin && q.y <= kH + margin;
           const bool well_on_screen = q.x >= margin && q.y >= margin && q.x <= kW - margin && q.y <= kH - margin;
@@ -462,8 +478,6 @@ TEST_F(FastAtlasPassTest, TheIdAtlasHoldsTheNearestTriangleOfItsChartAtEachTexel
               hits.push_back({t, depth, std::min({w.x, w.y, w.z}) > 1e-4 && depth > camera.near_distance * (1.0 + 1e-5) && well_on_screen});
             }
           }
-          const uint32_t id = a.ids[size_t(y) * 512 + x];
-          const bool rasterized = id != kNone && (id & (PRISMOID_FA_BORDER_BIT | PRISMOID_FA_SEED_BIT)) == 0;
           const bool clear = std::any_of(hits.begin(), hits.end(), [](const Hit& h) { return h.clear; });
           covered += clear;
           overlapped += clear && hits.size() >= 2 &&
@@ -484,11 +498,13 @@ TEST_F(FastAtlasPassTest, TheIdAtlasHoldsTheNearestTriangleOfItsChartAtEachTexel
         }
     }
     EXPECT_EQ(failures, 0u);
-    EXPECT_GT(covered, size_t(kW * kH / 10) * k.scale * k.scale);
-    if (std::string(k.name) == "overlapping pair") {
+    EXPECT_GT(double(covered + as_seen), kW * kH / 10 * k.scale * k.scale);
+    if (std::string(k.name) == "overlapping pair at 0.61") {
       EXPECT_GT(overlapped, 100u);  // the depth test was needed
     }
-    std::printf("%s: %zu texels held clearly, %zu of them by more than one depth\n", k.name, covered, overlapped);
+    if (k.scale == 1.0) EXPECT_GT(as_seen, size_t(kW * kH / 10));  // every texel centre a pixel centre
+    std::printf("%s: %zu texels where the visibility pass sampled; elsewhere %zu held clearly, %zu of them by more than one depth\n",
+                k.name, as_seen, covered, overlapped);
   }
 }
 
