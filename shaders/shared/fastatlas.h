@@ -21,6 +21,8 @@ PRISMOID_SHARED_BEGIN
 // The compute raster of the ID atlas (fa_raster.glsl): a triangle whose texel box holds at most
 // PRISMOID_FA_RASTER_INLINE texels is covered by one invocation; a larger one in chunks of
 // PRISMOID_FA_CHUNK x PRISMOID_FA_CHUNK texels, a workgroup each.
+// The depth of a texel claim.comp gave to the visibility pass's triangle: above every depth.
+#define PRISMOID_FA_CLAIMED 0xffffffffu
 #define PRISMOID_FA_RASTER_INLINE 64u
 #define PRISMOID_FA_CHUNK 32u
 // Candidate scales are multiples of 2^-16 (PRISMOID_FA_SCALE_ONE = 1), so the GPU's and the CPU
@@ -47,7 +49,7 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_FA_BINDING_ID_ATLAS 27     // r32ui storage image: triangle per texel (NONE: empty; BORDER_BIT: border)
 #define PRISMOID_FA_BINDING_COLOR_ATLAS 28  // rgba32f storage image: shaded radiance per texel
 #define PRISMOID_FA_BINDING_SCALES 29       // uint[MAX_CANDIDATES]: candidate scales * 2^16, largest first
-#define PRISMOID_FA_BINDING_DEPTH_ATLAS 30  // r32ui storage image: the nearest depth per texel (reversed z, float bits; 0: none)
+#define PRISMOID_FA_BINDING_DEPTH_ATLAS 30  // r32ui storage image: the nearest depth per texel (reversed z, float bits; 0: none; CLAIMED)
 #define PRISMOID_FA_BINDING_HISTORY 31      // uvec4: x: atlas rows the last frame used (persists: this frame clears up to the larger)
 #define PRISMOID_FA_BINDING_VISIBLE 32      // uint[]: this frame's visible triangles, in whatever order (the atlas raster's work; LISTED_BIT: in chunks)
 // Temporal reuse (FastAtlas, appendix D): the last frame's atlas and maps, copied at this frame's start.

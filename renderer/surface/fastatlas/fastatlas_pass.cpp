@@ -167,6 +167,7 @@ FastAtlasPass::FastAtlasPass(const vk::Device& device, const SurfaceScene& scene
   DepthThenVisiblePipelines visible = create_depth_then_visible(device, layout_.get(), "surface/fastatlas/visible.frag");
   depth_pipeline_ = std::move(visible.depth);
   visible_pipeline_ = std::move(visible.visible);
+  claim_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/claim.comp", layout_.get());
   raster_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/raster.comp", layout_.get());
   raster_chunks_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/raster_chunks.comp", layout_.get());
   clear_pipeline_ = vk::create_compute_pipeline(device, "surface/fastatlas/clear.comp", layout_.get());
@@ -351,6 +352,9 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
     {
       vk::ScopedPass step(atlas_timer_, cmd, "id raster");
       dispatch_indirect(cmd, clear_pipeline_.get(), offsetof(gpu::FaStateGpu, clear));
+      compute_barrier(cmd);
+      bind_compute(cmd, claim_pipeline_.get(), 0);
+      vkCmdDispatch(cmd, (e.width + 15) / 16, (e.height + 15) / 16, 1);
       compute_barrier(cmd);
       // Depth, then IDs (fa_raster.glsl): each a pass over the small triangles and one over the
       // large ones' chunks, in a fixed number of workgroups that walk the chunk list.

@@ -11,7 +11,8 @@
 //    stable GPU radix sorts: by root, then by turned height: the paper's deterministic pre-order,
 //    measured in place of its bucketed cuckoo hashing), packing (pack.comp: every candidate scale
 //    at once, then the largest that fits laid out again), the triangle-ID atlas (clear.comp over
-//    the rows used, then raster.comp and raster_chunks.comp twice, in compute: each chart's
+//    the rows used, claim.comp: texels at pixel centres take the visibility pass's triangle, then
+//    raster.comp and raster_chunks.comp twice, in compute: each chart's
 //    visible triangles covered by their own screen projection where the packer placed them, the
 //    nearest depth kept, then its triangle; fa_raster.glsl) and
 //    its borders (seeds.comp gives each triangle the raster left without a texel one, border.comp
@@ -126,7 +127,7 @@ class FastAtlasPass {
   uint32_t triangles_ = 0, vertices_ = 0;
   vk::UniqueDescriptorSetLayout set_layout_;
   vk::UniquePipelineLayout layout_;
-  vk::UniquePipeline depth_pipeline_, visible_pipeline_, raster_pipeline_, raster_chunks_pipeline_, lookup_pipeline_, clear_pipeline_;
+  vk::UniquePipeline depth_pipeline_, visible_pipeline_, claim_pipeline_, raster_pipeline_, raster_chunks_pipeline_, lookup_pipeline_, clear_pipeline_;
   vk::UniquePipeline vertices_pipeline_, hook_pipeline_, boxes_pipeline_, chart_list_pipeline_, height_keys_pipeline_, pack_pipeline_,
       seeds_pipeline_, border_pipeline_;
   rt::RayTracingPipeline shade_pipeline_;

@@ -13,13 +13,8 @@
 // into an fma and not the other). Both sides test >= 0, so a texel centre on a shared edge is
 // covered by both (depth and then the lower triangle decide), never by neither.
 //
-// Where a texel centre maps to a pixel centre (at scale 1 every one does) the screen's visibility
-// pass sampled the same point: if the triangle it found there belongs to the chart, that triangle
-// alone covers the texel, so the atlas agrees with the visibility buffer wherever both sample,
-// as when both come from one rasterizer (whose fixed-point snapping the edge functions above do
-// not reproduce). The lookup's hard-edge filter counts a tap only for the pixel's own triangle
-// or an edge neighbour, so a texel given to another of a pixel-sized triangle's neighbours there
-// would cost that pixel its tap.
+// Texels whose centres are pixel centres where the visibility pass found a triangle of the chart
+// were claimed before (claim.comp): their depth, PRISMOID_FA_CLAIMED, is above every other.
 //
 // Deterministic: each texel keeps the largest depth (reversed z) under atomicMax, then the
 // triangle with exactly that depth under atomicMin; neither depends on invocation order. The
@@ -38,7 +33,6 @@ struct FaRasterTriangle {
   vec3 edge[3];    // homogeneous edge functions over (pixel x, pixel y, 1), times the sign of det
   vec3 z, w;       // the corners' clip z and w (depth = dot(E, z) / dot(E, w))
   FaChartMap map;
-  uint root;       // the chart's
   ivec2 lo, hi;    // texels to test (inclusive), inside the chart's placed box
 };
 
@@ -52,7 +46,6 @@ bool fa_raster_setup(uint t, out FaRasterTriangle r) {
   uint root = fa_parent[t];
   if (root == PRISMOID_FA_NONE || fa_state.charts.z == 0u) return false;
   r.map = fa_chart_map(root);
-  r.root = root;
   precise vec3 c[3];
   for (uint k = 0u; k < 3u; ++k) {
     precise vec4 clip = frame.projection * (frame.view * vec4(triangle_corner(t, k), 1.0));
@@ -81,25 +74,13 @@ bool fa_raster_setup(uint t, out FaRasterTriangle r) {
   return r.hi.x >= r.lo.x && r.hi.y >= r.lo.y;
 }
 
-// Whether triangle t covers texel `texel`, and its depth there (reversed z, float bits).
-bool fa_raster_cover(FaRasterTriangle r, uint t, ivec2 texel, out uint depth_bits) {
+// Whether the triangle covers texel `texel`, and its depth there (reversed z, float bits).
+bool fa_raster_cover(FaRasterTriangle r, ivec2 texel, out uint depth_bits) {
   depth_bits = 0u;
   vec2 p = fa_to_screen(r.map, vec2(texel) + 0.5);
   if (!(p.x >= 0.0 && p.y >= 0.0 && p.x <= float(fa_push.image.x) && p.y <= float(fa_push.image.y))) return false;  // off the screen
   precise vec3 q = vec3(p, 1.0);
   precise vec3 e = vec3(dot(r.edge[0], q), dot(r.edge[1], q), dot(r.edge[2], q));
-  vec2 corner = p - 0.5;
-  uint seen = PRISMOID_FA_NONE;  // the visibility pass's triangle at this pixel centre, when of this chart
-  if (corner == floor(corner) && p.x < float(fa_push.image.x) && p.y < float(fa_push.image.y)) {
-    uint v = fa_visibility[uint(corner.y) * fa_push.image.x + uint(corner.x)].x;
-    if (v != 0u && fa_parent[v - 1u] == r.root) seen = v - 1u;
-  }
-  if (seen != PRISMOID_FA_NONE) {
-    // The chart's one triangle here (its depth decides nothing; the edge functions may put a
-    // snapped sample a rounding outside).
-    depth_bits = floatBitsToUint(1.0);
-    return seen == t;
-  }
   // Inside and in front of the eye: every edge function of det's sign, and not all zero.
   if (!(e.x >= 0.0 && e.y >= 0.0 && e.z >= 0.0 && e.x + e.y + e.z > 0.0)) return false;
   precise float depth = dot(e, r.z) / dot(e, r.w);
@@ -112,7 +93,7 @@ bool fa_raster_cover(FaRasterTriangle r, uint t, ivec2 texel, out uint depth_bit
 // whose depth is that one (the lower of two at the same depth).
 void fa_raster_texel(FaRasterTriangle r, uint t, ivec2 texel, bool id_pass) {
   uint depth;
-  if (!fa_raster_cover(r, t, texel, depth)) return;
+  if (!fa_raster_cover(r, texel, depth)) return;
   if (!id_pass) imageAtomicMax(fa_depth_atlas, texel, depth);
   else if (imageLoad(fa_depth_atlas, texel).x == depth) imageAtomicMin(fa_id_atlas, texel, t);
 }
