@@ -67,6 +67,8 @@ const char* const kBenchHelp =
     "  --fastatlas-atlases L  fastatlas rows at these atlas sides (e.g. 2048,4096,8192)\n"
     "  --fastatlas-refresh L  with --surface-motion: fastatlas rows with temporal reuse refreshed every\n"
     "                       n frames (e.g. 10, the paper's)\n"
+    "  --max-triangle-pixels P  split the surface scenes' triangles until none spans more than P pixels\n"
+    "                       of the view (as the meshlet atlas's paper prepares its scenes; rows say refined=P)\n"
     "  --surface-shadows S  surface rows with shadows on, off or both (default both; off alone where\n"
     "                       the device traces no rays)\n"
     "  --shading-budget N   also bench htex, texel and msa at about N shaded samples per frame\n"
@@ -255,7 +257,8 @@ int cmd_bench(const std::vector<std::string>& args) {
   const std::vector<std::string> passed_through = {"density-scale", "tf", "tf-range", "array", "component", "background"};
   std::vector<std::string> value_options = {"out", "size", "frames", "device", "sweeps", "max-cells", "replot", "surfaces", "surface-modes", "shading-budget",
                                             "warm-up", "surface-lights", "surface-motion", "msa-amortize", "msa-charts",
-                                            "shading-scales", "fastatlas-atlases", "surface-shadows", "fastatlas-refresh"};
+                                            "shading-scales", "fastatlas-atlases", "surface-shadows", "fastatlas-refresh",
+                                            "max-triangle-pixels"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
   const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
@@ -485,6 +488,11 @@ int cmd_bench(const std::vector<std::string>& args) {
         if (every < 2 || every > 1000) throw InputError("--fastatlas-refresh", "each n must lie in [2, 1000] (1 refreshes every frame: the moving row)");
         so.fastatlas_refresh.push_back(every);
       }
+    }
+    if (a.has("max-triangle-pixels")) {
+      so.max_triangle_pixels = parse_double("max-triangle-pixels", a.values.at("max-triangle-pixels"));
+      if (!(so.max_triangle_pixels > 0.0) || !std::isfinite(so.max_triangle_pixels))
+        throw InputError("--max-triangle-pixels", "must be a finite, positive number of pixels");
     }
     if (a.has("surface-shadows")) {
       const std::string v = a.values.at("surface-shadows");

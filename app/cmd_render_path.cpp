@@ -37,13 +37,14 @@ int cmd_render_path_reference(const std::vector<std::string>& args, const surfac
   const std::string output = a.values.at("output");
   OutputFiles files;
   declare_render_files(files, a);
-  const SurfaceScene scene = surface_scene_from(a, std::string(mode.name));
-  const Camera camera = surface_camera(a, scene.camera);
+  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
+  const SurfaceScene loaded = surface_scene_from(a, std::string(mode.name));
+  const Camera camera = surface_camera(a, loaded.camera);
+  const SurfaceScene scene = refined_for_view(a, loaded, camera, size.width, size.height);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
   validate_float_range(lit);  // double arithmetic, but the image is float32
 
   reference::PathTracerSettings settings;
-  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
   settings.width = size.width;
   settings.height = size.height;
   settings.samples_per_pixel = a.has("spp") ? parse_uint("spp", a.values.at("spp")) : 64;

@@ -71,7 +71,8 @@ std::string surface_render_help() {
   out << "\nSurface modes (FILE: cornell-box, furnace:A[:LE], a surface file .vtp .stl .obj .ply .off, or\n"
          "tiled:N:FILE, N x N copies of one side by side; a file without lights gets a key light and a sky;\n"
          "linear RGB; --size default 256x256; --array, --component,\n"
-         "--tf and --tf-range colour a surface file by a data array, as in the window):\n";
+         "--tf and --tf-range colour a surface file by a data array, as in the window; --max-triangle-pixels P\n"
+         "splits triangles until none spans more than P pixels of the first view, as block atlases want):\n";
   for (const surface::SurfaceMode& m : surface::surface_mode_table()) out << "  " << m.name << ": " << m.summary << "\n";
   out << "Their options, by backend (the modes of one backend share them):\n";
   const surface::SurfaceBackendInfo* last = nullptr;
@@ -139,8 +140,9 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
     shadows_asked = v == "on";
   }
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
-  const SurfaceScene scene = surface_scene_from(a, name);
-  const Camera camera = surface_camera(a, scene.camera);
+  const SurfaceScene loaded = surface_scene_from(a, name);
+  const Camera camera = surface_camera(a, loaded.camera);
+  const SurfaceScene scene = refined_for_view(a, loaded, camera, size.width, size.height);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
 
   vk::Instance instance(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});

@@ -59,7 +59,8 @@ const char* const kViewHelp =
     "\n"
     "Surface scenes (cornell-box, furnace:A, or a surface FILE with a surface --mode, as listed by\n"
     "render --help) open the surface window: its panel lists the surface modes this device draws\n"
-    "(M cycles them) with each pass's GPU time and the frame plan.\n"
+    "(M cycles them) with each pass's GPU time and the frame plan. --max-triangle-pixels P splits\n"
+    "its triangles until none spans more than P pixels of the first view (as block atlases want).\n"
     "\n"
     "Several FILEs open together in one scene (drawn as their union; each can be hidden in the\n"
     "panel's Data section). More can be opened from the window: the path box, the recent files,\n"
@@ -150,11 +151,12 @@ int view_surface(const ParsedArgs& a) {
   const std::string mode = a.has("mode") ? a.values.at("mode") : std::string(surface::surface_mode_table().front().name);
   if (!surface::find_surface_mode(mode)->gpu())
     throw InputError("--mode " + mode, "runs on the CPU: use `prismoid render --mode " + mode + " --output OUT.pfm`");
-  const SurfaceScene scene = surface_scene_from(a, mode);
+  const SurfaceScene loaded = surface_scene_from(a, mode);
   ViewerOptions options = window_options(a);
   options.inputs = window_inputs(a);
   options.mode = a.has("mode") ? a.values.at("mode") : "";
-  const Camera camera = surface_camera(a, scene.camera);
+  const Camera camera = surface_camera(a, loaded.camera);
+  const SurfaceScene scene = refined_for_view(a, loaded, camera, options.width, options.height);
   bool any_camera = false;
   for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);
   if (any_camera) options.camera = camera;
@@ -167,11 +169,12 @@ int view_surface(const ParsedArgs& a) {
 }  // namespace
 
 int cmd_view(const std::vector<std::string>& args) {
-  std::vector<std::string> value_options = with_camera({"size", "frames", "device", "script"});
+  std::vector<std::string> value_options = with_camera({"size", "frames", "device", "script", "max-triangle-pixels"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes", "no-ui"});
   if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
   if (wants_surface_window(a)) return view_surface(a);
+  if (a.has("max-triangle-pixels")) throw InputError("--max-triangle-pixels", "splits a surface scene's triangles; these FILEs open as volumes");
   ParsedArgs first = a;  // the first dataset decides the settings (the transfer function's range among them)
   if (first.files.size() > 1) first.files.resize(1);
   VolumeChoice choice = volume_choice(first);

@@ -19,6 +19,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/memory.hpp"
 #include "scene/surface_generators.hpp"
+#include "scene/surface_refine.hpp"
 
 namespace prismoid::bench {
 
@@ -147,6 +148,8 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
   const VkExtent2D extent{options.size.width, options.size.height};
   for (const std::string& name : options.scenes) {
     SurfaceScene raw = load_scene(name);
+    if (options.max_triangle_pixels > 0.0)
+      raw = refine_large_triangles(raw, raw.camera, extent.width, extent.height, options.max_triangle_pixels);
     if (options.extra_lights > 0) raw = with_point_lights(std::move(raw), options.extra_lights);
     const SurfaceScene scene = with_default_lighting(raw, raw.camera);
     const Camera& camera = scene.camera;
@@ -272,6 +275,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       m.mode = mode;
       m.settings = shadows ? "shadows=on" : "shadows=off";
       if (options.extra_lights > 0) m.settings += " lights=" + std::to_string(options.extra_lights);
+      if (options.max_triangle_pixels > 0.0) m.settings += " refined=" + app::json_number(options.max_triangle_pixels);
       if (run.still) m.settings += " camera=still";
       if (run.moving) m.settings += " camera=moving(" + app::json_number(options.motion_degrees) + "deg/frame)";
       if (run.amortize > 0) m.settings += " amortize=" + std::to_string(run.amortize);

@@ -56,6 +56,9 @@ struct SurfaceBenchOptions {
   std::vector<uint32_t> fastatlas_atlases;
   // With motion: fastatlas rows with temporal reuse refreshed every n frames (--fastatlas-refresh LIST).
   std::vector<uint32_t> fastatlas_refresh;
+  // --max-triangle-pixels P: each scene's large triangles split until none spans more than P
+  // pixels of the first view (refine_large_triangles; 0: as loaded). Settings say "refined=P".
+  double max_triangle_pixels = 0.0;
   // Which shadow settings get rows (--surface-shadows on|off|both); both: where the device traces rays.
   bool shadows_off = true, shadows_on = true;
 };

@@ -10,6 +10,7 @@
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
+#include "scene/surface_refine.hpp"
 
 namespace prismoid::app {
 
@@ -157,6 +158,11 @@ SurfaceScene surface_scene_from(const ParsedArgs& a, const std::string& mode) {
     return scene;
   }
   throw InputError(file, "--mode " + mode + " renders surfaces: cornell-box, furnace:A[:LE], tiled:N:FILE, .vtp .stl .obj .ply .off");
+}
+
+SurfaceScene refined_for_view(const ParsedArgs& a, SurfaceScene scene, const Camera& camera, uint32_t width, uint32_t height) {
+  if (!a.has("max-triangle-pixels")) return scene;
+  return refine_large_triangles(scene, camera, width, height, parse_double("max-triangle-pixels", a.values.at("max-triangle-pixels")));
 }
 
 Camera surface_camera(const ParsedArgs& a, Camera c) {

@@ -26,9 +26,11 @@ struct SurfaceArrayColoring {
 };
 SurfaceArrayColoring array_coloring_from(const ParsedArgs& a);
 inline const std::vector<std::string> kSurfaceColorOptions = {"array", "component", "tf", "tf-range"};
-// `options` with the colouring options added.
+// `options` with the colouring options and --max-triangle-pixels added.
+inline const std::vector<std::string> kSurfaceRefineOption = {"max-triangle-pixels"};
 inline std::vector<std::string> with_surface_color(std::vector<std::string> options) {
   options.insert(options.end(), kSurfaceColorOptions.begin(), kSurfaceColorOptions.end());
+  options.insert(options.end(), kSurfaceRefineOption.begin(), kSurfaceRefineOption.end());
   return options;
 }
 // Colours scene.meshes[0] (the surface's mesh) from `surface`'s array; nothing without
@@ -39,6 +41,11 @@ void color_by_array(SurfaceScene& scene, const SurfaceMesh& surface, const Surfa
 // cornell-box, furnace:A[:LE] or a surface file (.vtp .stl .obj .ply .off), coloured by
 // --array when given; InputError for anything else, naming `mode`.
 SurfaceScene surface_scene_from(const ParsedArgs& a, const std::string& mode);
+
+// --max-triangle-pixels P: the scene's large triangles split until none spans more than P pixels
+// of a width x height image from `camera` (refine_large_triangles, as the meshlet shading
+// atlas's paper prepares its scenes); the scene as it is without the option.
+SurfaceScene refined_for_view(const ParsedArgs& a, SurfaceScene scene, const Camera& camera, uint32_t width, uint32_t height);
 
 // The scene's own camera, with each camera option given replacing its part; validated.
 Camera surface_camera(const ParsedArgs& a, Camera camera);

@@ -130,8 +130,9 @@ TEST(CliSurface, EveryGpuModeOfTheTableRendersByItsName) {
   }
 }
 
-// The options and scene names the per-frame atlases brought, given carelessly: each refused with
-// exit 2 and a message naming the option or the name, and no image written.
+// The options and scene names the per-frame atlases brought (and the refinement of large
+// triangles), given carelessly: each refused with exit 2 and a message naming the option or the
+// name, and no image written.
 TEST(CliSurface, PerFrameAtlasOptionsGivenBadlyAreRefusedByName) {
   const fs::path out = work_dir() / "refused.pfm";
   const std::pair<std::string, std::string> cases[] = {
@@ -142,6 +143,10 @@ TEST(CliSurface, PerFrameAtlasOptionsGivenBadlyAreRefusedByName) {
       {"cornell-box --mode fastatlas --shading-scale -1", "--shading-scale"},
       {"cornell-box --mode fastatlas --shading-scale 5", "--shading-scale: at most 4"},
       {"cornell-box --mode msa --msa-charts sideways", "--msa-charts"},
+      {"cornell-box --mode msa --max-triangle-pixels 0", "--max-triangle-pixels: the largest extent must be"},
+      {"cornell-box --mode msa --max-triangle-pixels nan", "--max-triangle-pixels"},
+      {"cornell-box --mode msa --max-triangle-pixels 1e-9", "--max-triangle-pixels: 0.000000 pixels would split cornell-box into more than"},
+      {"cornell-box --mode path-reference --max-triangle-pixels -2", "--max-triangle-pixels"},
       {"tiled:0:bunny.off --mode forward", "tiled:0:bunny.off: the copies a side must be a whole number from 1 to 64"},
       {"tiled:2 --mode forward", "tiled:2: a tiled scene is tiled:N:FILE"},
       {"tiled:2:no-such-file.off --mode forward", "no-such-file.off"},

@@ -21,6 +21,7 @@
 #include "renderer/surface/msa/msa_pass.hpp"
 #include "shaders/shared/msa.h"
 #include "scene/surface_generators.hpp"
+#include "scene/surface_refine.hpp"
 #include "support/gpu_fixture.hpp"
 #include "surface/forward_comparison.hpp"
 #include "surface/htex_fixture.hpp"
@@ -412,6 +413,33 @@ TEST_F(MsaPassTest, PerFrameChartsAreTheCamerasProjections) {
 
 // Where shading is constant per face, per-frame charts draw the forward image: the perspective
 // chart's image-to-surface weights and the nearest triangle where the projection folds are right.
+// The optional refinement of large triangles (refine_large_triangles, as the paper prepares its
+// scenes): at 640 x 480 the Cornell box's walls, two triangles each, span more pixels than a
+// 256-texel block holds, so MSA-P undersamples them (stretch above 1.5); split until no triangle
+// spans 24 pixels, every meshlet fits its block (stretch at most 1, up to rounding) and the image
+// keeps its covered pixels.
+TEST_F(MsaPassTest, RefinedTrianglesLetEveryPerFrameChartFitItsBlock) {
+  size_t covered[2] = {0, 0};
+  for (const bool refined : {false, true}) {
+    SurfaceScene box = make_cornell_box();
+    if (refined) box = refine_large_triangles(box, box.camera, 640, 480, 24.0);
+    surface::MsaSettings s = unshadowed();
+    s.frame_charts = msa::Parametrization::Perspective;
+    MsaRig rig(device(), box, s, msa::Clustering::NormalCone, msa::Parametrization::Perspective);
+    const surface::MsaImage img = surface::render_msa(device(), *rig.pass, rig.gpu, rig.accel.tlas(), box.camera, {640, 480});
+    if (refined) {
+      EXPECT_LE(img.counters.stretch_linf, 1.0 + 1e-3);
+      EXPECT_GT(rig.meshlets.meshlets.size(), 4 * msa::build_meshlets(make_cornell_box(), {}).meshlets.size());
+    } else {
+      EXPECT_GT(img.counters.stretch_linf, 1.5);
+    }
+    for (size_t i = 3; i < img.rgba.size(); i += 4) covered[refined] += img.rgba[i] == 1.0f;
+    std::printf("%s: %zu meshlets, stretch L2 %.3f, L-infinity %.3f\n", refined ? "refined" : "as built", rig.meshlets.meshlets.size(),
+                img.counters.stretch_l2, img.counters.stretch_linf);
+  }
+  EXPECT_EQ(covered[0], covered[1]);
+}
+
 TEST_F(MsaPassTest, PerFrameChartsDrawTheFlatCubeAsForward) {
   for (const msa::Parametrization kind : {msa::Parametrization::Perspective, msa::Parametrization::Orthographic}) {
     surface::MsaSettings s = unshadowed();
