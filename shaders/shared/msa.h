@@ -23,6 +23,11 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_MSA_SIZES 6u      // 8, 16, ..., 256 per side
 #define PRISMOID_MSA_CLASSES 36u
 #define PRISMOID_MSA_NONE 0xffffffffu
+// The shading launch stacks this many 8 x 8 tiles along y in each of its z slices, so that z (a
+// compute-style group count, 65,535 on common hardware) stays small: a refined Cornell box at
+// 1920x1080 queues 67,040 tiles, and that frame came out unshaded on the H200 while the tiles
+// were z.
+#define PRISMOID_MSA_TILES_PER_LAUNCH 8u
 
 // Descriptor bindings of set 0, from PRISMOID_SURFACE_BINDING_BACKEND on.
 #define PRISMOID_MSA_BINDING_TRIANGLES 16         // MsaTriangleGpu[] per global triangle (read only)
@@ -77,10 +82,11 @@ struct MsaClassGpu {
 };
 
 struct MsaStateGpu {
-  uvec4 trace;   // xyz: VkTraceRaysIndirectCommandKHR of the shading pass (8, 8, tiles); w: texels shaded
+  uvec4 trace;   // xyz: VkTraceRaysIndirectCommandKHR of the shading pass (8, 8 * TILES_PER_LAUNCH, launches); w: texels shaded
   uvec4 pool;    // x: free superblocks (stack size), y: claimed this frame, z: 1 when the pool ran out this frame, w: meshlets left without a block
   uvec4 blocks;  // x: seen meshlets, y: blocks allocated this frame, z: blocks released this frame, w: blocks shaded this frame
-  uvec4 demand;  // x: texels wanted at full density, y: texels of the blocks held after allocation, z: gather pixels with no shaded tap, w: 0
+  uvec4 demand;  // x: texels wanted at full density, y: texels of the blocks held after allocation, z: gather pixels with no shaded tap,
+                 // w: 8 x 8 tiles queued for shading (PRISMOID_MSA_BINDING_TASKS)
   vec4 budget;   // x: density factor applied (1: none), yzw: 0
   uvec4 stretch; // display: x, w: low and high word of the sum over pixels of (Gamma^2 + gamma^2) / 2 in 1/4096 (shaders/surface/stretch.glsl), y: pixels, z: largest Gamma (float bits)
 };

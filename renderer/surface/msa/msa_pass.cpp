@@ -213,7 +213,7 @@ void MsaPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccele
   vkCmdFillBuffer(cmd, targets.visibility.get(), 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cmd, density_.get(), 0, VK_WHOLE_SIZE, 0u);
   // Everything but pool.x (the free superblocks) starts at zero.
-  vkCmdUpdateBuffer(cmd, state_.get(), 0, sizeof(glm::uvec4), std::array<uint32_t, 4>{8u, 8u, 0u, 0u}.data());
+  vkCmdUpdateBuffer(cmd, state_.get(), 0, sizeof(glm::uvec4), std::array<uint32_t, 4>{8u, 8u * PRISMOID_MSA_TILES_PER_LAUNCH, 0u, 0u}.data());
   vkCmdFillBuffer(cmd, state_.get(), offsetof(gpu::MsaStateGpu, pool) + 4, sizeof(gpu::MsaStateGpu) - offsetof(gpu::MsaStateGpu, pool) - 4, 0u);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
@@ -269,7 +269,8 @@ MsaCounters MsaPass::read_counters() const {
   c.allocated_blocks = s.blocks.y;
   c.released_blocks = s.blocks.z;
   c.shaded_blocks = s.blocks.w;
-  c.shaded_tiles = s.trace.z;
+  c.shaded_tiles = s.demand.w;
+  c.shading_launch = s.trace.z;
   c.shaded_texels = s.trace.w;
   c.free_superblocks = s.pool.x;
   c.out_of_superblocks = s.pool.z != 0;

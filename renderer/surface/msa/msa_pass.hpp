@@ -69,6 +69,7 @@ struct MsaCounters {
   uint32_t released_blocks = 0;    // this frame
   uint32_t shaded_blocks = 0;
   uint32_t shaded_tiles = 0;
+  uint32_t shading_launch = 0;     // the shading launch's depth (z): tiles / PRISMOID_MSA_TILES_PER_LAUNCH, rounded up
   uint32_t shaded_texels = 0;      // texels of shaded tiles inside a meshlet (with its dilation)
   uint32_t free_superblocks = 0;
   bool out_of_superblocks = false;

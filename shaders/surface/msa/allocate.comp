@@ -105,7 +105,8 @@ void main() {
     bool shade = (msa_push.image.z & PRISMOID_MSA_FLAG_SHADE_ALL) != 0u || b.stamp.x == now || b.stamp.y == 0u;
     if (!shade) return;
     uint tiles = (size.x / 8u) * (size.y / 8u);
-    uint base = atomicAdd(msa_state.trace.z, tiles);
+    uint base = atomicAdd(msa_state.demand.w, tiles);
+    atomicMax(msa_state.trace.z, (base + tiles + PRISMOID_MSA_TILES_PER_LAUNCH - 1u) / PRISMOID_MSA_TILES_PER_LAUNCH);
     for (uint t = 0u; t < tiles; ++t) msa_tasks[base + t] = (i << 12u) | t;
     msa_blocks[i].stamp.y = now;
     atomicAdd(msa_state.blocks.w, 1u);

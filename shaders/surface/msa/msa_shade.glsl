@@ -30,12 +30,14 @@ float msa_segment_distance(vec2 q, vec2 a, vec2 b) {
 }
 
 void main() {
-  uint task = msa_tasks[gl_LaunchIDEXT.z];
+  uint queued = gl_LaunchIDEXT.z * PRISMOID_MSA_TILES_PER_LAUNCH + gl_LaunchIDEXT.y / 8u;  // PRISMOID_MSA_TILES_PER_LAUNCH says why
+  if (queued >= msa_state.demand.w) return;
+  uint task = msa_tasks[queued];
   uint m = task >> 12u, tile = task & 0xfffu;
   MsaBlockGpu b = msa_blocks[m];
   uvec2 size = msa_class_size(b.block.z);
   uint tiles_x = size.x / 8u;
-  uvec2 local = uvec2((tile % tiles_x) * 8u + gl_LaunchIDEXT.x, (tile / tiles_x) * 8u + gl_LaunchIDEXT.y);
+  uvec2 local = uvec2((tile % tiles_x) * 8u + gl_LaunchIDEXT.x, (tile / tiles_x) * 8u + gl_LaunchIDEXT.y % 8u);
   uint index = msa_texel_index(b.block.xy + local);
   MsaMeshletGpu meshlet = msa_meshlets[m];
   float s = msa_block_scale(meshlet.extent.xy, b.block.z);
