@@ -4,6 +4,7 @@
 // or queueing), the full-screen gather into the colour target, and reading a device buffer
 // back. Each backend keeps its own pipelines, descriptor set and push constants.
 #include <cstddef>
+#include <cstring>
 #include <span>
 #include <string>
 #include <vector>
@@ -101,6 +102,13 @@ Image render_texture_space_frame(const vk::Device& device, Pass& pass, const Gpu
 
 // Copies a backend's state buffer to its host-visible read-back buffer at the end of a frame.
 void record_state_readback(VkCommandBuffer cmd, const vk::Buffer& state, const vk::Buffer& readback, VkDeviceSize bytes);
+// The state record_state_readback left in `readback` (host-visible), after the frame's fence.
+template <typename State>
+State read_mapped(const vk::Buffer& readback) {
+  State s{};
+  std::memcpy(&s, readback.mapped(), sizeof(s));
+  return s;
+}
 
 // Clears `depth` and draws the scene's triangles twice: with `depth_pipeline` (writes depth),
 // then with `visible_pipeline` (EQUAL test, no depth writes).

@@ -179,16 +179,24 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkIma
   vkCmdPipelineBarrier2(cmd, &dep);
 }
 
-void read_image(const Device& device, const Image& image, size_t bytes_per_pixel, std::span<std::byte> out) {
+void read_image(const Device& device, const Image& image, size_t bytes_per_pixel, std::span<std::byte> out, VkImageLayout layout) {
   VkExtent2D e = image.extent();
   VkDeviceSize size = VkDeviceSize(e.width) * e.height * bytes_per_pixel;
   if (out.size() != size) throw std::invalid_argument("read_image: output span has the wrong size");
   Buffer staging(device, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::HostVisible);
+  const bool turn = layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
   device.submit_and_wait([&](VkCommandBuffer cmd) {
+    if (turn)
+      image_barrier(cmd, image.get(), layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                    VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {e.width, e.height, 1};
     vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.get(), 1, &region);
+    if (turn)
+      image_barrier(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   });
   std::memcpy(out.data(), staging.mapped(), size);
 }

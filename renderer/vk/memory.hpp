@@ -90,7 +90,10 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkIma
                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access,
                    VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT);
 
-// Copies a colour image (in TRANSFER_SRC_OPTIMAL layout) into host memory, tightly packed.
-void read_image(const Device& device, const Image& image, size_t bytes_per_pixel, std::span<std::byte> out);
+// Copies a colour image into host memory, tightly packed. `layout`: the image's layout; one
+// other than TRANSFER_SRC_OPTIMAL (a storage image in GENERAL) is turned to it after every earlier
+// write, and back after the copy.
+void read_image(const Device& device, const Image& image, size_t bytes_per_pixel, std::span<std::byte> out,
+                VkImageLayout layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
 
 }  // namespace prismoid::vk

@@ -388,8 +388,7 @@ void FastAtlasPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, Vk
 }
 
 FastAtlasCounters FastAtlasPass::read_counters() const {
-  gpu::FaStateGpu s{};
-  std::memcpy(&s, readback_.mapped(), sizeof(s));
+  const auto s = read_mapped<gpu::FaStateGpu>(readback_);
   FastAtlasCounters c;
   c.charts = s.charts.x;
   c.candidate = s.charts.y;
@@ -432,35 +431,16 @@ std::vector<uint32_t> FastAtlasPass::read_sorted_charts() const {
   return as_vector<uint32_t>(read_device_buffer(device_, charts_), read_counters().charts);
 }
 
-std::vector<std::byte> FastAtlasPass::read_image(const vk::Image& image, size_t texel_bytes) const {
-  const VkExtent2D e = image.extent();
-  vk::Buffer staging(device_, uint64_t(e.width) * e.height * texel_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
-  device_.submit_and_wait([&](VkCommandBuffer cmd) {
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                       VK_ACCESS_2_TRANSFER_READ_BIT);
-    vk::image_barrier(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                      VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    VkBufferImageCopy copy{};
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    copy.imageExtent = {e.width, e.height, 1};
-    vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.get(), 1, &copy);
-    vk::image_barrier(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COPY_BIT,
-                      VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-  });
-  std::vector<std::byte> out(staging.size());
-  std::memcpy(out.data(), staging.mapped(), out.size());
+std::vector<uint32_t> FastAtlasPass::read_id_atlas() const {
+  std::vector<uint32_t> out(size_t(settings_.atlas_width) * settings_.atlas_height);
+  vk::read_image(device_, id_atlas_, sizeof(uint32_t), std::as_writable_bytes(std::span(out)), VK_IMAGE_LAYOUT_GENERAL);
   return out;
 }
 
-std::vector<uint32_t> FastAtlasPass::read_id_atlas() const {
-  const size_t n = size_t(settings_.atlas_width) * settings_.atlas_height;
-  return as_vector<uint32_t>(read_image(id_atlas_, 4), n);
-}
-
 std::vector<glm::vec4> FastAtlasPass::read_color_atlas() const {
-  const size_t n = size_t(settings_.atlas_width) * settings_.atlas_height;
-  return as_vector<glm::vec4>(read_image(color_atlas_, 16), n);
+  std::vector<glm::vec4> out(size_t(settings_.atlas_width) * settings_.atlas_height);
+  vk::read_image(device_, color_atlas_, sizeof(glm::vec4), std::as_writable_bytes(std::span(out)), VK_IMAGE_LAYOUT_GENERAL);
+  return out;
 }
 
 FastAtlasImage render_fastatlas(const vk::Device& device, FastAtlasPass& pass, const GpuSurfaceScene& scene, VkAccelerationStructureKHR tlas,

@@ -119,7 +119,6 @@ class FastAtlasPass {
   void dispatch(VkCommandBuffer cmd, VkPipeline pipeline, uint32_t groups, uint32_t pass);
   // An indirect dispatch whose group counts a pass left in the state buffer at `state_offset`.
   void dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize state_offset, uint32_t pass = 0);
-  std::vector<std::byte> read_image(const vk::Image& image, size_t texel_bytes) const;
 
   const vk::Device& device_;
   fastatlas::SceneAdjacency adjacency_;

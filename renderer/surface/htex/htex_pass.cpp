@@ -275,8 +275,7 @@ void HtexPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccel
 }
 
 HtexCounters HtexPass::read_counters() const {
-  gpu::HtexStateGpu s{};
-  std::memcpy(&s, readback_.mapped(), sizeof(s));
+  const auto s = read_mapped<gpu::HtexStateGpu>(readback_);
   HtexCounters c;
   c.marked_groups = s.marking.x;
   c.marked_shadels = s.marking.y;

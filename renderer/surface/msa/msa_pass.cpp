@@ -262,8 +262,7 @@ void MsaPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAccele
 }
 
 MsaCounters MsaPass::read_counters() const {
-  gpu::MsaStateGpu s{};
-  std::memcpy(&s, readback_.mapped(), sizeof(s));
+  const auto s = read_mapped<gpu::MsaStateGpu>(readback_);
   MsaCounters c;
   c.seen_meshlets = s.blocks.x;
   c.allocated_blocks = s.blocks.y;

@@ -187,8 +187,7 @@ void TexelPass::record(VkCommandBuffer cmd, const GpuSurfaceScene& scene, VkAcce
 }
 
 TexelCounters TexelPass::read_counters() const {
-  gpu::TexelStateGpu s{};
-  std::memcpy(&s, readback_.mapped(), sizeof(s));
+  const auto s = read_mapped<gpu::TexelStateGpu>(readback_);
   TexelCounters c;
   c.queued_tiles = s.trace.z;
   c.shaded_texels = s.trace.w;
