@@ -83,6 +83,7 @@ struct SmClockSampler::State {
   std::atomic<bool> stopping{false};
   std::mutex mutex;
   std::vector<double> mhz;  // every sample so far
+  std::vector<SmClockSampler::Clock::time_point> at;  // when each arrived
 
   // Reads the child's lines until it ends, or until stopping and nothing more comes.
   void read_lines() {
@@ -111,6 +112,7 @@ struct SmClockSampler::State {
         if (number && std::isfinite(v) && v > 0.0) {
           std::lock_guard lock(mutex);
           mhz.push_back(v);
+          at.push_back(SmClockSampler::Clock::now());
         }
         line.clear();
       }
@@ -200,6 +202,66 @@ std::optional<ClockSpread> SmClockSampler::stop() {
   return ClockSpread{spread.best, spread.median, spread.worst, mhz.size()};
 }
 
+bool SmClockSampler::running() {
+  State& s = *state_;
+  if (s.child <= 0 || s.fd < 0) return false;
+  int status = 0;
+  if (waitpid(s.child, &status, WNOHANG) == s.child) {
+    s.child = -1;
+    return false;
+  }
+  return true;
+}
+
+std::optional<ClockSpread> SmClockSampler::during(Clock::time_point from, Clock::time_point to) {
+  State& s = *state_;
+  std::vector<double> inside;
+  std::optional<double> before;
+  {
+    std::lock_guard lock(s.mutex);
+    for (size_t i = 0; i < s.mhz.size(); ++i) {
+      if (s.at[i] >= from && s.at[i] <= to) inside.push_back(s.mhz[i]);
+      else if (s.at[i] < from && s.at[i] >= from - std::chrono::milliseconds(500)) before = s.mhz[i];
+    }
+  }
+  if (inside.empty() && before) inside.push_back(*before);
+  if (inside.empty()) {
+    const auto deadline = Clock::now() + std::chrono::seconds(1);
+    while (inside.empty() && Clock::now() < deadline && running()) {
+      {
+        std::lock_guard lock(s.mutex);
+        for (size_t i = 0; i < s.mhz.size(); ++i)
+          if (s.at[i] > to) {
+            inside.push_back(s.mhz[i]);
+            break;
+          }
+      }
+      if (inside.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  if (inside.empty()) return std::nullopt;
+  const Spread spread = spread_of(inside);
+  return ClockSpread{spread.best, spread.median, spread.worst, inside.size()};
+}
+
+namespace {
+// One sampler for the process, restarted where its child has ended (or never started). Its
+// destructor ends the child at exit.
+std::mutex process_clock_mutex;
+std::unique_ptr<SmClockSampler> process_clock;
+}  // namespace
+
+SmClockSampler* process_sm_clock() {
+  std::lock_guard lock(process_clock_mutex);
+  if (!process_clock || !process_clock->running()) process_clock = std::make_unique<SmClockSampler>();
+  return process_clock->running() ? process_clock.get() : nullptr;
+}
+
+void stop_process_sm_clock() {
+  std::lock_guard lock(process_clock_mutex);
+  process_clock.reset();
+}
+
 SmClockSampler::~SmClockSampler() {
   if (state_) state_->end();
 }
@@ -213,11 +275,12 @@ void print_sm_clock(std::ostream& out, const FrameTiming& timing) {
 
 FrameTiming time_frames(uint32_t frames, const std::function<std::vector<vk::PassTiming>()>& frame) {
   std::vector<std::vector<vk::PassTiming>> timings;
-  SmClockSampler clock;
+  SmClockSampler* clock = process_sm_clock();
+  const auto from = SmClockSampler::Clock::now();
   for (uint32_t i = 0; i < frames; ++i) timings.push_back(frame());
-  const std::optional<ClockSpread> mhz = clock.stop();
+  const auto to = SmClockSampler::Clock::now();
   FrameTiming t = summarize_frames(timings);
-  t.sm_clock = mhz;
+  if (clock) t.sm_clock = clock->during(from, to);
   return t;
 }
 

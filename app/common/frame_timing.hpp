@@ -4,6 +4,7 @@
 // best, median and worst GPU time over the frames, the same for the frames' totals, and, where
 // nvidia-smi is on PATH, the SM clock the GPU ran at meanwhile (a GPU that stays at a low clock
 // makes every time several times too slow: the clock says which times to trust).
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -61,15 +62,31 @@ class SmClockSampler {
   ~SmClockSampler();
   SmClockSampler(const SmClockSampler&) = delete;
   SmClockSampler& operator=(const SmClockSampler&) = delete;
+  using Clock = std::chrono::steady_clock;
   // Ends the child and returns the samples taken since construction. nvidia-smi needs a moment
   // to start: where no sample came while it ran, the first one it prints after (within a second)
   // stands for the run. nullopt where there is none.
   std::optional<ClockSpread> stop();
+  // The samples that arrived in [from, to]. Where none did (timed frames are often shorter than
+  // nvidia-smi's 100 ms period), the newest one of the half second before `from`, taken while the
+  // frames before (a warm-up's) kept the GPU as busy as the timed ones; failing that, the first
+  // one after `to`, waiting up to a second for it (the GPU has idled by then: the clock reads low).
+  // The child keeps running. nullopt where there is none.
+  std::optional<ClockSpread> during(Clock::time_point from, Clock::time_point to);
+  // Whether the child still runs (nvidia-smi was found and has not ended).
+  bool running();
 
  private:
   struct State;
   std::unique_ptr<State> state_;
 };
+
+// Starts the process's own SM clock sampler where none runs, so that its samples already come
+// when timed frames start: warm_up() calls it, time_frames() reads it. Cheap where nvidia-smi is
+// not on PATH (one failed spawn).
+SmClockSampler* process_sm_clock();
+// Ends that sampler (the next process_sm_clock() starts another).
+void stop_process_sm_clock();
 
 // "  SM clock: MIN / MEDIAN / MAX MHz (N samples)" where the clock was sampled; nothing otherwise.
 void print_sm_clock(std::ostream& out, const FrameTiming& timing);

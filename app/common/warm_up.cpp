@@ -9,6 +9,9 @@
 namespace prismoid::app {
 
 uint32_t warm_up(const std::function<double()>& frame, double seconds) {
+  // The clock sampler starts now, so its samples come while these frames keep the GPU busy: timed
+  // frames shorter than its period then carry the clock they started at, not the idle one after.
+  process_sm_clock();
   const auto start = std::chrono::steady_clock::now();
   std::vector<double> ms;
   auto median4 = [&](size_t end) { return median_of({ms.begin() + long(end) - 4, ms.begin() + long(end)}); };

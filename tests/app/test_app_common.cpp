@@ -122,7 +122,8 @@ TEST(FrameTiming, NoTimestampsGiveNaNNotGarbage) {
 }
 
 // PATH for one test: a folder holding a fake nvidia-smi before the rest of PATH (sh and sleep);
-// with no script, that folder alone (no nvidia-smi anywhere). Restored after.
+// with no script, that folder alone (no nvidia-smi anywhere). Restored after. The process's clock
+// sampler ends on both sides, so that it runs the fake while the fake is on PATH.
 class FakePath {
  public:
   explicit FakePath(const std::string& script) {
@@ -135,8 +136,10 @@ class FakePath {
     }
     if (const char* p = std::getenv("PATH")) old_ = p;
     setenv("PATH", (script.empty() ? dir_.string() : dir_.string() + ":" + old_).c_str(), 1);
+    stop_process_sm_clock();
   }
   ~FakePath() {
+    stop_process_sm_clock();
     setenv("PATH", old_.c_str(), 1);
     std::filesystem::remove_all(dir_);
   }
@@ -176,6 +179,30 @@ TEST(SmClock, TimedFramesCarryTheClock) {
   EXPECT_EQ(t.passes[0].ms.median, 2.0);
   ASSERT_TRUE(t.sm_clock.has_value());
   EXPECT_EQ(t.sm_clock->median_mhz, 1500.0);
+}
+
+// Timed frames shorter than nvidia-smi's period get no sample of their own; the clock they report
+// is the one sampled during the warm-up just before, not the idle clock read after them (on the
+// H200 that read 345 MHz for rows timed at 1980). The fake models a GPU whose clock is high while
+// frames run (a file marks them) and low otherwise, and, like nvidia-smi, takes a while to print
+// its first sample.
+TEST(SmClock, ShortTimedFramesCarryTheWarmUpsClock) {
+  const std::filesystem::path busy = std::filesystem::temp_directory_path() / ("prismoid-busy-" + std::to_string(getpid()));
+  const FakePath path("#!/bin/sh\nsleep 0.1\nwhile true; do if [ -e " + busy.string() +
+                      " ]; then echo 1980; else echo 345; fi; sleep 0.1; done\n");
+  std::ofstream(busy) << "frames run";
+  warm_up([] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    return 1.0;
+  }, 0.3);
+  uint32_t frames = 0;
+  const FrameTiming t = time_frames(2, [&] {
+    if (++frames == 2) std::filesystem::remove(busy);  // the GPU idles after the last one
+    return frame_of({{"pass", 1.0}});
+  });
+  std::filesystem::remove(busy);
+  ASSERT_TRUE(t.sm_clock.has_value());
+  EXPECT_EQ(t.sm_clock->median_mhz, 1980.0);
 }
 
 TEST(SmClock, NoNvidiaSmiNoClock) {
