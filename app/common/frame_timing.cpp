@@ -215,16 +215,15 @@ bool SmClockSampler::running() {
 
 std::optional<ClockSpread> SmClockSampler::during(Clock::time_point from, Clock::time_point to) {
   State& s = *state_;
-  std::vector<double> inside;
-  std::optional<double> before;
+  std::vector<double> inside, before;
   {
     std::lock_guard lock(s.mutex);
     for (size_t i = 0; i < s.mhz.size(); ++i) {
       if (s.at[i] >= from && s.at[i] <= to) inside.push_back(s.mhz[i]);
-      else if (s.at[i] < from && s.at[i] >= from - std::chrono::milliseconds(500)) before = s.mhz[i];
+      else if (s.at[i] < from && s.at[i] >= from - std::chrono::milliseconds(500)) before.push_back(s.mhz[i]);
     }
   }
-  if (inside.empty() && before) inside.push_back(*before);
+  if (inside.empty()) inside = before;
   if (inside.empty()) {
     const auto deadline = Clock::now() + std::chrono::seconds(1);
     while (inside.empty() && Clock::now() < deadline && running()) {

@@ -68,8 +68,8 @@ class SmClockSampler {
   // stands for the run. nullopt where there is none.
   std::optional<ClockSpread> stop();
   // The samples that arrived in [from, to]. Where none did (timed frames are often shorter than
-  // nvidia-smi's 100 ms period), the newest one of the half second before `from`, taken while the
-  // frames before (a warm-up's) kept the GPU as busy as the timed ones; failing that, the first
+  // nvidia-smi's 100 ms period), those of the half second before `from`, taken while the frames
+  // before (a warm-up's) kept the GPU as busy as the timed ones; failing that, the first
   // one after `to`, waiting up to a second for it (the GPU has idled by then: the clock reads low).
   // The child keeps running. nullopt where there is none.
   std::optional<ClockSpread> during(Clock::time_point from, Clock::time_point to);
