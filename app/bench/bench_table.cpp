@@ -236,7 +236,8 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
       << "  (colour only): mean LDR-FLIP (Andersson et al. 2020) at 67 pixels per degree, 0 = identical, 1 = most different\n"
       << "- time: `gpu` rows are GPU timestamps around the frame's passes (median over the timed frames, best-worst\n"
       << "  beside it); `wall` rows (VTK's mappers) are the CPU wall clock of a whole frame ending in glFinish;\n"
-      << "  SM MHz: the GPU's SM clock during the timed frames (median, min-max), where nvidia-smi is on PATH\n"
+      << "  SM MHz: the GPU's SM clock during the timed frames (median, min-max), where nvidia-smi is on PATH (frames shorter\n"
+         "  than its 100 ms period: the half second of warm-up before them)\n"
       << "- `*`: Pareto-optimal among the rows of its dataset, quantity and image size (no other row is both at\n"
       << "  least as fast and at least as accurate)\n";
   for (const auto& n : c.notes) out << "- " << n << "\n";
