@@ -23,10 +23,10 @@ PRISMOID_SHARED_BEGIN
 #define PRISMOID_MSA_SIZES 6u      // 8, 16, ..., 256 per side
 #define PRISMOID_MSA_CLASSES 36u
 #define PRISMOID_MSA_NONE 0xffffffffu
-// The shading launch stacks this many 8 x 8 tiles along y in each of its z slices, so that z (a
-// compute-style group count, 65,535 on common hardware) stays small: a refined Cornell box at
-// 1920x1080 queues 67,040 tiles, and that frame came out unshaded on the H200 while the tiles
-// were z.
+// The shading launch stacks this many 8 x 8 tiles along y in each of its z slices, so that z
+// stays below 65,536: a refined Cornell box at 1920x1080 queues 67,040 tiles, and while the tiles
+// were z the H200 shaded only what a launch of 67,040 - 65,536 tiles holds (its driver seems to
+// keep a ray launch's depth in 16 bits, though the specification allows more).
 #define PRISMOID_MSA_TILES_PER_LAUNCH 8u
 
 // Descriptor bindings of set 0, from PRISMOID_SURFACE_BINDING_BACKEND on.
