@@ -1,9 +1,10 @@
 #pragma once
 // Large triangles split for a view (the meshlet shading atlas's paper subdivides its test scenes'
 // large triangles "to provide optimal conditions" for block-based atlases: Neff et al. 2022,
-// "Meshlets and How to Shade Them", the test scenes of its evaluation): a meshlet's block holds at most 256 texels a side, so a flat wall of two triangles, one
-// meshlet, is undersampled wherever it spans more pixels than that; split into small triangles it
-// becomes many meshlets, each fitting its block.
+// "Meshlets and How to Shade Them", the test scenes of its evaluation): a meshlet's block holds at
+// most 256 texels a side, so a flat wall of two triangles, one meshlet, is undersampled wherever
+// it spans more pixels than that; split into small triangles it becomes many meshlets, each
+// fitting its block.
 //
 // A triangle is large when the part of it inside the view frustum of `camera` (an image of
 // image_width x image_height pixels) spans more than `max_pixels` across or down the image. Each

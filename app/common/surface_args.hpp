@@ -26,8 +26,9 @@ struct SurfaceArrayColoring {
 };
 SurfaceArrayColoring array_coloring_from(const ParsedArgs& a);
 inline const std::vector<std::string> kSurfaceColorOptions = {"array", "component", "tf", "tf-range"};
-// `options` with the colouring options and --max-triangle-pixels added.
 inline const std::vector<std::string> kSurfaceRefineOption = {"max-triangle-pixels"};
+// `options` with the colouring options and --max-triangle-pixels added: the options every verb
+// that loads a surface scene takes.
 inline std::vector<std::string> with_surface_color(std::vector<std::string> options) {
   options.insert(options.end(), kSurfaceColorOptions.begin(), kSurfaceColorOptions.end());
   options.insert(options.end(), kSurfaceRefineOption.begin(), kSurfaceRefineOption.end());
