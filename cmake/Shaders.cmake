@@ -10,6 +10,8 @@ function(prismoid_add_shaders target)
   foreach(dir ${ARG_INCLUDE_DIRS})
     list(APPEND include_flags "-I${dir}")
   endforeach()
+  # Ninja makes the outputs' folder itself; Make and other generators do not.
+  file(MAKE_DIRECTORY "${CMAKE_CURRENT_BINARY_DIR}/spirv")
   foreach(src ${ARG_SOURCES})
     get_filename_component(abs "${src}" ABSOLUTE)
     file(RELATIVE_PATH rel "${CMAKE_CURRENT_SOURCE_DIR}" "${abs}")

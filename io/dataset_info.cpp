@@ -52,25 +52,31 @@ void fields(S& s, M& info) {
   s(info.volume);
 }
 
+namespace {
+
+const ChildWork<std::string, DatasetInfo> kDescribe("describe-dataset", [](const std::string& path, const Progress&) {
+  const detail::QuietVtk quiet;
+  const detail::GridSource source = detail::read_unstructured_grid(path);
+  vtkUnstructuredGrid* grid = source.grid;
+  DatasetInfo info;
+  info.points = size_t(grid->GetNumberOfPoints());
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) ++info.cells_by_type[vtkCellTypes::GetClassNameFromTypeId(grid->GetCellType(c))];
+  summarize(grid->GetPointData(), true, info.arrays);
+  summarize(grid->GetCellData(), false, info.arrays);
+  const TetMesh mesh = detail::tet_mesh_from_grid(source, path, {}, &info.conversion);
+  info.bounds = bounds_of(mesh);
+  info.mesh_points = mesh.points.size();
+  info.volume = tet_quality(mesh).total_volume;
+  return info;
+});
+
+}  // namespace
+
 DatasetInfo describe_dataset(const std::string& path) {
   detail::require_regular_file(path);
   if (!is_tet_mesh_path(path))
     throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (info describes .vtu .vtk .vtm .pvtu meshes; render and convert also read images .vti .mhd .mha .inr and surfaces .vtp .stl .obj .ply .off)");
-  return run_isolated<DatasetInfo>(read_job(path), {}, [&](const Progress&) {  // VTK reads in a child (io/isolated_read.hpp)
-    const detail::QuietVtk quiet;
-    const detail::GridSource source = detail::read_unstructured_grid(path);
-    vtkUnstructuredGrid* grid = source.grid;
-    DatasetInfo info;
-    info.points = size_t(grid->GetNumberOfPoints());
-    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) ++info.cells_by_type[vtkCellTypes::GetClassNameFromTypeId(grid->GetCellType(c))];
-    summarize(grid->GetPointData(), true, info.arrays);
-    summarize(grid->GetCellData(), false, info.arrays);
-    const TetMesh mesh = detail::tet_mesh_from_grid(source, path, {}, &info.conversion);
-    info.bounds = bounds_of(mesh);
-    info.mesh_points = mesh.points.size();
-    info.volume = tet_quality(mesh).total_volume;
-    return info;
-  });
+  return kDescribe(read_job(path), {}, path);  // VTK reads in a child (io/isolated_read.hpp)
 }
 
 }  // namespace prismoid::io

@@ -166,6 +166,38 @@ detail::VoxelGrid read_vtk_image(const std::string& path, const ImageReadOptions
   return grid;
 }
 
+// What the reader child needs: the path and the options (their progress is the child's own).
+struct ImageRequest {
+  std::string path;
+  ImageReadOptions options;
+};
+template <typename S, Carries<ImageRequest> M>
+void fields(S& s, M& r) {
+  s(r.path);
+  s(r.options.array);
+  s(r.options.role);
+  s(r.options.density_scale);
+  s(r.options.subsample);
+  s(r.options.max_cells);
+}
+
+const ChildWork<ImageRequest, TetMesh> kReadImageVolume("read-image-volume", [](const ImageRequest& request, const Progress& progress) {
+  const std::string& path = request.path;
+  const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
+  ImageReadOptions reading = request.options;
+  reading.progress = progress;
+  const std::string ext = detail::lower_extension(path);
+  detail::VoxelGrid grid = ext == ".vti"       ? read_vtk_image<vtkXMLImageDataReader>(path, reading, "VTK XML image data (.vti)")
+                           : is_inr_path(path) ? read_inr(path, reading)
+                                               : read_vtk_image<vtkMetaImageReader>(path, reading, "MetaImage (.mhd/.mha)");
+  // VTK's readers take the first half of the bar; INRIMAGE's reading is not reported.
+  ImageReadOptions converting = reading;
+  converting.progress = scaled(progress, 0.5, 1.0);
+  TetMesh mesh = detail::voxel_grid_to_tets(grid, path, converting);
+  validate(mesh);
+  return mesh;
+});
+
 }  // namespace
 
 bool is_image_volume_path(const std::string& path) {
@@ -178,21 +210,7 @@ TetMesh read_image_volume(const std::string& path, const ImageReadOptions& optio
   if (!is_image_volume_path(path))
     throw InputError(path, "unknown image type '" + detail::lower_extension(path) + "' (this build reads .vti, .mhd, .mha, .inr, .inr.gz)");
   // The readers and the conversion run in a child process (io/isolated_read.hpp).
-  return run_isolated<TetMesh>(read_job(path), options.progress, [&](const Progress& progress) {
-    const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
-    ImageReadOptions reading = options;
-    reading.progress = progress;
-    const std::string ext = detail::lower_extension(path);
-    detail::VoxelGrid grid = ext == ".vti"       ? read_vtk_image<vtkXMLImageDataReader>(path, reading, "VTK XML image data (.vti)")
-                             : is_inr_path(path) ? read_inr(path, reading)
-                                                 : read_vtk_image<vtkMetaImageReader>(path, reading, "MetaImage (.mhd/.mha)");
-    // VTK's readers take the first half of the bar; INRIMAGE's reading is not reported.
-    ImageReadOptions converting = reading;
-    converting.progress = scaled(progress, 0.5, 1.0);
-    TetMesh mesh = detail::voxel_grid_to_tets(grid, path, converting);
-    validate(mesh);
-    return mesh;
-  });
+  return kReadImageVolume(read_job(path), options.progress, {path, options});
 }
 
 }  // namespace prismoid::io

@@ -9,14 +9,15 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <new>
+#include <map>
 #include <stdexcept>
 
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -29,6 +30,19 @@ namespace prismoid::io {
 namespace {
 
 bool g_in_child = false;
+bool g_can_serve = false;  // serve_isolated_child ran: a child started from here finds its work
+
+// How a child knows what it is: argv[1], then the work's name and its memory limit.
+constexpr const char* kChildFlag = "--prismoid-isolated-child";
+// The socket to the parent, in the child.
+constexpr int kChildFd = 3;
+// The exit status of a child that could not run this program again.
+constexpr int kExecFailed = 127;
+
+std::map<std::string, ChildServe, std::less<>>& work_table() {
+  static std::map<std::string, ChildServe, std::less<>> table;
+  return table;
+}
 
 // What the child sends: any number of progress frames, then one error or one result frame.
 enum Frame : uint8_t { kProgressFrame = 'P', kErrorFrame = 'E', kResultFrame = 'R' };
@@ -86,30 +100,18 @@ std::string problem_of(const InputError& e) {
   return what.size() >= e.source().size() + 2 ? what.substr(e.source().size() + 2) : what;
 }
 
-// The child: limits first, then the work; every way out is _exit.
-[[noreturn]] void child_main(const ChildJob& job, int fd, pid_t parent, const std::function<void(ResultWriter&, const Progress&)>& work) {
+// The child, in the fresh process: limits first, then the request, then the work; every way out
+// is _exit.
+[[noreturn]] void child_main(const std::string& name, uint64_t memory_bytes) {
   g_in_child = true;
-  ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // dies with the parent (the thread that forked, which waits for it)
-  if (::getppid() != parent) ::_exit(1);  // the parent ended before the line above
+  const int fd = kChildFd;
   // Ctrl-C reaches the whole process group; the parent decides (it cancels and kills the child).
   struct sigaction ignore {};
   ignore.sa_handler = SIG_IGN;
   ::sigaction(SIGINT, &ignore, nullptr);
-  // Only the pipe stays open beside the standard streams: a concurrent child's pipe held open
-  // here would keep its parent from seeing that child end.
-  if (fd > 3) ::close_range(3, unsigned(fd - 1), 0);
-  ::close_range(unsigned(fd + 1), ~0U, 0);
-  // Readers talk on the standard streams when they fail (the PLY library, glibc's "double free
-  // detected"); the parent reports the failure in one line of its own.
-  if (const int null = ::open("/dev/null", O_RDWR); null >= 0) {
-    for (const int stream : {STDOUT_FILENO, STDERR_FILENO})
-      if (stream != fd) ::dup2(null, stream);  // (the pipe is one of them only when the parent ran without it)
-    if (null > STDERR_FILENO) ::close(null);
-  }
-  const rlimit no_core{0, 0};
-  ::setrlimit(RLIMIT_CORE, &no_core);  // a crashing reader leaves no core file behind
-  if (const uint64_t mapped = mapped_bytes(); job.limits.memory_bytes > 0 && mapped > 0) {  // (no /proc: no limit)
-    const rlim_t limit = rlim_t(mapped + job.limits.memory_bytes);
+  // What this process maps now (the program and its libraries) plus what the work may add.
+  if (const uint64_t mapped = mapped_bytes(); memory_bytes > 0 && mapped > 0) {  // (no /proc: no limit)
+    const rlim_t limit = rlim_t(mapped + memory_bytes);
     const rlimit as{limit, limit};
     ::setrlimit(RLIMIT_AS, &as);
   }
@@ -128,7 +130,12 @@ std::string problem_of(const InputError& e) {
     send_text(text);
     ::_exit(0);
   };
+  std::string source;
   try {
+    RequestReader in(fd);
+    in(source);
+    const auto work = work_table().find(name);
+    if (work == work_table().end()) send_error(kOtherError, source, "this program has no work named '" + name + "'");
     double last_fraction = -2.0;
     std::string last_stage;
     const Progress forward = [&](double fraction, const std::string& stage) {
@@ -143,21 +150,42 @@ std::string problem_of(const InputError& e) {
       return true;
     };
     ResultWriter out(fd);
-    work(out, forward);
+    work->second(in, out, forward);
   } catch (const InputError& e) {
     send_error(kInputError, e.source(), problem_of(e));
   } catch (const Cancelled& e) {
-    send_error(kCancelled, job.source, e.what());
+    send_error(kCancelled, source, e.what());
   } catch (const std::bad_alloc& e) {
-    send_error(kOutOfMemory, job.source, e.what());
+    send_error(kOutOfMemory, source, e.what());
   } catch (const std::length_error& e) {  // a size beyond what a container can hold
-    send_error(kOutOfMemory, job.source, e.what());
+    send_error(kOutOfMemory, source, e.what());
   } catch (const std::exception& e) {
-    send_error(kOtherError, job.source, e.what());
+    send_error(kOtherError, source, e.what());
   } catch (...) {
-    send_error(kOtherError, job.source, "an unknown exception");
+    send_error(kOtherError, source, "an unknown exception");
   }
   ::_exit(0);
+}
+
+// Between fork and exec, in the copy of a multithreaded process: system calls only (no
+// allocation, no locks, no stdio). Sets up what the fresh child inherits: the socket as kChildFd,
+// /dev/null as its standard streams (readers talk there when they fail: the PLY library, glibc's
+// "double free detected"; the parent reports the failure in one line of its own), no other file
+// (a concurrent child's socket held open here would keep its parent from seeing that child end),
+// no core files, and death with the parent.
+[[noreturn]] void exec_child(int socket, pid_t parent, char* const* argv) {
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);     // dies with the parent (the thread that forked, which waits for it)
+  if (::getppid() != parent) ::_exit(1);  // the parent ended before the line above
+  if (socket == kChildFd) ::fcntl(kChildFd, F_SETFD, 0);  // keep it across exec
+  else if (::dup2(socket, kChildFd) < 0) ::_exit(kExecFailed);
+  const int null = ::open("/dev/null", O_RDWR);
+  if (null < 0) ::_exit(kExecFailed);
+  for (const int stream : {STDIN_FILENO, STDOUT_FILENO, STDERR_FILENO}) ::dup2(null, stream);
+  ::close_range(kChildFd + 1, ~0U, 0);
+  const rlimit no_core{0, 0};
+  ::setrlimit(RLIMIT_CORE, &no_core);  // a crashing reader leaves no core file behind
+  ::execv("/proc/self/exe", argv);
+  ::_exit(kExecFailed);
 }
 
 }  // namespace
@@ -185,10 +213,22 @@ class ChildChannel {
   void read(void* data, size_t count) {
     char* p = static_cast<char*>(data);
     while (count > 0) {
-      wait_readable();
+      wait_ready(POLLIN);
       const ssize_t n = ::read(fd_, p, count);
       if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
       if (n <= 0) ended_without_result();
+      p += n;
+      count -= size_t(n);
+    }
+  }
+
+  void write(const void* data, size_t count) {
+    const char* p = static_cast<const char*>(data);
+    while (count > 0) {
+      wait_ready(POLLOUT);
+      const ssize_t n = ::send(fd_, p, count, MSG_NOSIGNAL | MSG_DONTWAIT);
+      if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+      if (n <= 0) ended_without_result();  // it stopped reading: it ended
       p += n;
       count -= size_t(n);
     }
@@ -220,6 +260,8 @@ class ChildChannel {
         throw InputError(job_.source, job_.worker + " was killed (SIGKILL), most likely for lack of memory: " + job_.memory_hint);
       throw InputError(job_.source, job_.worker + " crashed (" + signal_name(sig) + "): " + job_.crash_hint);
     }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == kExecFailed)  // the machine's problem, not the file's
+      throw std::runtime_error(job_.source + ": cannot start a process for " + job_.worker + " (this program could not run itself again)");
     throw InputError(job_.source, job_.worker + " ended without a result (exit status " +
                                       std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + "): " + job_.crash_hint);
   }
@@ -227,13 +269,13 @@ class ChildChannel {
   const ChildJob& job() const { return job_; }
 
  private:
-  void wait_readable() {
+  void wait_ready(short events) {
     for (;;) {
       check_deadline();
-      pollfd ready{fd_, POLLIN, 0};
+      pollfd ready{fd_, events, 0};
       const int rc = ::poll(&ready, 1, kPollMilliseconds);
-      if (rc > 0) return;                     // data, the end of the pipe, or an error: read() tells
-      if (rc < 0 && errno != EINTR) return;   // read() reports it
+      if (rc > 0) return;                     // ready, the end of the socket, or an error: read()/send() tell
+      if (rc < 0 && errno != EINTR) return;   // read()/send() report it
       // Nothing yet, or a signal interrupted the wait (Ctrl-C's handler sets the flag the
       // caller's progress callback reads): ask the caller whether to go on.
       ask_caller();
@@ -275,6 +317,29 @@ void ResultWriter::bytes(const void* data, size_t count) {
 }
 
 void ResultReader::bytes(void* data, size_t count) { channel_.read(data, count); }
+
+void RequestWriter::bytes(const void* data, size_t count) { channel_.write(data, count); }
+
+void RequestReader::bytes(void* data, size_t count) {
+  char* p = static_cast<char*>(data);
+  while (count > 0) {
+    const ssize_t n = ::read(fd_, p, count);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) ::_exit(1);  // the parent is gone
+    p += n;
+    count -= size_t(n);
+  }
+}
+
+void register_child_work(std::string_view name, ChildServe serve) {
+  if (!work_table().emplace(std::string(name), std::move(serve)).second)
+    throw std::logic_error("register_child_work: two kinds of work are named '" + std::string(name) + "'");
+}
+
+void serve_isolated_child(int argc, char** argv) {
+  if (argc >= 4 && std::strcmp(argv[1], kChildFlag) == 0) child_main(argv[2], std::strtoull(argv[3], nullptr, 10));
+  g_can_serve = true;
+}
 
 bool in_isolated_child() { return g_in_child; }
 
@@ -346,31 +411,34 @@ ChildJob read_job(const std::string& path) {
   return job;
 }
 
-void run_in_child(const ChildJob& job, const Progress& progress, const std::function<void(ResultWriter&, const Progress&)>& work,
+void run_in_child(const ChildJob& job, const Progress& progress, std::string_view name, const std::function<void(RequestWriter&)>& send,
                   const std::function<void(ResultReader&)>& receive) {
-  if (g_in_child) {  // already isolated: run in place, through a pipe all the same would be pointless
-    throw std::logic_error("run_in_child: nested isolation; call the work directly");
-  }
+  if (g_in_child) throw std::logic_error("run_in_child: nested isolation; call the work directly");
+  if (!g_can_serve) throw std::logic_error("run_in_child: this program's main() does not call io::serve_isolated_child first");
   report(progress, job.waiting_fraction, job.stage, job.source);  // the caller hears of the work, and may stop it, before it starts
+  // Everything exec needs is made before fork: the child of a multithreaded process may not allocate.
+  const std::string memory = std::to_string(job.limits.memory_bytes);
+  std::string work_name(name), program = "prismoid-reader";
+  char* const argv[] = {program.data(), const_cast<char*>(kChildFlag), work_name.data(), const_cast<char*>(memory.c_str()), nullptr};
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(job.source + ": cannot make a pipe for the reader: " + std::strerror(errno));
-  std::cout.flush();  // the child must not write what the parent has buffered
-  std::cerr.flush();
-  std::fflush(nullptr);
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
+    throw std::runtime_error(job.source + ": cannot make a socket for " + job.worker + ": " + std::strerror(errno));
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int error = errno;
     ::close(fds[0]);
     ::close(fds[1]);
-    throw std::runtime_error(job.source + ": cannot start a process for the reader: " + std::strerror(error));
+    throw std::runtime_error(job.source + ": cannot start a process for " + job.worker + ": " + std::strerror(error));
   }
-  if (pid == 0) {
-    ::close(fds[0]);
-    child_main(job, fds[1], parent, work);
-  }
+  if (pid == 0) exec_child(fds[1], parent, argv);
   ::close(fds[1]);
   ChildChannel channel(job, progress, pid, fds[0]);
+  {
+    RequestWriter out(channel);
+    out(job.source);
+    send(out);
+  }
   ResultReader in(channel);
   for (;;) {
     uint8_t tag = 0;

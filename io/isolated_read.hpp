@@ -3,20 +3,28 @@
 // reader's crash (VTK's and TetGen's included), an allocation without end or a loop without end
 // ends the child, and the caller gets an InputError naming the file and what happened.
 //
-// The child (fork) runs the work under a memory limit and sends its result back over a pipe as
-// plain bytes; the parent reads them while it waits, forwards the child's progress reports,
-// enforces a time limit, and kills the child when the caller cancels (io::Progress returning
-// false, which is also how Ctrl-C arrives). The child dies with its parent
-// (PR_SET_PDEATHSIG), so a parent ended by a signal leaves no reader running.
+// The child is a fresh process: this same executable started again (fork, then exec of
+// /proc/self/exe), which finds the work by name in a table every ChildWork adds itself to when
+// the program starts. It is never a bare fork() of the caller: the caller is multithreaded (the
+// viewer's loader, the Vulkan driver, TBB's workers under VTK and OpenVDB), and a fork copies
+// only the forking thread, so a lock or counter another thread held at that instant stays held
+// in the copy for ever: a TBB worker winding down left VTK's first parallel loop in the child
+// waiting without end (issue 40). Between fork and exec the child makes only system calls.
 //
-// fork() happens in a multithreaded process (the viewer's loader thread, the Vulkan driver's
-// threads): the child does only the work, writes the pipe and _exit()s; it runs no destructors
-// of the parent's objects, no atexit handlers, and flushes no stdio buffers.
+// So every executable that isolates work calls serve_isolated_child(argc, argv) first in main();
+// run_in_child refuses to start a child in one that did not.
+//
+// The request (the path and options) goes to the child and the result comes back over one
+// socket, as plain bytes; the parent reads while it waits, forwards the child's progress reports,
+// enforces a time limit, and kills the child when the caller cancels (io::Progress returning
+// false, which is also how Ctrl-C arrives). The child dies with its parent (PR_SET_PDEATHSIG), so
+// a parent ended by a signal leaves no reader running.
 #include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -71,16 +79,28 @@ struct ChildJob {
 // A job reading `path`: named in errors, under read_limits(path).
 ChildJob read_job(const std::string& path);
 
-// The child's side of the pipe: values as bytes (trivially copyable ones as they are in memory,
-// strings, vectors and maps with a count first, structs through their fields() overload). The
-// work writes its result only once the result is complete: an exception after the first byte
-// can no longer be reported.
-class ResultWriter {
+// Values as bytes, both ways: trivially copyable ones as they are in memory, strings, vectors
+// and maps with a count first, structs through their fields() overload (found beside the type).
+// Derived supplies bytes(data, count).
+template <typename Derived>
+class Encoder {
+ public:
+  template <typename T>
+  void operator()(const T& v);
+};
+template <typename Derived>
+class Decoder {
+ public:
+  template <typename T>
+  void operator()(T& v);
+};
+
+// The child's side of the result: written only once the result is complete (an exception after
+// the first byte can no longer be reported).
+class ResultWriter : public Encoder<ResultWriter> {
  public:
   explicit ResultWriter(int fd) : fd_(fd) {}
   void bytes(const void* data, size_t count);
-  template <typename T>
-  void operator()(const T& v);
 
  private:
   int fd_;
@@ -90,38 +110,90 @@ class ResultWriter {
 // The parent's side: the same values in the same order. It waits for the bytes while polling,
 // so cancelling and the time limit work during the transfer too.
 class ChildChannel;
-class ResultReader {
+class ResultReader : public Decoder<ResultReader> {
  public:
   explicit ResultReader(ChildChannel& channel) : channel_(channel) {}
   void bytes(void* data, size_t count);
-  template <typename T>
-  void operator()(T& v);
 
  private:
   ChildChannel& channel_;
 };
 
+// The request, parent to child: written while polling as the reader is, read by the child
+// before it works.
+class RequestWriter : public Encoder<RequestWriter> {
+ public:
+  explicit RequestWriter(ChildChannel& channel) : channel_(channel) {}
+  void bytes(const void* data, size_t count);
+
+ private:
+  ChildChannel& channel_;
+};
+class RequestReader : public Decoder<RequestReader> {
+ public:
+  explicit RequestReader(int fd) : fd_(fd) {}
+  void bytes(void* data, size_t count);
+
+ private:
+  int fd_;
+};
+
+// How the child serves one kind of work: reads the request, does the work, writes the result.
+using ChildServe = std::function<void(RequestReader&, ResultWriter&, const Progress&)>;
+
+// Adds a kind of work to this program's table (ChildWork does it); a name used twice is a
+// programming error (std::logic_error, at start-up).
+void register_child_work(std::string_view name, ChildServe serve);
+
+// The first line of main() in every executable that isolates work: in a child started by
+// run_in_child it does the work and exits the process; anywhere else it records that this
+// executable can serve children and returns.
+void serve_isolated_child(int argc, char** argv);
+
 // Whether this process is an isolated child: work nested in it runs in place.
 bool in_isolated_child();
 
-// Runs `work` in a child under job.limits. `work` gets a Progress that forwards to the parent's
-// `progress` (it always returns true: cancelling kills the child) and writes its result into the
-// ResultWriter; `receive` reads it in the parent. An InputError, Cancelled or other exception
-// from `work` is thrown again in the parent, with its source and text; a child that crashes, runs
-// out of memory or time, or is cancelled is an InputError(job.source, ...) or Cancelled(job.source).
-void run_in_child(const ChildJob& job, const Progress& progress, const std::function<void(ResultWriter&, const Progress&)>& work,
+// Runs the registered work `name` in a fresh child under job.limits. `send` writes the request;
+// the work gets a Progress that forwards to the parent's `progress` (it always returns true:
+// cancelling kills the child) and writes its result; `receive` reads it in the parent. An
+// InputError, Cancelled or other exception from the work is thrown again in the parent, with its
+// source and text; a child that crashes, runs out of memory or time, or is cancelled is an
+// InputError(job.source, ...) or Cancelled(job.source).
+void run_in_child(const ChildJob& job, const Progress& progress, std::string_view name, const std::function<void(RequestWriter&)>& send,
                   const std::function<void(ResultReader&)>& receive);
 
-// The common case: a function returning a value that ResultWriter/ResultReader can carry.
-template <typename T, typename Work>
-T run_isolated(const ChildJob& job, const Progress& progress, Work&& work) {
-  if (in_isolated_child()) return work(progress);
-  T result{};
-  run_in_child(
-      job, progress, [&](ResultWriter& out, const Progress& p) { out(static_cast<const T&>(work(p))); },
-      [&](ResultReader& in) { in(result); });
-  return result;
-}
+// A kind of work a child can do: Result function(const Request&, const Progress&), where both
+// types can be carried (above). Define it at namespace scope (static storage) so that it is in
+// the table before main() runs, in the child as in the parent:
+//   const ChildWork<ReadRequest, TetMesh> kReadMesh("read-mesh", [](const ReadRequest& r, const Progress& p) { ... });
+//   TetMesh mesh = kReadMesh(read_job(path), progress, request);
+// In an isolated child the function runs in place.
+template <typename Request, typename Result>
+class ChildWork {
+ public:
+  using Function = Result (*)(const Request&, const Progress&);
+  ChildWork(std::string_view name, Function function) : name_(name), function_(function) {
+    register_child_work(name, [function](RequestReader& in, ResultWriter& out, const Progress& progress) {
+      Request request{};
+      in(request);
+      out(static_cast<const Result&>(function(request, progress)));
+    });
+  }
+  ChildWork(const ChildWork&) = delete;
+  ChildWork& operator=(const ChildWork&) = delete;
+
+  Result operator()(const ChildJob& job, const Progress& progress, const Request& request) const {
+    if (in_isolated_child()) return function_(request, progress);
+    Result result{};
+    run_in_child(
+        job, progress, name_, [&](RequestWriter& out) { out(request); }, [&](ResultReader& in) { in(result); });
+    return result;
+  }
+
+ private:
+  std::string_view name_;
+  Function function_;
+};
 
 // ---- carrying values --------------------------------------------------------------------------
 
@@ -134,58 +206,62 @@ struct IsMap : std::false_type {};
 template <typename K, typename V, typename C, typename A>
 struct IsMap<std::map<K, V, C, A>> : std::true_type {};
 
+template <typename Derived>
 template <typename T>
-void ResultWriter::operator()(const T& v) {
+void Encoder<Derived>::operator()(const T& v) {
+  auto& self = static_cast<Derived&>(*this);
   if constexpr (std::is_same_v<T, std::string>) {
-    (*this)(uint64_t(v.size()));
-    bytes(v.data(), v.size());
+    self(uint64_t(v.size()));
+    self.bytes(v.data(), v.size());
   } else if constexpr (IsVector<T>::value) {
-    (*this)(uint64_t(v.size()));
-    if constexpr (std::is_trivially_copyable_v<typename T::value_type>) bytes(v.data(), v.size() * sizeof(typename T::value_type));
+    self(uint64_t(v.size()));
+    if constexpr (std::is_trivially_copyable_v<typename T::value_type>) self.bytes(v.data(), v.size() * sizeof(typename T::value_type));
     else
-      for (const auto& e : v) (*this)(e);
+      for (const auto& e : v) self(e);
   } else if constexpr (IsMap<T>::value) {
-    (*this)(uint64_t(v.size()));
+    self(uint64_t(v.size()));
     for (const auto& [key, value] : v) {
-      (*this)(key);
-      (*this)(value);
+      self(key);
+      self(value);
     }
   } else if constexpr (std::is_trivially_copyable_v<T>) {
-    bytes(&v, sizeof v);
+    self.bytes(&v, sizeof v);
   } else {
-    fields(*this, v);  // found by argument-dependent lookup beside the type
+    fields(self, v);  // found by argument-dependent lookup beside the type
   }
 }
 
+template <typename Derived>
 template <typename T>
-void ResultReader::operator()(T& v) {
+void Decoder<Derived>::operator()(T& v) {
+  auto& self = static_cast<Derived&>(*this);
   if constexpr (std::is_same_v<T, std::string>) {
     uint64_t n = 0;
-    (*this)(n);
+    self(n);
     v.resize(size_t(n));
-    bytes(v.data(), v.size());
+    self.bytes(v.data(), v.size());
   } else if constexpr (IsVector<T>::value) {
     uint64_t n = 0;
-    (*this)(n);
+    self(n);
     v.resize(size_t(n));
-    if constexpr (std::is_trivially_copyable_v<typename T::value_type>) bytes(v.data(), v.size() * sizeof(typename T::value_type));
+    if constexpr (std::is_trivially_copyable_v<typename T::value_type>) self.bytes(v.data(), v.size() * sizeof(typename T::value_type));
     else
-      for (auto& e : v) (*this)(e);
+      for (auto& e : v) self(e);
   } else if constexpr (IsMap<T>::value) {
     uint64_t n = 0;
-    (*this)(n);
+    self(n);
     v.clear();
     for (uint64_t i = 0; i < n; ++i) {
       typename T::key_type key{};
       typename T::mapped_type value{};
-      (*this)(key);
-      (*this)(value);
+      self(key);
+      self(value);
       v.emplace(std::move(key), std::move(value));
     }
   } else if constexpr (std::is_trivially_copyable_v<T>) {
-    bytes(&v, sizeof v);
+    self.bytes(&v, sizeof v);
   } else {
-    fields(*this, v);
+    fields(self, v);
   }
 }
 

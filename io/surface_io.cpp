@@ -206,6 +206,49 @@ void fill_tetgen_input(const SurfaceMesh& surface, tetgenio& in) {
   }
 }
 
+struct TetgenRequest {
+  SurfaceMesh surface;
+  std::string switches;
+};
+template <typename S, Carries<TetgenRequest> M>
+void fields(S& s, M& r) {
+  s(r.surface);
+  s(r.switches);
+}
+
+const ChildWork<TetgenRequest, TetgenResult> kTetgen("tetgen", [](const TetgenRequest& request, const Progress&) {
+  const SurfaceMesh& surface = request.surface;
+  const std::string& switches = request.switches;
+  TetgenResult r;
+  try {
+    {
+      tetgenio in, out;
+      fill_tetgen_input(surface, in);
+      std::string detect = "pdQ";
+      ::tetrahedralize(detect.data(), &in, &out);
+      r.intersecting_faces = size_t(std::max(out.numberoftrifaces, 0));
+    }
+    if (r.intersecting_faces == 0) {
+      tetgenio in, out;
+      fill_tetgen_input(surface, in);
+      std::string text = switches;
+      ::tetrahedralize(text.data(), &in, &out);
+      r.points.reserve(size_t(out.numberofpoints));
+      for (int i = 0; i < out.numberofpoints; ++i)
+        r.points.emplace_back(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
+      r.tets.reserve(size_t(out.numberoftetrahedra));
+      for (int t = 0; t < out.numberoftetrahedra; ++t) {
+        const int* corners = out.tetrahedronlist + size_t(t) * size_t(out.numberofcorners);
+        r.tets.push_back({uint32_t(corners[0]), uint32_t(corners[1]), uint32_t(corners[2]), uint32_t(corners[3])});
+      }
+    }
+  } catch (int code) {  // TETLIBRARY: TetGen's errors are thrown ints
+    r = TetgenResult{};
+    r.error = code == 0 ? -1 : code;
+  }
+  return r;
+});
+
 // TetGen 1.5.0 frees its memory twice when it stops on bad input (a crash in
 // tetgenmesh::freememory), and its memory grows with the cells asked for, so it runs in a child
 // process (io/isolated_read.hpp): a crash there is an InputError here, and Ctrl-C or Cancel kills
@@ -220,37 +263,16 @@ TetgenResult run_tetgen_isolated(const SurfaceMesh& surface, const std::string& 
   job.waiting_fraction = -1.0;  // TetGen cannot tell how far it is
   // No time limit: TetGen's time grows with the cells asked for, which are bounded before it starts.
   job.limits.memory_bytes = child_memory_budget();
-  return run_isolated<TetgenResult>(job, progress, [&](const Progress&) {
-    TetgenResult r;
-    try {
-      {
-        tetgenio in, out;
-        fill_tetgen_input(surface, in);
-        std::string detect = "pdQ";
-        ::tetrahedralize(detect.data(), &in, &out);
-        r.intersecting_faces = size_t(std::max(out.numberoftrifaces, 0));
-      }
-      if (r.intersecting_faces == 0) {
-        tetgenio in, out;
-        fill_tetgen_input(surface, in);
-        std::string text = switches;
-        ::tetrahedralize(text.data(), &in, &out);
-        r.points.reserve(size_t(out.numberofpoints));
-        for (int i = 0; i < out.numberofpoints; ++i)
-          r.points.emplace_back(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
-        r.tets.reserve(size_t(out.numberoftetrahedra));
-        for (int t = 0; t < out.numberoftetrahedra; ++t) {
-          const int* corners = out.tetrahedronlist + size_t(t) * size_t(out.numberofcorners);
-          r.tets.push_back({uint32_t(corners[0]), uint32_t(corners[1]), uint32_t(corners[2]), uint32_t(corners[3])});
-        }
-      }
-    } catch (int code) {  // TETLIBRARY: TetGen's errors are thrown ints
-      r = TetgenResult{};
-      r.error = code == 0 ? -1 : code;
-    }
-    return r;
-  });
+  return kTetgen(job, progress, {surface, switches});
 }
+
+const ChildWork<std::string, SurfaceMesh> kReadSurface("read-surface", [](const std::string& path, const Progress& reporting) {
+  const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
+  const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path), reporting);
+  SurfaceMesh s = to_surface(poly, path, reporting);
+  if (s.triangles.empty()) throw InputError(path, "has no surface triangles");
+  return s;
+});
 
 }  // namespace
 
@@ -264,13 +286,7 @@ SurfaceMesh read_surface(const std::string& path, const Progress& progress) {
   if (!is_surface_path(path)) throw InputError(path, "is not a surface file (.vtp .stl .obj .ply .off)");
   // The readers run in a child process (io/isolated_read.hpp): VTK's PLY reader, for one,
   // crashes on truncated files.
-  return run_isolated<SurfaceMesh>(read_job(path), progress, [&](const Progress& reporting) {
-    const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
-    const vtkSmartPointer<vtkPolyData> poly = read_polydata(path, detail::lower_extension(path), reporting);
-    SurfaceMesh s = to_surface(poly, path, reporting);
-    if (s.triangles.empty()) throw InputError(path, "has no surface triangles");
-    return s;
-  });
+  return kReadSurface(read_job(path), progress, path);
 }
 
 SurfaceCheck check_surface(const SurfaceMesh& surface) {

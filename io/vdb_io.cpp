@@ -447,27 +447,52 @@ void fields(S& s, M& d) {
   s(d.background);
 }
 
+namespace {
+
+// What the reader child needs: the path and the options (their progress is the child's own).
+struct VdbRequest {
+  std::string path;
+  VdbReadOptions options;
+  uint64_t max_voxels = 0;  // read_vdb_dense's
+};
+template <typename S, Carries<VdbRequest> M>
+void fields(S& s, M& r) {
+  s(r.path);
+  s(r.options.grid);
+  s(r.options.role);
+  s(r.options.density_scale);
+  s(r.options.subsample);
+  s(r.options.max_cells);
+  s(r.max_voxels);
+}
+
+const ChildWork<std::string, VdbInfo> kInspectVdb("inspect-vdb", [](const std::string& path, const Progress&) { return inspect_vdb_here(path); });
+const ChildWork<VdbRequest, TetMesh> kReadVdbVoxels("read-vdb-voxels", [](const VdbRequest& request, const Progress& progress) {
+  VdbReadOptions reading = request.options;
+  reading.progress = progress;
+  return read_vdb_voxels_here(request.path, reading);
+});
+const ChildWork<VdbRequest, VdbDense> kReadVdbDense("read-vdb-dense", [](const VdbRequest& request, const Progress& progress) {
+  VdbReadOptions reading = request.options;
+  reading.progress = progress;
+  return read_vdb_dense_here(request.path, reading, request.max_voxels);
+});
+
+}  // namespace
+
 VdbInfo inspect_vdb(const std::string& path) {
   detail::require_regular_file(path);
-  return run_isolated<VdbInfo>(read_job(path), {}, [&](const Progress&) { return inspect_vdb_here(path); });
+  return kInspectVdb(read_job(path), {}, path);
 }
 
 TetMesh read_vdb_voxels(const std::string& path, const VdbReadOptions& options) {
   detail::require_regular_file(path);
-  return run_isolated<TetMesh>(read_job(path), options.progress, [&](const Progress& progress) {
-    VdbReadOptions reading = options;
-    reading.progress = progress;
-    return read_vdb_voxels_here(path, reading);
-  });
+  return kReadVdbVoxels(read_job(path), options.progress, {path, options, 0});
 }
 
 VdbDense read_vdb_dense(const std::string& path, const VdbReadOptions& options, uint64_t max_voxels) {
   detail::require_regular_file(path);
-  return run_isolated<VdbDense>(read_job(path), options.progress, [&](const Progress& progress) {
-    VdbReadOptions reading = options;
-    reading.progress = progress;
-    return read_vdb_dense_here(path, reading, max_voxels);
-  });
+  return kReadVdbDense(read_job(path), options.progress, {path, options, max_voxels});
 }
 
 namespace {

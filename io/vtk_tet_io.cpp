@@ -141,6 +141,29 @@ void fields(S& s, M& r) {
   s(r.conversion);
 }
 
+// What the reader child needs: the path and the options (their progress is the child's own).
+struct ReadRequest {
+  std::string path;
+  TetReadOptions options;
+};
+template <typename S, Carries<ReadRequest> M>
+void fields(S& s, M& r) {
+  s(r.path);
+  s(r.options.array);
+  s(r.options.component);
+  s(r.options.role);
+  s(r.options.density_scale);
+}
+
+const ChildWork<ReadRequest, ReadResult> kReadTetMesh("read-tet-mesh", [](const ReadRequest& request, const Progress& progress) {
+  const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
+  TetReadOptions reading = request.options;
+  reading.progress = progress;
+  ReadResult r;
+  r.mesh = detail::tet_mesh_from_grid(detail::read_unstructured_grid(request.path, progress, 0.7), request.path, reading, &r.conversion);
+  return r;
+});
+
 }  // namespace
 
 TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options, MeshConversion* conversion) {
@@ -149,14 +172,7 @@ TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options, Me
     throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (Prismoid reads meshes .vtu .vtk .vtm .pvtu, images .vti .mhd .mha .inr, surfaces .vtp .stl .obj .ply .off)");
   // VTK's readers run in a child process (io/isolated_read.hpp): a file that crashes them or
   // makes them allocate without end is an InputError here.
-  ReadResult result = run_isolated<ReadResult>(read_job(path), options.progress, [&](const Progress& progress) {
-    const detail::QuietVtk quiet;  // failures become InputErrors, not console noise
-    TetReadOptions reading = options;
-    reading.progress = progress;
-    ReadResult r;
-    r.mesh = detail::tet_mesh_from_grid(detail::read_unstructured_grid(path, progress, 0.7), path, reading, &r.conversion);
-    return r;
-  });
+  ReadResult result = kReadTetMesh(read_job(path), options.progress, {path, options});
   if (conversion) *conversion = result.conversion;
   return std::move(result.mesh);
 }

@@ -2,9 +2,11 @@
 // file of every readable format, then deterministic (seeded) mutations of it (truncations at many
 // offsets, byte flips, numbers of its header replaced by huge ones), each read the way `prismoid
 // info` and `prismoid render` read it: app::run_cli({"info", FILE}) and app::load_dataset. Every
-// result must be a load or an InputError naming the file; never a crash of this process, a hang
-// (a load still running after kHangSeconds is cancelled and counted), or an allocation without
-// end (this process's and its children's peak memory is checked at the end).
+// result must be a load or an InputError naming the file; never a crash of this process, a
+// deadlocked reader (one whose CPU time stands still for kStillSeconds is killed and counted: a
+// slow honest read keeps computing), a hang (a load still running past the product's own read
+// limit is cancelled and counted), or an allocation without end (this process's and its
+// children's peak memory is checked at the end).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,6 +22,13 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <atomic>
+#include <csignal>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -58,7 +67,11 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kHangSeconds = 30.0;
+// A reader that has used no CPU for this long is deadlocked (issue 40: a child waiting for ever
+// in TBB at 0 % CPU, which the product's time limit then reported as a corrupt file).
+constexpr double kStillSeconds = 10.0;
+// Beyond the product's own limit (io::read_limits), the test stops waiting.
+constexpr double kHangMarginSeconds = 30.0;
 
 fs::path scratch() {
   static const fs::path dir = [] {
@@ -296,6 +309,73 @@ std::vector<Mutant> mutants_of(const std::string& seed, uint32_t salt) {
   return out;
 }
 
+// ---- the deadlock watch ----------------------------------------------------------------------------
+
+// The CPU time (user + system, in clock ticks) of every child of this process, from /proc.
+std::map<pid_t, uint64_t> children_cpu_ticks() {
+  std::map<pid_t, uint64_t> ticks;
+  const pid_t self = ::getpid();
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator("/proc", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || !std::all_of(name.begin(), name.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) continue;
+    const std::string stat = text_of(entry.path() / "stat");
+    const size_t close = stat.rfind(')');  // the command name may hold spaces and parentheses
+    if (close == std::string::npos) continue;
+    std::istringstream fields(stat.substr(close + 2));
+    std::string state;
+    long long ppid = 0, skip = 0;
+    uint64_t utime = 0, stime = 0;
+    fields >> state >> ppid;
+    for (int i = 0; i < 9; ++i) fields >> skip;  // pgrp .. cmajflt
+    fields >> utime >> stime;
+    if (fields && ppid == self) ticks[pid_t(std::stoll(name))] = utime + stime;
+  }
+  return ticks;
+}
+
+// Watches this process's children while the test runs: one whose CPU time stands still for
+// kStillSeconds is deadlocked; it is killed (the load then fails, and the test says why) and
+// counted.
+class DeadlockWatch {
+ public:
+  DeadlockWatch() : thread_([this] { watch(); }) {}
+  ~DeadlockWatch() {
+    stop_ = true;
+    thread_.join();
+  }
+  // The deadlocks seen since the last call.
+  size_t take() { return found_.exchange(0); }
+
+ private:
+  void watch() {
+    struct Seen {
+      uint64_t ticks;
+      Clock::time_point since;
+    };
+    std::map<pid_t, Seen> seen;
+    while (!stop_) {
+      const auto now = Clock::now();
+      std::map<pid_t, Seen> next;
+      for (const auto& [pid, ticks] : children_cpu_ticks()) {
+        const auto it = seen.find(pid);
+        Seen s = it != seen.end() && it->second.ticks == ticks ? it->second : Seen{ticks, now};
+        if (std::chrono::duration<double>(now - s.since).count() > kStillSeconds) {
+          ++found_;
+          ::kill(pid, SIGKILL);
+          continue;
+        }
+        next[pid] = s;
+      }
+      seen = std::move(next);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  }
+  std::atomic<bool> stop_{false};
+  std::atomic<size_t> found_{0};
+  std::thread thread_;
+};
+
 // ---- the load path -------------------------------------------------------------------------------
 
 struct Outcome {
@@ -308,12 +388,13 @@ struct Outcome {
 Outcome load_as_render(const std::string& path) {
   Outcome o;
   const auto start = Clock::now();
+  const double limit = io::read_limits(path).seconds + kHangMarginSeconds;
   bool hung = false;
   try {
     app::LoadRequest request;
     request.path = path;
     const TetMesh mesh = app::load_dataset(request, [&](double, const std::string&) {
-      hung = Clock::now() - start > std::chrono::duration<double>(kHangSeconds);
+      hung = Clock::now() - start > std::chrono::duration<double>(limit);
       return !hung;
     });
     validate(mesh);
@@ -322,7 +403,7 @@ Outcome load_as_render(const std::string& path) {
     o.error = e.what();
   } catch (const io::Cancelled&) {
     o.failure = true;
-    o.error = hung ? "hung: still loading after " + std::to_string(kHangSeconds) + " s" : "cancelled";
+    o.error = hung ? "hung: still loading after " + std::to_string(limit) + " s" : "cancelled";
   } catch (const std::exception& e) {
     o.failure = true;
     o.error = std::string("not an InputError: ") + e.what();
@@ -356,6 +437,7 @@ TEST(LoadFuzz, EveryMutationOfEveryFormatLoadsOrIsAnInputErrorNamingTheFile) {
   ::setenv("XDG_CACHE_HOME", (scratch() / "cache").c_str(), 1);  // TetGen's results stay here
   const std::vector<fs::path> seeds = write_seeds();
   ASSERT_EQ(seeds.size(), 19u);  // 14 extensions, several in ASCII and binary
+  DeadlockWatch deadlocks;
   const auto start = Clock::now();
   size_t runs = 0, loads = 0, refusals = 0;
   uint64_t largest_limit = 0;  // of the readers' memory limits
@@ -369,6 +451,7 @@ TEST(LoadFuzz, EveryMutationOfEveryFormatLoadsOrIsAnInputErrorNamingTheFile) {
     EXPECT_TRUE(honest.loaded) << honest.error;
     const Outcome described = describe_as_info(seed.string());
     EXPECT_TRUE(described.loaded) << described.error;
+    EXPECT_EQ(deadlocks.take(), 0u);
     const std::string bytes = text_of(seed);
     largest_limit = std::max(largest_limit, io::read_limits(seed.string()).memory_bytes);
     // Mutants sit beside the seed (a .vtm's blocks and a .mhd's raw data are found there).
@@ -378,7 +461,11 @@ TEST(LoadFuzz, EveryMutationOfEveryFormatLoadsOrIsAnInputErrorNamingTheFile) {
       write_text(mutant, m.bytes);
       for (const bool info : {false, true}) {
         const auto load_start = Clock::now();
-        const Outcome o = info ? describe_as_info(mutant.string()) : load_as_render(mutant.string());
+        Outcome o = info ? describe_as_info(mutant.string()) : load_as_render(mutant.string());
+        if (deadlocks.take() > 0) {
+          o.failure = true;
+          o.error = "deadlocked: the reader used no CPU for " + std::to_string(kStillSeconds) + " s (" + o.error + ")";
+        }
         if (const double took = std::chrono::duration<double>(Clock::now() - load_start).count(); took > (std::getenv("PRISMOID_LOAD_FUZZ_SLOW") ? std::atof(std::getenv("PRISMOID_LOAD_FUZZ_SLOW")) : 1.0))
           std::cout << "slow: " << (info ? "info " : "render ") << seed.filename().string() << " " << m.how << ": " << took << " s\n";
         ++runs;
