@@ -3,22 +3,24 @@
 // reader's crash (VTK's and TetGen's included), an allocation without end or a loop without end
 // ends the child, and the caller gets an InputError naming the file and what happened.
 //
-// The child is a fresh process: this same executable started again (fork, then exec of
-// /proc/self/exe), which finds the work by name in a table every ChildWork adds itself to when
-// the program starts. It is never a bare fork() of the caller: the caller is multithreaded (the
-// viewer's loader, the Vulkan driver, TBB's workers under VTK and OpenVDB), and a fork copies
-// only the forking thread, so a lock or counter another thread held at that instant stays held
-// in the copy for ever: a TBB worker winding down left VTK's first parallel loop in the child
-// waiting without end (issue 40). Between fork and exec the child makes only system calls.
+// No reader is a bare fork() of the caller. The caller is multithreaded (the viewer's loader, the
+// Vulkan driver, TBB's workers under VTK and OpenVDB), and a fork copies only the forking thread,
+// so a lock or counter another thread held at that instant stays held in the copy for ever: a TBB
+// worker winding down left VTK's first parallel loop in the child waiting without end (issue 40).
+// Instead each calling thread starts one fresh copy of this same executable (fork, then at once
+// exec of /proc/self/exe), the reader host, which is single-threaded and runs no work; each
+// reader is a fork of the host. The reader finds its work by name in a table every ChildWork
+// adds itself to when the program starts.
 //
 // So every executable that isolates work calls serve_isolated_child(argc, argv) first in main();
 // run_in_child refuses to start a child in one that did not.
 //
-// The request (the path and options) goes to the child and the result comes back over one
-// socket, as plain bytes; the parent reads while it waits, forwards the child's progress reports,
-// enforces a time limit, and kills the child when the caller cancels (io::Progress returning
-// false, which is also how Ctrl-C arrives). The child dies with its parent (PR_SET_PDEATHSIG), so
-// a parent ended by a signal leaves no reader running.
+// The request (the path and options) goes to the reader and the result comes back over one
+// socket, as plain bytes; the parent reads while it waits, forwards the reader's progress
+// reports, enforces a time limit, and kills the reader when the caller cancels (io::Progress
+// returning false, which is also how Ctrl-C arrives). Readers die with their host and the host
+// with the thread that started it (PR_SET_PDEATHSIG), so a parent ended by a signal leaves no
+// reader running.
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -35,8 +37,8 @@
 namespace prismoid::io {
 
 struct ChildLimits {
-  // Address space the child may map beyond what it inherited from the parent (a process with a
-  // Vulkan device maps gigabytes it never touches); 0: no limit.
+  // Address space the reader may map beyond what it maps as it starts (the program and its
+  // libraries; the caller's own mappings, gigabytes with a Vulkan device, never count); 0: no limit.
   uint64_t memory_bytes = 0;
   double seconds = 0.0;  // wall-clock time; 0: no limit
 };
@@ -141,19 +143,23 @@ class RequestReader : public Decoder<RequestReader> {
 // How the child serves one kind of work: reads the request, does the work, writes the result.
 using ChildServe = std::function<void(RequestReader&, ResultWriter&, const Progress&)>;
 
-// Adds a kind of work to this program's table (ChildWork does it); a name used twice is a
-// programming error (std::logic_error, at start-up).
+// Adds a kind of work to this program's table (ChildWork does it); a name used twice or longer
+// than 63 characters is a programming error (std::logic_error, at start-up).
 void register_child_work(std::string_view name, ChildServe serve);
 
-// The first line of main() in every executable that isolates work: in a child started by
-// run_in_child it does the work and exits the process; anywhere else it records that this
-// executable can serve children and returns.
+// The first line of main() in every executable that isolates work: in a reader host or a reader
+// started by run_in_child it does that job and exits the process; anywhere else it records that
+// this executable can serve children and returns.
 void serve_isolated_child(int argc, char** argv);
 
 // Whether this process is an isolated child: work nested in it runs in place.
 bool in_isolated_child();
 
-// Runs the registered work `name` in a fresh child under job.limits. `send` writes the request;
+// The largest peak resident memory of a reader this process has run, in bytes (the readers are
+// not its children but its host's, so getrusage(RUSAGE_CHILDREN) does not see them).
+uint64_t largest_reader_memory_bytes();
+
+// Runs the registered work `name` in a reader under job.limits. `send` writes the request;
 // the work gets a Progress that forwards to the parent's `progress` (it always returns true:
 // cancelling kills the child) and writes its result; `receive` reads it in the parent. An
 // InputError, Cancelled or other exception from the work is thrown again in the parent, with its

@@ -60,6 +60,7 @@
 #include "io/vdb_io.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "support/processes.hpp"
 
 namespace prismoid {
 namespace {
@@ -311,32 +312,9 @@ std::vector<Mutant> mutants_of(const std::string& seed, uint32_t salt) {
 
 // ---- the deadlock watch ----------------------------------------------------------------------------
 
-// The CPU time (user + system, in clock ticks) of every child of this process, from /proc.
-std::map<pid_t, uint64_t> children_cpu_ticks() {
-  std::map<pid_t, uint64_t> ticks;
-  const pid_t self = ::getpid();
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator("/proc", ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.empty() || !std::all_of(name.begin(), name.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) continue;
-    const std::string stat = text_of(entry.path() / "stat");
-    const size_t close = stat.rfind(')');  // the command name may hold spaces and parentheses
-    if (close == std::string::npos) continue;
-    std::istringstream fields(stat.substr(close + 2));
-    std::string state;
-    long long ppid = 0, skip = 0;
-    uint64_t utime = 0, stime = 0;
-    fields >> state >> ppid;
-    for (int i = 0; i < 9; ++i) fields >> skip;  // pgrp .. cmajflt
-    fields >> utime >> stime;
-    if (fields && ppid == self) ticks[pid_t(std::stoll(name))] = utime + stime;
-  }
-  return ticks;
-}
-
-// Watches this process's children while the test runs: one whose CPU time stands still for
-// kStillSeconds is deadlocked; it is killed (the load then fails, and the test says why) and
-// counted.
+// Watches the readers while the test runs (this process's grandchildren: its children are the
+// idle reader hosts): one whose CPU time stands still for kStillSeconds is deadlocked; it is
+// killed (the load then fails, and the test says why) and counted.
 class DeadlockWatch {
  public:
   DeadlockWatch() : thread_([this] { watch(); }) {}
@@ -357,7 +335,9 @@ class DeadlockWatch {
     while (!stop_) {
       const auto now = Clock::now();
       std::map<pid_t, Seen> next;
-      for (const auto& [pid, ticks] : children_cpu_ticks()) {
+      const std::map<pid_t, test::ProcessStat> table = test::process_table();
+      for (const pid_t pid : test::running_readers(table)) {
+        const uint64_t ticks = table.at(pid).cpu_ticks;
         const auto it = seen.find(pid);
         Seen s = it != seen.end() && it->second.ticks == ticks ? it->second : Seen{ticks, now};
         if (std::chrono::duration<double>(now - s.since).count() > kStillSeconds) {
@@ -485,11 +465,12 @@ TEST(LoadFuzz, EveryMutationOfEveryFormatLoadsOrIsAnInputErrorNamingTheFile) {
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::cout << runs << " mutant loads (" << loads << " loaded, " << refusals << " refused) in " << seconds << " s; peak memory "
-            << peak_kib(RUSAGE_SELF) / 1024 << " MiB here, " << peak_kib(RUSAGE_CHILDREN) / 1024 << " MiB in a reader\n";
-  // Nothing grew here; a reader stayed within its file's memory limit (it also holds the pages it
-  // shares with this process).
+            << peak_kib(RUSAGE_SELF) / 1024 << " MiB here, " << io::largest_reader_memory_bytes() / 1048576 << " MiB in a reader\n";
+  // Nothing grew here; a reader stayed within its file's memory limit (it also holds the pages of
+  // the program and its libraries, which this process holds too).
   EXPECT_LT(peak_kib(RUSAGE_SELF), uint64_t(1) << 20) << "KiB";
-  EXPECT_LE(peak_kib(RUSAGE_CHILDREN), peak_kib(RUSAGE_SELF) + largest_limit / 1024) << "KiB";
+  EXPECT_GT(io::largest_reader_memory_bytes(), uint64_t(0));
+  EXPECT_LE(io::largest_reader_memory_bytes() / 1024, peak_kib(RUSAGE_SELF) + largest_limit / 1024) << "KiB";
   fs::remove_all(scratch());
 }
 

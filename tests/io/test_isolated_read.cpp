@@ -1,7 +1,8 @@
 // The isolated child (io/isolated_read.hpp): whatever the work in it does (crash, allocate
 // without end, loop, throw), the caller gets an InputError naming the source, or Cancelled, and
-// no child is left behind; requests and results larger than the socket's buffer arrive whole; and
-// the child is a fresh process, so a caller busy with parallel loops cannot leave it deadlocked.
+// no reader is left behind; requests and results larger than the socket's buffer arrive whole; and
+// readers start from a fresh, single-threaded host, so a caller busy with parallel loops cannot
+// leave one deadlocked.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,6 +28,7 @@
 
 #include "io/isolated_read.hpp"
 #include "scene/input_error.hpp"
+#include "support/processes.hpp"
 
 namespace prismoid {
 namespace {
@@ -50,11 +52,8 @@ std::string input_error_of(const std::function<void()>& run) {
   return "(no InputError)";
 }
 
-// Whether this process has a child (reaped or not): the isolation must leave none.
-bool has_children() {
-  errno = 0;
-  return ::waitpid(-1, nullptr, WNOHANG) != -1 || errno != ECHILD;
-}
+// Whether a reader is still running (or unreaped): the isolation must leave none.
+bool readers_left() { return !test::running_readers().empty(); }
 
 // ---- the works these tests run in children (in the table before main(), as the readers' are) ----
 
@@ -121,6 +120,15 @@ uint64_t parallel_sum(uint64_t n) {
 }
 const io::ChildWork<uint64_t, uint64_t> kParallelSum("test-parallel-sum", [](const uint64_t& n, const io::Progress&) { return parallel_sum(n); });
 
+// The second word of this process's command line: how it was started.
+const io::ChildWork<int, std::string> kStartedAs("test-started-as", [](const int&, const io::Progress&) {
+  std::ifstream command("/proc/self/cmdline");
+  std::string argv0, argv1;
+  std::getline(command, argv0, '\0');
+  std::getline(command, argv1, '\0');
+  return argv1;
+});
+
 // ---- the tests --------------------------------------------------------------------------------------
 
 TEST(IsolatedRead, AResultLargerThanTheSocketArrivesWholeWithTheChildsProgress) {
@@ -131,7 +139,7 @@ TEST(IsolatedRead, AResultLargerThanTheSocketArrivesWholeWithTheChildsProgress) 
   for (size_t i = 0; i < result.size(); i += 9973) ASSERT_EQ(result[i], filled(i)) << i;
   ASSERT_GE(reported.size(), 7u);
   EXPECT_EQ(reported.back(), 1.0);
-  EXPECT_FALSE(has_children());
+  EXPECT_FALSE(readers_left());
 }
 
 TEST(IsolatedRead, ARequestLargerThanTheSocketArrivesWhole) {
@@ -139,7 +147,7 @@ TEST(IsolatedRead, ARequestLargerThanTheSocketArrivesWhole) {
   uint64_t expected = 0;
   for (size_t i = 0; i < words.size(); ++i) expected += (words[i] = filled(i));
   EXPECT_EQ(kSum(job_named("request"), {}, words), expected);
-  EXPECT_FALSE(has_children());
+  EXPECT_FALSE(readers_left());
 }
 
 TEST(IsolatedRead, AStructArrivesFieldByField) {
@@ -163,7 +171,7 @@ TEST(IsolatedRead, ACrashIsAnInputErrorNamingTheSourceAndTheSignal) {
   EXPECT_EQ(text, "bad.ply: the reader crashed (SIGSEGV): the file is corrupt or truncated");
   const std::string aborted = input_error_of([] { kRaise(job_named("bad.vtu"), {}, SIGABRT); });
   EXPECT_NE(aborted.find("bad.vtu: the reader crashed (SIGABRT)"), std::string::npos) << aborted;
-  EXPECT_FALSE(has_children());
+  EXPECT_FALSE(readers_left());
 }
 
 TEST(IsolatedRead, ErrorsThrownInTheChildKeepTheirSourceAndText) {
@@ -183,7 +191,7 @@ TEST(IsolatedRead, TheMemoryLimitCountsWhatTheChildAddsNotWhatTheParentHolds) {
   EXPECT_EQ(input_error_of([&] { kAllocate(job_named("huge.vtu", budget), {}, 0); }),
             "huge.vtu: the reader needs more than 256 MiB of memory (std::bad_alloc): the file is corrupt, or too large for this machine");
   ::munmap(held, reserved);
-  EXPECT_FALSE(has_children());
+  EXPECT_FALSE(readers_left());
 }
 
 TEST(IsolatedRead, AChildPastItsTimeLimitIsKilledAndNamed) {
@@ -191,7 +199,7 @@ TEST(IsolatedRead, AChildPastItsTimeLimitIsKilledAndNamed) {
   EXPECT_EQ(input_error_of([] { kNeverReturn(job_named("loop.obj", 0, 0.5), {}, 0); }),
             "loop.obj: the reader did not finish within 0.5 s (the limit for a file of this size): the file is corrupt or truncated");
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 5.0);
-  EXPECT_FALSE(has_children());
+  EXPECT_FALSE(readers_left());
 }
 
 // A signal (Ctrl-C's SIGINT) interrupts the parent's wait; that is no data, and the caller's
@@ -229,12 +237,12 @@ TEST(IsolatedRead, AnInterruptedWaitAsksTheCallerAndCancelKillsTheChild) {
   EXPECT_TRUE(cancelled);
   ASSERT_NE(interrupted_at, Clock::time_point{});
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - interrupted_at).count(), 1.0);
-  EXPECT_FALSE(has_children());
+  EXPECT_FALSE(readers_left());
 }
 
 TEST(IsolatedRead, ACallerThatStopsBeforeTheStartStartsNothing) {
   EXPECT_THROW(kFill(job_named("x.vtu"), [](double, const std::string&) { return false; }, 10), io::Cancelled);
-  EXPECT_FALSE(has_children());
+  EXPECT_FALSE(readers_left());
 }
 
 // Issue 40's hang: the readers ran in a bare fork() of this multithreaded process, and a fork
@@ -269,7 +277,32 @@ TEST(IsolatedRead, ChildrenStartCleanWhileTheCallerRunsParallelLoops) {
   stop = true;
   churn.join();
   EXPECT_EQ(finished, kChildren);
-  EXPECT_FALSE(has_children());
+  EXPECT_FALSE(readers_left());
+}
+
+// Readers are forks of the host, which is safe only while the host has one thread: OpenVDB's
+// log4cplus starts a pool of threads as the program loads, which the host shuts down (until it
+// has, readers start afresh with exec).
+TEST(IsolatedRead, TheReaderHostIsOneThreadThatHasRunNoWork) {
+  EXPECT_EQ(kParallelSum(job_named("start the host"), {}, 1000), uint64_t(1000 * 999 / 2));
+  // Once log4cplus's threads have ended (they take a moment), readers are forks of the host.
+  std::string started_as;
+  for (const auto start = Clock::now(); Clock::now() - start < std::chrono::seconds(10);) {
+    started_as = kStartedAs(job_named("a reader"), {}, 0);
+    if (started_as == "--prismoid-reader-host") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_EQ(started_as, "--prismoid-reader-host") << "a fork of the host, not a fresh start";
+  const std::map<pid_t, test::ProcessStat> table = test::process_table();
+  const std::vector<pid_t> hosts = test::children_in(table, ::getpid());
+  ASSERT_EQ(hosts.size(), 1u) << "one host for this thread";
+  EXPECT_EQ(table.at(hosts[0]).threads, 1);
+  std::ifstream command(std::filesystem::path("/proc") / std::to_string(hosts[0]) / "cmdline");
+  std::string argv0, argv1;
+  std::getline(command, argv0, '\0');
+  std::getline(command, argv1, '\0');
+  EXPECT_EQ(argv1, "--prismoid-reader-host");
+  EXPECT_GT(io::largest_reader_memory_bytes(), uint64_t(0));
 }
 
 TEST(IsolatedRead, ReadLimitsGrowWithTheFileAndItsPossibleCompression) {
