@@ -292,6 +292,10 @@ void shut_down_library_threads() {
 
 [[noreturn]] void host_main() {
   g_in_child = true;
+  // Ctrl-C reaches the whole process group; the parent decides (it cancels and kills the reader).
+  struct sigaction ignore {};
+  ignore.sa_handler = SIG_IGN;
+  ::sigaction(SIGINT, &ignore, nullptr);
   shut_down_library_threads();  // (its threads may take a moment to end: counted before each fork)
   const pid_t host = ::getpid();
   for (;;) {

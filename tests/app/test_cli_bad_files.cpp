@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -25,6 +26,7 @@
 #include "support/cli_run.hpp"
 #include "support/bad_files.hpp"
 #include "support/cube_surface.hpp"
+#include "support/processes.hpp"
 
 namespace prismoid {
 namespace {
@@ -190,28 +192,17 @@ TEST(CliBadFiles, TetGenBoundsBeyondTheCellGuardAreRefusedBeforeItRuns) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-// The pids of `parent`'s children.
-std::vector<pid_t> children_of(pid_t parent) {
-  std::vector<pid_t> kids;
-  for (const auto& entry : fs::directory_iterator("/proc")) {
-    const std::string name = entry.path().filename().string();
-    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::ifstream stat(entry.path() / "stat");
-    std::string line;
-    std::getline(stat, line);
-    const auto close = line.rfind(')');
-    if (close == std::string::npos) continue;
-    std::istringstream rest(line.substr(close + 2));
-    char state = 0;
-    pid_t ppid = 0;
-    rest >> state >> ppid;
-    if (ppid == parent) kids.push_back(pid_t(std::stoi(name)));
-  }
-  return kids;
+// The readers `prismoid` (pid) runs now: the children of its reader host (io/isolated_read.hpp).
+std::vector<pid_t> readers_of(pid_t pid) {
+  const std::map<pid_t, test::ProcessStat> table = test::process_table();
+  std::vector<pid_t> readers;
+  for (const pid_t host : test::children_in(table, pid))
+    for (const pid_t reader : test::children_in(table, host)) readers.push_back(reader);
+  return readers;
 }
 
 // Starts `convert cube.off OUT --tetgen-max-volume 5e-7` (tens of seconds of TetGen) and waits
-// until TetGen's child process runs; returns prismoid's pid and the child's.
+// until TetGen's process runs (the reader after the surface's); returns prismoid's pid and TetGen's.
 std::pair<pid_t, pid_t> start_tetgen(const fs::path& out) {
   const fs::path cube = work_dir() / "signal-cube.off";
   test::write_cube_off(cube);
@@ -227,10 +218,9 @@ std::pair<pid_t, pid_t> start_tetgen(const fs::path& out) {
   }
   const auto start = Clock::now();
   while (Clock::now() - start < std::chrono::seconds(30)) {
-    const std::vector<pid_t> kids = children_of(pid);
-    if (!kids.empty()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(500));  // well inside TetGen
-      return {pid, kids.front()};
+    if (!readers_of(pid).empty()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));  // past the surface's read, well inside TetGen
+      if (const std::vector<pid_t> readers = readers_of(pid); !readers.empty()) return {pid, readers.front()};
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
