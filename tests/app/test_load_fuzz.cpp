@@ -6,7 +6,7 @@
 // deadlocked reader (one whose CPU time stands still for kStillSeconds is killed and counted: a
 // slow honest read keeps computing), a hang (a load still running past the product's own read
 // limit is cancelled and counted), or an allocation without end (this process's and its
-// children's peak memory is checked at the end).
+// readers' peak memory is checked at the end).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,8 +26,6 @@
 #include <atomic>
 #include <csignal>
 #include <map>
-#include <mutex>
-#include <set>
 #include <thread>
 
 #include <sys/resource.h>
