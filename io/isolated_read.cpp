@@ -6,6 +6,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +24,7 @@
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -582,7 +584,16 @@ void register_child_work(std::string_view name, ChildServe serve) {
 }
 
 void serve_isolated_child(int argc, char** argv) {
-  if (argc >= 2 && std::strcmp(argv[1], kHostFlag) == 0) host_main();
+  const bool host = argc >= 2 && std::strcmp(argv[1], kHostFlag) == 0;
+  if (host || (argc >= 2 && std::strcmp(argv[1], kChildFlag) == 0)) {
+    // Started by run_in_child, the socket to the parent is kChildFd; typed by hand, it is not.
+    struct stat about {};
+    if (::fstat(kChildFd, &about) != 0 || !S_ISSOCK(about.st_mode)) {
+      std::fprintf(stderr, "%s: %s is for the processes a running Prismoid starts to read files, not for use by hand\n", argv[0], argv[1]);
+      std::exit(2);
+    }
+  }
+  if (host) host_main();
   if (argc >= 4 && std::strcmp(argv[1], kChildFlag) == 0) child_main(argv[2], std::strtoull(argv[3], nullptr, 10));
   g_can_serve = true;
 }

@@ -192,6 +192,20 @@ TEST(CliBadFiles, TetGenBoundsBeyondTheCellGuardAreRefusedBeforeItRuns) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// The flags prismoid gives the processes it starts to read files, typed by hand (with nothing or a
+// file where the socket to their parent would be): a clear refusal, exit 2, nothing read or hung.
+TEST(CliBadFiles, TheReadersInternalFlagsTypedByHandAreRefused) {
+  for (const std::string flags : {"--prismoid-reader-host", "--prismoid-isolated-child read-tet-mesh 0"}) {
+    for (const std::string fd3 : {"3<&-", "3</dev/null"}) {
+      const test::CliRun r = test::run_cli(flags + " " + fd3);
+      EXPECT_EQ(r.code, 2) << flags << " " << fd3;
+      EXPECT_NE(r.err.find(flags.substr(0, flags.find(' ')) + " is for the processes a running Prismoid starts to read files, not for use by hand"),
+                std::string::npos)
+          << r.err;
+    }
+  }
+}
+
 // The readers `prismoid` (pid) runs now: the children of its reader host (io/isolated_read.hpp).
 std::vector<pid_t> readers_of(pid_t pid) {
   const std::map<pid_t, test::ProcessStat> table = test::process_table();
