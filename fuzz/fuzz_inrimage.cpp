@@ -3,6 +3,7 @@
 #include "fuzz/fuzz_input.hpp"
 #include "io/inrimage.hpp"
 #include "io/voxel_tets.hpp"
+#include "scene/tet_mesh.hpp"
 
 using namespace prismoid;
 

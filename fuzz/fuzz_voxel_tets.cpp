@@ -10,6 +10,7 @@
 
 #include "fuzz/fuzz_input.hpp"
 #include "io/voxel_tets.hpp"
+#include "scene/tet_mesh.hpp"
 #include "scene/tet_quality.hpp"
 
 using namespace prismoid;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "io/vtk_tet_io.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/bounds.hpp"
 
 namespace prismoid::io {
 

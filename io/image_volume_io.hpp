@@ -9,7 +9,7 @@
 
 #include "io/progress.hpp"
 #include "io/vtk_tet_io.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::io {
 

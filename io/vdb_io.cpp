@@ -565,7 +565,11 @@ FloatGrid::Ptr surface_level_set(const SurfaceMesh& surface, double voxel_size, 
   for (const auto& t : surface.triangles) triangles.emplace_back(t[0], t[1], t[2]);
   const openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(h);
   ProgressInterrupter interrupter(progress, "converting the surface to a level set");
-  FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<FloatGrid>(interrupter, *xform, points, triangles, kHalfWidth);
+  // Through its base class: libopenvdb already holds meshToLevelSet for NullInterrupter (explicit
+  // instantiation), so this file need not compile the whole conversion again (most of its build
+  // time, issue 40). wasInterrupted is virtual, so the progress still reaches our override.
+  openvdb::util::NullInterrupter& base = interrupter;
+  FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<FloatGrid>(base, *xform, points, triangles, kHalfWidth);
   if (interrupter.cancelled()) throw Cancelled(surface.name);
   // The band reaches 3 voxels inward, so a shape with any voxel centre inside has an active
   // negative value; without one the fog would be empty and the level set all outside.

@@ -12,8 +12,9 @@
 
 #include "io/progress.hpp"
 #include "io/vtk_tet_io.hpp"
+#include "scene/bounds.hpp"
 #include "scene/surface_mesh.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::io {
 

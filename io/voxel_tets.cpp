@@ -6,6 +6,7 @@
 
 #include "io/kuhn_split.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::io {
 

@@ -9,7 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "io/image_volume_io.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::io::detail {
 

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "io/progress.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::io {
 

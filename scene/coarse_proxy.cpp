@@ -7,6 +7,7 @@
 #include <glm/common.hpp>
 
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid {
 

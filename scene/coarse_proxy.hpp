@@ -6,7 +6,7 @@
 // camera, the bench or a comparison draws.
 #include <cstdint>
 
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid {
 

@@ -1,4 +1,5 @@
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 
 #include <cmath>
 #include <map>

@@ -4,7 +4,7 @@
 #include <functional>
 
 #include "scene/surface_mesh.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid {
 

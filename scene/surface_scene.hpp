@@ -22,8 +22,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "scene/bounds.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
 
 namespace prismoid {
 

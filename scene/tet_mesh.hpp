@@ -7,14 +7,9 @@
 
 #include <glm/vec3.hpp>
 
-namespace prismoid {
+#include "scene/bounds.hpp"
 
-struct Bounds {
-  glm::dvec3 min{0.0};
-  glm::dvec3 max{0.0};
-  glm::dvec3 center() const { return 0.5 * (min + max); }
-  double radius() const;  // half the diagonal
-};
+namespace prismoid {
 
 struct TetMesh {
   std::string name;

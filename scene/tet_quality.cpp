@@ -1,3 +1,4 @@
+#include "scene/tet_mesh.hpp"
 #include "scene/tet_quality.hpp"
 
 #include <cmath>

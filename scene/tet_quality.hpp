@@ -2,7 +2,7 @@
 // Orientation and degeneracy of a mesh's tetrahedra, for reports (the renderer handles both).
 #include <cstddef>
 
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid {
 

@@ -96,6 +96,7 @@ VTK_MODULE_INIT(vtkRenderingVolumeOpenGL2);
 
 #include "app/bench/x_display.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::bench {
 

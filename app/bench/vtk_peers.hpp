@@ -17,7 +17,7 @@
 
 #include "renderer/volume/resolve_settings.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::bench {
 

@@ -14,8 +14,8 @@
 
 #include "renderer/vk/instance.hpp"
 #include "renderer/vk/timer.hpp"
+#include "scene/bounds.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
 
 namespace prismoid::app {
 

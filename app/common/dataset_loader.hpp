@@ -13,7 +13,7 @@
 #include "io/surface_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/volume/analytic_field.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::app {
 

@@ -6,6 +6,7 @@
 #include "app/common/cli_args.hpp"
 #include "renderer/volume/region_mesh.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::app {
 

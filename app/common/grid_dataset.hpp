@@ -8,7 +8,7 @@
 #include "io/vdb_io.hpp"
 #include "renderer/volume/analytic_field.hpp"
 #include "renderer/volume/sampled_grid.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::app {
 

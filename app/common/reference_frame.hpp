@@ -7,7 +7,7 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::app {
 

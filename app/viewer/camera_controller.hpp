@@ -6,8 +6,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "scene/bounds.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
 
 namespace prismoid::app {
 

@@ -3,8 +3,8 @@
 // re-rendered from the command line, and a line pasted back restores it.
 #include <string>
 
+#include "scene/bounds.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
 
 namespace prismoid::app {
 

@@ -1,5 +1,6 @@
 // The panel's Data section and the load-error popup.
 #include "app/viewer/open_panel.hpp"
+#include "scene/tet_mesh.hpp"
 
 #include <imgui.h>
 

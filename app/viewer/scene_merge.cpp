@@ -1,4 +1,5 @@
 #include "app/viewer/scene_merge.hpp"
+#include "scene/tet_mesh.hpp"
 
 #include <algorithm>
 

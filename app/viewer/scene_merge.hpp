@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::app {
 

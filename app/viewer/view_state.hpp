@@ -11,7 +11,8 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/frame/volume_modes.hpp"
 #include "renderer/volume/analytic_field.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/bounds.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::app {
 

@@ -16,7 +16,7 @@
 #include "app/viewer/viewer_script.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::app {
 

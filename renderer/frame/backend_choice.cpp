@@ -8,6 +8,7 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/vk/device.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::frame {
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::frame {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "renderer/volume/resolve_settings.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::frame {
 

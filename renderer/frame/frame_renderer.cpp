@@ -13,6 +13,7 @@
 #include "scene/input_error.hpp"
 #include "renderer/volume/visibility_order.hpp"
 #include "renderer/volume/visibility_sort.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::frame {
 

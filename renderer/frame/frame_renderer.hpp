@@ -12,8 +12,9 @@
 #include "renderer/vk/timer.hpp"
 #include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/interval_shading.hpp"
+#include "scene/bounds.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::volume {
 class ComputeIntervals;

@@ -9,7 +9,7 @@
 #include "renderer/volume/analytic_field.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::reference {
 

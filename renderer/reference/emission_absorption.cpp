@@ -10,6 +10,7 @@
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/segment_integral.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::reference {
 

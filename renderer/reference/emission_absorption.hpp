@@ -10,7 +10,7 @@
 #include "renderer/volume/segment_integral.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::reference {
 

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "renderer/reference/row_threads.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::reference {
 

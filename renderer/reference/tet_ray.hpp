@@ -10,7 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::reference {
 

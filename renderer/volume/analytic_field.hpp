@@ -12,7 +12,7 @@
 #include <glm/vec4.hpp>
 
 #include "renderer/volume/sampled_grid.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 #include "shaders/shared/volume.h"
 
 namespace prismoid::volume {

@@ -7,6 +7,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::volume {
 

@@ -11,8 +11,9 @@
 #include <glm/vec3.hpp>
 
 #include "renderer/volume/resolve_settings.hpp"
+#include "scene/bounds.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::volume {
 

@@ -17,6 +17,7 @@
 #include "renderer/volume/tetlets.hpp"
 #include "renderer/volume/interval_march.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 #include "shaders/shared/volume.h"
 
 namespace prismoid::volume {

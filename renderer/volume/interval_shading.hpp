@@ -15,7 +15,7 @@
 #include "renderer/volume/resolve_settings.hpp"
 #include "renderer/volume/segment_integral.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::vk {
 class Device;

@@ -10,6 +10,7 @@
 #include <glm/common.hpp>
 
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::volume {
 

@@ -8,7 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "renderer/volume/sampled_grid.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 
 namespace prismoid::volume {
 

@@ -9,7 +9,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "scene/tet_mesh.hpp"
+#include "scene/bounds.hpp"
 
 namespace prismoid::volume {
 

@@ -11,6 +11,7 @@
 #include "renderer/volume/visibility_order.hpp"
 #include "scene/disjoint_sets.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::volume {
 namespace {

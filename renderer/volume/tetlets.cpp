@@ -1,4 +1,5 @@
 #include "renderer/volume/tetlets.hpp"
+#include "scene/tet_mesh.hpp"
 
 #include <algorithm>
 #include <array>

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "renderer/volume/orientation.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::volume {
 namespace {

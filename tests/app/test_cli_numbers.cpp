@@ -11,6 +11,7 @@
 
 #include "io/image_io.hpp"
 #include "io/vtk_tet_io.hpp"
+#include "scene/tet_mesh.hpp"
 #include "support/cli_run.hpp"
 
 namespace prismoid {

@@ -9,6 +9,7 @@
 #include "app/viewer/viewer_script.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid {
 namespace {

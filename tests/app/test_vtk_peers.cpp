@@ -20,6 +20,7 @@
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 // Last: Xlib defines macros (None, Bool, Success) that clash with names in the headers above.
 #include <X11/Xlib.h>

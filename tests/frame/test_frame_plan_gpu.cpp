@@ -15,6 +15,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/volume/visibility_sort.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 #include "support/gpu_fixture.hpp"
 
 namespace prismoid {

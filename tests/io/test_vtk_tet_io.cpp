@@ -7,6 +7,7 @@
 #include "io/vtk_tet_io.hpp"
 #include "vtk_test_grids.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid {

@@ -11,6 +11,7 @@
 #include "renderer/reference/row_threads.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid {
 namespace {

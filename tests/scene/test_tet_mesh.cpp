@@ -10,6 +10,7 @@
 #include "scene/coarse_proxy.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid {
 namespace {

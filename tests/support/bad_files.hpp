@@ -6,6 +6,7 @@
 #include <string>
 
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::test {
 

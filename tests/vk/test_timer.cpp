@@ -4,6 +4,7 @@
 
 #include "renderer/frame/frame_renderer.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 #include "support/gpu_fixture.hpp"
 
 namespace prismoid {

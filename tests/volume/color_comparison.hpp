@@ -12,7 +12,7 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 #include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 

@@ -43,6 +43,7 @@
 
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::test {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "scene/camera.hpp"
-#include "scene/tet_mesh.hpp"
+#include "scene/tet_mesh_fwd.hpp"
 #include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 

@@ -18,6 +18,7 @@
 #include "renderer/volume/visibility_order.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 #include "volume/color_comparison.hpp"
 #include "volume/interval_comparison.hpp"
 

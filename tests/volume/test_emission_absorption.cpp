@@ -14,6 +14,7 @@
 #include "renderer/reference/emission_absorption.hpp"
 #include "scene/input_error.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 #include "volume/color_comparison.hpp"
 
 namespace prismoid {

@@ -8,6 +8,7 @@
 #include "renderer/volume/float_limits.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid {
 namespace {

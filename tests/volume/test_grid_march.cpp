@@ -15,6 +15,7 @@
 #include "renderer/reference/analytic_march.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/region_mesh.hpp"
+#include "scene/tet_mesh.hpp"
 #include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/march_fixture.hpp"

@@ -20,6 +20,7 @@
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/analytic_field.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 #include "volume/interval_comparison.hpp"
 
 namespace prismoid {

@@ -11,6 +11,7 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/analytic_march.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "scene/tet_mesh.hpp"
 #include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/march_fixture.hpp"

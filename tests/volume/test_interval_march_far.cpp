@@ -9,6 +9,7 @@
 
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/analytic_march.hpp"
+#include "scene/tet_mesh.hpp"
 #include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 

@@ -12,6 +12,7 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 #include "volume/interval_comparison.hpp"
 
 namespace prismoid {

@@ -14,6 +14,7 @@
 #include "renderer/volume/interval_shading.hpp"
 #include "renderer/volume/visibility_sort.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 #include "support/gpu_fixture.hpp"
 
 namespace prismoid {

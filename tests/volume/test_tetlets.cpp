@@ -7,6 +7,7 @@
 
 #include "renderer/volume/tetlets.hpp"
 #include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::volume {
 namespace {

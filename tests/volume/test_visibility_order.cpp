@@ -14,6 +14,7 @@
 #include "renderer/volume/visibility_order.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
 
 namespace prismoid::volume {
 namespace {
