@@ -84,7 +84,8 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
   volume::TransferFunction tf = io::transfer_function_from(a.has("tf") ? a.values.at("tf") : std::string(kDefaultColourMap));
   if (!a.has("tf")) {
     tf.opacity = {{0.0, 0.0}, {look.opacity_from, 0.0}, {1.0, 1.0}};
-    tf.name = std::string(kDefaultColourMap) + ", opacity from the field's median";
+    // append rather than +: GCC 12 warns falsely (-Warray-bounds) about + here.
+    tf.name = std::string(kDefaultColourMap).append(", opacity from the field's median");
   }
   const auto& field = mesh.point_scalars.empty() ? mesh.cell_scalars : mesh.point_scalars;
   if (field.empty())

@@ -73,7 +73,7 @@ TEST_F(BackendCacheTest, TheChoiceFollowsTheCachedNumbers) {
 // Corrupt, wrongly typed or another device's entries: calibrated again, the file made whole.
 TEST_F(BackendCacheTest, ACorruptCacheIsReplaced) {
   fs::create_directories(cache_.parent_path());
-  for (const std::string text : {std::string("{not json"), std::string("[1, 2]"),
+  for (const std::string& text : {std::string("{not json"), std::string("[1, 2]"),
                                  "{\"" + frame::device_key(device()) + "\": {\"mesh_ms\": \"fast\"}}"}) {
     std::ofstream(cache_) << text;
     testing::internal::CaptureStderr();

@@ -232,8 +232,9 @@ TEST(FramePlan, ComputeBackendBinsSortsAndRastersTiles) {
         EXPECT_FALSE(skip_reason(plan, skipped).empty()) << skipped;
       EXPECT_NE(skip_reason(plan, volume::interval_pass_name(s.resolve)).find("compute backend"), std::string::npos);
       for (const auto& p : plan.passes) EXPECT_FALSE(p.reason.empty()) << p.name;
-      if (c.quantity == kColor)
+      if (c.quantity == kColor) {
         EXPECT_NE(plan.find(frame::PassId::TileRaster)->reason.find("each pixel's own depth order"), std::string::npos);
+      }
     }
   }
   frame::FrameSettings s;

@@ -502,7 +502,9 @@ TEST_F(FastAtlasPassTest, TheIdAtlasHoldsTheNearestTriangleOfItsChartAtEachTexel
     if (std::string(k.name) == "overlapping pair at 0.61") {
       EXPECT_GT(overlapped, 100u);  // the depth test was needed
     }
-    if (k.scale == 1.0) EXPECT_GT(as_seen, size_t(kW * kH / 10));  // every texel centre a pixel centre
+    if (k.scale == 1.0) {
+      EXPECT_GT(as_seen, size_t(kW * kH / 10));  // every texel centre a pixel centre
+    }
     std::printf("%s: %zu texels where the visibility pass sampled; elsewhere %zu held clearly, %zu of them by more than one depth\n",
                 k.name, as_seen, covered, overlapped);
   }

@@ -1,0 +1,1 @@
+// The precompiled headers of cmake/CompileTime.cmake are built with this empty source.
