@@ -1,6 +1,7 @@
 // `prismoid convert` and `prismoid info`: datasets without rendering.
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 
 #include <glm/common.hpp>
@@ -32,7 +33,8 @@ const char* const kConvertHelp =
     "split into tetrahedra, pieces merged: see `prismoid info IN`), an image volume (.vti .mhd .mha\n"
     ".inr), a field:NAME[:N] dataset, or a closed surface (.vtp .stl .obj .ply .off) tetrahedralized\n"
     "by TetGen (see `render --help`); without IN, the embedded default dataset is written (its point\n"
-    "array 'scalars' holds the field sampled at the points).\n"
+    "array 'scalars' holds the field sampled at the points) into a new OUT: an existing file alone\n"
+    "is refused, as it is most likely an IN whose OUT was forgotten.\n"
     "\n"
     "OUT.vdb: an OpenVDB grid made by OpenVDB's own tools from a closed surface (IN a surface file, or\n"
     "the boundary of any tetrahedral mesh above): meshToLevelSet's narrow-band level set (3 voxels each\n"
@@ -91,6 +93,11 @@ int cmd_convert(const std::vector<std::string>& args) {
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
   const std::string out = a.files.back();
   a.files.pop_back();
+  // `convert mine.vtu`, OUT forgotten, would replace the user's mesh with the default dataset.
+  std::error_code ec;
+  if (a.files.empty() && std::filesystem::exists(out, ec))
+    throw InputError(out, "exists, and convert with one file writes the embedded default dataset into it: to convert it, "
+                          "give IN and OUT (convert " + out + " OUT.vtu)");
   OutputFiles files;
   for (const std::string& in : a.files) files.input(in);
   files.output(out, "convert", {".vtu", ".vdb"});

@@ -263,52 +263,55 @@ int cmd_render(const std::vector<std::string>& args) {
   for (const std::string& w : result.report.warnings) std::cerr << "prismoid: warning: " << w << "\n";
 
   const bool cpu = !mode.gpu();
-  std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
-            << mesh.tets.size() << " cells) on " << device_name << "\n";
-  std::cout << "  ordering: " << result.report.ordering << (result.report.order_exact ? " [exact]" : " [approximate]") << "\n";
+  // What the render says is printed once its files are in place: a write that fails after this
+  // point (the stats, the rename) must not follow a "wrote".
+  std::ostringstream said;
+  said << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
+       << mesh.tets.size() << " cells) on " << device_name << "\n";
+  said << "  ordering: " << result.report.ordering << (result.report.order_exact ? " [exact]" : " [approximate]") << "\n";
   const frame::FrameReport& report = result.report;
   const double cells = static_cast<double>(std::max<size_t>(mesh.tets.size(), 1));
   const double pixels = static_cast<double>(size.width) * size.height;
   if (!cpu) {
-    std::cout << "  backend: " << report.backend << (settings.backend_reason.empty() ? "" : " (" + settings.backend_reason + ")");
+    said << "  backend: " << report.backend << (settings.backend_reason.empty() ? "" : " (" + settings.backend_reason + ")");
     if (report.backend_bytes > 0)  // the compute backend's tile lists and keys (the mesh backend has none)
-      std::cout << "; its memory " << report.backend_bytes << " bytes (" << json_number(static_cast<double>(report.backend_bytes) / cells)
-                << " per cell, " << json_number(static_cast<double>(report.backend_bytes) / pixels) << " per pixel)";
-    std::cout << "\n";
+      said << "; its memory " << report.backend_bytes << " bytes (" << json_number(static_cast<double>(report.backend_bytes) / cells)
+           << " per cell, " << json_number(static_cast<double>(report.backend_bytes) / pixels) << " per pixel)";
+    said << "\n";
     if (report.counts_known)
-      std::cout << "  pairs: " << report.pairs << " (tile, cell); pixels composited out of exact order: " << report.inexact_pixels
-                << "; tiles rastered in chunks: " << report.split_tiles << " (" << report.chunks << " chunks, " << report.redone_tiles
-                << " rastered again whole for colour order); cells binned by a workgroup: "
-                << report.big_cells << "\n";
+      said << "  pairs: " << report.pairs << " (tile, cell); pixels composited out of exact order: " << report.inexact_pixels
+           << "; tiles rastered in chunks: " << report.split_tiles << " (" << report.chunks << " chunks, " << report.redone_tiles
+           << " rastered again whole for colour order); cells binned by a workgroup: "
+           << report.big_cells << "\n";
   }
   double total = 0.0;
   for (size_t i = 0; i < result.passes.size(); ++i) {
     const vk::PassTiming& p = result.passes[i];
-    std::cout << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << (cpu ? " CPU" : " GPU");
+    said << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << (cpu ? " CPU" : " GPU");
     if (timing && frames > 1 && std::isfinite(p.gpu_ms))
-      std::cout << " (best " << json_number(timing->passes[i].ms.best) << ", worst " << json_number(timing->passes[i].ms.worst) << ")";
-    std::cout << "\n";
+      said << " (best " << json_number(timing->passes[i].ms.best) << ", worst " << json_number(timing->passes[i].ms.worst) << ")";
+    said << "\n";
     total += p.gpu_ms;
   }
-  std::cout << "  total: " << json_number(total) << (cpu ? " ms CPU" : " ms GPU");
+  said << "  total: " << json_number(total) << (cpu ? " ms CPU" : " ms GPU");
   if (timing && frames > 1)
-    std::cout << " (medians of " << frames << " frames; a whole frame: best " << json_number(timing->total_ms.best) << ", median "
-              << json_number(timing->total_ms.median) << ", worst " << json_number(timing->total_ms.worst) << ")";
-  std::cout << "\n";
-  if (timing) print_sm_clock(std::cout, *timing);
+    said << " (medians of " << frames << " frames; a whole frame: best " << json_number(timing->total_ms.best) << ", median "
+         << json_number(timing->total_ms.median) << ", worst " << json_number(timing->total_ms.worst) << ")";
+  said << "\n";
+  if (timing) print_sm_clock(said, *timing);
   if (accuracy) {
-    std::cout << "  against the CPU reference (double precision, exact per-pixel order; " << json_number(accuracy->reference_ms)
-              << " ms CPU): RMSE " << json_number(accuracy->error.rmse) << ", largest difference " << json_number(accuracy->error.max_abs)
-              << (color ? " (display RGB)" : "");
-    if (color) std::cout << ", FLIP " << json_number(accuracy->flip);
-    if (accuracy->error.non_finite) std::cout << "; " << accuracy->error.non_finite << " values not finite";
-    std::cout << "\n";
+    said << "  against the CPU reference (double precision, exact per-pixel order; " << json_number(accuracy->reference_ms)
+         << " ms CPU): RMSE " << json_number(accuracy->error.rmse) << ", largest difference " << json_number(accuracy->error.max_abs)
+         << (color ? " (display RGB)" : "");
+    if (color) said << ", FLIP " << json_number(accuracy->flip);
+    if (accuracy->error.non_finite) said << "; " << accuracy->error.non_finite << " values not finite";
+    said << "\n";
   }
-  for (const auto& p : result.report.cpu_passes) std::cout << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
+  for (const auto& p : result.report.cpu_passes) said << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
   if (result.report.counted) {
-    std::cout << "  drawn: " << result.report.fragments << " fragments";
-    if (result.report.primitives > 0) std::cout << ", " << result.report.primitives << " proxy triangles";
-    std::cout << "\n";
+    said << "  drawn: " << result.report.fragments << " fragments";
+    if (result.report.primitives > 0) said << ", " << result.report.primitives << " proxy triangles";
+    said << "\n";
   }
 
   if (a.has("stats")) {
@@ -375,6 +378,7 @@ int cmd_render(const std::vector<std::string>& args) {
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();
+  std::cout << said.str();
   return instance ? validation_exit(*instance) : kOk;
 }
 

@@ -1,6 +1,7 @@
 // `prismoid render ... --mode path-reference`: a surface scene through the CPU path tracer
 // (renderer/reference/path_tracer.hpp), linear RGB to PFM (or display sRGB to PNG).
 #include <iostream>
+#include <sstream>
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
@@ -58,12 +59,13 @@ int cmd_render_path_reference(const std::vector<std::string>& args, const surfac
   if (a.has("variance"))
     files.write(a.values.at("variance"), [&](const std::string& file) { io::write_pfm(file, rgb_image(image, image.variance)); });
   const auto& c = image.counts;
-  std::cout << "wrote " << output << " (" << image.width << "x" << image.height << ", " << scene.name << ", " << settings.samples_per_pixel
-            << " samples per pixel, at most " << settings.max_bounces << " bounces) on the CPU path tracer in "
-            << json_number(image.seconds) << " s\n"
-            << "  " << c.rays << " rays; guards: " << c.zero_pdf << " zero-pdf samples, " << c.non_finite << " non-finite samples, "
-            << c.backfacing_normals << " back-facing shading normals, " << c.degenerate_triangles << " degenerate triangles skipped\n";
-  if (lit.directional_lights.size() != scene.directional_lights.size()) std::cout << "  no lights in the scene: default key light (it casts shadows) and sky\n";
+  std::ostringstream said;  // printed once the files are in place (cmd_render.cpp says why)
+  said << "wrote " << output << " (" << image.width << "x" << image.height << ", " << scene.name << ", " << settings.samples_per_pixel
+       << " samples per pixel, at most " << settings.max_bounces << " bounces) on the CPU path tracer in "
+       << json_number(image.seconds) << " s\n"
+       << "  " << c.rays << " rays; guards: " << c.zero_pdf << " zero-pdf samples, " << c.non_finite << " non-finite samples, "
+       << c.backfacing_normals << " back-facing shading normals, " << c.degenerate_triangles << " degenerate triangles skipped\n";
+  if (lit.directional_lights.size() != scene.directional_lights.size()) said << "  no lights in the scene: default key light (it casts shadows) and sky\n";
   if (a.has("stats")) {
     StatsJson js;
     js["device"] = "CPU path tracer (double precision)";
@@ -83,6 +85,7 @@ int cmd_render_path_reference(const std::vector<std::string>& args, const surfac
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();
+  std::cout << said.str();
   return kOk;
 }
 

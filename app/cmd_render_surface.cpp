@@ -179,20 +179,21 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   const bool default_lighting = lit.directional_lights.size() != scene.directional_lights.size();
   size_t covered = 0;
   for (size_t i = 3; i < image.rgba.size(); i += 4) covered += image.rgba[i] == 1.0f;
-  std::cout << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count
-            << " triangles, " << gpu.emitter_count << " emissive" << (c.space.empty() ? "" : ", " + c.space)
-            << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "") << ") on " << caps.name << "\n";
-  const double total = print_pass_times(std::cout, image.passes);
-  std::cout << "  total: " << json_number(total) << " ms GPU";
+  std::ostringstream said;  // printed once the files are in place (cmd_render.cpp says why)
+  said << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count
+       << " triangles, " << gpu.emitter_count << " emissive" << (c.space.empty() ? "" : ", " + c.space)
+       << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "") << ") on " << caps.name << "\n";
+  const double total = print_pass_times(said, image.passes);
+  said << "  total: " << json_number(total) << " ms GPU";
   if (frames > 1)
-    std::cout << " (medians of " << frames << " frames; a whole frame: best " << json_number(timing.total_ms.best) << ", median "
-              << json_number(timing.total_ms.median) << ", worst " << json_number(timing.total_ms.worst) << ")";
-  std::cout << "\n";
-  print_sm_clock(std::cout, timing);
-  std::cout << "  covered: " << covered << " pixels" << (c.shaded_field.empty() ? "" : ", " + std::to_string(c.shaded) + " shading invocations")
-            << (c.summary.empty() ? "" : c.summary.front()) << "\n";
-  for (size_t i = 1; i < c.summary.size(); ++i) std::cout << "  " << c.summary[i] << "\n";
-  if (default_lighting) std::cout << "  no lights in the scene: default key light (it casts shadows) and sky\n";
+    said << " (medians of " << frames << " frames; a whole frame: best " << json_number(timing.total_ms.best) << ", median "
+         << json_number(timing.total_ms.median) << ", worst " << json_number(timing.total_ms.worst) << ")";
+  said << "\n";
+  print_sm_clock(said, timing);
+  said << "  covered: " << covered << " pixels" << (c.shaded_field.empty() ? "" : ", " + std::to_string(c.shaded) + " shading invocations")
+       << (c.summary.empty() ? "" : c.summary.front()) << "\n";
+  for (size_t i = 1; i < c.summary.size(); ++i) said << "  " << c.summary[i] << "\n";
+  if (default_lighting) said << "  no lights in the scene: default key light (it casts shadows) and sky\n";
 
   if (a.has("stats")) {
     StatsJson js;
@@ -221,6 +222,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();
+  std::cout << said.str();
   return validation_exit(instance);
 }
 

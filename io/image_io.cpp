@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "io/file_write.hpp"
 #include "io/path_util.hpp"
 #include "scene/input_error.hpp"
 
@@ -41,17 +41,6 @@ void check_shape(const std::string& path, const FloatImage& image) {
     throw InputError(path, "image data does not match its size");
 }
 
-// Writes `path` itself; a failed write removes what it left. Putting the file in place whole
-// (a temporary beside it, renamed) is the caller's: app/common/output_files.hpp.
-template <typename Writer>
-void write_or_remove(const std::string& path, Writer&& writer) {
-  if (!writer(path)) {
-    std::error_code ignored;
-    std::filesystem::remove(path, ignored);
-    throw InputError(path, "cannot write the image (does the folder exist, is it writable?)");
-  }
-}
-
 }  // namespace
 
 void write_png(const std::string& path, const FloatImage& image) {
@@ -62,24 +51,24 @@ void write_png(const std::string& path, const FloatImage& image) {
     const bool alpha = image.channels == 4 && i % 4 == 3;
     bytes[i] = alpha ? static_cast<uint8_t>(std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f)) : to_srgb8(image.pixels[i]);
   }
-  write_or_remove(path, [&](const std::string& file) {
-    return stbi_write_png(file.c_str(), int(image.width), int(image.height), int(image.channels), bytes.data(),
-                          int(image.width * image.channels)) != 0;
-  });
+  // Encoded in memory, then written whole: stb's own file writing ignores a failed fwrite.
+  std::string png;
+  const auto append = [](void* context, void* data, int size) { static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size)); };
+  if (stbi_write_png_to_func(append, &png, int(image.width), int(image.height), int(image.channels), bytes.data(),
+                             int(image.width * image.channels)) == 0)
+    throw InputError(path, "cannot encode the PNG");
+  write_file(path, png);
 }
 
 void write_pfm(const std::string& path, const FloatImage& image) {
   check_shape(path, image);
   if (image.channels != 1 && image.channels != 3) throw InputError(path, "PFM holds 1 or 3 channels");
-  write_or_remove(path, [&](const std::string& file) {
-    std::ofstream out(file, std::ios::binary);
-    if (!out) return false;
-    out << (image.channels == 1 ? "Pf" : "PF") << "\n" << image.width << " " << image.height << "\n-1.0\n";
-    const size_t row = size_t(image.width) * image.channels;
-    for (uint32_t y = image.height; y-- > 0;)
-      out.write(reinterpret_cast<const char*>(image.pixels.data() + y * row), std::streamsize(row * sizeof(float)));
-    return bool(out);
-  });
+  std::string pfm = std::string(image.channels == 1 ? "Pf" : "PF") + "\n" + std::to_string(image.width) + " " +
+                    std::to_string(image.height) + "\n-1.0\n";
+  const size_t row = size_t(image.width) * image.channels;
+  for (uint32_t y = image.height; y-- > 0;)
+    pfm.append(reinterpret_cast<const char*>(image.pixels.data() + y * row), row * sizeof(float));
+  write_file(path, pfm);
 }
 
 FloatImage read_pfm(const std::string& path) {

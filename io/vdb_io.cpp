@@ -19,6 +19,7 @@
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
+#include "io/file_write.hpp"
 #include "io/isolated_read.hpp"
 #include "io/kuhn_split.hpp"
 #include "io/path_util.hpp"
@@ -606,6 +607,21 @@ VdbWriteReport write_vdb_from_surface(const std::string& path, const SurfaceMesh
     std::error_code ec;
     std::filesystem::remove(path, ec);
     throw InputError(path, std::string("cannot write the .vdb file: ") + e.what());
+  }
+  // OpenVDB's file writing does not notice a full disk: the file ends at whatever fitted. (Its
+  // stream writing would, but writes no offsets, which other programs' readers need.) So the
+  // file is synced, read back and its voxels counted.
+  sync_file(path);
+  bool whole = false;
+  try {
+    const openvdb::GridPtrVec back = read_grids(path);
+    whole = back.size() == 1 && back.front()->activeVoxelCount() == result.active_voxels;
+  } catch (const InputError&) {
+  }
+  if (!whole) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+    throw InputError(path, "cannot be written: what reached the disk is incomplete (is the disk full?)");
   }
   return result;
 }

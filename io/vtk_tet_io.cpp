@@ -17,6 +17,7 @@
 #include <vtkPoints.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include "io/file_write.hpp"
 #include "io/path_util.hpp"
 #include "io/vtk_grid.hpp"
 #include "scene/input_error.hpp"
@@ -291,14 +292,13 @@ void write_tet_mesh_vtu(const std::string& path, const TetMesh& mesh) {
     grid->GetPointData()->AddArray(scalars);
   }
   const detail::QuietVtk quiet;  // a failed write is an InputError, not console noise
+  // Into memory, then written whole: VTK's own file writing ignores a full disk (the file ends
+  // at whatever fitted, and Write() still succeeds).
   vtkNew<vtkXMLUnstructuredGridWriter> writer;
-  writer->SetFileName(path.c_str());
+  writer->WriteToOutputStringOn();
   writer->SetInputData(grid);
-  if (writer->Write() != 1) {
-    std::error_code ec;
-    std::filesystem::remove(path, ec);
-    throw InputError(path, "cannot write the .vtu file (does the folder exist, is it writable?)");
-  }
+  if (writer->Write() != 1) throw InputError(path, "cannot encode the .vtu file");
+  write_file(path, writer->GetOutputString());
 }
 
 }  // namespace prismoid::io

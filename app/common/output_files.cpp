@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "io/file_write.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -44,9 +45,17 @@ void withdraw(std::array<std::atomic<const char*>, kSlots>& slots, const char* p
   }
 }
 
-constexpr std::array<int, 2> kSignals = {SIGINT, SIGTERM};
-std::array<struct sigaction, 2> g_previous{};
-std::array<bool, 2> g_installed{};
+// Every signal whose default ends the process and that a user or a session sends: Ctrl-C, kill,
+// a closed terminal (SIGHUP), Ctrl-\ (SIGQUIT).
+constexpr std::array<int, 4> kSignals = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+std::array<struct sigaction, kSignals.size()> g_previous{};
+std::array<bool, kSignals.size()> g_installed{};
+
+size_t signal_index(int sig) {
+  for (size_t i = 0; i < kSignals.size(); ++i)
+    if (kSignals[i] == sig) return i;
+  return 0;
+}
 int g_live = 0;  // OutputFiles alive (the main thread's; the handler stays while any is)
 
 // A plain handler (no SA_SIGINFO): the progress bar and the window save and restore handlers
@@ -58,7 +67,7 @@ extern "C" void remove_outputs_on_signal(int sig) {
   for (int pass = 0; pass < 8; ++pass)
     for (size_t i = kSlots; i-- > 0;)
       if (const char* p = g_folders[i].load()) ::rmdir(p);
-  const struct sigaction& previous = g_previous[sig == SIGINT ? 0 : 1];
+  const struct sigaction& previous = g_previous[signal_index(sig)];
   if (previous.sa_flags & SA_SIGINFO) {
     previous.sa_sigaction(sig, nullptr, nullptr);
   } else if (previous.sa_handler == SIG_DFL) {
@@ -89,7 +98,7 @@ void restore_handler() {
     if (g_installed[i]) sigaction(kSignals[i], &g_previous[i], nullptr);
 }
 
-// Holds SIGINT and SIGTERM in this thread while alive.
+// Holds those signals in this thread while alive.
 class HeldSignals {
  public:
   HeldSignals() {
@@ -251,6 +260,10 @@ void OutputFiles::output(const std::string& path, const std::string& option, con
   if (fs::is_directory(status)) throw InputError(path, "is a folder: " + option + " needs a file name");
   if (fs::exists(status) && !fs::is_regular_file(status))
     throw InputError(path, "is not a regular file: " + option + " replaces regular files only");
+  // By the permission bits, not access(): root may write anything, but a file its owner made
+  // read-only is one they meant to keep.
+  if (fs::exists(status) && (status.permissions() & (fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write)) == fs::perms::none)
+    throw InputError(path, "is read-only: " + option + " does not replace it (make it writable, or choose another name)");
   const fs::path dir = fs::path(out.resolved).parent_path();
   const fs::file_status dir_status = fs::status(dir, ec);
   if (!fs::exists(dir_status)) throw InputError(path, "the folder '" + folder_of(path) + "' does not exist");
@@ -315,6 +328,16 @@ void OutputFiles::discard(const std::string& path) {
 void OutputFiles::commit() {
   for (const Output& out : outputs_)
     if (!out.written) throw std::logic_error("OutputFiles::commit: " + out.option + " '" + out.path + "' was declared but not written");
+  // On the disk before in place: a disk that took the bytes into its cache may still refuse
+  // them, and a rename must not put an output whose data are lost over the user's file.
+  for (const Output& out : outputs_) {
+    try {
+      io::sync_file(out.temporary);
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      throw InputError(out.path, what.substr(std::min(what.size(), out.temporary.size() + 2)));
+    }
+  }
   const HeldSignals held;
   for (Output& out : outputs_) {
     if (std::rename(out.temporary.c_str(), out.resolved.c_str()) != 0)

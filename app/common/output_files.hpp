@@ -9,8 +9,9 @@
 //     command writes into the temporary, and commit() renames every temporary into place only
 //     after all were written;
 //   - a failure (an exception, so the object is destroyed uncommitted) removes the temporaries
-//     and any folder the object created; so does SIGINT or SIGTERM while the object lives, before
-//     the signal takes its usual course (see the constructor).
+//     and any folder the object created; so does SIGINT, SIGTERM, SIGHUP or SIGQUIT while the
+//     object lives, before the signal takes its usual course (see the constructor);
+//   - an existing file whose permission bits allow no writing is refused, not replaced.
 // `render`, `convert`, `bench` and the window's screenshot, render and tf-export all use it.
 #include <functional>
 #include <list>
@@ -21,7 +22,7 @@ namespace prismoid::app {
 
 class OutputFiles {
  public:
-  // Installs the SIGINT/SIGTERM clean-up for as long as the outermost OutputFiles lives: the
+  // Installs the clean-up on those signals for as long as the outermost OutputFiles lives: the
   // handler removes the temporaries and created folders of every live OutputFiles, then does
   // what the disposition it replaced did (the default: end the process by the signal; a
   // handler of the program's own, such as the window's close request: call it). A signal that

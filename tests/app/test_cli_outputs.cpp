@@ -12,6 +12,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
@@ -76,6 +77,16 @@ void expect_refused_leaving(const fs::path& dir, const std::string& command, con
   EXPECT_EQ(changes(before, snapshot(dir)), "") << command;
 }
 
+// `prismoid ARGS` under a file size limit of 100 blocks (51 or 102 KB, by the shell's unit), with
+// SIGXFSZ ignored: each write past it fails with EFBIG, as a full disk fails one with ENOSPC.
+CliRun run_with_small_disk(const std::string& args) {
+  const fs::path dir = work_dir();
+  const std::string cmd = "trap '' XFSZ; ulimit -f 100; " + std::string(PRISMOID_EXE) + " " + args + " >" + (dir / "out.txt").string() +
+                          " 2>" + (dir / "err.txt").string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, test::slurp(dir / "out.txt"), test::slurp(dir / "err.txt")};
+}
+
 // A closed cube of side 2 as OFF: a surface for path-reference and TetGen.
 void write_cube_off(const fs::path& off) {
   std::ofstream(off) << "OFF\n8 12 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
@@ -109,6 +120,26 @@ TEST(CliOutputs, AnOutputThatIsAnInputIsRefusedAndTheInputKeptByteForByte) {
   expect_refused_leaving(d, "convert " + v + " " + (d / "hard.vtu").string(), "hard.vtu: convert would write over '" + v + "'");
   expect_refused_leaving(d, "convert " + vdb + " " + vdb, vdb + ": convert would write over a file this command reads");
   expect_refused_leaving(d, "convert " + (d / "p.pvtu").string() + " " + v, v + ": convert would write over");
+  // OUT forgotten: `convert mine.vtu` alone would write the default dataset over the user's mesh.
+  expect_refused_leaving(d, "convert " + v, v + ": exists, and convert with one file writes the embedded default dataset");
+}
+
+// A file its owner made read-only is refused, not replaced (root may write it, so the refusal
+// reads the permission bits); its bytes and its mode stay.
+TEST(CliOutputs, AReadOnlyOutputIsRefusedAndKept) {
+  const fs::path d = fresh_dir("read-only");
+  const std::string v = (d / "v.vtu").string(), stats = (d / "s.json").string();
+  ASSERT_EQ(run("convert ball:1 " + v).code, 0);
+  std::ofstream(stats) << "{\"mine\": 1}";
+  fs::permissions(stats, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  const std::string out = (d / "out.vtu").string();
+  std::ofstream(out) << "the user's";
+  fs::permissions(out, fs::perms::owner_read);
+  expect_refused_leaving(d, "render " + v + " --size 8x8 --output " + (d / "o.png").string() + " --stats " + stats,
+                         stats + ": is read-only: --stats does not replace it");
+  expect_refused_leaving(d, "convert " + v + " " + out, out + ": is read-only: convert does not replace it");
+  EXPECT_EQ(fs::status(stats).permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  EXPECT_EQ(fs::status(out).permissions() & fs::perms::all, fs::perms::owner_read);
 }
 
 TEST(CliOutputs, AFolderInAnOutputsPlaceLeavesNoPartialFile) {
@@ -205,6 +236,32 @@ TEST(CliOutputs, AFailedBenchRemovesOnlyTheFoldersItCreated) {
   expect_refused_leaving(d, bench + (d / "taken").string(), "taken: is not a folder: --out names the folder to write into");
 }
 
+// A disk that fills up mid-write: every writer notices (VTK's, OpenVDB's and stb's own file
+// writing did not, and left a truncated file with exit 0), the command fails naming the file and
+// the reason, and the file it would have replaced keeps its bytes.
+TEST(CliOutputs, AWriteThatFailsMidwayFailsTheCommandAndKeepsTheOldFile) {
+  const fs::path d = fresh_dir("small-disk");
+  for (const char* name : {"z.vtu", "z.vdb", "z.pfm", "z.json"}) std::ofstream(d / name) << "the user's";
+  const std::string z = (d / "z").string();
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"convert field:marschner-lobb:24 " + z + ".vtu", z + ".vtu: cannot be written: File too large"},
+      {"convert ball:2 " + z + ".vdb", z + ".vdb: cannot be written: what reached the disk is incomplete"},
+      // The CPU reference: lavapipe maps memory files, which the size limit would cut short.
+      {"render --mode reference --size 300x300 --output " + z + ".pfm", z + ".pfm: cannot be written: File too large"},
+  };
+  for (const auto& [command, says] : commands) {
+    const auto before = snapshot(d);
+    const CliRun r = run_with_small_disk(command);
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << command << "\nprinted: " << r.err;
+    EXPECT_EQ(r.out.find("wrote"), std::string::npos) << command << "\nprinted: " << r.out;
+    EXPECT_EQ(changes(before, snapshot(d)), "") << command;
+  }
+  // The same commands without the limit write their files: the limit, not the command, failed.
+  EXPECT_EQ(run("convert ball:2 " + z + ".vdb").code, 0);
+  EXPECT_GT(fs::file_size(z + ".vdb"), 100u * 1024u);
+}
+
 // Runs prismoid with `args` in the background, sends `sig` as soon as a temporary output file
 // appears in `dir` (the command is then mid-run), and returns the wait status.
 int signal_mid_run(const fs::path& dir, const std::vector<std::string>& args, int sig) {
@@ -212,6 +269,8 @@ int signal_mid_run(const fs::path& dir, const std::vector<std::string>& args, in
   if (pid == 0) {
     std::freopen("/dev/null", "w", stdout);
     std::freopen("/dev/null", "w", stderr);
+    const struct rlimit no_core{0, 0};  // SIGQUIT's default dumps core
+    setrlimit(RLIMIT_CORE, &no_core);
     std::vector<char*> argv{const_cast<char*>(PRISMOID_EXE)};
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
@@ -231,10 +290,11 @@ int signal_mid_run(const fs::path& dir, const std::vector<std::string>& args, in
   return status;
 }
 
-// Ctrl-C or SIGTERM during a render or a convert leaves no partial or temporary file: the
-// command's temporaries exist from its start, so the signal lands while they do.
+// Ctrl-C, SIGTERM, a closed terminal (SIGHUP) or Ctrl-\ (SIGQUIT) during a render or a convert
+// leaves no partial or temporary file: the command's temporaries exist from its start, so the
+// signal lands while they do.
 TEST(CliOutputs, SignalsMidRunLeaveNoPartialFile) {
-  for (const int sig : {SIGTERM, SIGINT}) {
+  for (const int sig : {SIGTERM, SIGINT, SIGHUP, SIGQUIT}) {
     for (const std::string verb : {"convert", "render"}) {
       const fs::path d = fresh_dir("signal-" + verb + "-" + std::to_string(sig));
       const std::vector<std::string> args =
