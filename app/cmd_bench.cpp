@@ -49,7 +49,9 @@ const char* const kBenchHelp =
     "dataset; * marks the Pareto-optimal rows: no other row of the same dataset, quantity and image\n"
     "size is both at least as fast and at least as accurate).\n"
     "\n"
-    "  --out DIR            folder for bench.csv and report.md (created if missing)\n"
+    "  --out DIR            folder for bench.csv and report.md (created if missing); one that holds\n"
+    "                       either already is refused, unless --replace\n"
+    "  --replace            replace the bench.csv, report.md and plots of an earlier run in DIR\n"
     "  --quick              96x72, 3 frames, one or two settings per sweep: a smoke test in a minute\n"
     "  --size WxH           image size (default 400x300)\n"
     "  --frames N           timed frames (default 10); times are the median, with the best and worst,\n"
@@ -260,7 +262,7 @@ int cmd_bench(const std::vector<std::string>& args) {
                                             "shading-scales", "fastatlas-atlases", "surface-shadows", "fastatlas-refresh",
                                             "max-triangle-pixels"};
   value_options.insert(value_options.end(), passed_through.begin(), passed_through.end());
-  const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still"});
+  const ParsedArgs a = parse(args, 1, value_options, {"quick", "validate", "help", "no-peers", "no-plots", "surface-still", "replace"});
   if (a.flags.count("help")) { std::cout << kBenchHelp; return kOk; }
   if (a.has("replot")) {
     if (!a.files.empty() || a.values.size() > 1) throw InputError("--replot", "takes only the folder of an earlier run");
@@ -290,6 +292,12 @@ int cmd_bench(const std::vector<std::string>& args) {
     for (const std::string& scene : split_list(a.values.at("surfaces"))) files.input(scene);
   files.folder(out_dir.string(), "--out");
   const std::string csv_path = (out_dir / "bench.csv").string(), report_path = (out_dir / "report.md").string();
+  // An earlier run's results (docs/ holds committed ones) are replaced only when asked to.
+  std::error_code ec;
+  if (!a.flags.count("replace"))
+    for (const std::string& earlier : {csv_path, report_path})
+      if (std::filesystem::exists(earlier, ec))
+        throw InputError(earlier, "exists: bench does not replace an earlier run's results; choose another --out, or add --replace");
   files.output(csv_path, "--out", {".csv"});
   files.output(report_path, "--out", {".md"});
 

@@ -26,7 +26,7 @@ phase "ctest"
 if [ $# -gt 0 ]; then exit 0; fi
 # The bench's quick preset, as a step of its own: `prismoid bench` runs end to end on every
 # configuration it knows, with validation on (its times are reported, never asserted).
-xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" build/app/prismoid bench --quick --validate --out build/bench-quick > build/bench-quick.log
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" build/app/prismoid bench --quick --validate --replace --out build/bench-quick > build/bench-quick.log
 phase "bench --quick (build/bench-quick/report.md)"
 # libFuzzer on Prismoid's own parsers (fuzz/), briefly: 20 s per target, about 2 minutes in all.
 ./scripts/fuzz.sh 20

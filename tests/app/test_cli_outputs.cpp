@@ -233,6 +233,10 @@ TEST(CliOutputs, AFailedBenchRemovesOnlyTheFoldersItCreated) {
   std::ofstream(d / "mine" / "keep.txt") << "the user's";
   expect_refused_leaving(d, bench + (d / "mine").string(), "missing.vtu: file does not exist");
   std::ofstream(d / "taken") << "a file where the folder would go";
+  // An earlier run's results are not replaced unless asked to.
+  fs::create_directories(d / "earlier");
+  std::ofstream(d / "earlier" / "report.md") << "committed results";
+  expect_refused_leaving(d, bench + (d / "earlier").string(), "report.md: exists: bench does not replace an earlier run's results");
   expect_refused_leaving(d, bench + (d / "taken").string(), "taken: is not a folder: --out names the folder to write into");
 }
 
