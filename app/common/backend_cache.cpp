@@ -1,15 +1,21 @@
 #include "app/common/backend_cache.hpp"
 
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
+#include <cstring>
+#include <fcntl.h>
 #include <iostream>
-#include <sstream>
+#include <sys/stat.h>
 #include <system_error>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
+#include "io/file_write.hpp"
 #include "renderer/vk/device.hpp"
+#include "scene/input_error.hpp"
 
 namespace prismoid::app {
 
@@ -22,18 +28,45 @@ std::string env(const char* name) {
   return v ? std::string(v) : std::string();
 }
 
+// A cache holds a few hundred bytes per device; anything near this is not one.
+constexpr off_t kMaxCacheBytes = 1 << 20;
+
 // The cache's calibrations by device key; empty (with a warning) when the file is unreadable.
-nlohmann::json read_cache(const fs::path& path) {
+// `replaceable` is false when the path holds something other than a regular file (a folder, a
+// FIFO, a device, a link to one): that is not ours to replace. Opened without blocking and
+// checked before reading, so a FIFO neither hangs nor /dev/zero fills memory.
+nlohmann::json read_cache(const fs::path& path, bool& replaceable) {
+  replaceable = true;
   std::error_code ec;
-  if (!fs::exists(path, ec)) return nlohmann::json::object();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    std::cerr << "prismoid: warning: cannot read the backend cache " << path.string() << "; calibrating again\n";
+  if (!fs::exists(fs::symlink_status(path, ec))) return nlohmann::json::object();
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  struct stat st {};
+  if (fd < 0 || ::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    if (fd >= 0) ::close(fd);
+    replaceable = fd < 0 && fs::is_regular_file(fs::status(path, ec));
+    std::cerr << "prismoid: warning: the backend cache " << path.string()
+              << (replaceable ? " cannot be read" : " is not a regular file (a folder, a FIFO or a device?)")
+              << "; calibrating again" << (replaceable ? "" : ", and the calibration is not kept") << "\n";
     return nlohmann::json::object();
   }
-  std::stringstream text;
-  text << in.rdbuf();
-  nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+  std::string text;
+  if (st.st_size <= kMaxCacheBytes) {
+    text.resize(size_t(st.st_size));
+    size_t done = 0;
+    while (done < text.size()) {
+      const ssize_t n = ::read(fd, text.data() + done, text.size() - done);
+      if (n <= 0 && !(n < 0 && errno == EINTR)) break;
+      if (n > 0) done += size_t(n);
+    }
+    text.resize(done);
+  }
+  ::close(fd);
+  if (st.st_size > kMaxCacheBytes) {
+    std::cerr << "prismoid: warning: the backend cache " << path.string() << " is " << st.st_size
+              << " bytes, too large to be one; calibrating again and replacing it\n";
+    return nlohmann::json::object();
+  }
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (!j.is_object()) {
     std::cerr << "prismoid: warning: the backend cache " << path.string()
               << " is not a JSON object of calibrations; calibrating again and replacing it\n";
@@ -42,10 +75,17 @@ nlohmann::json read_cache(const fs::path& path) {
   return j;
 }
 
+// A frame time a calibration can measure, in ms: a microsecond to 1000 s. The file is anyone's
+// to edit; 1e-320 or 0 would otherwise decide every later run ("infx faster", or mesh for ever).
+bool plausible_ms(double ms) { return std::isfinite(ms) && ms >= 1e-3 && ms <= 1e6; }
+
 bool read_entry(const nlohmann::json& e, frame::BackendCalibration& c) {
   if (!e.is_object()) return false;
-  for (const char* key : {"mesh_ms", "compute_ms", "cells", "width", "height"})
-    if (!e.contains(key) || !e[key].is_number()) return false;
+  for (const char* key : {"mesh_ms", "compute_ms"})
+    if (!e.contains(key) || !e[key].is_number() || !plausible_ms(e[key].get<double>())) return false;
+  for (const char* key : {"cells", "width", "height"})
+    if (!e.contains(key) || !e[key].is_number_unsigned() || e[key].get<uint64_t>() == 0 || e[key].get<uint64_t>() > (uint64_t(1) << 32))
+      return false;
   c.mesh_ms = e["mesh_ms"].get<double>();
   c.compute_ms = e["compute_ms"].get<double>();
   c.cells = e["cells"].get<uint64_t>();
@@ -54,25 +94,31 @@ bool read_entry(const nlohmann::json& e, frame::BackendCalibration& c) {
   return true;
 }
 
-// Written beside the target and renamed over it: a reader never sees half a file, and two
-// processes calibrating at once leave one whole file.
+// Written beside the target under a fresh name (mkstemp: created, never followed, so a link
+// planted where a fixed name would be cannot redirect the write) and renamed over it: a reader
+// never sees half a file, and two processes calibrating at once leave one whole file.
 void write_cache(const fs::path& path, const nlohmann::json& j) {
   std::error_code ec;
   fs::create_directories(path.parent_path(), ec);
-  const fs::path tmp = path.string() + ".partial";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << j.dump(2) << "\n";
-    if (!out) {
-      fs::remove(tmp, ec);
-      std::cerr << "prismoid: warning: cannot write the backend cache " << path.string() << "; the calibration is not kept\n";
-      return;
-    }
+  std::string tmp = path.string() + ".partial-XXXXXX";
+  const int fd = ::mkstemp(tmp.data());
+  if (fd < 0) {
+    std::cerr << "prismoid: warning: cannot write the backend cache " << path.string() << ": " << std::strerror(errno)
+              << "; the calibration is not kept\n";
+    return;
   }
-  fs::rename(tmp, path, ec);
-  if (ec) {
+  ::close(fd);
+  try {
+    io::write_file(tmp, j.dump(2) + "\n");
+  } catch (const InputError& e) {
     fs::remove(tmp, ec);
-    std::cerr << "prismoid: warning: cannot replace the backend cache " << path.string() << ": " << ec.message() << "\n";
+    std::cerr << "prismoid: warning: " << e.what() << "; the calibration is not kept\n";
+    return;
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    fs::remove(tmp, ec);
+    std::cerr << "prismoid: warning: cannot replace the backend cache " << path.string() << ": " << reason << "\n";
   }
 }
 
@@ -87,12 +133,14 @@ fs::path backend_cache_path() {
 
 frame::BackendChoice auto_backend(const vk::Device& device, const fs::path& cache, bool* from_cache) {
   const std::string key = frame::device_key(device);
-  nlohmann::json all = cache.empty() ? nlohmann::json::object() : read_cache(cache);
+  bool replaceable = true;
+  nlohmann::json all = cache.empty() ? nlohmann::json::object() : read_cache(cache, replaceable);
   frame::BackendCalibration c;
   c.device_key = key;
   const bool listed = all.contains(key);
   if (listed && !read_entry(all[key], c))
-    std::cerr << "prismoid: warning: the backend cache " << cache.string() << " holds no numbers for this device's entry; calibrating again\n";
+    std::cerr << "prismoid: warning: the backend cache " << cache.string()
+              << " holds no plausible numbers for this device's entry; calibrating again\n";
   else if (listed) {
     if (from_cache) *from_cache = true;
     frame::BackendChoice choice = frame::choose_backend(c);
@@ -101,7 +149,7 @@ frame::BackendChoice auto_backend(const vk::Device& device, const fs::path& cach
   }
   if (from_cache) *from_cache = false;
   c = frame::calibrate_backends(device);
-  if (!cache.empty()) {
+  if (!cache.empty() && replaceable) {
     all[key] = {{"mesh_ms", c.mesh_ms}, {"compute_ms", c.compute_ms}, {"cells", c.cells}, {"width", c.width}, {"height", c.height}};
     write_cache(cache, all);
   }
