@@ -33,6 +33,7 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
+#include "renderer/surface/surface_modes.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
@@ -138,11 +139,16 @@ class MeshCache {
   std::map<std::string, TetMesh> meshes_;
 };
 
-std::vector<std::string> split_list(const std::string& s) {
+// A comma-separated option value; an empty list or item (`--sweeps ,`, `a,,b`) is refused: it
+// once measured nothing and wrote a header-only CSV with exit 0.
+std::vector<std::string> split_list(const std::string& option, const std::string& s) {
   std::vector<std::string> out;
   std::stringstream in(s);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) out.push_back(item);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (item.empty()) throw InputError("--" + option, "has an empty item in '" + s + "' (a list is NAME,NAME,...)");
+    out.push_back(item);
+  }
+  if (out.empty() || s.back() == ',') throw InputError("--" + option, "has an empty item in '" + s + "' (a list is NAME,NAME,...)");
   return out;
 }
 
@@ -253,6 +259,91 @@ int replot(const std::filesystem::path& dir) {
   return kOk;
 }
 
+// The surfaces sweep's options, all checked before any work (a typo once failed 18 s into
+// --quick, hours into a full bench). Lists refuse empty items and names they do not know.
+constexpr uint32_t kMaxSurfaceLights = 4096;
+
+bench::SurfaceBenchOptions surface_options(const ParsedArgs& a) {
+  bench::SurfaceBenchOptions so;
+  if (a.has("surfaces")) so.scenes = split_list("surfaces", a.values.at("surfaces"));
+  if (a.has("surface-modes")) so.modes = split_list("surface-modes", a.values.at("surface-modes"));
+  for (const std::string& mode : so.modes) {
+    const surface::SurfaceMode* m = surface::find_surface_mode(mode);
+    if (m == nullptr || !m->gpu()) {
+      std::string known;
+      for (const surface::SurfaceMode& t : surface::surface_mode_table())
+        if (t.gpu()) known += (known.empty() ? "" : ", ") + std::string(t.name);
+      throw InputError("--surface-modes", "'" + mode + "' is not a GPU surface mode (" + known + ")");
+    }
+  }
+  if (a.has("surface-lights")) {
+    so.extra_lights = parse_uint("surface-lights", a.values.at("surface-lights"));
+    // Each light is a shadow ray per shaded sample and a term of the CPU reference's sum.
+    if (so.extra_lights > kMaxSurfaceLights)
+      throw InputError("--surface-lights", "at most " + std::to_string(kMaxSurfaceLights) + " lights, got " + std::to_string(so.extra_lights));
+  }
+  so.still_rows = a.flags.count("surface-still") > 0;
+  if (a.has("surface-motion")) {
+    so.motion_degrees = parse_double("surface-motion", a.values.at("surface-motion"));
+    if (!(so.motion_degrees > 0.0 && so.motion_degrees <= 45.0))
+      throw InputError("--surface-motion", "degrees per frame must lie in (0, 45]");
+  }
+  if (a.has("msa-charts")) {
+    so.msa_charts.clear();
+    for (const std::string& kind : split_list("msa-charts", a.values.at("msa-charts"))) {
+      msa::Parametrization p;
+      if (!msa::parse_parametrization(kind, p))
+        throw InputError("--msa-charts", "must list projection, conformal, perspective or orthographic, got '" + kind + "'");
+      so.msa_charts.push_back(p);
+    }
+  }
+  if (a.has("msa-amortize")) {
+    if (!a.has("surface-motion")) throw InputError("--msa-amortize", "needs --surface-motion (amortization matters while the camera moves)");
+    for (const std::string& n : split_list("msa-amortize", a.values.at("msa-amortize"))) {
+      const uint32_t every = parse_uint("msa-amortize", n);
+      if (every < 2) throw InputError("--msa-amortize", "each n must be at least 2 (1 shades every frame: the moving msa row)");
+      so.msa_amortization.push_back(every);
+    }
+  }
+  if (a.has("fastatlas-refresh")) {
+    if (!a.has("surface-motion")) throw InputError("--fastatlas-refresh", "needs --surface-motion (temporal reuse matters while the camera moves)");
+    for (const std::string& n : split_list("fastatlas-refresh", a.values.at("fastatlas-refresh"))) {
+      const uint32_t every = parse_uint("fastatlas-refresh", n);
+      if (every < 2 || every > 1000) throw InputError("--fastatlas-refresh", "each n must lie in [2, 1000] (1 refreshes every frame: the moving row)");
+      so.fastatlas_refresh.push_back(every);
+    }
+  }
+  if (a.has("max-triangle-pixels")) {
+    so.max_triangle_pixels = parse_double("max-triangle-pixels", a.values.at("max-triangle-pixels"));
+    if (!(so.max_triangle_pixels > 0.0) || !std::isfinite(so.max_triangle_pixels))
+      throw InputError("--max-triangle-pixels", "must be a finite, positive number of pixels");
+  }
+  if (a.has("surface-shadows")) {
+    const std::string v = a.values.at("surface-shadows");
+    if (v != "on" && v != "off" && v != "both") throw InputError("--surface-shadows", "must be on, off or both, got '" + v + "'");
+    so.shadows_on = v != "off";
+    so.shadows_off = v != "on";
+  }
+  if (a.has("shading-scales"))
+    for (const std::string& v : split_list("shading-scales", a.values.at("shading-scales"))) {
+      const double sf = parse_double("shading-scales", v);
+      if (!(sf > 0.0 && sf <= 1.0)) throw InputError("--shading-scales", "each SF must lie in (0, 1], got '" + v + "'");
+      so.shading_scales.push_back(sf);
+    }
+  if (a.has("fastatlas-atlases"))
+    for (const std::string& v : split_list("fastatlas-atlases", a.values.at("fastatlas-atlases"))) {
+      const uint32_t side = parse_uint("fastatlas-atlases", v);
+      if (side < 64 || side > 16384 || (side & (side - 1)) != 0)
+        throw InputError("--fastatlas-atlases", "each atlas side must be a power of two from 64 to 16384, got '" + v + "'");
+      so.fastatlas_atlases.push_back(side);
+    }
+  if (so.extra_lights > 0) so.supersample = 1;  // the CPU reference's cost grows with the lights: one sample per pixel
+  if (a.has("shading-budget"))
+    so.shading_budget = a.values.at("shading-budget") == "covered" ? bench::SurfaceBenchOptions::kBudgetCoveredPixels
+                                                                    : parse_uint("shading-budget", a.values.at("shading-budget"));
+  return so;
+}
+
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& args) {
@@ -279,17 +370,18 @@ int cmd_bench(const std::vector<std::string>& args) {
   preset.warm_up_seconds = a.has("warm-up") ? parse_double("warm-up", a.values.at("warm-up")) : preset.quick ? 0.0 : app::kTimedWarmUpSeconds;
   if (!(preset.warm_up_seconds >= 0.0 && preset.warm_up_seconds <= 600.0)) throw InputError("--warm-up", "seconds must lie in [0, 600]");
   const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells", "surfaces"};
-  const std::vector<std::string> sweeps = a.has("sweeps") ? split_list(a.values.at("sweeps")) : all_sweeps;
+  const std::vector<std::string> sweeps = a.has("sweeps") ? split_list("sweeps", a.values.at("sweeps")) : all_sweeps;
   for (const auto& s : sweeps)
     if (std::find(all_sweeps.begin(), all_sweeps.end(), s) == all_sweeps.end())
       throw InputError("--sweeps", "unknown sweep '" + s + "' (modes, tetlet-size, preintegration, image-size, march-step, cells, surfaces)");
+  bench::SurfaceBenchOptions so = surface_options(a);  // checked now, used by the surfaces sweep
   // Declared before the work: a folder made here goes again if the bench fails (or is stopped).
   const std::filesystem::path out_dir = a.values.at("out");
   OutputFiles files;
   for (const std::string& file : a.files) files.input(file);
   if (a.has("tf")) files.input(a.values.at("tf"));
   if (a.has("surfaces"))
-    for (const std::string& scene : split_list(a.values.at("surfaces"))) files.input(scene);
+    for (const std::string& scene : split_list("surfaces", a.values.at("surfaces"))) files.input(scene);
   files.folder(out_dir.string(), "--out");
   const std::string csv_path = (out_dir / "bench.csv").string(), report_path = (out_dir / "report.md").string();
   // An earlier run's results (docs/ holds committed ones) are replaced only when asked to.
@@ -462,69 +554,6 @@ int cmd_bench(const std::vector<std::string>& args) {
     rows.push_back(std::move(m));
   }
   if (std::find(sweeps.begin(), sweeps.end(), "surfaces") != sweeps.end()) {
-    bench::SurfaceBenchOptions so;
-    if (a.has("surfaces")) so.scenes = split_list(a.values.at("surfaces"));
-    if (a.has("surface-modes")) so.modes = split_list(a.values.at("surface-modes"));
-    if (a.has("surface-lights")) so.extra_lights = parse_uint("surface-lights", a.values.at("surface-lights"));
-    so.still_rows = a.flags.count("surface-still") > 0;
-    if (a.has("surface-motion")) {
-      so.motion_degrees = parse_double("surface-motion", a.values.at("surface-motion"));
-      if (!(so.motion_degrees > 0.0 && so.motion_degrees <= 45.0))
-        throw InputError("--surface-motion", "degrees per frame must lie in (0, 45]");
-    }
-    if (a.has("msa-charts")) {
-      so.msa_charts.clear();
-      for (const std::string& kind : split_list(a.values.at("msa-charts"))) {
-        msa::Parametrization p;
-        if (!msa::parse_parametrization(kind, p))
-          throw InputError("--msa-charts", "must list projection, conformal, perspective or orthographic, got '" + kind + "'");
-        so.msa_charts.push_back(p);
-      }
-    }
-    if (a.has("msa-amortize")) {
-      if (!a.has("surface-motion")) throw InputError("--msa-amortize", "needs --surface-motion (amortization matters while the camera moves)");
-      for (const std::string& n : split_list(a.values.at("msa-amortize"))) {
-        const uint32_t every = parse_uint("msa-amortize", n);
-        if (every < 2) throw InputError("--msa-amortize", "each n must be at least 2 (1 shades every frame: the moving msa row)");
-        so.msa_amortization.push_back(every);
-      }
-    }
-    if (a.has("fastatlas-refresh")) {
-      if (!a.has("surface-motion")) throw InputError("--fastatlas-refresh", "needs --surface-motion (temporal reuse matters while the camera moves)");
-      for (const std::string& n : split_list(a.values.at("fastatlas-refresh"))) {
-        const uint32_t every = parse_uint("fastatlas-refresh", n);
-        if (every < 2 || every > 1000) throw InputError("--fastatlas-refresh", "each n must lie in [2, 1000] (1 refreshes every frame: the moving row)");
-        so.fastatlas_refresh.push_back(every);
-      }
-    }
-    if (a.has("max-triangle-pixels")) {
-      so.max_triangle_pixels = parse_double("max-triangle-pixels", a.values.at("max-triangle-pixels"));
-      if (!(so.max_triangle_pixels > 0.0) || !std::isfinite(so.max_triangle_pixels))
-        throw InputError("--max-triangle-pixels", "must be a finite, positive number of pixels");
-    }
-    if (a.has("surface-shadows")) {
-      const std::string v = a.values.at("surface-shadows");
-      if (v != "on" && v != "off" && v != "both") throw InputError("--surface-shadows", "must be on, off or both, got '" + v + "'");
-      so.shadows_on = v != "off";
-      so.shadows_off = v != "on";
-    }
-    if (a.has("shading-scales"))
-      for (const std::string& v : split_list(a.values.at("shading-scales"))) {
-        const double sf = parse_double("shading-scales", v);
-        if (!(sf > 0.0 && sf <= 1.0)) throw InputError("--shading-scales", "each SF must lie in (0, 1], got '" + v + "'");
-        so.shading_scales.push_back(sf);
-      }
-    if (a.has("fastatlas-atlases"))
-      for (const std::string& v : split_list(a.values.at("fastatlas-atlases"))) {
-        const uint32_t side = parse_uint("fastatlas-atlases", v);
-        if (side < 64 || side > 16384 || (side & (side - 1)) != 0)
-          throw InputError("--fastatlas-atlases", "each atlas side must be a power of two from 64 to 16384, got '" + v + "'");
-        so.fastatlas_atlases.push_back(side);
-      }
-    if (so.extra_lights > 0) so.supersample = 1;  // the CPU reference's cost grows with the lights: one sample per pixel
-    if (a.has("shading-budget"))
-      so.shading_budget = a.values.at("shading-budget") == "covered" ? bench::SurfaceBenchOptions::kBudgetCoveredPixels
-                                                                      : parse_uint("shading-budget", a.values.at("shading-budget"));
     so.size = preset.size;
     so.frames = frames;
     so.warm_up_seconds = preset.warm_up_seconds;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <iomanip>
 #include <fstream>
 #include <sstream>
 
@@ -72,16 +74,24 @@ void write_pfm(const std::string& path, const FloatImage& image) {
 }
 
 FloatImage read_pfm(const std::string& path) {
+  // A FIFO would block the open, /dev/zero feed the header's words for ever: files only.
+  detail::require_regular_file(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open the file");
-  std::string magic;
+  // Each header word read with a bound, so a file of one endless word cannot fill memory.
+  std::string magic, scale_word;
   FloatImage image;
-  double scale = 0.0;
-  in >> magic >> image.width >> image.height >> scale;
+  in >> std::setw(3) >> magic;
   if (!in || (magic != "Pf" && magic != "PF")) throw InputError(path, "not a PFM file (header must start with Pf or PF)");
+  if (!(in >> image.width >> image.height)) throw InputError(path, "PFM header: the width and height must be whole numbers");
   if (image.width == 0 || image.height == 0 || image.width > 65536 || image.height > 65536)
     throw InputError(path, "PFM header has an implausible size");
-  if (scale >= 0.0) throw InputError(path, "big-endian PFM is not supported");
+  in >> std::setw(32) >> scale_word;
+  char* end = nullptr;
+  const double scale = std::strtod(scale_word.c_str(), &end);
+  if (!in || scale_word.empty() || *end != '\0' || !std::isfinite(scale) || scale == 0.0)
+    throw InputError(path, "PFM header: the scale '" + scale_word + "' is not a finite non-zero number (its sign gives the byte order)");
+  if (scale > 0.0) throw InputError(path, "big-endian PFM (positive scale) is not supported");
   in.get();  // the single whitespace byte after the scale
   image.channels = magic == "Pf" ? 1 : 3;
   const size_t row = size_t(image.width) * image.channels;

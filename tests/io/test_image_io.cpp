@@ -2,6 +2,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <sys/stat.h>
+#include <utility>
+#include <vector>
 
 #include "io/image_io.hpp"
 #include "scene/input_error.hpp"
@@ -40,6 +44,40 @@ TEST(Pfm, TruncatedFileIsAnInputErrorNamingTheFile) {
     EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos);
   }
   std::filesystem::remove(path);
+}
+
+// What the header gets wrong is said, and what is not a file is not opened (a FIFO would hang the
+// read, /dev/zero grow the header's first word without end).
+TEST(Pfm, BadHeadersAndWhatIsNotAFileAreNamed) {
+  const std::string dir = temp_path("pfm-dir");
+  std::filesystem::create_directories(dir);
+  const std::string fifo = temp_path("pfm.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string nan_scale = temp_path("nan.pfm"), zero_scale = temp_path("zero.pfm"), big = temp_path("big.pfm"),
+                    words = temp_path("words.pfm");
+  std::ofstream(nan_scale) << "Pf\n1 1\nnan\nabcd";
+  std::ofstream(zero_scale) << "Pf\n1 1\n0\nabcd";
+  std::ofstream(big) << "Pf\n1 1\n1.0\nabcd";
+  std::ofstream(words) << "Pf\nwide high\n-1.0\nabcd";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {dir, "is not a regular file (it is a folder)"},
+      {fifo, "is not a regular file"},
+      {"/dev/zero", "is not a regular file"},
+      {nan_scale, "the scale 'nan' is not a finite non-zero number"},
+      {zero_scale, "the scale '0' is not a finite non-zero number"},
+      {big, "big-endian PFM (positive scale) is not supported"},
+      {words, "the width and height must be whole numbers"},
+  };
+  for (const auto& [path, says] : cases) {
+    try {
+      io::read_pfm(path);
+      ADD_FAILURE() << path << " was read";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), path);
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  }
+  for (const std::string& p : {dir, fifo, nan_scale, zero_scale, big, words}) std::filesystem::remove(p);
 }
 
 TEST(ImageWrite, UnwritablePathFailsCleanlyAndLeavesNothing) {
