@@ -55,7 +55,8 @@ void validate(const Camera& camera) {
   const double len = glm::length(forward);
   if (len == 0.0) throw InputError("camera", "eye and target are the same point");
   const double up_len = glm::length(camera.up);
-  if (up_len == 0.0 || glm::length(glm::cross(forward / len, camera.up / up_len)) < 1e-9)
+  if (up_len == 0.0) throw InputError("camera", "up vector is zero: it needs a direction");
+  if (glm::length(glm::cross(forward / len, camera.up / up_len)) < 1e-9)
     throw InputError("camera", "up vector is parallel to the viewing direction");
   if (!(camera.fovy_degrees > 0.0 && camera.fovy_degrees < 180.0))
     throw InputError("camera", "--fovy must lie strictly between 0 and 180 degrees");

@@ -55,6 +55,8 @@ double parse_double(const std::string& option, const std::string& text) {
 uint32_t parse_uint(const std::string& option, const std::string& text) {
   uint32_t v = 0;
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec == std::errc::result_out_of_range && ptr == text.data() + text.size())
+    throw InputError("--" + option, "'" + text + "' is too large (at most " + std::to_string(UINT32_MAX) + ")");
   if (ec != std::errc() || ptr != text.data() + text.size()) throw InputError("--" + option, "'" + text + "' is not a whole number");
   return v;
 }
