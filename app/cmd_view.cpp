@@ -103,7 +103,11 @@ ViewerOptions window_options(const ParsedArgs& a) {
   options.device_index = parse_device(a);
   options.show_ui = a.flags.count("no-ui") == 0;
   if (a.has("script")) options.script = read_script(a.values.at("script"));
-  if (a.has("frames")) options.max_frames = parse_uint("frames", a.values.at("frames"));
+  if (a.has("frames")) {
+    options.max_frames = parse_uint("frames", a.values.at("frames"));
+    // 0 is the window's "until closed" inside; typed, it would never close, where render refuses it.
+    if (options.max_frames == 0) throw InputError("--frames", "must be at least 1 (leave it out to keep the window open until closed)");
+  }
   return options;
 }
 

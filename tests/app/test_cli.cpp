@@ -999,6 +999,7 @@ TEST(Cli, BadInputExitsWithTwoAndNamesTheProblem) {
       {"render --output x.png --frames 99999999999999999999", "--frames: '99999999999999999999' is too large (at most 4294967295)"},
       {"render --output x.png --frames 12x", "--frames: '12x' is not a whole number"},
       {"render --output x.png --up 0,0,0", "up vector is zero"},
+      {"view --frames 0", "--frames: must be at least 1"},
       {"info " + d + "range.vtk", "uses point 90 but there are 12 points (index out of range)"},
       {"info " + d + "empty.vtk", "has no cells (empty mesh)"},
       {"render --output x.png " + d + "good.vtu --array nope", "has no array 'nope' (cell arrays: extinction"},
