@@ -259,10 +259,12 @@ int replot(const std::filesystem::path& dir) {
   return kOk;
 }
 
-// The surfaces sweep's options, all checked before any work (a typo once failed 18 s into
-// --quick, hours into a full bench). Lists refuse empty items and names they do not know.
+// Each light is a shadow ray per shaded sample and a term of the CPU reference's sum; 1e9 once
+// ran out of memory.
 constexpr uint32_t kMaxSurfaceLights = 4096;
 
+// The surfaces sweep's options, all checked before any work (a typo once failed 18 s into
+// --quick, hours into a full bench). Lists refuse empty items and names they do not know.
 bench::SurfaceBenchOptions surface_options(const ParsedArgs& a) {
   bench::SurfaceBenchOptions so;
   if (a.has("surfaces")) so.scenes = split_list("surfaces", a.values.at("surfaces"));
@@ -278,7 +280,6 @@ bench::SurfaceBenchOptions surface_options(const ParsedArgs& a) {
   }
   if (a.has("surface-lights")) {
     so.extra_lights = parse_uint("surface-lights", a.values.at("surface-lights"));
-    // Each light is a shadow ray per shaded sample and a term of the CPU reference's sum.
     if (so.extra_lights > kMaxSurfaceLights)
       throw InputError("--surface-lights", "at most " + std::to_string(kMaxSurfaceLights) + " lights, got " + std::to_string(so.extra_lights));
   }
