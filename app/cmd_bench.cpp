@@ -144,11 +144,10 @@ class MeshCache {
 std::vector<std::string> split_list(const std::string& option, const std::string& s) {
   std::vector<std::string> out;
   std::stringstream in(s);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (item.empty()) throw InputError("--" + option, "has an empty item in '" + s + "' (a list is NAME,NAME,...)");
-    out.push_back(item);
-  }
-  if (out.empty() || s.back() == ',') throw InputError("--" + option, "has an empty item in '" + s + "' (a list is NAME,NAME,...)");
+  for (std::string item; std::getline(in, item, ',');) out.push_back(item);
+  // getline drops one trailing empty item: "a," reads as {"a"}.
+  if (out.empty() || s.back() == ',' || std::find(out.begin(), out.end(), "") != out.end())
+    throw InputError("--" + option, "has an empty item in '" + s + "' (a list is NAME,NAME,...)");
   return out;
 }
 

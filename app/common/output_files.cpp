@@ -115,6 +115,13 @@ class HeldSignals {
   sigset_t previous_;
 };
 
+// An error about a temporary, said of the output the user named (the temporary's name means
+// nothing to them).
+InputError of_output(const InputError& e, const std::string& output) {
+  const std::string what = e.what();
+  return InputError(output, what.substr(std::min(what.size(), e.source().size() + 2)));
+}
+
 std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -311,8 +318,7 @@ void OutputFiles::write(const std::string& path, const std::function<void(const 
     writer(it->temporary);
   } catch (const InputError& e) {  // the writer names the file it was given: name the user's
     if (e.source() != it->temporary) throw;
-    const std::string what = e.what();
-    throw InputError(it->path, what.substr(std::min(what.size(), e.source().size() + 2)));
+    throw of_output(e, it->path);
   }
   it->written = true;
 }
@@ -334,8 +340,7 @@ void OutputFiles::commit() {
     try {
       io::sync_file(out.temporary);
     } catch (const InputError& e) {
-      const std::string what = e.what();
-      throw InputError(out.path, what.substr(std::min(what.size(), out.temporary.size() + 2)));
+      throw of_output(e, out.path);
     }
   }
   const HeldSignals held;
