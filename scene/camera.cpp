@@ -40,7 +40,10 @@ glm::dmat4 projection_matrix(const Camera& camera, double aspect) {
 Camera fit_camera(const Bounds& bounds, double fovy_degrees) {
   Camera c;
   c.fovy_degrees = fovy_degrees;
-  const double radius = std::max(bounds.radius(), 1e-12);
+  // Any positive size frames (data of 1e-20 are as visible as data of 1e20); a single point,
+  // which has none, gets a unit sphere around it.
+  const double r = bounds.radius();
+  const double radius = r > 0.0 && std::isfinite(r) ? r : 1.0;
   const double distance = radius / std::sin(glm::radians(fovy_degrees) * 0.5) * 1.05;
   c.target = bounds.center();
   c.eye = c.target + glm::dvec3(0.0, 0.0, distance);

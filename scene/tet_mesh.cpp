@@ -1,11 +1,20 @@
 #include "scene/tet_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <glm/geometric.hpp>
 
 #include "scene/input_error.hpp"
 
 namespace prismoid {
+
+namespace {
+// The extents (largest axis of the bounds) whose cells double computes with (validate()):
+// 2^+-300, about 2e90 and 5e-91, so that even cells a million times smaller than the data have
+// volumes (products of three lengths) far inside double's normal range (2^+-1022).
+constexpr double kLargestExtent = 0x1p300, kSmallestExtent = 0x1p-300;
+}  // namespace
 
 double Bounds::radius() const { return 0.5 * glm::length(max - min); }
 
@@ -50,6 +59,25 @@ void validate(const TetMesh& mesh) {
     const auto& p = mesh.points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw InputError(src, "point " + std::to_string(i) + " has a non-finite coordinate");
+  }
+  // The cells' geometry is computed in double (volumes and orientations are products of three
+  // edge lengths, squared distances of two): data whose extent, for all the renderer's own
+  // math being relative to it, leaves double's range there are refused. Scaled copies of a grid
+  // render alike from 1e-90 to 1e90 (tests/volume/test_scaled_copies.cpp).
+  if (!mesh.points.empty() && !mesh.tets.empty()) {
+    glm::dvec3 lo = mesh.points.front(), hi = lo;
+    for (const auto& p : mesh.points) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    if (extent > kLargestExtent || (extent > 0.0 && extent < kSmallestExtent)) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "its points span %.3g; the cells' geometry (volumes are products of three lengths, in "
+                                     "double) holds data spanning %.1e to %.1e: rescale the coordinates",
+                    extent, kSmallestExtent, kLargestExtent);
+      throw InputError(src, buf);
+    }
   }
   for (size_t c = 0; c < mesh.tets.size(); ++c) {
     for (uint32_t v : mesh.tets[c])

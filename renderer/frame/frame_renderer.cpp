@@ -48,14 +48,31 @@ struct FrameRenderer::Recorded {
 };
 
 FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& mesh)
-    : device_(device), mesh_(volume::upload(device, mesh)), bounds_(bounds_of(mesh)), float_facts_(volume::float_facts(mesh)),
-      interval_(device),
+    : FrameRenderer(device, mesh, frame_units(bounds_of(mesh))) {}
+
+FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& world, const FrameUnits& units)
+    : FrameRenderer(device, world, units, in_units(world, units)) {}
+
+FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& world, const FrameUnits& units, const TetMesh& local)
+    : device_(device), units_(units), mesh_(volume::upload(device, local)), bounds_(bounds_of(world)),
+      float_facts_(volume::float_facts(local)), interval_(device),
       orderings_(std::make_unique<Orderings>()), recorded_(std::make_unique<Recorded>()), offscreen_timer_(device, 16) {
-  orderings_->geometry.name = mesh.name;
-  orderings_->geometry.points = mesh.points;
-  orderings_->geometry.tets = mesh.tets;
-  orderings_->point_extinction = mesh.linear_extinction();
-  orderings_->point_scalars = !mesh.point_scalars.empty();
+  float_facts_.unit = units_.unit;
+  orderings_->geometry.name = local.name;
+  orderings_->geometry.points = local.points;
+  orderings_->geometry.tets = local.tets;
+  orderings_->point_extinction = local.linear_extinction();
+  orderings_->point_scalars = !local.point_scalars.empty();
+}
+
+FrameSettings FrameRenderer::local_settings(const FrameSettings& settings) const {
+  FrameSettings local = settings;
+  if (settings.resolve.depth_limit && settings.resolve.depth_limit != limit_world_) {
+    limit_local_ = limit_in_units(*settings.resolve.depth_limit, units_);
+    limit_world_ = settings.resolve.depth_limit;  // kept, so its address names this limit
+  }
+  local.resolve = in_units(settings.resolve, units_, limit_local_);
+  return local;
 }
 
 FrameRenderer::~FrameRenderer() = default;
@@ -70,7 +87,8 @@ void FrameRenderer::resize(VkExtent2D extent) {
   targets_ = volume::create_targets(device_, extent);
 }
 
-SceneContents FrameRenderer::scene_contents(const Camera& camera, const FrameSettings& settings) const {
+SceneContents FrameRenderer::scene_contents(const Camera& camera, const FrameSettings& world_settings) const {
+  const FrameSettings settings = local_settings(world_settings);
   const Orderings& o = *orderings_;
   SceneContents scene;
   scene.volumes.push_back(volume_contents(mesh_.tet_count, o.point_extinction, o.point_scalars, settings.resolve));
@@ -84,8 +102,10 @@ SceneContents FrameRenderer::scene_contents(const Camera& camera, const FrameSet
   return scene;
 }
 
-FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& settings) {
+FrameReport FrameRenderer::prepare(const Camera& world_camera, const FrameSettings& world_settings) {
   plan_.reset();
+  const Camera camera = in_units(world_camera, units_);
+  const FrameSettings settings = local_settings(world_settings);
   FrameReport report;
   for (const vk::Buffer* b : {&mesh_.positions, &mesh_.tets, &mesh_.cell_sigma, &mesh_.point_sigma, &mesh_.cell_scalar, &mesh_.point_scalar})
     report.mesh_bytes += b->size();
@@ -105,7 +125,7 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
       volume::check_float_limits(float_facts_, camera, targets_.extent.width, targets_.extent.height, settings.resolve, true,
                                  &orderings_->geometry.points)
           .warnings;
-  report.plan = plan_frame(scene_contents(camera, settings), settings);
+  report.plan = plan_frame(scene_contents(world_camera, world_settings), settings);
   report.backend = interval_backend_name(settings.backend);
   if (compute) {
     if (!compute_) compute_ = std::make_unique<volume::ComputeIntervals>(device_);
@@ -179,13 +199,16 @@ FrameReport FrameRenderer::prepare(const Camera& camera, const FrameSettings& se
     report.ordering = o.exact_description + reused;
   }
   plan_ = report.plan;
-  plan_eye_ = camera.eye;
+  plan_eye_ = world_camera.eye;
   return report;
 }
 
-void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const FrameSettings& settings, vk::GpuTimer& timer) {
+void FrameRenderer::record(VkCommandBuffer cmd, const Camera& world_camera, const FrameSettings& world_settings,
+                           vk::GpuTimer& timer) {
   if (!plan_) throw std::logic_error("FrameRenderer: record() needs prepare() first");
-  if (camera.eye != plan_eye_) throw std::logic_error("FrameRenderer: record() for another eye than prepare() planned for");
+  if (world_camera.eye != plan_eye_) throw std::logic_error("FrameRenderer: record() for another eye than prepare() planned for");
+  const Camera camera = in_units(world_camera, units_);
+  const FrameSettings settings = local_settings(world_settings);
   Orderings& o = *orderings_;
   const size_t first_timed = timer.recorded().size();
   for (const PlannedPass& pass : plan_->passes) {
@@ -228,7 +251,7 @@ void FrameRenderer::record(VkCommandBuffer cmd, const Camera& camera, const Fram
   const std::vector<std::string> timed(timer.recorded().begin() + std::ptrdiff_t(first_timed), timer.recorded().end());
   if (timed != plan_->gpu_pass_names()) throw std::logic_error("FrameRenderer: recorded passes differ from the plan");
   recorded_->any = true;
-  recorded_->eye = camera.eye;
+  recorded_->eye = world_camera.eye;
   recorded_->order = o.order ? std::optional<Ordering>(settings.ordering) : std::nullopt;
 }
 
@@ -280,6 +303,9 @@ OffscreenFrame FrameRenderer::render_offscreen(const Camera& camera, const Frame
   if (settings.resolve.quantity == volume::Quantity::Color || settings.resolve.quantity == volume::Quantity::Isosurface) {
     frame.emission.resize(pixels * 4);
     vk::read_image(device_, targets_.emission, 4 * sizeof(float), std::as_writable_bytes(std::span(frame.emission)));
+    // An isosurface's hit distance is a length: back to world units.
+    if (settings.resolve.quantity == volume::Quantity::Isosurface)
+      for (size_t i = 3; i < frame.emission.size(); i += 4) frame.emission[i] = float(double(frame.emission[i]) * units_.unit);
   }
   return frame;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "renderer/frame/frame_plan.hpp"
+#include "renderer/frame/frame_units.hpp"
 #include "renderer/vk/timer.hpp"
 #include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/interval_shading.hpp"
@@ -102,6 +103,9 @@ class FrameRenderer {
   OffscreenFrame render_timed(const Camera& camera, const FrameSettings& settings, VkExtent2D extent);
 
   const Bounds& bounds() const { return bounds_; }
+  // The units the GPU draws in (frame_units.hpp): cameras and settings are given in world
+  // units and converted; the mesh was uploaded in them.
+  const FrameUnits& units() const { return units_; }
   const volume::IntervalShadingPass& interval_pass() const { return interval_; }
   // The compute backend; nullptr until a frame chose it.
   const volume::ComputeIntervals* compute_intervals() const { return compute_.get(); }
@@ -111,7 +115,14 @@ class FrameRenderer {
 
  private:
   struct Orderings;
+  FrameRenderer(const vk::Device& device, const TetMesh& world, const FrameUnits& units);
+  FrameRenderer(const vk::Device& device, const TetMesh& world, const FrameUnits& units, const TetMesh& local);
+  // The settings in the GPU's units; the scaled depth limit is kept while the same one is given.
+  FrameSettings local_settings(const FrameSettings& settings) const;
+
   const vk::Device& device_;
+  FrameUnits units_;
+  mutable std::shared_ptr<const std::vector<float>> limit_world_, limit_local_;
   volume::GpuTetMesh mesh_;
   Bounds bounds_;
   volume::MeshFloatFacts float_facts_;

@@ -109,6 +109,23 @@ std::optional<AnalyticField> translated(const AnalyticField& field, const glm::d
   return std::nullopt;
 }
 
+std::optional<AnalyticField> placed(const AnalyticField& field, const glm::dvec3& origin, double scale) {
+  AnalyticField moved = field;
+  switch (field.kind) {
+    case FieldKind::Linear: {
+      const glm::dvec3 g(field.params[0]);
+      moved.params[0] = glm::dvec4(g * scale, field.params[0].w + glm::dot(g, origin));
+      return moved;
+    }
+    case FieldKind::GaussianBlobs:
+      for (glm::dvec4& b : moved.params) b = glm::dvec4((glm::dvec3(b) - origin) / scale, b.w / scale);
+      return moved;
+    case FieldKind::Grid:
+    case FieldKind::MarschnerLobb: return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 AnalyticField marschner_lobb(double f_m, double alpha) {
   return {"marschner-lobb", FieldKind::MarschnerLobb, {glm::dvec4(f_m, alpha, 0.0, 0.0)}};
 }

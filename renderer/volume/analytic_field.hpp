@@ -46,6 +46,11 @@ double second_derivative_bound(const AnalyticField& field);
 // Marschner-Lobb is defined about the world origin: nullopt.
 // Marching evaluates fields in float relative to the mesh's centre this way.
 std::optional<AnalyticField> translated(const AnalyticField& field, const glm::dvec3& origin);
+// The same field in coordinates q with g(q) = f(origin + scale * q) (scale > 0): the frame's
+// units (frame/frame_units.hpp). Linear fields and blobs only (a gradient scaled, centres and
+// widths moved and scaled); nullopt for the others (Marschner-Lobb, grids: the shader places
+// them).
+std::optional<AnalyticField> placed(const AnalyticField& field, const glm::dvec3& origin, double scale);
 
 // Marschner & Lobb (1994): (1 - sin(pi z / 2) + alpha (1 + cos(2 pi f_M cos(pi r / 2)))) /
 // (2 (1 + alpha)), r = sqrt(x^2 + y^2), on [-1, 1]^3 with values in [0, 1].

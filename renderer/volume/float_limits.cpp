@@ -94,10 +94,28 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
     const double sigma = settings.march.enabled ? std::max(mesh.max_extinction, settings.march.density_scale * mesh.scalar_abs_max)
                                                 : mesh.max_extinction;
     if (sigma * mesh.diagonal > margin_max)
-      throw InputError(name, "optical depths up to " + number(sigma * mesh.diagonal) + " (extinction up to " + number(sigma) +
-                                 " over the data's diagonal " + number(mesh.diagonal) + ") exceed " + number(margin_max) +
+      throw InputError(name, "optical depths up to " + number(sigma * mesh.diagonal) + " (extinction up to " + number(sigma / mesh.unit) +
+                                 " over the data's diagonal " + number(mesh.diagonal * mesh.unit) + ") exceed " + number(margin_max) +
                                  ", float32's largest value less a 2^16 margin for the sums along a ray; scale the "
                                  "extinction down (--density-scale) or ask for --quantity transmittance");
+  }
+  // A camera that sees none of the data: every corner of the bounds behind the near plane (an
+  // all-background image was written without a word for `--near 100`).
+  if (mesh.diagonal > 0.0) {
+    const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+    double farthest = -1e300;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec3 p((corner & 1) ? mesh.bounds.max.x : mesh.bounds.min.x, (corner & 2) ? mesh.bounds.max.y : mesh.bounds.min.y,
+                         (corner & 4) ? mesh.bounds.max.z : mesh.bounds.min.z);
+      farthest = std::max(farthest, glm::dot(p - camera.eye, forward));
+    }
+    if (farthest <= 0.0)
+      check.warnings.push_back("camera: the data lie behind the eye (all of them at least " +
+                               number(-farthest * mesh.unit) + " behind it along the view): the image shows none of them");
+    else if (camera.near_distance >= farthest)
+      check.warnings.push_back("camera: the near plane (--near " + number(camera.near_distance * mesh.unit) +
+                               ") lies beyond the data's farthest depth along the view (" + number(farthest * mesh.unit) +
+                               "): the image shows none of them");
   }
   if (!gpu) return check;
 
@@ -105,14 +123,15 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
   const double distance = std::max(glm::length(mesh.bounds.min - camera.eye), glm::length(mesh.bounds.max - camera.eye)) +
                           mesh.diagonal;  // bounds every point's distance from the eye
   if (!(distance < kDepthLimit))
-    throw InputError("camera", "the data lie up to " + number(distance) + " from the eye; the GPU's float32 depths and their "
-                               "reciprocals stay exact only up to " + number(kDepthLimit) + " (2^100)");
+    throw InputError("camera", "the data lie up to " + number(distance * mesh.unit) + " from the eye, " + number(distance) +
+                               " times their own scale (" + number(mesh.unit) + "); the GPU's float32 depths and their "
+                               "reciprocals stay exact only up to " + number(kDepthLimit) + " (2^100) times it: move the eye closer");
   const double aspect = double(width) / double(std::max(height, 1u));
   const double scale = std::max(1.0, 1.0 / aspect) / std::tan(glm::radians(camera.fovy_degrees) * 0.5);  // max(P00, P11)
   const double ndc = scale * distance / camera.near_distance;
   if (!(ndc < kNdcLimit))
-    throw InputError("camera", "--near " + number(camera.near_distance) + " and --fovy " + number(camera.fovy_degrees) +
-                               " project points up to " + number(distance) + " away to screen coordinates up to " +
+    throw InputError("camera", "--near " + number(camera.near_distance * mesh.unit) + " and --fovy " + number(camera.fovy_degrees) +
+                               " project points up to " + number(distance * mesh.unit) + " away to screen coordinates up to " +
                                number(ndc) + "; the GPU's float32 projected areas need them below " + number(kNdcLimit) +
                                " (2^60): raise --near or widen --fovy");
 
@@ -191,10 +210,10 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
       }
     }
     if (pixels > threshold)
-      check.warnings.push_back("the GPU's float32 positions (relative to the data's centre, " + number(radius) +
-                               " from its farthest corner) and camera place points only to " + number(error.x) +
+      check.warnings.push_back("the GPU's float32 positions (relative to the data's centre, " + number(radius * mesh.unit) +
+                               " from its farthest corner) and camera place points only to " + number(error.x * mesh.unit) +
                                " world units across the view, " + number(pixels) + " pixels at depth " +
-                               number(nearest) + ", more than the rasterizer's 2^-8 pixel: the image is only that precise");
+                               number(nearest * mesh.unit) + ", more than the rasterizer's 2^-8 pixel: the image is only that precise");
   }
   return check;
 }

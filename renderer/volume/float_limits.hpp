@@ -33,6 +33,9 @@ struct MeshFloatFacts {
   double position_rounding = 0.0;  // largest |float(p - origin) - (p - origin)| of a coordinate
   bool has_scalars = false;
   double scalar_abs_max = 0.0;     // largest |scalar| (the transfer function's input)
+  // The world length of one unit of these facts (frame/frame_units.hpp: the GPU's mesh is
+  // measured in units of the data's size); lengths in messages are given in world units.
+  double unit = 1.0;
 };
 MeshFloatFacts float_facts(const TetMesh& mesh);
 

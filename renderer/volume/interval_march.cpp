@@ -35,7 +35,7 @@ void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& setti
   frame.camera_to_mesh = glm::mat4(glm::inverse(view_matrix(camera, mesh_origin)));
   // The shader samples at mesh-local points (small: the mesh's size and the eye's distance
   // to it); a field moved into the mesh frame in double needs no world offset, one that
-  // cannot be moved adds the origin in float (precise only near the world origin).
+  // cannot be moved is placed in float by field_origin (precise only near the world origin).
   // A density scale beyond float is stored as its largest value: the shader holds each
   // sample's density_scale * field to the cap first (inf * 0 would be NaN).
   frame.march = glm::vec4(float(m.step), float(m.isovalue), float(std::min(m.density_scale, 3.4028234663852886e38)),
@@ -43,19 +43,22 @@ void fill_march_uniforms(gpu::FrameUniforms& frame, const ResolveSettings& setti
   const uint32_t what = settings.quantity == Quantity::Color        ? PRISMOID_MARCH_COLOR
                         : settings.quantity == Quantity::Isosurface ? PRISMOID_MARCH_ISOSURFACE
                                                                     : PRISMOID_MARCH_OPTICAL_DEPTH;
+  // The field's point at mesh-local 0, and the field's length of one mesh-local unit.
+  const glm::dvec3 base = m.field_offset + m.field_scale * mesh_origin;
+  const double scale = m.field_scale;
   if (m.field.kind == FieldKind::Grid) {
     // The grid's samples are uploaded as they are; only its placement moves into the mesh frame.
     const SampledGrid& g = *m.field.grid;
-    frame.field_origin = glm::vec4(0.0f);
+    frame.field_origin = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
     frame.field = glm::uvec4(PRISMOID_FIELD_GRID, 3u, what, 0u);
-    frame.field_params[0] = glm::vec4(glm::vec3(g.origin - mesh_origin), float(g.background));
-    frame.field_params[1] = glm::vec4(glm::vec3(1.0 / g.spacing), 0.0f);
+    frame.field_params[0] = glm::vec4(glm::vec3((g.origin - base) / scale), float(g.background));
+    frame.field_params[1] = glm::vec4(glm::vec3(scale / g.spacing), 0.0f);
     frame.field_params[2] = glm::vec4(glm::vec3(g.dims), 0.0f);
     return;
   }
-  const std::optional<AnalyticField> local = translated(m.field, mesh_origin);
+  const std::optional<AnalyticField> local = placed(m.field, base, scale);
   const AnalyticField& uploaded = local ? *local : m.field;
-  frame.field_origin = glm::vec4(local ? glm::vec3(0.0f) : glm::vec3(mesh_origin), 0.0f);
+  frame.field_origin = local ? glm::vec4(0.0f, 0.0f, 0.0f, 1.0f) : glm::vec4(glm::vec3(base), float(scale));
   frame.field = glm::uvec4(uint32_t(uploaded.kind), uint32_t(uploaded.params.size()), what, 0u);
   for (size_t i = 0; i < uploaded.params.size() && i < PRISMOID_FIELD_MAX_PARAMS; ++i) frame.field_params[i] = glm::vec4(uploaded.params[i]);
 }

@@ -27,6 +27,11 @@ struct MarchSettings {
   double step = 0.0;           // > 0 when enabled
   double density_scale = 1.0;  // optical depth: sigma = density_scale * max(field, 0)
   double isovalue = 0.5;       // Quantity::Isosurface
+  // Where the field lies in the frame's coordinates: the frame's point q is the field's point
+  // field_offset + field_scale * q (the renderer draws in units of the data's size,
+  // frame/frame_units.hpp; the field keeps its own).
+  glm::dvec3 field_offset{0.0};
+  double field_scale = 1.0;
 };
 
 struct ResolveSettings {

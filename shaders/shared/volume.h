@@ -83,13 +83,14 @@ struct FrameUniforms {
   vec4 transfer;    // x, y: the transfer function's x = scalar * x + y (volume::scalar_mapping),
                     // z: table's longest length, w: table size per axis (texels)
   uvec4 options;    // x: transfer-function sample count, y: PRISMOID_SEGMENTS_*, z: 1 when rays end at PRISMOID_BINDING_DEPTH_LIMIT
-  // Marching inside intervals (march.frag): an analytic field in world coordinates.
+  // Marching inside intervals (march.frag): an analytic field in its own coordinates.
   mat4 camera_to_mesh;  // inverse of `view`: camera space -> mesh-local coordinates
-  // xyz: the field's coordinates of mesh-local 0 (field point = field_origin + local). Zero
-  // when the field's parameters are uploaded moved into the mesh frame (exactly, in double:
-  // volume::translated), so a field far from the world origin keeps float precision.
+  // xyz: the field's coordinates of mesh-local 0, w: the field's length of one mesh-local unit
+  // (field point = field_origin.xyz + field_origin.w * local). (0, 1) when the field's
+  // parameters are uploaded moved and scaled into the mesh frame (in double: volume::placed),
+  // so a field far from the world origin or of any size keeps float precision.
   vec4 field_origin;
-  vec4 march;           // x: largest step (world length), y: isovalue, z: density scale, w: the
+  vec4 march;           // x: largest step (mesh-local length), y: isovalue, z: density scale, w: the
                         // largest extinction a sample may have (volume::extinction_cap)
   uvec4 field;          // x: PRISMOID_FIELD_*, y: parameter count, z: PRISMOID_MARCH_*, w: unused
   vec4 field_params[PRISMOID_FIELD_MAX_PARAMS];  // per field kind, see analytic_field.glsl

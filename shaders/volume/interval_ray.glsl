@@ -2,8 +2,8 @@
 // interpolates (tet_projection.glsl), measured from the cell's reference point c: the depths
 // of its ends relative to c's depth (exact to the cell's size, however far the eye is), the
 // cell's field there, and where points of the ray lie in the field's coordinates (mesh-local
-// plus frame.field_origin, which is 0 for fields whose parameters can be moved into the mesh
-// frame). All terms stay of the size of the cell and of its offset from the pixel ray, however
+// placed by frame.field_origin, which is the identity for fields whose parameters can be moved
+// into the mesh frame). All terms stay of the size of the cell and of its offset from the pixel ray, however
 // far from the eye or the world origin both are. The caller declares `frame`.
 #ifndef PRISMOID_INTERVAL_RAY_GLSL
 #define PRISMOID_INTERVAL_RAY_GLSL

@@ -11,7 +11,7 @@
 
 struct MarchRay {
   vec3 field_base;       // the field's coordinates of the ray's point at c's depth
-  vec3 field_per_depth;  // displacement per unit of depth (world lengths)
+  vec3 field_per_depth;  // displacement per unit of depth (in the field's coordinates)
 };
 
 MarchRay march_ray(IntervalRay r, vec4 reference) {
@@ -19,8 +19,8 @@ MarchRay march_ray(IntervalRay r, vec4 reference) {
   vec3 cam_c = (frame.view * vec4(reference.xyz, 1.0)).xyz;
   vec2 lateral = -cam_c.z * r.ray.xy - cam_c.xy;
   mat3 to_mesh = mat3(frame.camera_to_mesh);
-  m.field_base = frame.field_origin.xyz + reference.xyz + to_mesh * vec3(lateral, 0.0);
-  m.field_per_depth = to_mesh * r.ray;
+  m.field_base = frame.field_origin.xyz + frame.field_origin.w * (reference.xyz + to_mesh * vec3(lateral, 0.0));
+  m.field_per_depth = frame.field_origin.w * (to_mesh * r.ray);
   return m;
 }
 

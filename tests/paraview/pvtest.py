@@ -58,6 +58,18 @@ def write_wavelet(path, half=6):
     Delete(w)
 
 
+def write_scaled(source, path, scale, offset):
+    """`source`'s grid with every point p moved to (p + offset) * scale."""
+    reader = XMLUnstructuredGridReader(FileName=[source])
+    t = Transform(Input=reader)
+    t.Transform = "Transform"
+    t.Transform.Translate = [o * scale for o in offset]
+    t.Transform.Scale = [scale, scale, scale]
+    SaveData(path, proxy=t)
+    Delete(t)
+    Delete(reader)
+
+
 def write_wavelet_voxels(path, half=6):
     """The same wavelet as hexahedral cells (a Threshold keeping every voxel): ParaView's volume
     representation and `prismoid render` each cut them into tetrahedra themselves."""
@@ -87,8 +99,12 @@ def write_prismoid_tf(path, black=False):
 class Scene:
     """ParaView's view of a .vtu through the plugin, the camera fixed."""
 
-    def __init__(self, vtu, size=(240, 180), unit_distance=3.0, array="RTData"):
+    def __init__(self, vtu, size=(240, 180), unit_distance=3.0, array="RTData", scale=1.0, offset=(0.0, 0.0, 0.0)):
+        """`scale`, `offset`: the camera and unit distance for a copy of the grid scaled by `scale`
+        and then moved by `offset` times it (write_scaled)."""
         self.size = size
+        self.render_array = array  # what `prismoid render` colours by (a component's own array for a vector)
+        unit_distance *= scale
         self.unit_distance = unit_distance
         self.reader = XMLUnstructuredGridReader(FileName=[vtu])
         self.reader.UpdatePipeline()
@@ -102,21 +118,28 @@ class Scene:
         self.rep = Show(self.reader, self.view)
         self.rep.Representation = "Prismoid Volume"
         ColorBy(self.rep, ("POINTS", array))
+        self.set_functions(array)
+        self.rep.ScalarOpacityUnitDistance = unit_distance
+        Render(self.view)  # the first render resets the camera: the fixed one is set after it
+        cam = self.view.GetActiveCamera()
+        place = lambda p: [(x + o) * scale for x, o in zip(p, offset)]
+        cam.SetPosition(*place((9.0, 14.0, 31.0)))
+        cam.SetFocalPoint(*place((0.3, -0.2, 0.1)))
+        cam.SetViewUp(0.0, 1.0, 0.0)
+        cam.SetViewAngle(30.0)
+        Render(self.view)  # the clipping range (the near plane given to prismoid render) follows the camera
+
+    def set_functions(self, array):
+        """The test's colour map and opacity over self.range, on `array`'s functions, never rescaled."""
         lo, hi = self.range
         lut = GetColorTransferFunction(array)
+        lut.AutomaticRescaleRangeMode = "Never"
         lut.ColorSpace = "RGB"
         lut.Discretize = 0
         lut.RGBPoints = [lo + x * (hi - lo) if i % 4 == 0 else x for i, x in enumerate(COLOURS)]
         pwf = GetOpacityTransferFunction(array)
         pwf.Points = [lo + x * (hi - lo) if i % 4 == 0 else x for i, x in enumerate(OPACITY)]
-        self.rep.ScalarOpacityUnitDistance = unit_distance
-        Render(self.view)  # the first render resets the camera: the fixed one is set after it
-        cam = self.view.GetActiveCamera()
-        cam.SetPosition(9.0, 14.0, 31.0)
-        cam.SetFocalPoint(0.3, -0.2, 0.1)
-        cam.SetViewUp(0.0, 1.0, 0.0)
-        cam.SetViewAngle(30.0)
-        Render(self.view)  # the clipping range (the near plane given to prismoid render) follows the camera
+        return lut
 
     def screenshot(self, path):
         Render(self.view)
@@ -131,7 +154,7 @@ class Scene:
 
     def prismoid(self, binary, vtu, tf_json, out, extra):
         lo, hi = self.range
-        cmd = [binary, "render", vtu, "--quantity", "color", "--array", "RTData", "--tf", tf_json,
+        cmd = [binary, "render", vtu, "--quantity", "color", "--array", self.render_array, "--tf", tf_json,
                "--tf-range", "%r,%r" % (lo, hi), "--density-scale", repr(1.0 / self.unit_distance),
                "--background", ",".join(repr(x) for x in BACKGROUND), "--size", "%dx%d" % self.size,
                "--output", out] + self.camera_args() + extra

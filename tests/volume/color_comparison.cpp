@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "renderer/reference/emission_absorption.hpp"
 
@@ -43,7 +44,14 @@ ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFu
   settings.ordering = ordering;
   settings.resolve.depth_limit = depth_limit;
   const frame::OffscreenFrame gpu = renderer.render_offscreen(camera, settings, {w, h});
-  const volume::PreintegrationTable* table = table_size > 0 ? &renderer.interval_pass().table() : nullptr;
+  // The table the GPU used, its length axis back in world units (the GPU draws in the data's
+  // units, frame/frame_units.hpp; its texels hold dimensionless sigma * length).
+  std::optional<volume::PreintegrationTable> world_table;
+  if (table_size > 0) {
+    world_table = renderer.interval_pass().table();
+    world_table->max_length *= renderer.units().unit;
+  }
+  const volume::PreintegrationTable* table = world_table ? &*world_table : nullptr;
   reference::InputPerturbation perturbation;
   const double s = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
   perturbation.x_absolute = std::ldexp(1.0, -20);

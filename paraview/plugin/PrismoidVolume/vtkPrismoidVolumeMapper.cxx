@@ -103,12 +103,15 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
   try {
     int cell_flag = 0;
     vtkDataArray* scalars = vtkAbstractMapper::GetScalars(grid, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cell_flag);
+    // A vector array maps through the colour function's vector mode: one component, or the magnitude.
+    const int component = scalars && scalars->GetNumberOfComponents() > 1 ? pv::mapped_component(vol->GetProperty()) : -1;
     std::ostringstream key;
-    key << grid << ':' << grid->GetMTime() << ':' << scalars << ':' << (scalars ? scalars->GetMTime() : 0) << ':' << cell_flag;
+    key << grid << ':' << grid->GetMTime() << ':' << scalars << ':' << (scalars ? scalars->GetMTime() : 0) << ':' << cell_flag << ':'
+        << component;
     pv::Session& session = pv::Session::instance();
     if (!session.has_mesh(key.str())) {
       std::size_t skipped = 0;
-      session.set_mesh(key.str(), pv::tet_mesh_from(grid, scalars, cell_flag == 1, skipped));
+      session.set_mesh(key.str(), pv::tet_mesh_from(grid, scalars, cell_flag == 1, component, skipped));
     }
 
     prismoid::frame::FrameSettings settings;

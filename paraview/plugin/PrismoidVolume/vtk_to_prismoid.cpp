@@ -22,21 +22,22 @@ namespace prismoid::paraview {
 
 namespace {
 
-double value_of(vtkDataArray* array, vtkIdType i) {
+double value_of(vtkDataArray* array, vtkIdType i, int component) {
   const int n = array->GetNumberOfComponents();
   if (n == 1) return array->GetComponent(i, 0);
+  if (component >= 0) return array->GetComponent(i, component);
   double sum = 0.0;
   for (int c = 0; c < n; ++c) sum += array->GetComponent(i, c) * array->GetComponent(i, c);
   return std::sqrt(sum);
 }
 
-std::vector<double> values_of(vtkDataArray* array, vtkIdType count, const char* what) {
+std::vector<double> values_of(vtkDataArray* array, vtkIdType count, const char* what, int component) {
   if (array->GetNumberOfTuples() != count)
     throw std::runtime_error(std::string("the array '") + (array->GetName() ? array->GetName() : "") + "' has " +
                              std::to_string(array->GetNumberOfTuples()) + " values for " + std::to_string(count) + " " + what);
   std::vector<double> values(static_cast<size_t>(count));
   for (vtkIdType i = 0; i < count; ++i) {
-    values[size_t(i)] = value_of(array, i);
+    values[size_t(i)] = value_of(array, i, component);
     if (!std::isfinite(values[size_t(i)]))
       throw std::runtime_error(std::string("the array '") + (array->GetName() ? array->GetName() : "") + "' has a non-finite value");
   }
@@ -61,8 +62,12 @@ std::vector<double> sample_at(const std::vector<std::array<double, 6>>& nodes, s
 
 }  // namespace
 
-TetMesh tet_mesh_from(vtkUnstructuredGridBase* grid, vtkDataArray* scalars, bool per_cell, std::size_t& skipped) {
+TetMesh tet_mesh_from(vtkUnstructuredGridBase* grid, vtkDataArray* scalars, bool per_cell, int component, std::size_t& skipped) {
   if (!scalars) throw std::runtime_error("no array to colour by: choose a point or cell array in Coloring");
+  if (component >= scalars->GetNumberOfComponents())
+    throw std::runtime_error(std::string("the array '") + (scalars->GetName() ? scalars->GetName() : "") + "' has " +
+                             std::to_string(scalars->GetNumberOfComponents()) + " components; colouring asks for component " +
+                             std::to_string(component));
   TetMesh mesh;
   mesh.name = "ParaView input";
   const vtkIdType n_points = grid->GetNumberOfPoints();
@@ -94,14 +99,20 @@ TetMesh tet_mesh_from(vtkUnstructuredGridBase* grid, vtkDataArray* scalars, bool
   }
   if (mesh.tets.empty()) throw std::runtime_error("the input has no tetrahedra");
   if (per_cell) {
-    const std::vector<double> all = values_of(scalars, grid->GetNumberOfCells(), "cells");
+    const std::vector<double> all = values_of(scalars, grid->GetNumberOfCells(), "cells", component);
     mesh.cell_scalars.reserve(kept.size());
     for (vtkIdType c : kept) mesh.cell_scalars.push_back(all[size_t(c)]);
   } else {
-    mesh.point_scalars = values_of(scalars, n_points, "points");
+    mesh.point_scalars = values_of(scalars, n_points, "points", component);
   }
   mesh.cell_extinction.assign(mesh.tets.size(), 0.0);  // colour draws extinction from the transfer function
   return mesh;
+}
+
+int mapped_component(vtkVolumeProperty* property) {
+  vtkColorTransferFunction* color = property ? property->GetRGBTransferFunction(0) : nullptr;
+  if (!color || color->GetVectorMode() != vtkScalarsToColors::COMPONENT) return -1;
+  return std::max(color->GetVectorComponent(), 0);
 }
 
 volume::TransferFunction transfer_function_from(vtkVolumeProperty* property) {
@@ -150,7 +161,12 @@ Camera camera_from(vtkCamera* camera) {
   c.target = {target[0], target[1], target[2]};
   c.up = {up[0], up[1], up[2]};
   c.fovy_degrees = camera->GetViewAngle();
-  c.near_distance = std::max(camera->GetClippingRange()[0], 1e-9);
+  // VTK's near plane as it is: any positive size of data is drawn (an absolute floor hid data
+  // smaller than it). A near plane that is not positive falls back to a millionth of the
+  // distance to the focal point, a length of the scene's own size.
+  const double near_plane = camera->GetClippingRange()[0];
+  const double distance = camera->GetDistance();
+  c.near_distance = near_plane > 0.0 && std::isfinite(near_plane) ? near_plane : 1e-6 * distance;
   return c;
 }
 

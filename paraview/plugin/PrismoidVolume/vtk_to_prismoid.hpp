@@ -15,12 +15,17 @@ class vtkVolumeProperty;
 
 namespace prismoid::paraview {
 
-// The grid's tetrahedra and the scalar array (per point when `per_cell` is false), the
-// magnitude where it has several components. Cells of lower dimension are left out (counted in
+// The grid's tetrahedra and the scalar array (per point when `per_cell` is false): where it has
+// several components, `component` of them (ParaView's "colour by X"), or their magnitude for
+// component -1. Cells of lower dimension are left out (counted in
 // `skipped`); a 3D cell that is not a tetrahedron, a missing array or non-finite values throw
 // std::runtime_error with the reason (ParaView's volume representation tetrahedralizes its
 // input before the mapper sees it, so a 3D non-tetrahedron means an unusual pipeline).
-TetMesh tet_mesh_from(vtkUnstructuredGridBase* grid, vtkDataArray* scalars, bool per_cell, std::size_t& skipped);
+TetMesh tet_mesh_from(vtkUnstructuredGridBase* grid, vtkDataArray* scalars, bool per_cell, int component, std::size_t& skipped);
+
+// Which component the volume property's colour function maps (its vector mode): -1 for the
+// magnitude, else the component index (ParaView's ColorBy(rep, ("POINTS", "V", "X")) sets it).
+int mapped_component(vtkVolumeProperty* property);
 
 // The volume property's colour and scalar opacity functions (component 0) as a transfer
 // function over the union of their ranges. VTK's unstructured-grid mappers read the opacity
