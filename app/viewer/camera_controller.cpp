@@ -19,11 +19,18 @@ glm::dvec3 turn(const glm::dvec3& v, double angle, const glm::dvec3& axis) {
 glm::dvec3 forward_of(const Camera& c) { return glm::normalize(c.target - c.eye); }
 glm::dvec3 right_of(const Camera& c) { return glm::normalize(glm::cross(forward_of(c), c.up)); }
 
+// The scene's own length: its bounds' radius (data of 1e-20 are handled as data of 1e20), or 1
+// for bounds of a single point.
+double scale_of(const Bounds& bounds) {
+  const double r = bounds.radius();
+  return r > 0.0 && std::isfinite(r) ? r : 1.0;
+}
+
 // The distance at which a sphere of `radius` fits the narrower field of view, with a margin.
 double fit_distance(double radius, double fovy_degrees, double aspect) {
   const double half_y = glm::radians(fovy_degrees) * 0.5;
   const double half_x = std::atan(std::tan(half_y) * std::max(aspect, 1e-6));
-  return std::max(radius, 1e-12) / std::sin(std::min(half_x, half_y)) * 1.05;
+  return radius / std::sin(std::min(half_x, half_y)) * 1.05;
 }
 
 }  // namespace
@@ -43,7 +50,7 @@ const char* axis_view_name(AxisView view) {
 double near_distance_for(const glm::dvec3& eye, const Bounds& bounds) {
   const glm::dvec3 outside = glm::max(bounds.min - eye, glm::max(glm::dvec3(0.0), eye - bounds.max));
   const double to_bounds = glm::length(outside);
-  const double floor = std::max(bounds.radius(), 1e-12) * 1e-4;
+  const double floor = scale_of(bounds) * 1e-4;
   return std::max(0.5 * to_bounds, floor);
 }
 
@@ -61,6 +68,17 @@ void CameraController::keep_valid() {
   glm::dvec3 up = camera_.up - glm::dot(camera_.up, f) * f;
   if (glm::length(up) < 1e-9) up = std::abs(f.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
   camera_.up = glm::normalize(up - glm::dot(up, f) * f);
+  // Zooming or panning away ends where the data is far below a pixel in any view: the eye and
+  // the target move back together to kFarthest scene radii from the centre. (Farther, float
+  // depths on the GPU would not hold the frame: zooming out once ended the window.)
+  const double reach = kFarthest * scale_of(bounds_);
+  const glm::dvec3 from_centre = camera_.eye - bounds_.center();
+  const double away = glm::length(from_centre);
+  if (away > reach) {
+    const glm::dvec3 look = camera_.target - camera_.eye;
+    camera_.eye = bounds_.center() + from_centre * (reach / away);
+    camera_.target = camera_.eye + look;
+  }
   camera_.near_distance = std::min(camera_.near_distance, near_distance_for(camera_.eye, bounds_));
   // A near plane far closer than needed only costs depth precision; one too far cuts data.
   camera_.near_distance = std::max(camera_.near_distance, near_distance_for(camera_.eye, bounds_) * 1e-3);
@@ -90,8 +108,12 @@ void CameraController::pan(glm::dvec2 pixels, glm::dvec2 viewport) {
 
 void CameraController::zoom(double steps) {
   const glm::dvec3 offset = camera_.eye - camera_.target;
-  const double min_distance = std::max(bounds_.radius(), 1e-12) * 1e-3;
-  const double length = std::max(glm::length(offset) * std::pow(0.9, steps), min_distance);
+  const double min_distance = scale_of(bounds_) * 1e-3;
+  double length = std::max(glm::length(offset) * std::pow(0.9, steps), min_distance);
+  // Out no farther than keeps the eye within kFarthest radii of the data (keep_valid's bound),
+  // the target staying where it is.
+  const double target_away = glm::length(camera_.target - bounds_.center()), reach = kFarthest * scale_of(bounds_);
+  if (target_away < reach) length = std::min(length, std::max(reach - target_away, min_distance));
   camera_.eye = camera_.target + glm::normalize(offset) * length;
   keep_valid();
 }
@@ -99,7 +121,7 @@ void CameraController::zoom(double steps) {
 void CameraController::reset(double aspect) {
   const glm::dvec3 direction = forward_of(camera_);
   camera_.target = bounds_.center();
-  camera_.eye = camera_.target - direction * fit_distance(bounds_.radius(), camera_.fovy_degrees, aspect);
+  camera_.eye = camera_.target - direction * fit_distance(scale_of(bounds_), camera_.fovy_degrees, aspect);
   camera_.near_distance = near_distance_for(camera_.eye, bounds_);
   flying_ = false;
   keep_valid();
@@ -124,7 +146,7 @@ void CameraController::axis_view(AxisView view, double aspect) {
 
 void CameraController::set_flying(bool on) { flying_ = on; }
 
-double CameraController::fly_speed() const { return std::max(2.0 * bounds_.radius(), 1e-12) / 5.0; }
+double CameraController::fly_speed() const { return 2.0 * scale_of(bounds_) / 5.0; }
 
 void CameraController::fly_move(glm::dvec3 direction, double seconds) {
   const glm::dvec3 f = forward_of(camera_), r = right_of(camera_);

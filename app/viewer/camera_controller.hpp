@@ -17,6 +17,10 @@ const char* axis_view_name(AxisView view);  // "+X", "-X", ...
 
 class CameraController {
  public:
+  // The farthest the eye goes from the bounds' centre, in bounds radii: there the data covers
+  // about a millionth of the view's height, under a pixel on any screen.
+  static constexpr double kFarthest = 1e6;
+
   explicit CameraController(const Bounds& bounds);
   CameraController(const Bounds& bounds, const Camera& camera);
 

@@ -1,6 +1,12 @@
 #include "app/viewer/viewer_script.hpp"
 
-#include <fstream>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
 #include <map>
 #include <sstream>
 
@@ -28,6 +34,51 @@ const std::map<std::string, int>& verbs() {
   return v;
 }
 
+// The last frame a script may name: 10^8 frames, 19 days at 60 frames a second. (A frame
+// number near 2^32 wrapped round the window's frame counter and ran at frame 1.)
+constexpr uint32_t kLastFrame = 100000000;
+
+// A script file is small text; more than this is not a script (`--script /dev/zero` grew
+// memory until bad_alloc).
+constexpr size_t kMaxScriptBytes = size_t(1) << 20;
+
+// The words of a line, shell-like: whitespace separates words; "..." and '...' group (a path
+// with spaces: open "my data.vtu"), and inside double quotes \" and \\ stand for " and \. A
+// # outside quotes starts a comment. `comment` gets where it starts (npos: none).
+std::vector<std::string> split_words(const std::string& line, const std::string& where, size_t& comment) {
+  std::vector<std::string> words;
+  comment = std::string::npos;
+  std::string word;
+  bool in_word = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char ch = line[i];
+    if (ch == '#') {
+      comment = i;
+      break;
+    }
+    if (ch == ' ' || ch == '\t' || ch == '\r') {
+      if (in_word) words.push_back(std::move(word));
+      word.clear();
+      in_word = false;
+      continue;
+    }
+    in_word = true;
+    if (ch != '"' && ch != '\'') {
+      word += ch;
+      continue;
+    }
+    const size_t open = i;
+    for (++i;; ++i) {
+      if (i >= line.size()) throw InputError(where, "a quote opened at column " + std::to_string(open + 1) + " is not closed");
+      if (line[i] == ch) break;
+      if (ch == '"' && line[i] == '\\' && i + 1 < line.size() && (line[i + 1] == '"' || line[i + 1] == '\\')) ++i;
+      word += line[i];
+    }
+  }
+  if (in_word) words.push_back(std::move(word));
+  return words;
+}
+
 }  // namespace
 
 std::vector<ScriptCommand> parse_script(const std::string& text, const std::string& source) {
@@ -37,18 +88,29 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
   int number = 0;
   for (std::string line; std::getline(lines, line);) {
     ++number;
-    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-    std::istringstream words(line);
     ScriptCommand c;
-    if (!(words >> c.verb)) continue;
     c.where = source + ":" + std::to_string(number);
-    for (std::string w; words >> w;) c.args.push_back(w);
+    size_t comment = std::string::npos;
+    std::vector<std::string> words = split_words(line, c.where, comment);
+    if (comment != std::string::npos) line.resize(comment);
+    if (words.empty()) continue;
+    c.verb = words.front();
+    c.args.assign(words.begin() + 1, words.end());
     const auto verb_end = line.find(c.verb) + c.verb.size();
     c.rest = line.substr(verb_end);
     if (c.verb == "frame" || c.verb == "wait") {
       if (c.args.size() != 1) throw InputError(c.where, c.verb + " takes one whole number");
-      const uint32_t n = parse_uint(c.verb, c.args[0]);
-      frame = c.verb == "frame" ? n : frame + n;
+      uint64_t n = 0;
+      try {
+        n = parse_uint(c.verb, c.args[0]);
+      } catch (const InputError& e) {
+        throw InputError(c.where, e.what());  // "frame: ..." at its line
+      }
+      const uint64_t at = c.verb == "frame" ? n : frame + n;
+      if (at > kLastFrame)
+        throw InputError(c.where, c.verb + " " + c.args[0] + " names frame " + std::to_string(at) + ", beyond the last a script can name (" +
+                                      std::to_string(kLastFrame) + ")");
+      frame = uint32_t(at);
       continue;
     }
     const auto found = verbs().find(c.verb);
@@ -66,11 +128,30 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
 }
 
 std::vector<ScriptCommand> read_script(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot read the script");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_script(text.str(), path);
+  // Opened without blocking (a FIFO would wait for a writer) and checked before anything is read.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw InputError(path, std::string("cannot read the script: ") + std::strerror(errno));
+  struct stat st{};
+  const bool regular = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  const bool small = regular && uint64_t(st.st_size) <= kMaxScriptBytes;
+  std::string text;
+  if (small) {
+    text.resize(size_t(st.st_size));
+    size_t got = 0;
+    while (got < text.size()) {
+      const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      got += size_t(n);
+    }
+    text.resize(got);
+  }
+  ::close(fd);
+  if (!regular) throw InputError(path, S_ISDIR(st.st_mode) ? "is a folder, not a script" : "is not a regular file, so not a script");
+  if (!small)
+    throw InputError(path, "holds " + std::to_string(st.st_size) + " bytes; a script is at most " + std::to_string(kMaxScriptBytes) +
+                               " (1 MiB)");
+  return parse_script(text, path);
 }
 
 }  // namespace prismoid::app

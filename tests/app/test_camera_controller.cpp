@@ -79,6 +79,28 @@ TEST(CameraController, ZoomMovesAlongTheViewDirectionOnly) {
   EXPECT_NEAR(glm::length(glm::cross(glm::normalize(c.camera().eye - before.target), glm::normalize(before.eye - before.target))), 0.0, kTight);
 }
 
+// Zooming or panning away stops kFarthest radii from the data, looking the same way, for data of
+// any size (zooming out 700 steps once took the eye 1e32 away and ended the window).
+TEST(CameraController, ZoomingAndPanningAwayStopAtTheFarthestReach) {
+  for (double s : {1e-20, 1.0, 1e20}) {
+    const Bounds b{kBounds.min * s, kBounds.max * s};
+    const double reach = CameraController::kFarthest * b.radius();
+    CameraController c(b);
+    const glm::dvec3 direction = glm::normalize(c.camera().target - c.camera().eye);
+    c.zoom(-700.0);
+    EXPECT_LE(glm::distance(c.camera().eye, b.center()), reach * (1.0 + 1e-12)) << "S = " << s;
+    EXPECT_GT(glm::distance(c.camera().eye, b.center()), 0.5 * reach) << "S = " << s;
+    EXPECT_NEAR(glm::dot(glm::normalize(c.camera().target - c.camera().eye), direction), 1.0, kTight) << "S = " << s;
+    EXPECT_NEAR(glm::dot(glm::normalize(b.center() - c.camera().eye), direction), 1.0, 1e-9) << "the data left the view";
+    for (int i = 0; i < 100; ++i) c.pan({3e7, -2e7}, kViewport);
+    EXPECT_LE(glm::distance(c.camera().eye, b.center()), reach * (1.0 + 1e-12)) << "S = " << s;
+    EXPECT_GT(c.camera().near_distance, 0.0);
+    // Zooming back in still works from there.
+    c.zoom(700.0);
+    EXPECT_LT(glm::distance(c.camera().eye, c.camera().target), b.radius()) << "S = " << s;
+  }
+}
+
 // The bounding sphere lies inside the view cone of the narrower field of view, with a margin.
 void expect_frames_bounds(const Camera& c, const Bounds& b, double aspect) {
   const glm::dvec3 forward = glm::normalize(c.target - c.eye);

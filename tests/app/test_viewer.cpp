@@ -20,6 +20,7 @@
 #include <chrono>
 
 #include "app/cli.hpp"
+#include "app/viewer/camera_controller.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/interactive_scale.hpp"
 #include "app/viewer/viewer.hpp"
@@ -88,6 +89,22 @@ TEST(Viewer, PresentsResizesMinimizesAndClosesWithoutValidationMessages) {
   EXPECT_GE(report.swapchain_recreations, 2u);
   EXPECT_EQ(report.validation_messages, 0u);
   EXPECT_TRUE(report.messages.empty());
+}
+
+// Zooming far out, with the wheel or a right drag, keeps the window drawing: the camera stops
+// where the data is under a pixel (it once went on to 1e32 away, and the frame's float limits
+// ended the window with exit 2).
+TEST(Viewer, ZoomingFarOutKeepsTheWindowOpen) {
+  REQUIRE_DISPLAY();
+  app::ViewerOptions options = window_options(160, 120, "frame 1\nzoom -700\nframe 3\ndrag 0 30000 right\nframe 5\nclose\n");
+  const TetMesh mesh = make_default_volume();
+  const app::ViewerReport report = app::run_viewer(mesh, options);
+  EXPECT_EQ(report.frames_presented, 6u);
+  EXPECT_EQ(report.validation_messages, 0u);
+  EXPECT_TRUE(report.messages.empty()) << report.messages.front();
+  EXPECT_TRUE(report.error_popups.empty()) << report.error_popups.front();
+  const Bounds b = bounds_of(mesh);
+  EXPECT_LE(glm::distance(report.camera.eye, b.center()), app::CameraController::kFarthest * b.radius() * (1.0 + 1e-9));
 }
 
 // While the camera moves, a frame slower than the target makes the next ones coarser, one level

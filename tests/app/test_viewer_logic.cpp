@@ -1,6 +1,11 @@
 // The viewer's logic that needs no window: scripts, opacity-point edits, mode and quantity
 // rules of the view state.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
 
 #include "app/viewer/interactive_scale.hpp"
 #include "app/viewer/compare.hpp"
@@ -45,6 +50,69 @@ TEST(ViewerScript, UnknownCommandsAndWrongArgumentCountsNameTheLine) {
   }
   EXPECT_THROW(app::parse_script("resize 100\n", "s"), InputError);
   EXPECT_THROW(app::parse_script("frame x\n", "s"), InputError);
+}
+
+// Paths with spaces are quoted as in a shell (`open my data.vtu` opened "my"); a # inside quotes
+// is part of the word; an unclosed quote names its line and column.
+TEST(ViewerScript, QuotedWordsKeepTheirSpaces) {
+  const auto script = app::parse_script("open \"my data.vtu\" 'the array'  # comment\n"
+                                        "screenshot \"shots/#1 \\\"best\\\".png\"\n",
+                                        "s");
+  ASSERT_EQ(script.size(), 2u);
+  EXPECT_EQ(script[0].args, (std::vector<std::string>{"my data.vtu", "the array"}));
+  EXPECT_EQ(script[1].args, std::vector<std::string>{"shots/#1 \"best\".png"});
+  try {
+    app::parse_script("frame 1\nopen \"my data.vtu\n", "s.txt");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "s.txt:2");
+    EXPECT_NE(std::string(e.what()).find("column 6 is not closed"), std::string::npos) << e.what();
+  }
+}
+
+// Frame numbers stop at 10^8: 4294967295 wrapped round the window's counter and ran at frame 1.
+TEST(ViewerScript, FramesBeyondTheLastAreRefusedNotWrapped) {
+  for (const char* text : {"frame 4294967295\nclose\n", "frame 100000000\nwait 1\nclose\n", "frame 99999999999999999999\n"}) {
+    try {
+      app::parse_script(text, "s");
+      ADD_FAILURE() << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source().rfind("s:", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_EQ(app::parse_script("frame 100000000\nclose\n", "s").front().frame, 100000000u);
+}
+
+// What is not a small regular file is refused before anything is read (`--script /dev/zero`
+// grew memory until bad_alloc; a FIFO would wait for a writer).
+TEST(ViewerScript, WhatIsNotAScriptFileIsRefusedBeforeReading) {
+  const std::string fifo = ::testing::TempDir() + "script-fifo";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& path : {std::string("/dev/zero"), fifo, ::testing::TempDir()}) {
+    try {
+      app::read_script(path);
+      ADD_FAILURE() << path;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), path);
+      EXPECT_NE(std::string(e.what()).find("not"), std::string::npos) << e.what();
+    }
+  }
+  std::remove(fifo.c_str());
+  const std::string big = ::testing::TempDir() + "big-script";
+  {
+    std::FILE* f = std::fopen(big.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    for (int i = 0; i < 100000; ++i) std::fputs("# a comment line\n", f);
+    std::fclose(f);
+  }
+  try {
+    app::read_script(big);
+    ADD_FAILURE() << "a 1.7 MB script was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("at most 1048576"), std::string::npos) << e.what();
+  }
+  std::remove(big.c_str());
 }
 
 TEST(TfEdit, OpacityPointsStaySortedInsideTheUnitSquare) {
