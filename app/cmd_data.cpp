@@ -114,7 +114,8 @@ int cmd_convert(const std::vector<std::string>& args) {
 
 const char* const kInfoHelp =
     "usage: prismoid info FILE\n"
-    "       prismoid info [FILE] --plan [--mode M] [--quantity Q] [render's volume options]\n"
+    "       prismoid info [FILE] --plan [--mode M] [--quantity Q] [render's volume options, camera,\n"
+    "                   --size, --depth-limit]\n"
     "\n"
     "Describes a mesh file (.vtu, .vtk, .vtm, .pvtu) without rendering: its cells by type, points,\n"
     "point and cell arrays with their ranges (vectors by magnitude), bounds, and what reading it\n"
@@ -127,10 +128,15 @@ const char* const kInfoHelp =
     "\n"
     "--plan: the passes a first frame with those options runs, CPU and GPU, each with the reason it\n"
     "is there, and the passes it leaves out with why (the line `sort` is the visibility sort); no\n"
-    "GPU is needed. A later frame from a still camera also skips the ordering (order reused).\n";
+    "GPU is needed. A later frame from a still camera also skips the ordering (order reused). The\n"
+    "camera, --size and --depth-limit are checked as render checks them.\n";
 
 int cmd_info(const std::vector<std::string>& args) {
-  ParsedArgs a = parse(args, 1, kVolumeOptions, {"help", "plan", "shared-vertices", "fill-holes"});
+  // With --plan: render's volume options, its camera, size and depth limit (checked as render
+  // checks them; the plan itself depends on none of the last three).
+  std::vector<std::string> value_options = with_camera({"size", "depth-limit"});
+  value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
+  ParsedArgs a = parse(args, 1, value_options, {"help", "plan", "shared-vertices", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kInfoHelp; return kOk; }
   if (a.flags.count("plan")) return info_plan(a);
   if (!a.values.empty() || a.flags.size() > 0)

@@ -54,6 +54,10 @@ int info_plan(const ParsedArgs& a) {
   if (!a.has("mode") && a.files.size() == 1 && is_named_surface_scene(a.files.front())) surface = &surface::surface_mode_table().front();
   if (surface) return surface_plan(a, *surface);
   VolumeChoice choice = volume_choice(a);
+  // What render would refuse, refused here too: the size, the camera, the depth limit.
+  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
+  validate(camera_from(a, bounds_of(choice.mesh)));
+  if (a.has("depth-limit")) choice.settings.resolve.depth_limit = read_depth_limit(a.values.at("depth-limit"), size);
   std::cout << choice.mesh.name << ": " << choice.mesh.tets.size() << " cells, mode " << choice.mode->name << ", quantity "
             << quantity_name(choice.quantity) << "\n";
   if (!choice.mode->gpu()) {

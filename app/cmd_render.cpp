@@ -72,10 +72,10 @@ const char* const kRenderHelpTail =
     "  --frames N           render N timed frames after 2 s of warm-up frames (the GPU leaves its idle\n"
     "                       clock); times are the median, with the best and worst beside them, and the\n"
     "                       SM clock meanwhile where nvidia-smi is on PATH (default 1, no warm-up)\n"
-    "  --reference-error    also compute the CPU double-precision reference of the same frame and print\n"
-    "                       how far the image is from it (RMSE and largest difference of the display\n"
-    "                       colour for color, of the quantity otherwise; FLIP for color) and what it cost;\n"
-    "                       --stats gets them as \"reference_error\"\n"
+    "  --reference-error    (volume modes) also compute the CPU double-precision reference of the same\n"
+    "                       frame and print how far the image is from it (RMSE and largest difference\n"
+    "                       of the display colour for color, of the quantity otherwise; FLIP for\n"
+    "                       color) and what it cost; --stats gets them as \"reference_error\"\n"
     "\n"
     "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
     "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
@@ -138,7 +138,8 @@ std::string volume_modes_help() {
   for (const frame::VolumeMode& m : frame::volume_mode_table()) name_width = std::max(name_width, m.name.size());
   std::ostringstream out;
   const auto line = [&](std::string_view name, std::string_view text) {
-    out << (out.tellp() == 0 ? std::string("  --mode MODE") + std::string(kIndent - 13, ' ') : std::string(kIndent, ' ')) << name
+    // (append, not +: GCC 12 warns falsely about the + of two temporaries, -Warray-bounds)
+    out << (out.tellp() == 0 ? std::string("  --mode MODE").append(kIndent - 13, ' ') : std::string(kIndent, ' ')) << name
         << std::string(name_width + 2 - name.size(), ' ');
     const std::string margin(kIndent + name_width + 2, ' ');
     size_t column = margin.size();
@@ -168,22 +169,6 @@ std::string volume_modes_help() {
 
 std::string render_help() { return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + surface_render_help(); }
 
-namespace {
-
-// --depth-limit FILE.pfm: one value per pixel of the frame, the depth along the viewing axis
-// where the ray ends (opaque geometry), +inf where nothing is; row 0 at the top as the image's.
-std::shared_ptr<const std::vector<float>> read_depth_limit(const std::string& path, VkExtent2D size) {
-  const io::FloatImage image = io::read_pfm(path);
-  if (image.channels != 1) throw InputError(path, "--depth-limit wants one value per pixel (a grey PFM), not " + std::to_string(image.channels));
-  if (image.width != size.width || image.height != size.height)
-    throw InputError(path, "is " + std::to_string(image.width) + "x" + std::to_string(image.height) + "; the frame (--size) is " +
-                               std::to_string(size.width) + "x" + std::to_string(size.height));
-  for (float d : image.pixels)
-    if (!(d > 0.0f)) throw InputError(path, "holds a depth that is not positive (or NaN): depths along the viewing axis are > 0, +inf for none");
-  return std::make_shared<const std::vector<float>>(image.pixels);
-}
-
-}  // namespace
 
 int cmd_render(const std::vector<std::string>& args) {
   if (const surface::SurfaceMode* surface = surface_mode_named(args))
@@ -218,8 +203,10 @@ int cmd_render(const std::vector<std::string>& args) {
   if (!mode.gpu()) {
     device_name = "CPU reference (double precision)";
     // Double arithmetic, but the image is float32: refused where it cannot hold the answer.
-    volume::check_float_limits(volume::float_facts(mesh), camera, size.width, size.height, settings.resolve, false);
+    const volume::FloatCheck check =
+        volume::check_float_limits(volume::float_facts(mesh), camera, size.width, size.height, settings.resolve, false);
     result = field ? render_field_reference(mesh, camera, settings.resolve, size) : render_reference(mesh, camera, settings.resolve, size);
+    result.report.warnings = check.warnings;
   } else {
     instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
     const auto devices = vk::query_devices(instance->get());

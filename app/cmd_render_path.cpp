@@ -33,7 +33,11 @@ const char* const kPathTracerOptionsHelp =
     "--spp N (default 64), --max-bounces N, --seed N, --variance OUT.pfm (per-pixel sample variance)\n";
 
 int cmd_render_path_reference(const std::vector<std::string>& args, const surface::SurfaceMode& mode) {
-  const ParsedArgs a = parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "spp", "max-bounces", "seed", "variance", "stats"})), {});
+  const ParsedArgs a =
+      parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "spp", "max-bounces", "seed", "variance", "stats"})),
+            {"reference-error"});
+  if (a.flags.count("reference-error"))
+    throw InputError("--reference-error", "--mode " + std::string(mode.name) + " is the reference itself");
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
   const std::string output = a.values.at("output");
   OutputFiles files;

@@ -94,7 +94,7 @@ std::string surface_render_help() {
 int cmd_render_surface(const std::vector<std::string>& args, const surface::SurfaceMode& chosen) {
   // Every GPU backend's options parse, so that another mode's is refused naming that mode.
   std::vector<std::string> values = with_surface_color(with_camera({"output", "size", "mode", "quantity", "stats", "device"}));
-  std::vector<std::string> flags = {"validate", "help"};
+  std::vector<std::string> flags = {"validate", "help", "reference-error"};
   std::vector<std::string> backend_options;
   for (const surface::SurfaceMode& m : surface::surface_mode_table())
     if (m.gpu())
@@ -108,6 +108,10 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
     std::cout << render_help();
     return kOk;
   }
+  if (a.flags.count("reference-error"))
+    throw InputError("--reference-error", "compares volume modes with their CPU reference; a surface mode's error against the "
+                                          "path tracer is measured by bench (--sweeps surfaces), or by rendering --mode "
+                                          "path-reference and comparing");
   const surface::SurfaceBackendInfo& backend = *chosen.backend;
   surface::SurfaceOptions given;
   auto take = [&](const std::string& name, const std::string& value) {

@@ -231,7 +231,8 @@ void write_report(const std::filesystem::path& path, const std::vector<BenchRow>
   if (!c.host.empty()) out << "- host: " << c.host << "\n";
   out << "- command: `" << c.command << "`\n"
       << "- error: against the CPU double-precision reference; optical depth and transmittance compare the quantity\n"
-      << "  (PSNR peak: the reference's largest optical depth, or 1), color the display RGB (peak 1); SSIM: mean\n"
+      << "  (PSNR peak: the reference's largest optical depth, or 1), color the display RGB (peak 1; surfaces: their\n"
+      << "  linear radiance clamped to [0, 1], as the window and PNGs show it); SSIM: mean\n"
       << "  structural similarity (Wang et al. 2004, 11x11 Gaussian window) on the same channels and peak; FLIP\n"
       << "  (colour only): mean LDR-FLIP (Andersson et al. 2020) at 67 pixels per degree, 0 = identical, 1 = most different\n"
       << "- time: `gpu` rows are GPU timestamps around the frame's passes (median over the timed frames, best-worst\n"

@@ -18,6 +18,10 @@ ParsedArgs parse(const std::vector<std::string>& args, size_t first, const std::
   ParsedArgs parsed;
   for (size_t i = first; i < args.size(); ++i) {
     const std::string& a = args[i];
+    if (a == "--") {  // the end of the options: what follows are files, even those that start with --
+      parsed.files.insert(parsed.files.end(), args.begin() + std::ptrdiff_t(i) + 1, args.end());
+      break;
+    }
     if (a.rfind("--", 0) == 0) {
       std::string name = a.substr(2), value;
       bool inline_value = false;

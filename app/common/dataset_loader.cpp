@@ -12,6 +12,7 @@
 #include "renderer/frame/volume_modes.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "scene/surface_generators.hpp"
 
 namespace prismoid::app {
 
@@ -220,6 +221,11 @@ TetMesh load_dataset(const LoadRequest& r, const io::Progress& progress) {
   if (io::is_surface_path(r.path)) return load_surface(r, progress);
   if (io::is_vdb_path(r.path)) return load_vdb(r, progress);
   if (io::is_image_volume_path(r.path)) return load_image(r, progress);
+  // A built-in surface scene's name given to a volume mode (`view cornell-box --mode interval`
+  // said "cornell-box: file does not exist"); a file of that name still opens.
+  if (is_named_surface_scene(r.path) && !std::filesystem::exists(r.path))
+    throw InputError(r.path, "is a built-in surface scene: it opens with a surface --mode (forward, htex, texel, msa, "
+                             "fastatlas, path-reference), not with a volume mode");
   return load_unstructured(r, progress);
 }
 

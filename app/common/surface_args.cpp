@@ -140,7 +140,7 @@ std::optional<SurfaceScene> tiled_scene(const std::string& spec) {
 
 SurfaceScene surface_scene_from(const ParsedArgs& a, const std::string& mode) {
   if (a.files.size() != 1)
-    throw InputError("render", "--mode " + mode + " renders one surface scene: cornell-box, furnace:A[:LE], tiled:N:FILE or a surface file");
+    throw InputError("--mode " + mode, "draws one surface scene: cornell-box, furnace:A[:LE], tiled:N:FILE or a surface file");
   const std::string& file = a.files.front();
   if (std::optional<SurfaceScene> tiled = tiled_scene(file)) {
     if (!array_coloring_from(a).array.empty()) throw InputError(file, "a tiled scene keeps no data arrays for --array");

@@ -9,6 +9,7 @@
 
 #include "app/common/dataset_loader.hpp"
 #include "app/common/terminal_progress.hpp"
+#include "io/image_io.hpp"
 #include "io/transfer_function_io.hpp"
 #include "io/vdb_io.hpp"
 #include "scene/input_error.hpp"
@@ -185,13 +186,28 @@ VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
         throw InputError("--background", "components must lie in [0, 1]");
       settings.resolve.background = glm::vec3(bg);
     }
-    if (mode.gpu() && mode.ordering == frame::Ordering::MeshOrder) {
+    // The compute backend orders each pixel itself, exactly: mesh order is the mesh backend's.
+    if (mode.gpu() && mode.ordering == frame::Ordering::MeshOrder && settings.backend == frame::IntervalBackend::Mesh &&
+        !v.backend_auto) {
       const auto ordered = [](const frame::VolumeMode& m) { return m.gpu() && !m.march && m.ordering != frame::Ordering::MeshOrder; };
       std::cerr << "prismoid: note: color is order dependent and --mode " << name
                 << " draws cells in mesh order (approximate); " << modes_that(ordered) << " composite in depth order\n";
     }
   }
   return v;
+}
+
+// --depth-limit FILE.pfm: one value per pixel of the frame, the depth along the viewing axis
+// where the ray ends (opaque geometry), +inf where nothing is; row 0 at the top as the image's.
+std::shared_ptr<const std::vector<float>> read_depth_limit(const std::string& path, VkExtent2D size) {
+  const io::FloatImage image = io::read_pfm(path);
+  if (image.channels != 1) throw InputError(path, "--depth-limit wants one value per pixel (a grey PFM), not " + std::to_string(image.channels));
+  if (image.width != size.width || image.height != size.height)
+    throw InputError(path, "is " + std::to_string(image.width) + "x" + std::to_string(image.height) + "; the frame (--size) is " +
+                               std::to_string(size.width) + "x" + std::to_string(size.height));
+  for (float d : image.pixels)
+    if (!(d > 0.0f)) throw InputError(path, "holds a depth that is not positive (or NaN): depths along the viewing axis are > 0, +inf for none");
+  return std::make_shared<const std::vector<float>>(image.pixels);
 }
 
 }  // namespace prismoid::app

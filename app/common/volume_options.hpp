@@ -2,6 +2,7 @@
 // The options `render` and `view` share: which dataset, what to show and how. Turns them into
 // a loaded mesh and frame settings; InputError names the option or file at fault.
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -72,5 +73,10 @@ using SceneLoader = std::function<TetMesh(const ParsedArgs& a, bool scalar_field
 
 // Parses the volume options, loads the data and builds the frame settings.
 VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load = load_scene);
+
+// --depth-limit FILE.pfm: one value per pixel of the frame, the depth along the viewing axis
+// where the ray ends (opaque geometry), +inf where nothing is; row 0 at the top as the image's.
+// InputError naming the file for another size, more channels or a depth that is not positive.
+std::shared_ptr<const std::vector<float>> read_depth_limit(const std::string& path, VkExtent2D size);
 
 }  // namespace prismoid::app
