@@ -8,6 +8,8 @@
 #include <sstream>
 #include <vector>
 
+#include <zlib.h>
+
 #include "io/path_util.hpp"
 #include "scene/input_error.hpp"
 
@@ -303,6 +305,41 @@ size_t meta_type_bytes(const std::string& type) {
   return 1;
 }
 
+// Compressed LOCAL data: the zlib stream from `offset` must inflate to every byte the header
+// declares. MetaIO fills an image with what the stream gives and leaves the rest as the allocator
+// left it: a truncated stream was read as an image whose missing voxels held whatever memory held
+// (a different refusal, or none, from run to run). Inflated in pieces and counted, never kept.
+void check_inflated(const std::string& path, const ReadAt& read_at, uint64_t offset, uint64_t file_bytes, Amount declared) {
+  z_stream z{};
+  if (inflateInit(&z) != Z_OK) return;  // no memory for zlib: MetaIO will say so itself
+  std::vector<unsigned char> out(size_t(1) << 18);
+  Amount inflated = 0;
+  int status = Z_OK;
+  std::string in;
+  while (status == Z_OK && inflated < declared) {
+    if (z.avail_in == 0) {
+      if (offset >= file_bytes) break;  // the file ends inside the stream
+      in = read_at(offset, size_t(1) << 20);
+      if (in.empty()) break;
+      offset += in.size();
+      z.next_in = reinterpret_cast<unsigned char*>(in.data());
+      z.avail_in = unsigned(in.size());
+    }
+    z.next_out = out.data();
+    z.avail_out = unsigned(out.size());
+    status = inflate(&z, Z_NO_FLUSH);
+    inflated += Amount(out.size() - z.avail_out);
+    if (status == Z_BUF_ERROR) status = Z_OK;  // no progress possible until more input comes
+  }
+  const std::string message = z.msg ? z.msg : "";
+  inflateEnd(&z);
+  if (inflated >= declared) return;
+  if (status == Z_DATA_ERROR || status == Z_NEED_DICT || status == Z_MEM_ERROR || status == Z_STREAM_ERROR)
+    throw InputError(path, "its compressed voxel data is corrupt (zlib: " + (message.empty() ? std::string("error") : message) + ")");
+  throw InputError(path, "its compressed voxel data inflate to " + count_text(inflated) + " bytes; the header declares " +
+                             count_text(declared) + ": the file is truncated or corrupt");
+}
+
 // MetaIO keeps at most 10 dimensions; a header asking for more is corrupt (MetaIO loops on it).
 constexpr Amount kMaxMetaDims = 10;
 
@@ -340,6 +377,7 @@ void check_metaimage(const std::string& path, uint64_t file_bytes, const ReadAt&
   const Amount need = voxels * std::max<Amount>(channels, 1) * Amount(type_bytes) / (compressed ? Amount(kZlibRatio) : 1);
   const Amount have = Amount(file_bytes) - Amount(at);
   if (need > have) refuse(path, count_text(voxels) + " voxels" + (compressed ? " (compressed)" : ""), need, have);
+  if (compressed) check_inflated(path, read_at, at, file_bytes, voxels * std::max<Amount>(channels, 1) * Amount(type_bytes));
 }
 
 }  // namespace

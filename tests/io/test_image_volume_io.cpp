@@ -288,6 +288,37 @@ TEST(ImageVolumeIo, SizeGuardNamesTheCountAndTheSubsampleThatFits) {
   std::filesystem::remove(absurd);
 }
 
+// A compressed MetaImage whose zlib stream gives fewer bytes than the header declares (cut off,
+// or a whole stream of too little data) is refused: MetaIO read it as an image whose missing
+// voxels held whatever memory held, a different refusal (or none) from run to run. A good
+// compressed file reads.
+TEST(ImageVolumeIo, CompressedMetaImageThatInflatesShortIsRefused) {
+  constexpr int n = 8;
+  std::vector<float> voxels(n * n * n);
+  for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = float(i % 7);
+  auto compressed = [](const std::vector<float>& v) {
+    uLongf size = compressBound(uLong(v.size() * sizeof(float)));
+    std::string out(size, '\0');
+    EXPECT_EQ(compress(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(v.data()), uLong(v.size() * sizeof(float))), Z_OK);
+    out.resize(size);
+    return out;
+  };
+  auto mha = [&](const std::string& name, const std::string& payload) {
+    return write_file(name, "ObjectType = Image\nNDims = 3\nDimSize = 8 8 8\nElementType = MET_FLOAT\nElementSpacing = 1 1 1\n"
+                            "CompressedData = True\nCompressedDataSize = " + std::to_string(payload.size()) +
+                            "\nElementDataFile = LOCAL\n" + payload);
+  };
+  const io::ImageReadOptions scalars{.role = io::ArrayRole::Scalars};
+  const std::string whole = compressed(voxels);
+  const std::string good = mha("good.mha", whole);
+  EXPECT_EQ(io::read_image_volume(good, scalars).points.size(), size_t(n * n * n));
+  const std::string cut = mha("cut.mha", whole.substr(0, whole.size() / 2));
+  expect_error(cut, scalars, "its compressed voxel data inflate to");
+  const std::string few = mha("few.mha", compressed(std::vector<float>(voxels.begin(), voxels.begin() + 250)));
+  expect_error(few, scalars, "inflate to 1000 bytes; the header declares 2048");
+  for (const std::string& p : {good, cut, few}) std::filesystem::remove(p);
+}
+
 TEST(ImageVolumeIo, BadFilesNameTheFileAndTheProblem) {
   const Grid g;
   const std::string good = inr_bytes(g);
