@@ -29,6 +29,10 @@ PRISMOID_SHARED_BEGIN
 // twin's rounded box sizes agree exactly: ceil(side * num / 2^16) in integers.
 #define PRISMOID_FA_SCALE_ONE 65536u
 #define PRISMOID_FA_MAX_CANDIDATES 64u
+// Border texels are shaded on their triangle's plane outside it (extrapolated) at scales of at
+// least this many texels per pixel; below, a texel spans more than two pixels and its shading
+// point is held to the triangle (fa_shade.glsl).
+#define PRISMOID_FA_EXTRAPOLATE_SCALE 0.5
 #define PRISMOID_FA_WORKGROUP 256u
 // Sort key of a chart: 0xffff minus its turned height (taller first), over charts already in
 // root order (the first, stable sort).

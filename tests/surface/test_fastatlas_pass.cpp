@@ -331,6 +331,70 @@ TEST_F(FastAtlasPassTest, EveryShadedTexelIsTheDirectLightAtItsPoint) {
   std::printf("%zu texels (%zu border) against the reference; worst error %.3g of its tolerance\n", queries.size(), border, c.worst);
 }
 
+// The point of the triangle (corners a, b, c) nearest to the point of its plane with weights w, as
+// weights: the double twin of fa_shade.glsl's nearest_on_triangle.
+glm::dvec3 nearest_weights(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& w) {
+  const glm::dvec3 p = w.x * a + w.y * b + w.z * c;
+  // The plane point itself if it is inside, else the nearest point of the three edges.
+  if (w.x >= 0.0 && w.y >= 0.0 && w.z >= 0.0) return w;
+  glm::dvec3 best = w;
+  double best_d = 1e300;
+  const glm::dvec3 corners[3] = {a, b, c};
+  for (int e = 0; e < 3; ++e) {
+    const glm::dvec3 u = corners[e], v = corners[(e + 1) % 3];
+    const double t = std::clamp(glm::dot(p - u, v - u) / glm::dot(v - u, v - u), 0.0, 1.0);
+    const double d = glm::length(p - (u + t * (v - u)));
+    if (d < best_d) {
+      best_d = d;
+      best = glm::dvec3(0.0);
+      best[e] = 1.0 - t;
+      best[(e + 1) % 3] = t;
+    }
+  }
+  return best;
+}
+
+// Below half a texel per pixel, border texels are shaded at the point of their triangle nearest to
+// where their pixel ray meets its plane (not at that plane point, which can lie far off the
+// surface); texels inside keep their own point. Every texel against the direct light there.
+TEST_F(FastAtlasPassTest, BelowHalfATexelPerPixelBorderTexelsAreShadedOnTheirTriangle) {
+  SphereSceneOptions o;
+  o.lights = Lights::Point;
+  FaRig rig(device(), sphere_scene(o), settings(256, 0.2));
+  const Camera camera = rig.scene.camera;
+  const surface::FastAtlasImage img = rig.render(device(), camera);
+  ASSERT_LT(img.counters.scale, PRISMOID_FA_EXTRAPOLATE_SCALE);
+  const AtlasReadback a(*rig.pass);
+  std::vector<reference::ShadingPointQuery> queries;
+  std::vector<glm::vec4> gpu;
+  size_t held = 0;
+  for (uint32_t y = 0; y < 256; ++y)
+    for (uint32_t x = 0; x < 256; ++x) {
+      const uint32_t id = a.ids[y * 256 + x];
+      if (id == kNone) continue;
+      const uint32_t t = id & PRISMOID_FA_TRIANGLE_MASK;
+      const glm::dvec2 pixel = to_screen(a.map(t, img.counters.scale), glm::dvec2(x + 0.5, y + 0.5));
+      const auto [mesh, local] = rig.triangles.local(t);
+      const SceneMesh& m = rig.scene.meshes[mesh];
+      const auto& tri = m.triangles[local];
+      glm::dvec3 w = ray_plane_weights(rig.scene, rig.triangles, t, camera, kW, kH, pixel.x, pixel.y);
+      if (w.x < 0.0 || w.y < 0.0 || w.z < 0.0) {
+        w = nearest_weights(m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]], w);
+        ++held;
+      }
+      queries.push_back({mesh, local, w, camera.eye});
+      glm::vec4 g = a.colors[y * 256 + x];
+      g.w = 1.0f;
+      gpu.push_back(g);
+    }
+  ASSERT_GT(queries.size(), 100u);
+  EXPECT_GT(held, 50u);
+  const SampleCheck c = check_shaded_samples(rig.scene, queries, gpu, 1e-4);
+  EXPECT_EQ(c.failures, 0u);
+  std::printf("%zu texels (%zu held to their triangle) against the reference; worst error %.3g of its tolerance\n", queries.size(), held,
+              c.worst);
+}
+
 // Every pixel is the hard-edge filter (the CPU twin) of its four taps at its atlas position; on a
 // cube seen at scale 0.45, taps across its 90-degree edges do not count, and one, two, three and
 // four usable taps all occur (none usable, where the nearest texel stands in, is rarer).
@@ -587,6 +651,47 @@ TEST_F(FastAtlasPassTest, AChartSmallerThanATexelIsSeeded) {
   EXPECT_GT(light_texels, seeded);  // the border grew around the seed
   EXPECT_EQ(img.counters.hole_pixels, 0u);
   std::printf("the light: %zu pixels, %zu texels (%zu seeded)\n", light_pixels, light_texels, seeded);
+}
+
+// At a fiftieth of a texel per pixel a wall of the Cornell box holds a few texels, most of them
+// border texels whose pixel rays meet its plane tens of pixels beyond it (outside the room, in the
+// shadow of its walls): walls rendered black while no pixel counted as a hole (the left wall's mean
+// was 0.17 of the reference's). Below half a texel per pixel a border texel's shading point is held
+// to its triangle, so every surface keeps shading of its own: its mean within a factor of 3 of the
+// reference's (a few texels per wall cannot follow the light's falloff and shadows across it). At
+// a hundredth, one or two texels per surface, a surface whose samples all fall in shadow is dark
+// by sampling alone, and no such bound holds.
+TEST_F(FastAtlasPassTest, AtAFiftiethOfATexelPerPixelEverySurfaceKeepsItsShading) {
+  const SurfaceScene s = with_default_lighting(make_cornell_box(), make_cornell_box().camera);
+  constexpr uint32_t w = 256, h = 192;
+  reference::DirectLightOptions options;
+  options.shadows = true;
+  const std::vector<glm::dvec3> ref = reference::supersampled_direct_light(s, s.camera, w, h, 1, options);
+  for (double scale : {0.02}) {
+    surface::FastAtlasSettings fa = settings(256, scale);
+    fa.shadows = true;
+    FaRig rig(device(), s, fa);
+    const surface::FastAtlasImage img = rig.render(device(), rig.scene.camera, w, h);
+    std::map<uint32_t, glm::dvec3> sums;  // per mesh: FastAtlas, reference, pixels
+    for (size_t i = 0; i < img.visibility.size(); ++i) {
+      const uint32_t v = img.visibility[i].x;
+      if (v == 0) continue;
+      glm::dvec3& sum = sums[rig.triangles.local(v - 1).first];
+      const double shown = (double(img.rgba[4 * i]) + double(img.rgba[4 * i + 1]) + double(img.rgba[4 * i + 2])) / 3.0;
+      sum += glm::dvec3(shown, (ref[i].x + ref[i].y + ref[i].z) / 3.0, 1.0);
+    }
+    size_t surfaces = 0;
+    for (const auto& [mesh, sum] : sums) {
+      if (sum.z < 200.0 || sum.y <= 0.0) continue;
+      ++surfaces;
+      const double ratio = sum.x / sum.y;
+      EXPECT_GT(ratio, 1.0 / 3.0) << "scale " << scale << ", mesh " << mesh << " (" << sum.z << " pixels)";
+      EXPECT_LT(ratio, 3.0) << "scale " << scale << ", mesh " << mesh;
+      std::printf("scale %.2f, mesh %u: %.0f pixels, mean %.4f against the reference's %.4f\n", scale, mesh, sum.z, sum.x / sum.z,
+                  sum.y / sum.z);
+    }
+    EXPECT_GE(surfaces, 5u);
+  }
 }
 
 // A million visible triangles: a grid in a plane facing the camera, each 2 x 1 pixel quad split

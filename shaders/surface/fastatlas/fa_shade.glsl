@@ -44,14 +44,53 @@ bool fa_last_shading(uint triangle, vec3 p, out vec4 value) {
   return value.a == float(triangle + 1u);
 }
 
+// The barycentrics of the point of `triangle` nearest to the point of its plane with barycentrics
+// `b` (Ericson, Real-Time Collision Detection, 5.1.5: the Voronoi regions of the corners and edges).
+vec3 nearest_on_triangle(uint triangle, vec3 b) {
+  vec3 a = triangle_corner(triangle, 0u), bb = triangle_corner(triangle, 1u), c = triangle_corner(triangle, 2u);
+  vec3 p = b.x * a + b.y * bb + b.z * c;
+  vec3 ab = bb - a, ac = c - a, ap = p - a;
+  float d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return vec3(1.0, 0.0, 0.0);
+  vec3 bp = p - bb;
+  float d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return vec3(0.0, 1.0, 0.0);
+  float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    float v = d1 / (d1 - d3);
+    return vec3(1.0 - v, v, 0.0);
+  }
+  vec3 cp = p - c;
+  float d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return vec3(0.0, 0.0, 1.0);
+  float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    float w = d2 / (d2 - d6);
+    return vec3(1.0 - w, 0.0, w);
+  }
+  float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return vec3(0.0, 1.0 - w, w);
+  }
+  return clamp_to_triangle(b);  // inside (rounding): its own weights, held to the triangle
+}
+
 void main() {
   ivec2 t = ivec2(gl_LaunchIDEXT.xy);
   uint id = imageLoad(fa_id_atlas, t).x;
   if (id == PRISMOID_FA_NONE) return;
   uint triangle = id & PRISMOID_FA_TRIANGLE_MASK;
-  vec2 pixel = fa_to_screen(fa_chart_map(fa_parent[triangle]), vec2(t) + 0.5);
+  FaChartMap map = fa_chart_map(fa_parent[triangle]);
+  vec2 pixel = fa_to_screen(map, vec2(t) + 0.5);
   vec3 bary;
   if (!pixel_barycentrics(triangle, pixel, bary)) bary = vec3(1.0 / 3.0);
+  // A border texel is shaded where its pixel ray meets the triangle's plane outside the triangle,
+  // so that the filter's taps extrapolate across the edge. Below half a texel per pixel a texel
+  // spans more than two pixels, and that point can lie far off the surface (beyond a wall of a
+  // room, in its shadow: whole walls went black at scale 0.01): there it is held to the triangle.
+  // The point it is held to is the triangle's nearest to where it would have extrapolated.
+  if (map.scale < PRISMOID_FA_EXTRAPOLATE_SCALE && any(lessThan(bary, vec3(0.0)))) bary = nearest_on_triangle(triangle, bary);
   vec3 p = triangle_point(triangle, bary);
   vec4 last;
   if ((fa_push.image.z & PRISMOID_FA_FLAG_TEMPORAL) != 0u && fa_last_shading(triangle, p, last)) {
