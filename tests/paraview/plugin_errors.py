@@ -14,18 +14,21 @@ import pvtest
 
 # case: (environment for the child, what its output must contain, whether the volume is drawn)
 CASES = {
-    # ParaView does not hand a volume mapper a grid coloured by nothing (its own mappers draw
-    # nothing then either): nothing is drawn, nothing breaks.
-    "no-array": ({}, "NO-ARRAY: 0.000", False),
+    # ParaView draws a grid coloured by nothing as nothing (its own mappers too): nothing breaks,
+    # and the plugin says why (it once said nothing).
+    "no-array": ({}, "Prismoid volume: no array to colour by", False),
     "non-finite": ({}, "Prismoid volume: the array 'bad' has a non-finite value", False),
-    "empty": ({}, "EMPTY DRAWN NOTHING", False),
+    "empty": ({}, "Prismoid volume: the input has no cells", False),
+    # A constant array falls on the opacity function's first point, 0 here: nothing is drawn,
+    # and said.
+    "constant": ({}, "Prismoid volume: the opacity function is 0 over every value of the array 'c' (5, constant)", False),
     "no-device": ({"VK_ICD_FILENAMES": "/nonexistent/icd.json", "VK_DRIVER_FILES": "/nonexistent/icd.json"}, "Prismoid volume:", False),
     "hexahedra": ({}, "HEXAHEDRA OK", None),
 }
 
 
 def child(name, a):
-    from paraview.simple import (ColorBy, ProgrammableFilter, Render, SaveScreenshot, Show, Threshold)
+    from paraview.simple import (ColorBy, GetOpacityTransferFunction, ProgrammableFilter, Render, SaveScreenshot, Show, Threshold)
     pvtest.load_plugin(a["plugin"])
     out = a["out"]
     vtu = os.path.join(out, "wavelet.vtu")
@@ -52,6 +55,15 @@ def child(name, a):
         rep = Show(nothing, scene.view)
         rep.Representation = "Prismoid Volume"
         ColorBy(rep, ("POINTS", "RTData"))
+    elif name == "constant":
+        from paraview.simple import Calculator
+        constant = Calculator(Input=scene.reader, Function="5", ResultArrayName="c")
+        scene.rep.Visibility = 0
+        rep = Show(constant, scene.view)
+        rep.Representation = "Prismoid Volume"
+        ColorBy(rep, ("POINTS", "c"))
+        pwf = GetOpacityTransferFunction("c")
+        pwf.Points = [5.0, 0.0, 0.5, 0.0, 6.0, 1.0, 0.5, 0.0]
     elif name == "hexahedra":
         from paraview.simple import Wavelet
         voxels = Threshold(Input=Wavelet(WholeExtent=[-4, 4, -4, 4, -4, 4]), Scalars=["POINTS", "RTData"], LowerThreshold=0.0, UpperThreshold=1e9)

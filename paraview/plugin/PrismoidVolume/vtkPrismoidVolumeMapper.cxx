@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <vtkCamera.h>
+#include <vtkMultiProcessController.h>
 #include <vtkDataArray.h>
 #include <vtkObjectFactory.h>
 #include <vtkOpenGLRenderWindow.h>
@@ -92,6 +93,11 @@ void vtkPrismoidVolumeMapper::Blend(vtkRenderer* ren, int width, int height, flo
   this->Texture->CopyToFrameBuffer(tcoords, verts, nullptr, nullptr);
 }
 
+void vtkPrismoidVolumeMapper::WarnNothingDrawn(const std::string& why) {
+  if (this->ReportedWarning != why) vtkWarningMacro(<< "Prismoid volume: " << why);
+  this->ReportedWarning = why;
+}
+
 void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
   namespace pv = prismoid::paraview;
   this->LastFrameDrawn = false;
@@ -99,7 +105,12 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
   this->LastFrameMilliseconds = 0.0;
   const auto start = std::chrono::steady_clock::now();
   vtkUnstructuredGridBase* grid = this->GetInput();
-  if (!grid || grid->GetNumberOfCells() == 0) return;  // an empty piece (one rank's share may be): nothing to draw
+  if (!grid || grid->GetNumberOfCells() == 0) {
+    // An empty piece is one rank's share in a parallel run; alone, the input itself is empty.
+    vtkMultiProcessController* ranks = vtkMultiProcessController::GetGlobalController();
+    if (!ranks || ranks->GetNumberOfProcesses() <= 1) this->WarnNothingDrawn("the input has no cells: nothing to draw");
+    return;
+  }
   try {
     int cell_flag = 0;
     vtkDataArray* scalars = vtkAbstractMapper::GetScalars(grid, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cell_flag);
@@ -123,6 +134,23 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
     settings.backend = this->Backend == 1 ? prismoid::frame::IntervalBackend::Compute : prismoid::frame::IntervalBackend::Mesh;
     settings.ordering = this->Ordering == 1 ? prismoid::frame::Ordering::Exact : prismoid::frame::Ordering::GpuSort;
 
+    // A colour map whose opacity is 0 over every value of the array draws nothing (ParaView's own
+    // mappers too): said, rather than an empty frame without a word (a constant array falls on
+    // the opacity function's first point, often 0).
+    bool nothing_visible = false;
+    if (scalars && this->Quantity == 0) {
+      double range[2] = {0.0, 0.0};
+      scalars->GetRange(range, component);  // component -1: the magnitude
+      if (pv::largest_opacity(settings.resolve.transfer, range[0], range[1]) <= 0.0) {
+        std::ostringstream why;
+        why << "the opacity function is 0 over every value of the array '" << (scalars->GetName() ? scalars->GetName() : "")
+            << "' (" << range[0] << (range[0] == range[1] ? ", constant" : std::string(" to ") + std::to_string(range[1]))
+            << "): nothing is drawn; raise its opacity there (Edit color map)";
+        this->WarnNothingDrawn(why.str());
+        nothing_visible = true;
+      }
+    }
+
     int width = 0, height = 0, x0 = 0, y0 = 0;
     ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
     if (width <= 0 || height <= 0) return;
@@ -140,6 +168,7 @@ void vtkPrismoidVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol) {
                   image.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(height - 1 - y) * row));
     this->Blend(ren, width, height, image.data());
     this->LastFrameDrawn = true;
+    if (!nothing_visible) this->ReportedWarning.clear();
     this->LastFrameMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   } catch (const std::exception& e) {
     // A clear message in ParaView's output, never a crash: the volume is simply not drawn. Said

@@ -51,6 +51,9 @@ protected:
   double LastFrameMilliseconds = 0.0;
   std::string LastError;
   std::string ReportedError;  // the error last reported, until a frame is drawn
+  std::string ReportedWarning;  // why the last frame showed nothing, said once until it changes
+  // Says once (until another reason or a visible frame) why a frame draws nothing.
+  void WarnNothingDrawn(const std::string& why);
   vtkTextureObject* Texture = nullptr;
   // Draws a viewport-sized image of premultiplied linear RGBA (rows bottom to top) over the frame.
   void Blend(vtkRenderer* ren, int width, int height, float* premultiplied);

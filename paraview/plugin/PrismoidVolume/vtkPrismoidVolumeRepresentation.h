@@ -32,6 +32,18 @@ protected:
   vtkPrismoidVolumeRepresentation();
   ~vtkPrismoidVolumeRepresentation() override;
   vtkPrismoidVolumeMapper* Mapper;
+  // The base class's, then a warning (once) where no array is chosen to colour by: ParaView
+  // then draws the volume as nothing, its own mappers too.
+  void UpdateMapperParameters() override;
+  bool WarnedNoArray = false;
+
+public:
+  // The base class's; at a render, a warning (once) where the input has no cells in a run of one
+  // process (ParaView culls a volume with empty bounds before its mapper could say so).
+  int ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo) override;
+
+protected:
+  bool WarnedEmpty = false;
 
 private:
   vtkPrismoidVolumeRepresentation(const vtkPrismoidVolumeRepresentation&) = delete;

@@ -149,6 +149,27 @@ volume::TransferFunction transfer_function_from(vtkVolumeProperty* property) {
   return tf;
 }
 
+double largest_opacity(const volume::TransferFunction& tf, double lo, double hi) {
+  if (tf.opacity.empty()) return 0.0;
+  const auto at = [&](double x) {
+    if (x <= tf.opacity.front().x) return tf.opacity.front().opacity;
+    if (x >= tf.opacity.back().x) return tf.opacity.back().opacity;
+    for (size_t k = 1; k < tf.opacity.size(); ++k)
+      if (x <= tf.opacity[k].x) {
+        const auto& a = tf.opacity[k - 1];
+        const auto& b = tf.opacity[k];
+        const double t = b.x > a.x ? (x - a.x) / (b.x - a.x) : 1.0;
+        return a.opacity + t * (b.opacity - a.opacity);
+      }
+    return tf.opacity.back().opacity;
+  };
+  const double x0 = volume::normalized(tf, lo), x1 = volume::normalized(tf, hi);
+  double largest = std::max(at(x0), at(x1));
+  for (const auto& point : tf.opacity)
+    if (point.x >= x0 && point.x <= x1) largest = std::max(largest, point.opacity);
+  return largest;
+}
+
 Camera camera_from(vtkCamera* camera) {
   if (camera->GetParallelProjection())
     throw std::runtime_error("parallel projection is not supported yet: turn Camera Parallel Projection off");

@@ -36,6 +36,11 @@ int mapped_component(vtkVolumeProperty* property);
 // between their nodes: piecewise linear, as the renderer's model is.
 volume::TransferFunction transfer_function_from(vtkVolumeProperty* property);
 
+// The largest opacity `tf` gives any scalar in [lo, hi] (its opacity is piecewise linear in the
+// normalized x: the values at both ends and at every node between). 0: nothing in that range
+// can be seen.
+double largest_opacity(const volume::TransferFunction& tf, double lo, double hi);
+
 // VTK's perspective camera as Prismoid's (eye, focal point, view up, vertical view angle, the
 // near clipping distance). Throws std::runtime_error for a parallel projection.
 Camera camera_from(vtkCamera* camera);
