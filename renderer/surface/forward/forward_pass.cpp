@@ -1,4 +1,5 @@
 #include "renderer/surface/forward/forward_pass.hpp"
+#include "renderer/surface/forward/view_depth.hpp"
 
 #include "renderer/surface/scene_descriptors.hpp"
 #include "renderer/surface/surface_frame.hpp"
@@ -54,7 +55,7 @@ ForwardTargets create_forward_targets(const vk::Device& device, VkExtent2D exten
   ForwardTargets t;
   t.extent = extent;
   t.color = vk::Image(device, extent, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  t.depth = vk::Image(device, extent, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+  t.depth = vk::Image(device, extent, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   t.shade_count = vk::Image(device, extent, kCountFormat,
                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   return t;
@@ -265,6 +266,7 @@ ForwardImage render_forward(const vk::Device& device, ForwardPass& pass, const G
   const size_t pixels = size_t(extent.width) * extent.height;
   image.rgba.resize(pixels * 4);
   vk::read_image(device, targets.color, sizeof(float) * 4, std::as_writable_bytes(std::span(image.rgba)));
+  if (settings.read_depth) image.depth = read_view_axis_depth(device, targets.depth, camera.near_distance);
   if (settings.count_shading) {
     image.shade_counts.resize(pixels);
     vk::read_image(device, targets.shade_count, sizeof(uint32_t), std::as_writable_bytes(std::span(image.shade_counts)));

@@ -26,7 +26,7 @@ namespace prismoid::surface {
 
 struct ForwardTargets {
   vk::Image color;        // RGBA32F linear radiance; alpha = coverage
-  vk::Image depth;        // D32: near / distance along the view axis (0: nothing)
+  vk::Image depth;        // D32: near / distance along the view axis (0: nothing); readable (TRANSFER_SRC)
   vk::Image shade_count;  // R32UI: shading invocations per pixel (filled with count_shading)
   VkExtent2D extent{};
 };
@@ -37,6 +37,8 @@ struct ForwardSettings {
   glm::dvec2 subpixel{0.0};
   // Count shading invocations per pixel into targets.shade_count (needs fragmentStoresAndAtomics).
   bool count_shading = false;
+  // render_forward*: read the depth buffer back into ForwardImage::depth.
+  bool read_depth = false;
 };
 
 class ForwardPass {
@@ -78,6 +80,9 @@ class ForwardPass {
 // One frame rendered and read back: what the CLI and the tests use.
 struct ForwardImage : SurfaceImage {
   std::vector<uint32_t> shade_counts;  // per pixel, with count_shading
+  // With read_depth: per pixel the nearest surface's depth along the viewing axis, +inf where
+  // none is (view_depth.hpp). Not averaged by the supersampled renders (their first frame's).
+  std::vector<float> depth;
   std::vector<vk::PassTiming> passes;  // GPU time per pass (summed over the frames when supersampled)
   uint64_t fragment_invocations = 0;   // of the surfaces' shading draw (summed), when counted
   bool statistics = false;             // fragment_invocations was counted

@@ -1,4 +1,5 @@
 #include "renderer/surface/forward/shadowed_forward_pass.hpp"
+#include "renderer/surface/forward/view_depth.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -56,7 +57,7 @@ ShadowedForwardTargets create_shadowed_forward_targets(const vk::Device& device,
   ShadowedForwardTargets t;
   t.extent = extent;
   t.color = vk::Image(device, extent, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  t.depth = vk::Image(device, extent, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+  t.depth = vk::Image(device, extent, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   t.triangle = vk::Image(device, extent, kTriangleFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
   return t;
 }
@@ -203,6 +204,7 @@ ForwardImage render_forward_shadowed(const vk::Device& device, ShadowedForwardPa
   image.height = extent.height;
   image.rgba.resize(size_t(extent.width) * extent.height * 4);
   vk::read_image(device, targets.color, sizeof(float) * 4, std::as_writable_bytes(std::span(image.rgba)));
+  if (settings.read_depth) image.depth = read_view_axis_depth(device, targets.depth, camera.near_distance);
   image.passes = timer.read();
   image.shading_invocations = pass.read_shading_invocations();
   image.shadows = true;

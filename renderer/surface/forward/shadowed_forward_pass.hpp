@@ -21,7 +21,7 @@ namespace prismoid::surface {
 
 struct ShadowedForwardTargets {
   vk::Image color;     // RGBA32F, written by the ray-generation shader
-  vk::Image depth;     // D32 reversed z
+  vk::Image depth;     // D32 reversed z; readable (TRANSFER_SRC)
   vk::Image triangle;  // R32UI: global triangle + 1 (0: none)
   VkExtent2D extent{};
 };
