@@ -1,0 +1,64 @@
+#pragma once
+// A volume inside its geometry, in one frame (issue "A volume inside its geometry"). Every
+// surface is opaque: a pixel's ray crosses the volume from the near plane up to the first surface
+// it meets (or to infinity), so the volume's quantity (optical depth, transmittance, colour) is
+// integrated over that part only, and what the ray sees behind the volume is the shaded surface
+// there (the sky where it meets none). The frame: the surfaces (forward shading, their depth
+// read back along the viewing axis), the volume with each ray ending at that depth
+// (volume::ResolveSettings::depth_limit, both backends), then the volume composited over the
+// surfaces: C = C_volume + (1 - A_volume) C_surface for colour; absorption-only quantities show
+// the surface through the medium, medium (1 - T) + T C_surface.
+#include <span>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/surface/forward/forward_pass.hpp"
+#include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/vk/timer.hpp"
+#include "scene/camera.hpp"
+#include "scene/surface_scene.hpp"
+#include "scene/tet_mesh_fwd.hpp"
+
+namespace prismoid::mixed {
+
+struct MixedFrame {
+  frame::OffscreenFrame volume;        // the volume's frame, its rays ended at the surfaces
+  std::vector<float> surface_rgba;     // the surfaces shaded: linear RGBA, alpha = coverage (sky where 0)
+  std::vector<float> surface_depth;    // per pixel, the nearest surface's depth along the viewing axis (+inf: none)
+  std::vector<float> display;          // the composite: linear RGBA, alpha 1
+  std::vector<vk::PassTiming> passes;  // the surfaces' passes, then the volume's
+};
+
+// Why a volume frame of these settings cannot end its rays at surfaces (the marching modes and
+// isosurfaces follow no depth limit); empty when it can.
+std::string mixed_scene_problem(const volume::ResolveSettings& resolve);
+
+// The volume's frame over the surfaces' image (linear RGBA per pixel), as the header says: the
+// returned display image, alpha 1. Colour needs `volume.emission` (premultiplied RGB, alpha);
+// std::invalid_argument when the sizes differ.
+std::vector<float> composite_over_surfaces(const frame::OffscreenFrame& volume, std::span<const float> surface_rgba,
+                                           const volume::ResolveSettings& resolve);
+
+class MixedRenderer {
+ public:
+  // `surfaces` must carry its lights already (with_default_lighting where it has none of its own).
+  MixedRenderer(const vk::Device& device, const TetMesh& volume, SurfaceScene surfaces);
+
+  // One frame: the surfaces, the volume ending at them, the composite. InputError for settings
+  // mixed_scene_problem names, or that bring a depth limit of their own (the surfaces give it).
+  MixedFrame render(const Camera& camera, const frame::FrameSettings& settings, VkExtent2D extent);
+
+  frame::FrameRenderer& volume_renderer() { return volume_; }
+
+ private:
+  const vk::Device& device_;
+  SurfaceScene surfaces_;
+  surface::GpuSurfaceScene gpu_surfaces_;
+  surface::ForwardPass forward_;
+  frame::FrameRenderer volume_;
+};
+
+}  // namespace prismoid::mixed
