@@ -171,6 +171,7 @@ std::string render_help() { return kRenderHelpHead + volume_modes_help() + kRend
 
 
 int cmd_render(const std::vector<std::string>& args) {
+  if (mixed_scene_named(args)) return cmd_render_mixed(args);
   if (const surface::SurfaceMode* surface = surface_mode_named(args))
     return surface->gpu() ? cmd_render_surface(args, *surface) : cmd_render_path_reference(args, *surface);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames", "depth-limit"});

@@ -1,0 +1,38 @@
+#pragma once
+// The command line of a scene with a volume and surfaces (`render VOLUME SURFACE...`): which files
+// are which, the volume's options (volume_options.hpp), the surfaces' mode, and the camera that
+// frames both. InputError names the option or file at fault.
+#include <string>
+#include <vector>
+
+#include "app/common/cli_args.hpp"
+#include "app/common/volume_options.hpp"
+#include "scene/camera.hpp"
+#include "scene/surface_scene.hpp"
+
+namespace prismoid::app {
+
+// Whether `args` (a verb's, args[0] the verb) names both a volume and a surface among its
+// files; a word after an option other than one of `flags` is that option's value.
+bool names_mixed_scene(const std::vector<std::string>& args, const std::vector<std::string>& flags);
+
+// The option a mixed scene takes beyond the volume's (kVolumeOptions): the surfaces' mode. It
+// is spelt for the surfaces as --mode is for the volume, so that one option table can hold both.
+inline const std::vector<std::string> kMixedSceneOptions = {"surface-mode"};
+
+struct MixedScene {
+  VolumeChoice volume;                  // the one volume file (several: InputError)
+  SurfaceScene surfaces;                // every surface file's meshes, materials and lights, in order, unlit as read
+  std::string surface_mode = "forward"; // --surface-mode: the surfaces' mode (forward only so far)
+};
+
+// The scene `a` names (a.files: a volume and surfaces): the volume loaded through volume_choice,
+// the surfaces read; a surface mode given to --mode, a volume mode that follows no depth limit, a
+// surface mode that is not composited with a volume, several volumes: refused, each saying what
+// to use instead.
+MixedScene mixed_scene_from(const ParsedArgs& a);
+
+// The camera options over the bounds of the volume and the surfaces together.
+Camera mixed_camera(const ParsedArgs& a, const MixedScene& scene);
+
+}  // namespace prismoid::app
