@@ -10,6 +10,7 @@
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/dataset_loader.hpp"
+#include "app/common/mixed_args.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/terminal_progress.hpp"
 #include "app/common/volume_options.hpp"
@@ -116,6 +117,7 @@ const char* const kInfoHelp =
     "usage: prismoid info FILE\n"
     "       prismoid info [FILE] --plan [--mode M] [--quantity Q] [render's volume options, camera,\n"
     "                   --size, --depth-limit]\n"
+    "       prismoid info VOLUME SURFACE... --plan [--surface-mode forward] [the same options]\n"
     "\n"
     "Describes a mesh file (.vtu, .vtk, .vtm, .pvtu) without rendering: its cells by type, points,\n"
     "point and cell arrays with their ranges (vectors by magnitude), bounds, and what reading it\n"
@@ -136,6 +138,7 @@ int cmd_info(const std::vector<std::string>& args) {
   // checks them; the plan itself depends on none of the last three).
   std::vector<std::string> value_options = with_camera({"size", "depth-limit"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
+  value_options.insert(value_options.end(), kMixedSceneOptions.begin(), kMixedSceneOptions.end());
   ParsedArgs a = parse(args, 1, value_options, {"help", "plan", "shared-vertices", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kInfoHelp; return kOk; }
   if (a.flags.count("plan")) return info_plan(a);

@@ -5,12 +5,14 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/common/backend_cache.hpp"
+#include "app/common/mixed_args.hpp"
 #include "app/common/surface_args.hpp"
 #include "app/common/volume_options.hpp"
 #include "renderer/frame/frame_plan.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
 #include "renderer/surface/surface_modes.hpp"
+#include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
 
 namespace prismoid::app {
@@ -47,9 +49,55 @@ int surface_plan(const ParsedArgs& a, const surface::SurfaceMode& mode) {
   return kOk;
 }
 
+// `omit`: a skipped pass another part of the frame covers (the volume frame's own "no surfaces").
+void print_plan(const frame::FramePlan& plan, const std::string& indent, const std::string& omit = {}) {
+  for (const frame::PlannedPass& p : plan.passes)
+    std::cout << indent << p.name << " (" << frame::pass_kind_text(p.kind) << "): " << p.reason << "\n";
+  std::cout << indent.substr(2) << "skipped:" << (plan.skipped.empty() ? " none\n" : "\n");
+  for (const frame::SkippedPass& s : plan.skipped)
+    if (s.name != omit) std::cout << indent << s.name << ": " << s.reason << "\n";
+}
+
+// A volume inside its surfaces (renderer/mixed): the surfaces' forward frame, the volume's frame
+// with its rays ended at their depth, and the composite, each with its passes and why.
+int mixed_plan(const ParsedArgs& a) {
+  const MixedScene scene = mixed_scene_from(a);
+  const VolumeChoice& choice = scene.volume;
+  if (!choice.mode->gpu())
+    throw InputError("--mode " + std::string(choice.mode->name), "a scene of a volume and surfaces is drawn on the GPU only so far "
+                                                                 "(its CPU reference is not built yet): use an interval mode");
+  const Camera camera = mixed_camera(a, scene);
+  const SurfaceScene lit = with_default_lighting(scene.surfaces, camera);
+  const frame::SurfaceContents c = surface::surface_contents(lit);
+  std::cout << choice.mesh.name << ": " << choice.mesh.tets.size() << " cells, mode " << choice.mode->name << ", quantity "
+            << quantity_name(choice.quantity) << "; inside " << lit.name << ": " << c.triangles << " triangles, opaque, --surface-mode "
+            << scene.surface_mode << "\n";
+  const surface::SurfaceMode& mode = *surface::find_surface_mode(scene.surface_mode);
+  frame::SurfaceFrameSettings surfaces;
+  surfaces.mode = scene.surface_mode;
+  surfaces.passes = mode.backend->passes;
+  surfaces.gi = mode.gi;
+  surfaces.shadows = false;  // the surfaces around a volume are shaded without shadow rays so far
+  surfaces.device_traces_rays = true;
+  std::cout << "plan (first frame):\n  1. the surfaces (their depth read back along the viewing axis: where the volume's rays end):\n";
+  print_plan(frame::plan_surface_frame(c, surfaces), "    ");
+  frame::FrameSettings volume = choice.settings;
+  std::cout << "  2. the volume, each ray ending at the surfaces' depth (backend " << frame::interval_backend_name(volume.backend)
+            << (choice.backend_auto ? ", or as auto chooses on the device" : "") << "):\n";
+  frame::SceneContents contents;
+  contents.volumes.push_back(frame::volume_contents(choice.mesh, volume.resolve));
+  print_plan(frame::plan_frame(contents, volume), "    ", "surface-shading");
+  std::cout << "  3. composite (CPU): "
+            << (choice.quantity == volume::Quantity::Color ? "the volume's colour over the surfaces, C_volume + (1 - A_volume) C_surface"
+                                                           : "the surfaces seen through the medium, medium (1 - T) + T C_surface")
+            << "\n";
+  return kOk;
+}
+
 }  // namespace
 
 int info_plan(const ParsedArgs& a) {
+  if (files_mix_kinds(a.files)) return mixed_plan(a);
   const surface::SurfaceMode* surface = a.has("mode") ? surface::find_surface_mode(a.values.at("mode")) : nullptr;
   if (!a.has("mode") && a.files.size() == 1 && is_named_surface_scene(a.files.front())) surface = &surface::surface_mode_table().front();
   if (surface) return surface_plan(a, *surface);

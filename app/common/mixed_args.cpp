@@ -43,6 +43,10 @@ SurfaceScene load_surfaces(const std::vector<std::string>& files) {
 
 }  // namespace
 
+bool files_mix_kinds(const std::vector<std::string>& files) {
+  return std::any_of(files.begin(), files.end(), is_surface_spec) && !std::all_of(files.begin(), files.end(), is_surface_spec);
+}
+
 bool names_mixed_scene(const std::vector<std::string>& args, const std::vector<std::string>& flags) {
   bool volume = false, surface = false;
   for (size_t i = 1; i < args.size(); ++i) {

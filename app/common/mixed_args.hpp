@@ -16,6 +16,9 @@ namespace prismoid::app {
 // files; a word after an option other than one of `flags` is that option's value.
 bool names_mixed_scene(const std::vector<std::string>& args, const std::vector<std::string>& flags);
 
+// Whether `files` holds both a volume and a surface (a surface file, cornell-box, furnace:...).
+bool files_mix_kinds(const std::vector<std::string>& files);
+
 // The option a mixed scene takes beyond the volume's (kVolumeOptions): the surfaces' mode. It
 // is spelt for the surfaces as --mode is for the volume, so that one option table can hold both.
 inline const std::vector<std::string> kMixedSceneOptions = {"surface-mode"};

@@ -106,6 +106,21 @@ TEST(CliMixed, TheVolumesRaysEndAtTheSurfaceAsInTheReference) {
   }
 }
 
+// info --plan of a mixed scene: the surfaces' passes, the volume's with its rays ending at their
+// depth, the composite, each with why.
+TEST(CliMixed, InfoPlanExplainsTheMixedFrame) {
+  const std::string square = write_square().string();
+  const CliRun r = run("info --plan ball " + square + " --quantity optical-depth");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* part : {"1. the surfaces", "depth pre-pass (GPU)", "forward shading (GPU)", "2. the volume, each ray ending at the surfaces' depth",
+                           "interval-shading (GPU)", "3. composite (CPU): the surfaces seen through the medium"})
+    EXPECT_NE(r.out.find(part), std::string::npos) << part << " in:\n" << r.out;
+  EXPECT_EQ(r.out.find("no surfaces in the scene"), std::string::npos) << r.out;
+  const CliRun bad = run("info --plan ball " + square + " --surface-mode msa");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("'msa' is not drawn with a volume yet"), std::string::npos) << bad.err;
+}
+
 TEST(CliMixed, WhatAMixedSceneCannotDrawIsRefusedByName) {
   const std::string square = write_square().string(), png = " --output " + (work_dir() / "refused.png").string() + " --size 16x16";
   auto refused = [&](const std::string& args, const std::string& says) {
