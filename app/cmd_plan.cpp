@@ -63,11 +63,7 @@ void print_plan(const frame::FramePlan& plan, const std::string& indent, const s
 int mixed_plan(const ParsedArgs& a) {
   const MixedScene scene = mixed_scene_from(a);
   const VolumeChoice& choice = scene.volume;
-  if (!choice.mode->gpu())
-    throw InputError("--mode " + std::string(choice.mode->name), "a scene of a volume and surfaces is drawn on the GPU only so far "
-                                                                 "(its CPU reference is not built yet): use an interval mode");
-  const Camera camera = mixed_camera(a, scene);
-  const SurfaceScene lit = with_default_lighting(scene.surfaces, camera);
+  const SurfaceScene& lit = scene.surfaces;
   const frame::SurfaceContents c = surface::surface_contents(lit);
   std::cout << choice.mesh.name << ": " << choice.mesh.tets.size() << " cells, mode " << choice.mode->name << ", quantity "
             << quantity_name(choice.quantity) << "; inside " << lit.name << ": " << c.triangles << " triangles, opaque, --surface-mode "

@@ -170,13 +170,15 @@ std::string volume_modes_help() {
 std::string render_help() { return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + surface_render_help(); }
 
 
+const std::vector<std::string> kRenderFlags = {"validate", "help", "shared-vertices", "fill-holes", "reference-error"};
+
 int cmd_render(const std::vector<std::string>& args) {
   if (mixed_scene_named(args)) return cmd_render_mixed(args);
   if (const surface::SurfaceMode* surface = surface_mode_named(args))
     return surface->gpu() ? cmd_render_surface(args, *surface) : cmd_render_path_reference(args, *surface);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames", "depth-limit"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
-  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes", "reference-error"});
+  ParsedArgs a = parse(args, 1, value_options, kRenderFlags);
   if (a.flags.count("help")) { std::cout << render_help(); return kOk; }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
   const std::string output = a.values.at("output");

@@ -25,13 +25,6 @@
 
 namespace prismoid::app {
 
-namespace {
-
-// Render's flags: a word after one of them is a file, after any other option its value.
-const std::vector<std::string> kRenderFlags = {"validate", "help", "shared-vertices", "fill-holes", "reference-error"};
-
-}  // namespace
-
 bool mixed_scene_named(const std::vector<std::string>& args) { return names_mixed_scene(args, kRenderFlags); }
 
 int cmd_render_mixed(const std::vector<std::string>& args) {
@@ -53,11 +46,8 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{800, 600};
   const MixedScene scene = mixed_scene_from(a);
   const VolumeChoice& choice = scene.volume;
-  if (!choice.mode->gpu())
-    throw InputError("--mode " + std::string(choice.mode->name), "a scene of a volume and surfaces is drawn on the GPU only so far "
-                                                                 "(its CPU reference is not built yet): use an interval mode");
-  const Camera camera = mixed_camera(a, scene);
-  const SurfaceScene lit = with_default_lighting(scene.surfaces, camera);
+  const Camera& camera = scene.camera;
+  const SurfaceScene& lit = scene.surfaces;
   const bool color = choice.quantity == volume::Quantity::Color;
 
   vk::Instance instance(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});

@@ -28,6 +28,9 @@ const surface::SurfaceMode* surface_mode_named(const std::vector<std::string>& a
 int cmd_render_surface(const std::vector<std::string>& args, const surface::SurfaceMode& mode);
 // `render --mode path-reference`: a surface scene through the CPU path tracer (app/cmd_render_path.cpp).
 int cmd_render_path_reference(const std::vector<std::string>& args, const surface::SurfaceMode& mode);
+// render's flags (options without a value): a word after one of them is a file, after any other
+// option its value.
+extern const std::vector<std::string> kRenderFlags;
 // Whether render's arguments name a volume and surfaces together (app/cmd_render_mixed.cpp).
 bool mixed_scene_named(const std::vector<std::string>& args);
 // `render VOLUME SURFACE...`: the volume inside its opaque surfaces, through mixed::MixedRenderer.

@@ -87,13 +87,14 @@ MixedScene mixed_scene_from(const ParsedArgs& a) {
   scene.volume = volume_choice(volume_args);
   if (const std::string problem = mixed::mixed_scene_problem(scene.volume.settings.resolve); !problem.empty())
     throw InputError("--mode " + std::string(scene.volume.mode->name), problem + "; with surfaces use an interval mode");
-  scene.surfaces = load_surfaces(surfaces);
+  if (!scene.volume.mode->gpu())
+    throw InputError("--mode " + std::string(scene.volume.mode->name), "a scene of a volume and surfaces is drawn on the GPU only so far "
+                                                                       "(its CPU reference is not built yet): use an interval mode");
+  const SurfaceScene read = load_surfaces(surfaces);
+  const Bounds v = bounds_of(scene.volume.mesh), s = bounds_of(read);
+  scene.camera = camera_from(a, {glm::min(v.min, s.min), glm::max(v.max, s.max)});
+  scene.surfaces = with_default_lighting(read, scene.camera);
   return scene;
-}
-
-Camera mixed_camera(const ParsedArgs& a, const MixedScene& scene) {
-  const Bounds v = bounds_of(scene.volume.mesh), s = bounds_of(scene.surfaces);
-  return camera_from(a, {glm::min(v.min, s.min), glm::max(v.max, s.max)});
 }
 
 }  // namespace prismoid::app

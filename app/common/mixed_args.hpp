@@ -25,17 +25,16 @@ inline const std::vector<std::string> kMixedSceneOptions = {"surface-mode"};
 
 struct MixedScene {
   VolumeChoice volume;                  // the one volume file (several: InputError)
-  SurfaceScene surfaces;                // every surface file's meshes, materials and lights, in order, unlit as read
+  Camera camera;                        // the camera options over the bounds of the volume and the surfaces together
+  SurfaceScene surfaces;                // every surface file's meshes, materials and lights, in order; lit
+                                        // (with_default_lighting from `camera`) where they bring no light
   std::string surface_mode = "forward"; // --surface-mode: the surfaces' mode (forward only so far)
 };
 
 // The scene `a` names (a.files: a volume and surfaces): the volume loaded through volume_choice,
-// the surfaces read; a surface mode given to --mode, a volume mode that follows no depth limit, a
-// surface mode that is not composited with a volume, several volumes: refused, each saying what
-// to use instead.
+// the surfaces read and lit, the camera. A surface mode given to --mode, a volume mode that
+// follows no depth limit or runs on the CPU, a surface mode that is not composited with a volume,
+// several volumes: refused, each saying what to use instead.
 MixedScene mixed_scene_from(const ParsedArgs& a);
-
-// The camera options over the bounds of the volume and the surfaces together.
-Camera mixed_camera(const ParsedArgs& a, const MixedScene& scene);
 
 }  // namespace prismoid::app

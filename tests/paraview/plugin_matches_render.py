@@ -19,13 +19,7 @@ BOUND = 2.0
 
 
 def main():
-    a = pvtest.args()
-    pvtest.load_plugin(a["plugin"])
-    out = a["out"]
-    vtu = os.path.join(out, "wavelet.vtu")
-    pvtest.write_wavelet(vtu)
-    tf = os.path.join(out, "tf.json")
-    pvtest.write_prismoid_tf(tf)
+    a, out, vtu, tf = pvtest.start()
     black = os.path.join(out, "tf_black.json")
     pvtest.write_prismoid_tf(black, black=True)
     scene = pvtest.Scene(vtu)

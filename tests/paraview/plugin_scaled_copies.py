@@ -17,13 +17,7 @@ SCALES = [1e-12, 1e-6, 3e10, 1e15, 1e20]
 
 
 def main():
-    a = pvtest.args()
-    pvtest.load_plugin(a["plugin"])
-    out = a["out"]
-    vtu = os.path.join(out, "wavelet.vtu")
-    pvtest.write_wavelet(vtu)
-    tf = os.path.join(out, "tf.json")
-    pvtest.write_prismoid_tf(tf)
+    a, out, vtu, tf = pvtest.start()
     one = os.path.join(out, "wavelet_1.vtu")
     pvtest.write_scaled(vtu, one, 1.0, OFFSET)
     scene = pvtest.Scene(one, offset=OFFSET)

@@ -15,13 +15,7 @@ BOUND = 2.0
 
 
 def main():
-    a = pvtest.args()
-    pvtest.load_plugin(a["plugin"])
-    out = a["out"]
-    vtu = os.path.join(out, "wavelet.vtu")
-    pvtest.write_wavelet(vtu)
-    tf = os.path.join(out, "tf.json")
-    pvtest.write_prismoid_tf(tf)
+    a, out, vtu, tf = pvtest.start()
     # The gradient, and its X component and magnitude as arrays of their own.
     reader = XMLUnstructuredGridReader(FileName=[vtu])
     grad = GradientOfUnstructuredDataSet(Input=reader, ScalarArray=["POINTS", "RTData"], ResultArrayName="Gradient")

@@ -45,6 +45,19 @@ def args():
     return a
 
 
+def start():
+    """What most scripts begin with: their arguments, the plugin loaded, the wavelet grid and the
+    test's transfer function written to --out. Returns (args, out, vtu, tf)."""
+    a = args()
+    load_plugin(a["plugin"])
+    out = a["out"]
+    vtu = os.path.join(out, "wavelet.vtu")
+    write_wavelet(vtu)
+    tf = os.path.join(out, "tf.json")
+    write_prismoid_tf(tf)
+    return a, out, vtu, tf
+
+
 def load_plugin(path):
     LoadPlugin(path, ns=globals())
 

@@ -1,10 +1,10 @@
 #include "renderer/surface/forward/shadowed_forward_pass.hpp"
-#include "renderer/surface/forward/view_depth.hpp"
 
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 
+#include "renderer/surface/forward/view_depth.hpp"
 #include "renderer/surface/scene_descriptors.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
