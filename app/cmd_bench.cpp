@@ -27,7 +27,7 @@
 #include "app/common/dataset_loader.hpp"
 #include "app/common/frame_timing.hpp"
 #include "app/common/output_files.hpp"
-#include "app/common/reference_frame.hpp"
+#include "renderer/frame/reference_frame.hpp"
 #include "app/common/volume_options.hpp"
 #include "app/common/warm_up.hpp"
 #include "renderer/frame/frame_renderer.hpp"
@@ -115,7 +115,7 @@ namespace {
 
 double ssim_of(const frame::OffscreenFrame& gpu, const frame::OffscreenFrame& ref, volume::Quantity q) {
   if (q == volume::Quantity::Color) return reference::ssim(gpu.display, ref.display, ref.width, ref.height, 1.0, 4, 3);
-  return reference::ssim(gpu.quantity, ref.quantity, ref.width, ref.height, error_peak(ref, q), 1, 1);
+  return reference::ssim(gpu.quantity, ref.quantity, ref.width, ref.height, frame::error_peak(ref, q), 1, 1);
 }
 
 double ms_since(std::chrono::steady_clock::time_point start) {
@@ -462,7 +462,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     auto ref = references.find(ref_key);
     if (ref == references.end()) {
       const auto start = std::chrono::steady_clock::now();
-      frame::OffscreenFrame image = reference_of(choice.mesh, camera, resolve, extent, field_of(one).has_value());
+      frame::OffscreenFrame image = frame::reference_of(choice.mesh, camera, resolve, extent, field_of(one).has_value());
       ref = references.emplace(ref_key, std::make_pair(std::move(image), ms_since(start))).first;
     }
 
@@ -494,10 +494,10 @@ int cmd_bench(const std::vector<std::string>& args) {
     m.cpu_ms = median_of(cpu);
     m.mesh_bytes = result.report.mesh_bytes;
     // The image is one more frame's: every frame draws the same cells from the same camera.
-    m.error = frame_error(result, ref->second.first, choice.quantity);
+    m.error = frame::frame_error(result, ref->second.first, choice.quantity);
     m.ssim = ssim_of(result, ref->second.first, choice.quantity);
     m.reference_ms = ref->second.second;
-    m.peak = error_peak(ref->second.first, choice.quantity);
+    m.peak = frame::error_peak(ref->second.first, choice.quantity);
     if (choice.quantity == volume::Quantity::Color)
       m.flip = reference::flip(result.display, ref->second.first.display, extent.width, extent.height, 4).mean;
     std::cout << m.dataset << " " << m.sweep << " " << m.quantity << " " << m.mode << " " << m.settings << " " << m.width << "x"

@@ -16,7 +16,7 @@
 #include "app/common/frame_image.hpp"
 #include "app/common/frame_timing.hpp"
 #include "app/common/output_files.hpp"
-#include "app/common/reference_frame.hpp"
+#include "renderer/frame/reference_frame.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "app/common/warm_up.hpp"
@@ -208,7 +208,8 @@ int cmd_render(const std::vector<std::string>& args) {
     // Double arithmetic, but the image is float32: refused where it cannot hold the answer.
     const volume::FloatCheck check =
         volume::check_float_limits(volume::float_facts(mesh), camera, size.width, size.height, settings.resolve, false);
-    result = field ? render_field_reference(mesh, camera, settings.resolve, size) : render_reference(mesh, camera, settings.resolve, size);
+    result = field ? frame::render_field_reference(mesh, camera, settings.resolve, size)
+                   : frame::render_reference(mesh, camera, settings.resolve, size);
     result.report.warnings = check.warnings;
   } else {
     instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
@@ -241,10 +242,10 @@ int cmd_render(const std::vector<std::string>& args) {
   std::optional<Accuracy> accuracy;
   if (a.flags.count("reference-error")) {
     const auto start = std::chrono::steady_clock::now();
-    const frame::OffscreenFrame ref = reference_of(mesh, camera, settings.resolve, size, field);
+    const frame::OffscreenFrame ref = frame::reference_of(mesh, camera, settings.resolve, size, field);
     accuracy.emplace();
     accuracy->reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    accuracy->error = frame_error(result, ref, quantity);
+    accuracy->error = frame::frame_error(result, ref, quantity);
     if (color) accuracy->flip = reference::flip(result.display, ref.display, size.width, size.height, 4).mean;
   }
 

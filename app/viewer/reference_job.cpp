@@ -4,7 +4,7 @@
 #include <cmath>
 #include <exception>
 
-#include "app/common/reference_frame.hpp"
+#include "renderer/frame/reference_frame.hpp"
 
 namespace prismoid::app {
 
@@ -46,8 +46,8 @@ void ReferenceWorker::start(ReferenceRequest request) {
     const auto start = std::chrono::steady_clock::now();
     try {
       const VkExtent2D size{r.gpu.width, r.gpu.height};
-      const frame::OffscreenFrame ref = r.analytic_field ? render_field_reference(*r.mesh, r.camera, r.resolve, size)
-                                                         : render_reference(*r.mesh, r.camera, r.resolve, size);
+      const frame::OffscreenFrame ref = r.analytic_field ? frame::render_field_reference(*r.mesh, r.camera, r.resolve, size)
+                                                         : frame::render_reference(*r.mesh, r.camera, r.resolve, size);
       out.reference_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       out.comparison = compare_frames(r.gpu, ref, r.resolve.quantity);
     } catch (const std::exception& e) {

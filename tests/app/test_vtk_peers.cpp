@@ -15,7 +15,7 @@
 
 #include "app/bench/vtk_peers.hpp"
 #include "app/bench/x_display.hpp"
-#include "app/common/reference_frame.hpp"
+#include "renderer/frame/reference_frame.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"
@@ -220,7 +220,7 @@ TEST_F(VtkPeers, CoverTheReferencesPixelsUpToTheSilhouette) {
   };
   for (const Scene& scene : {Scene{"ball:2 (cell extinction)", ball, ball_resolve}, Scene{"box (point scalars)", box.mesh, box.resolve}}) {
     const Camera camera = oblique_camera(bounds_of(scene.mesh));
-    const auto ref = app::render_reference(scene.mesh, camera, scene.resolve, {kWidth, kHeight});
+    const auto ref = frame::render_reference(scene.mesh, camera, scene.resolve, {kWidth, kHeight});
     for (Peer peer : bench::kPeers) {
       SCOPED_TRACE(std::string(scene.label) + " " + std::string(bench::peer_name(peer)));
       const bench::PeerFrame f = bench::render_peer(peer, scene.mesh, camera, scene.resolve, kWidth, kHeight, 1);
@@ -302,7 +302,7 @@ TEST_F(VtkPeers, RayCastMatchesTheClosedFormBallWithinItsQuantization) {
   const glm::vec3 medium(0.1f, 0.4f, 0.8f), background(0.9f, 0.85f, 0.3f);
   const auto resolve = transmittance_settings(medium, background);
   const Camera camera = oblique_camera(bounds_of(ball));
-  const auto ref = app::render_reference(ball, camera, resolve, {kWidth, kHeight});
+  const auto ref = frame::render_reference(ball, camera, resolve, {kWidth, kHeight});
 
   // The bound per channel: the ray caster stores premultiplied colour and alpha in 8 bits by
   // truncation (colour up to 1/255 low; alpha up to 1/255 low, letting up to background/255 more

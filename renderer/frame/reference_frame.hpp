@@ -9,27 +9,27 @@
 #include "scene/camera.hpp"
 #include "scene/tet_mesh_fwd.hpp"
 
-namespace prismoid::app {
+namespace prismoid::frame {
 
 // A frame of `size` for a CPU reference to fill: one quantity and one RGBA display value per pixel.
-frame::OffscreenFrame blank_frame(VkExtent2D size);
+OffscreenFrame blank_frame(VkExtent2D size);
 
 // The mesh's piecewise-linear (or per-cell) field, composited in exact per-pixel order.
-frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                        VkExtent2D size);
 
 // The analytic field in resolve.march (what interval-march approximates).
-frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                              VkExtent2D size);
 
 // The CPU reference of the frame a command line asks for: of the analytic field when there is
 // one (`field`), else of the mesh.
-frame::OffscreenFrame reference_of(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+OffscreenFrame reference_of(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                    VkExtent2D size, bool field);
 
 // The signal range a PSNR is relative to: the reference's largest optical depth, else 1.
-double error_peak(const frame::OffscreenFrame& ref, volume::Quantity q);
+double error_peak(const OffscreenFrame& ref, volume::Quantity q);
 // How far `test` is from `ref`: of the display RGB for colour, else of the quantity.
-reference::ImageError frame_error(const frame::OffscreenFrame& test, const frame::OffscreenFrame& ref, volume::Quantity q);
+reference::ImageError frame_error(const OffscreenFrame& test, const OffscreenFrame& ref, volume::Quantity q);
 
-}  // namespace prismoid::app
+}  // namespace prismoid::frame

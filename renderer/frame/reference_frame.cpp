@@ -1,4 +1,4 @@
-#include "app/common/reference_frame.hpp"
+#include "renderer/frame/reference_frame.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -14,11 +14,11 @@
 #include "scene/input_error.hpp"
 #include "scene/tet_mesh.hpp"
 
-namespace prismoid::app {
+namespace prismoid::frame {
 
 // A frame of `size` for a CPU reference to fill: one quantity and one RGBA display value per pixel.
-frame::OffscreenFrame blank_frame(VkExtent2D size) {
-  frame::OffscreenFrame f;
+OffscreenFrame blank_frame(VkExtent2D size) {
+  OffscreenFrame f;
   f.width = size.width;
   f.height = size.height;
   f.quantity.resize(size_t(size.width) * size.height);
@@ -27,10 +27,10 @@ frame::OffscreenFrame blank_frame(VkExtent2D size) {
 }
 
 // The CPU double-precision reference, resolved the way the GPU's resolve pass does it.
-frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                        VkExtent2D size) {
   const auto start = std::chrono::steady_clock::now();
-  frame::OffscreenFrame f = blank_frame(size);
+  OffscreenFrame f = blank_frame(size);
   const size_t pixels = f.quantity.size();
   const std::vector<float>* limit = resolve.depth_limit.get();  // rays end at opaque geometry
   if (limit && limit->size() != pixels)
@@ -70,14 +70,14 @@ frame::OffscreenFrame render_reference(const TetMesh& mesh, const Camera& camera
 // The CPU reference of an analytic field (what interval-march approximates): optical depth by
 // fine Gauss-Legendre panels, colour and isosurfaces by marching
 // in steps of 1/2000 of the bounds' diagonal, resolved as the GPU does.
-frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                              VkExtent2D size) {
   if (resolve.depth_limit) throw InputError("depth limit", "is not followed when marching a field or drawing an isosurface");
   const auto start = std::chrono::steady_clock::now();
   const volume::MarchSettings& m = resolve.march;
   const Bounds b = bounds_of(mesh);
   const double fine_step = glm::length(b.max - b.min) / 2000.0;
-  frame::OffscreenFrame f = blank_frame(size);
+  OffscreenFrame f = blank_frame(size);
   const size_t pixels = f.quantity.size();
   auto put = [&](size_t i, const glm::dvec3& c) {
     for (int k = 0; k < 3; ++k) f.display[4 * i + k] = float(c[k]);
@@ -116,12 +116,12 @@ frame::OffscreenFrame render_field_reference(const TetMesh& mesh, const Camera& 
   return f;
 }
 
-frame::OffscreenFrame reference_of(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
+OffscreenFrame reference_of(const TetMesh& mesh, const Camera& camera, const volume::ResolveSettings& resolve,
                                    VkExtent2D size, bool field) {
   return field ? render_field_reference(mesh, camera, resolve, size) : render_reference(mesh, camera, resolve, size);
 }
 
-double error_peak(const frame::OffscreenFrame& ref, volume::Quantity q) {
+double error_peak(const OffscreenFrame& ref, volume::Quantity q) {
   if (q != volume::Quantity::OpticalDepth) return 1.0;
   double peak = 0.0;
   for (float v : ref.quantity)
@@ -129,9 +129,9 @@ double error_peak(const frame::OffscreenFrame& ref, volume::Quantity q) {
   return peak;
 }
 
-reference::ImageError frame_error(const frame::OffscreenFrame& test, const frame::OffscreenFrame& ref, volume::Quantity q) {
+reference::ImageError frame_error(const OffscreenFrame& test, const OffscreenFrame& ref, volume::Quantity q) {
   if (q == volume::Quantity::Color) return reference::image_error(test.display, ref.display, 1.0, 4, 3);
   return reference::image_error(test.quantity, ref.quantity, error_peak(ref, q), 1, 1);
 }
 
-}  // namespace prismoid::app
+}  // namespace prismoid::frame
