@@ -9,6 +9,7 @@
 #include "app/common/surface_args.hpp"
 #include "app/common/volume_options.hpp"
 #include "renderer/frame/frame_plan.hpp"
+#include "renderer/mixed/mixed_frame.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
 #include "renderer/surface/surface_modes.hpp"
@@ -49,13 +50,12 @@ int surface_plan(const ParsedArgs& a, const surface::SurfaceMode& mode) {
   return kOk;
 }
 
-// `omit`: a skipped pass another part of the frame covers (the volume frame's own "no surfaces").
-void print_plan(const frame::FramePlan& plan, const std::string& indent, const std::string& omit = {}) {
+void print_plan(const frame::FramePlan& plan, const std::string& indent) {
   for (const frame::PlannedPass& p : plan.passes)
     std::cout << indent << p.name << " (" << frame::pass_kind_text(p.kind) << "): " << p.reason << "\n";
   std::cout << indent.substr(2) << "skipped:" << (plan.skipped.empty() ? " none\n" : "\n");
   for (const frame::SkippedPass& s : plan.skipped)
-    if (s.name != omit) std::cout << indent << s.name << ": " << s.reason << "\n";
+    std::cout << indent << s.name << ": " << s.reason << "\n";
 }
 
 // A volume inside its surfaces (renderer/mixed): the surfaces' forward frame, the volume's frame
@@ -68,25 +68,14 @@ int mixed_plan(const ParsedArgs& a) {
   std::cout << choice.mesh.name << ": " << choice.mesh.tets.size() << " cells, mode " << choice.mode->name << ", quantity "
             << quantity_name(choice.quantity) << "; inside " << lit.name << ": " << c.triangles << " triangles, opaque, --surface-mode "
             << scene.surface_mode << "\n";
-  const surface::SurfaceMode& mode = *surface::find_surface_mode(scene.surface_mode);
-  frame::SurfaceFrameSettings surfaces;
-  surfaces.mode = scene.surface_mode;
-  surfaces.passes = mode.backend->passes;
-  surfaces.gi = mode.gi;
-  surfaces.shadows = false;  // the surfaces around a volume are shaded without shadow rays so far
-  surfaces.device_traces_rays = true;
+  const frame::FrameSettings& volume = choice.settings;
+  const mixed::MixedPlan plan = mixed::plan_mixed_frame(lit, choice.mesh, volume);
   std::cout << "plan (first frame):\n  1. the surfaces (their depth read back along the viewing axis: where the volume's rays end):\n";
-  print_plan(frame::plan_surface_frame(c, surfaces), "    ");
-  frame::FrameSettings volume = choice.settings;
+  print_plan(plan.surfaces, "    ");
   std::cout << "  2. the volume, each ray ending at the surfaces' depth (backend " << frame::interval_backend_name(volume.backend)
             << (choice.backend_auto ? ", or as auto chooses on the device" : "") << "):\n";
-  frame::SceneContents contents;
-  contents.volumes.push_back(frame::volume_contents(choice.mesh, volume.resolve));
-  print_plan(frame::plan_frame(contents, volume), "    ", "surface-shading");
-  std::cout << "  3. composite (CPU): "
-            << (choice.quantity == volume::Quantity::Color ? "the volume's colour over the surfaces, C_volume + (1 - A_volume) C_surface"
-                                                           : "the surfaces seen through the medium, medium (1 - T) + T C_surface")
-            << "\n";
+  print_plan(plan.volume, "    ");
+  std::cout << "  3. " << mixed::kCompositePass << " (CPU): " << plan.composite << "\n";
   return kOk;
 }
 

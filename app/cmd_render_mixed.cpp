@@ -1,9 +1,11 @@
 // `prismoid render VOLUME SURFACE... --output OUT`: a volume inside its opaque surfaces in one
-// frame, through mixed::MixedRenderer on the GPU (renderer/mixed); the verb parses, loads and
-// reports, the renderer draws. .png: the composite; .pfm: the volume's quantity (optical depth,
+// frame, through mixed::MixedRenderer on the GPU or, with --mode reference, on the CPU in double
+// precision (renderer/mixed); the verb parses, loads and reports, the renderer draws. .png: the composite; .pfm: the volume's quantity (optical depth,
 // transmittance) up to the surfaces, or for colour the composite's RGB.
+#include <chrono>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,7 +20,10 @@
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "io/image_io.hpp"
+#include "renderer/frame/reference_frame.hpp"
+#include "renderer/metrics/flip.hpp"
 #include "renderer/mixed/mixed_frame.hpp"
+#include "renderer/mixed/mixed_reference.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
 #include "scene/input_error.hpp"
@@ -37,9 +42,6 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
     return kOk;
   }
   if (!a.has("output")) throw InputError("render", "--output OUT.png|OUT.pfm is required");
-  if (a.flags.count("reference-error"))
-    throw InputError("--reference-error", "a scene of a volume and surfaces has no CPU reference yet; render the volume alone with "
-                                          "--depth-limit to compare it");
   const std::string output = a.values.at("output");
   OutputFiles files;
   declare_render_files(files, a);
@@ -48,20 +50,54 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   const VolumeChoice& choice = scene.volume;
   const Camera& camera = scene.camera;
   const SurfaceScene& lit = scene.surfaces;
-  const bool color = choice.quantity == volume::Quantity::Color;
+  const volume::Quantity quantity = choice.quantity;
+  const bool color = quantity == volume::Quantity::Color;
+  const bool cpu = !choice.mode->gpu();
+  if (cpu && a.flags.count("reference-error"))
+    throw InputError("--reference-error", "--mode " + std::string(choice.mode->name) + " is the reference itself");
 
-  vk::Instance instance(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
-  const auto devices = vk::query_devices(instance.get());
-  const auto& caps = vk::select_device(devices, parse_device(a));
-  vk::Device device(instance, caps, {});
   frame::FrameSettings settings = choice.settings;
-  if (choice.backend_auto) resolve_auto_backend(settings, device);
-  mixed::MixedRenderer renderer(device, choice.mesh, lit);
-  const mixed::MixedFrame f = renderer.render(camera, settings, size);
+  std::string device_name = "CPU reference (double precision)", driver;
+  std::unique_ptr<vk::Instance> instance;
+  mixed::MixedFrame f;
+  if (cpu) {
+    f = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, false);
+  } else {
+    instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
+    const auto devices = vk::query_devices(instance->get());
+    const auto& caps = vk::select_device(devices, parse_device(a));
+    device_name = caps.name;
+    driver = caps.driver_info;
+    vk::Device device(*instance, caps, {});
+    if (choice.backend_auto) resolve_auto_backend(settings, device);
+    mixed::MixedRenderer renderer(device, choice.mesh, lit);
+    f = renderer.render(camera, settings, size);
+  }
+  const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
-  frame::OffscreenFrame shown = f.volume;  // the composite, where the volume's frame had its display
-  shown.display = f.display;
-  const io::FloatImage image = frame_image(shown, output, color);
+  // The composite, where the volume's frame had its display.
+  const auto shown = [](const mixed::MixedFrame& m) {
+    frame::OffscreenFrame s = m.volume;
+    s.display = m.display;
+    return s;
+  };
+  // What the image's accuracy is: the same mixed frame on the CPU (renderer/mixed/mixed_reference).
+  struct Accuracy {
+    reference::ImageError error;
+    double flip = 0.0;
+    double reference_ms = 0.0;
+  };
+  std::optional<Accuracy> accuracy;
+  if (a.flags.count("reference-error")) {
+    const auto start = std::chrono::steady_clock::now();
+    const mixed::MixedFrame ref = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, false);
+    accuracy.emplace();
+    accuracy->reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    accuracy->error = frame::frame_error(shown(f), shown(ref), quantity);
+    if (color) accuracy->flip = reference::flip(f.display, ref.display, size.width, size.height, 4).mean;
+  }
+
+  const io::FloatImage image = frame_image(shown(f), output, color);
   files.write(output, [&](const std::string& file) { io::write_image(file, image); });
   for (const std::string& w : f.volume.report.warnings) std::cerr << "prismoid: warning: " << w << "\n";
 
@@ -69,38 +105,57 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   for (const SceneMesh& m : lit.meshes) triangles += m.triangles.size();
   std::ostringstream said;
   said << "wrote " << output << " (" << size.width << "x" << size.height << ", " << choice.mesh.name << ", " << choice.mesh.tets.size()
-       << " cells, with " << lit.name << ", " << triangles << " triangles) on " << caps.name << "\n";
-  said << "  volume: --mode " << choice.mode->name << ", backend " << f.volume.report.backend << ", ordering " << f.volume.report.ordering
-       << (f.volume.report.order_exact ? " [exact]" : " [approximate]") << "; surfaces: --surface-mode " << scene.surface_mode
+       << " cells, with " << lit.name << ", " << triangles << " triangles) on " << device_name << "\n";
+  said << "  volume: --mode " << choice.mode->name;
+  if (!cpu) said << ", backend " << f.volume.report.backend;
+  said << ", ordering " << f.volume.report.ordering << (f.volume.report.order_exact ? " [exact]" : " [approximate]")
+       << "; surfaces: " << (cpu ? "direct light (forward's reference)" : "--surface-mode " + scene.surface_mode)
        << ", opaque, ending the volume's rays\n";
   const double total = print_pass_times(said, f.passes);
-  said << "  total: " << json_number(total) << " ms GPU\n";
+  if (!f.passes.empty()) said << "  total: " << json_number(total) << " ms GPU\n";
+  for (const vk::PassTiming& p : f.cpu_passes) said << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
+  if (accuracy) {
+    said << "  against the CPU reference (double precision, exact per-pixel order, the surfaces' direct light; "
+         << json_number(accuracy->reference_ms) << " ms CPU): RMSE " << json_number(accuracy->error.rmse) << ", largest difference "
+         << json_number(accuracy->error.max_abs) << (color ? " (display RGB)" : "");
+    if (color) said << ", FLIP " << json_number(accuracy->flip);
+    if (accuracy->error.non_finite) said << "; " << accuracy->error.non_finite << " values not finite";
+    said << "\n";
+  }
   if (a.has("stats")) {
     StatsJson js;
-    js["device"] = caps.name;
-    js["driver"] = caps.driver_info;
+    js["device"] = device_name;
+    js["driver"] = driver;
     js["dataset"] = choice.mesh.name;
     js["cells"] = choice.mesh.tets.size();
     js["surfaces"] = lit.name;
     js["triangles"] = triangles;
     js["mode"] = std::string(choice.mode->name);
-    js["surface_mode"] = scene.surface_mode;
-    js["quantity"] = quantity_name(choice.quantity);
+    js["surface_mode"] = cpu ? std::string("reference") : scene.surface_mode;
+    js["quantity"] = quantity_name(quantity);
     js["width"] = size.width;
     js["height"] = size.height;
-    js["backend"] = f.volume.report.backend;
+    if (!cpu) js["backend"] = f.volume.report.backend;
     js["ordering"] = f.volume.report.ordering;
     js["order_exact"] = f.volume.report.order_exact;
     js["passes"] = passes_json(f.passes);
-    add_plan(js, f.volume.report.plan);
+    StatsJson cpu_passes = StatsJson::array();
+    for (const vk::PassTiming& p : f.cpu_passes) cpu_passes.push_back({{"name", p.name}, {"cpu_ms", p.gpu_ms}});
+    js["cpu_passes"] = std::move(cpu_passes);
+    add_plan(js, f.plan);
     js["gpu_ms_total"] = total;
     js["warnings"] = f.volume.report.warnings;
-    js["validation_messages"] = instance.validation_log().count();
+    js["validation_messages"] = validation_messages;
+    if (accuracy) {
+      js["reference_error"] = {{"rmse", accuracy->error.rmse}, {"max_abs", accuracy->error.max_abs},
+                               {"non_finite", accuracy->error.non_finite}, {"reference_cpu_ms", accuracy->reference_ms}};
+      if (color) js["reference_error"]["flip"] = accuracy->flip;
+    }
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();
   std::cout << said.str();
-  return validation_exit(instance);
+  return instance ? validation_exit(*instance) : kOk;
 }
 
 }  // namespace prismoid::app

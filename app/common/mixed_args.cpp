@@ -87,9 +87,10 @@ MixedScene mixed_scene_from(const ParsedArgs& a) {
   scene.volume = volume_choice(volume_args);
   if (const std::string problem = mixed::mixed_scene_problem(scene.volume.settings.resolve); !problem.empty())
     throw InputError("--mode " + std::string(scene.volume.mode->name), problem + "; with surfaces use an interval mode");
-  if (!scene.volume.mode->gpu())
-    throw InputError("--mode " + std::string(scene.volume.mode->name), "a scene of a volume and surfaces is drawn on the GPU only so far "
-                                                                       "(its CPU reference is not built yet): use an interval mode");
+  if (!scene.volume.mode->gpu() && field_of(volume_args))
+    throw InputError("--mode " + std::string(scene.volume.mode->name),
+                     "the reference of an analytic field marches it, and marching follows no depth limit; with surfaces use an "
+                     "interval mode (--reference-error compares it with the mesh's reference)");
   const SurfaceScene read = load_surfaces(surfaces);
   const Bounds v = bounds_of(scene.volume.mesh), s = bounds_of(read);
   scene.camera = camera_from(a, {glm::min(v.min, s.min), glm::max(v.max, s.max)});

@@ -33,7 +33,7 @@ struct MixedScene {
 
 // The scene `a` names (a.files: a volume and surfaces): the volume loaded through volume_choice,
 // the surfaces read and lit, the camera. A surface mode given to --mode, a volume mode that
-// follows no depth limit or runs on the CPU, a surface mode that is not composited with a volume,
+// follows no depth limit (or the reference of an analytic field), a surface mode that is not composited with a volume,
 // several volumes: refused, each saying what to use instead.
 MixedScene mixed_scene_from(const ParsedArgs& a);
 

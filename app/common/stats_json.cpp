@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "app/common/cli_args.hpp"
+#include "renderer/mixed/mixed_frame.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -80,13 +81,34 @@ void add_sm_clock(StatsJson& stats, const FrameTiming& timing) {
   stats["sm_clock_mhz"] = {{"min", c.min_mhz}, {"median", c.median_mhz}, {"max", c.max_mhz}, {"samples", c.samples}};
 }
 
-void add_plan(StatsJson& stats, const frame::FramePlan& plan) {
-  StatsJson passes = StatsJson::array(), skipped = StatsJson::array();
+namespace {
+
+void append_plan(StatsJson& passes, StatsJson& skipped, const frame::FramePlan& plan, const char* part) {
   for (const frame::PlannedPass& p : plan.passes) {
     const char* kind = p.kind == frame::PassKind::Gpu ? "gpu" : p.kind == frame::PassKind::Cpu ? "cpu" : "within";
     passes.push_back({{"name", p.name}, {"kind", kind}, {"reason", p.reason}});
+    if (part) passes.back()["part"] = part;
   }
-  for (const frame::SkippedPass& p : plan.skipped) skipped.push_back({{"pass", p.name}, {"reason", p.reason}});
+  for (const frame::SkippedPass& p : plan.skipped) {
+    skipped.push_back({{"pass", p.name}, {"reason", p.reason}});
+    if (part) skipped.back()["part"] = part;
+  }
+}
+
+}  // namespace
+
+void add_plan(StatsJson& stats, const frame::FramePlan& plan) {
+  StatsJson passes = StatsJson::array(), skipped = StatsJson::array();
+  append_plan(passes, skipped, plan, nullptr);
+  stats["plan"] = std::move(passes);
+  stats["skipped"] = std::move(skipped);
+}
+
+void add_plan(StatsJson& stats, const mixed::MixedPlan& plan) {
+  StatsJson passes = StatsJson::array(), skipped = StatsJson::array();
+  append_plan(passes, skipped, plan.surfaces, "surfaces");
+  append_plan(passes, skipped, plan.volume, "volume");
+  passes.push_back({{"name", mixed::kCompositePass}, {"kind", "cpu"}, {"reason", plan.composite}, {"part", "composite"}});
   stats["plan"] = std::move(passes);
   stats["skipped"] = std::move(skipped);
 }

@@ -12,6 +12,10 @@
 #include "renderer/frame/frame_plan.hpp"
 #include "renderer/vk/timer.hpp"
 
+namespace prismoid::mixed {
+struct MixedPlan;
+}
+
 namespace prismoid::app {
 
 using StatsJson = nlohmann::ordered_json;
@@ -30,5 +34,8 @@ StatsJson passes_json(const FrameTiming& timing);
 void add_sm_clock(StatsJson& stats, const FrameTiming& timing);
 // Sets "plan" (each planned pass: name, kind gpu|cpu|within, reason) and "skipped" (pass, reason).
 void add_plan(StatsJson& stats, const frame::FramePlan& plan);
+// The same for a volume inside its surfaces: the surfaces' passes, the volume's, the composite,
+// each with "part" (surfaces, volume, composite), and the skips of both.
+void add_plan(StatsJson& stats, const mixed::MixedPlan& plan);
 
 }  // namespace prismoid::app

@@ -1,8 +1,13 @@
 #include "renderer/mixed/mixed_frame.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+
+#include "renderer/surface/forward/forward_backend.hpp"
+#include "renderer/surface/surface_backend.hpp"
 
 #include "scene/input_error.hpp"
 
@@ -12,6 +17,43 @@ std::string mixed_scene_problem(const volume::ResolveSettings& resolve) {
   if (resolve.quantity == volume::Quantity::Isosurface) return "an isosurface does not end at surfaces (it follows no depth limit)";
   if (resolve.march.enabled) return "a marched field does not end at surfaces (marching follows no depth limit)";
   return {};
+}
+
+void check_mixed_settings(const volume::ResolveSettings& resolve) {
+  if (const std::string problem = mixed_scene_problem(resolve); !problem.empty()) throw InputError("mixed scene", problem);
+  if (resolve.depth_limit) throw InputError("depth limit", "a mixed scene's surfaces give the depth where its rays end");
+}
+
+MixedPlan mixed_plan(frame::FramePlan surfaces, frame::FramePlan volume, volume::Quantity quantity) {
+  std::erase_if(volume.skipped, [](const frame::SkippedPass& s) { return s.name == "surface-shading" || s.name == "gi"; });
+  MixedPlan plan{std::move(surfaces), std::move(volume), {}};
+  plan.composite = quantity == volume::Quantity::Color
+                       ? "the volume's colour over the shaded surfaces, C_volume + (1 - A_volume) C_surface"
+                       : "the shaded surfaces seen through the medium, medium (1 - T) + T C_surface";
+  return plan;
+}
+
+namespace {
+
+frame::FramePlan plan_forward_surfaces(const SurfaceScene& surfaces) {
+  frame::SurfaceFrameSettings s;
+  s.mode = "forward";
+  s.passes = surface::forward_backend().passes;
+  s.shadows = false;  // the surfaces around a volume are shaded without shadow rays so far
+  s.device_traces_rays = true;
+  return frame::plan_surface_frame(surface::surface_contents(surfaces), s);
+}
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+MixedPlan plan_mixed_frame(const SurfaceScene& surfaces, const TetMesh& volume, const frame::FrameSettings& settings) {
+  frame::SceneContents contents;
+  contents.volumes.push_back(frame::volume_contents(volume, settings.resolve));
+  return mixed_plan(plan_forward_surfaces(surfaces), frame::plan_frame(contents, settings), settings.resolve.quantity);
 }
 
 std::vector<float> composite_over_surfaces(const frame::OffscreenFrame& volume, std::span<const float> surface_rgba,
@@ -45,8 +87,7 @@ MixedRenderer::MixedRenderer(const vk::Device& device, const TetMesh& volume, Su
       volume_(device, volume) {}
 
 MixedFrame MixedRenderer::render(const Camera& camera, const frame::FrameSettings& settings, VkExtent2D extent) {
-  if (const std::string problem = mixed_scene_problem(settings.resolve); !problem.empty()) throw InputError("mixed scene", problem);
-  if (settings.resolve.depth_limit) throw InputError("depth limit", "a mixed scene's surfaces give the depth where its rays end");
+  check_mixed_settings(settings.resolve);
   MixedFrame f;
   surface::ForwardSettings forward;
   forward.read_depth = true;
@@ -58,7 +99,11 @@ MixedFrame MixedRenderer::render(const Camera& camera, const frame::FrameSetting
   limited.resolve.depth_limit = std::make_shared<const std::vector<float>>(f.surface_depth);
   f.volume = volume_.render_offscreen(camera, limited, extent);
   f.passes.insert(f.passes.end(), f.volume.passes.begin(), f.volume.passes.end());
+  const auto start = std::chrono::steady_clock::now();
   f.display = composite_over_surfaces(f.volume, f.surface_rgba, settings.resolve);
+  f.cpu_passes = f.volume.report.cpu_passes;
+  f.cpu_passes.push_back({kCompositePass, ms_since(start)});
+  f.plan = mixed_plan(plan_forward_surfaces(surfaces_), f.volume.report.plan, settings.resolve.quantity);
   return f;
 }
 

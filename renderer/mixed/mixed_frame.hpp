@@ -24,17 +24,38 @@
 
 namespace prismoid::mixed {
 
+// A mixed frame's plan: the surfaces' passes, the volume's (its rays ended at the surfaces), and the
+// composite on the CPU, each with why and what each left out; the volume's skips of surface
+// passes are left out (the surfaces' plan says what of them runs).
+struct MixedPlan {
+  frame::FramePlan surfaces;
+  frame::FramePlan volume;
+  std::string composite;  // the composite's rule, for this quantity
+};
+MixedPlan mixed_plan(frame::FramePlan surfaces, frame::FramePlan volume, volume::Quantity quantity);
+// The plan of a mixed frame of the forward surface mode (no shadow rays) and these volume
+// settings, before any frame ran (`info --plan`): pure, as frame::plan_frame.
+MixedPlan plan_mixed_frame(const SurfaceScene& surfaces, const TetMesh& volume, const frame::FrameSettings& settings);
+
+// The composite's timing entry in MixedFrame::cpu_passes.
+inline constexpr const char* kCompositePass = "composite";
+
 struct MixedFrame {
   frame::OffscreenFrame volume;        // the volume's frame, its rays ended at the surfaces
   std::vector<float> surface_rgba;     // the surfaces shaded: linear RGBA, alpha = coverage (sky where 0)
   std::vector<float> surface_depth;    // per pixel, the nearest surface's depth along the viewing axis (+inf: none)
   std::vector<float> display;          // the composite: linear RGBA, alpha 1
-  std::vector<vk::PassTiming> passes;  // the surfaces' passes, then the volume's
+  std::vector<vk::PassTiming> passes;      // GPU: the surfaces' passes, then the volume's
+  std::vector<vk::PassTiming> cpu_passes;  // CPU (gpu_ms holds the CPU time): the volume's, then the composite
+  MixedPlan plan;                      // what ran and why (the GPU frame's)
 };
 
 // Why a volume frame of these settings cannot end its rays at surfaces (the marching modes and
 // isosurfaces follow no depth limit); empty when it can.
 std::string mixed_scene_problem(const volume::ResolveSettings& resolve);
+// InputError for settings mixed_scene_problem names, or that bring a depth limit of their own
+// (the surfaces give it).
+void check_mixed_settings(const volume::ResolveSettings& resolve);
 
 // The volume's frame over the surfaces' image (linear RGBA per pixel), as the header says: the
 // returned display image, alpha 1. Colour needs `volume.emission` (premultiplied RGB, alpha);
@@ -47,8 +68,8 @@ class MixedRenderer {
   // `surfaces` must carry its lights already (with_default_lighting where it has none of its own).
   MixedRenderer(const vk::Device& device, const TetMesh& volume, SurfaceScene surfaces);
 
-  // One frame: the surfaces, the volume ending at them, the composite. InputError for settings
-  // mixed_scene_problem names, or that bring a depth limit of their own (the surfaces give it).
+  // One frame: the surfaces, the volume ending at them, the composite. InputError as
+  // check_mixed_settings.
   MixedFrame render(const Camera& camera, const frame::FrameSettings& settings, VkExtent2D extent);
 
   frame::FrameRenderer& volume_renderer() { return volume_; }

@@ -25,32 +25,18 @@
 #include "scene/input_error.hpp"
 #include "scene/surface_scene.hpp"
 #include "scene/tet_mesh.hpp"
+#include "mixed/square_scene.hpp"
 #include "support/backends.hpp"
 #include "support/gpu_fixture.hpp"
 
 namespace prismoid {
 namespace {
 
+using test::Square;
+using test::square_scene;
+
 constexpr double kSigma = 0.7;
 constexpr uint32_t kW = 64, kH = 48;
-
-// The opaque square: z = z, x in [x0, x1], y in [y0, y1], facing +z.
-struct Square {
-  double z, x0, x1, y0, y1;
-};
-
-SurfaceScene square_scene(const Square& s) {
-  SurfaceScene scene;
-  scene.name = "square";
-  scene.materials.push_back({});
-  SceneMesh m;
-  m.name = "square";
-  m.positions = {{s.x0, s.y0, s.z}, {s.x1, s.y0, s.z}, {s.x1, s.y1, s.z}, {s.x0, s.y1, s.z}};
-  m.triangles = {{0, 1, 2}, {0, 2, 3}};
-  scene.meshes.push_back(m);
-  scene.point_lights.push_back({{0.0, 0.0, 3.0}, {4.0, 4.0, 4.0}});
-  return scene;
-}
 
 // The closed form: sigma times the chord of the ray through image point (px, py) inside the box
 // [-1, 1]^3, beyond the near plane and before the square. nullopt where the point lies within

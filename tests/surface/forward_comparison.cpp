@@ -38,6 +38,45 @@ bool touching(const SurfaceScene& scene, const reference::DirectLightSample& a, 
 
 }  // namespace
 
+std::vector<ForwardTolerance> forward_tolerances(uint32_t subpixel_bits, const SurfaceScene& scene, const Camera& camera, uint32_t width,
+                                                 uint32_t height, glm::dvec2 subpixel, bool shadows) {
+  const double radius = 2.0 * std::ldexp(1.0, -int(subpixel_bits));
+  constexpr int kProbes = 8;
+  const size_t pixels = size_t(width) * height;
+  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+  std::vector<reference::SurfaceRay> rays;
+  rays.reserve(pixels * (kProbes + 1));
+  for (int k = 0; k <= kProbes; ++k) {
+    const double angle = k == 0 ? 0.0 : (k - 1) * (2.0 * 3.14159265358979 / kProbes);
+    const double dx = k == 0 ? 0.0 : radius * std::cos(angle), dy = k == 0 ? 0.0 : radius * std::sin(angle);
+    for (uint32_t y = 0; y < height; ++y)
+      for (uint32_t x = 0; x < width; ++x) {
+        const glm::dvec3 d = reference::ray_direction(camera, width, height, x + 0.5 + subpixel.x + dx, y + 0.5 + subpixel.y + dy);
+        rays.push_back({camera.eye, d, camera.near_distance / glm::dot(d, forward)});
+      }
+  }
+  reference::DirectLightOptions options;
+  options.shadows = shadows;
+  const auto samples = reference::direct_light(scene, rays, options);
+  std::vector<ForwardTolerance> out(pixels);
+  for (size_t i = 0; i < pixels; ++i) {
+    ForwardTolerance& t = out[i];
+    t.centre = samples[i];
+    for (int k = 1; k <= kProbes; ++k) {
+      const auto& probe = samples[k * pixels + i];
+      if (!touching(scene, t.centre, probe)) t.silhouette = true;
+      t.variation = std::max(t.variation, max_abs(probe.radiance - t.centre.radiance));
+    }
+    t.ambiguous = t.centre.shadow_ambiguous;
+    t.rounding = 0x1p-24 * (kUlpBudget + t.centre.terms) * t.centre.rounding_scale;
+    // The shadowed pass shades the plane of the triangle the rasterizer kept, met by the centre
+    // ray: where that is a neighbour seen by a probe r away, its value at the centre differs from
+    // the probe's by about that neighbour's change over r, bounded by the variation once more.
+    t.tolerance = (shadows ? 2.0 : 1.0) * t.variation + t.rounding;
+  }
+  return out;
+}
+
 namespace {
 
 // r.gpu filled: compares it pixel by pixel with the twin (shadows or not).
@@ -73,58 +112,39 @@ namespace {
 
 void compare_with_reference(const vk::Device& device, ForwardComparison& r, const SurfaceScene& scene, const Camera& camera,
                             uint32_t width, uint32_t height, glm::dvec2 subpixel, bool shadows) {
-
-  const double radius = 2.0 * std::ldexp(1.0, -int(device.capabilities().subpixel_precision_bits));
-  constexpr int kProbes = 8;
-  const size_t pixels = size_t(width) * height;
-  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
-  std::vector<reference::SurfaceRay> rays;
-  rays.reserve(pixels * (kProbes + 1));
-  for (int k = 0; k <= kProbes; ++k) {
-    const double angle = k == 0 ? 0.0 : (k - 1) * (2.0 * 3.14159265358979 / kProbes);
-    const double dx = k == 0 ? 0.0 : radius * std::cos(angle), dy = k == 0 ? 0.0 : radius * std::sin(angle);
+  const std::vector<ForwardTolerance> allowed =
+      forward_tolerances(device.capabilities().subpixel_precision_bits, scene, camera, width, height, subpixel, shadows);
+  std::vector<reference::DirectLightSample> unshadowed;
+  if (shadows) {
+    std::vector<reference::SurfaceRay> rays;
+    const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
     for (uint32_t y = 0; y < height; ++y)
       for (uint32_t x = 0; x < width; ++x) {
-        const glm::dvec3 d = reference::ray_direction(camera, width, height, x + 0.5 + subpixel.x + dx, y + 0.5 + subpixel.y + dy);
+        const glm::dvec3 d = reference::ray_direction(camera, width, height, x + 0.5 + subpixel.x, y + 0.5 + subpixel.y);
         rays.push_back({camera.eye, d, camera.near_distance / glm::dot(d, forward)});
       }
+    unshadowed = reference::direct_light(scene, rays);
   }
-  reference::DirectLightOptions options;
-  options.shadows = shadows;
-  const auto samples = reference::direct_light(scene, rays, options);
-  std::vector<reference::DirectLightSample> unshadowed;
-  if (shadows) unshadowed = reference::direct_light(scene, std::span(rays).first(pixels));
-
+  const size_t pixels = size_t(width) * height;
   r.pixels = pixels;
   for (size_t i = 0; i < pixels; ++i) {
     const float* g = &r.gpu.rgba[i * 4];
     for (int c = 0; c < 4; ++c) r.finite = r.finite && std::isfinite(g[c]);
-    const auto& centre = samples[i];
+    const ForwardTolerance& t = allowed[i];
+    const auto& centre = t.centre;
     if (centre.hit) ++r.covered;
-    bool silhouette = false;
-    double variation = 0.0;
-    for (int k = 1; k <= kProbes; ++k) {
-      const auto& probe = samples[k * pixels + i];
-      if (!touching(scene, centre, probe)) silhouette = true;
-      variation = std::max(variation, max_abs(probe.radiance - centre.radiance));
-    }
-    if (silhouette) {
+    if (t.silhouette) {
       ++r.excluded;
       continue;
     }
-    if (centre.shadow_ambiguous) {
+    if (t.ambiguous) {
       ++r.ambiguous;
       continue;
     }
     ++r.compared;
-    const double u = 0x1p-24;
-    const double rounding = u * (kUlpBudget + centre.terms) * centre.rounding_scale;
-    // The shadowed pass shades the plane of the triangle the rasterizer kept, met by the centre
-    // ray: where that is a neighbour seen by a probe r away, its value at the centre differs from
-    // the probe's by about that neighbour's change over r, bounded by the variation once more.
-    const double tolerance = (shadows ? 2.0 : 1.0) * variation + rounding;
+    const double tolerance = t.tolerance;
     if (shadows && max_abs(unshadowed[i].radiance - centre.radiance) > tolerance) ++r.shadowed;
-    r.max_rounding_tolerance = std::max(r.max_rounding_tolerance, rounding);
+    r.max_rounding_tolerance = std::max(r.max_rounding_tolerance, t.rounding);
     r.peak_radiance = std::max(r.peak_radiance, max_abs(centre.radiance));
     bool ok = g[3] == (centre.hit ? 1.0f : 0.0f);
     for (int c = 0; c < 3; ++c) {
@@ -138,7 +158,7 @@ void compare_with_reference(const vk::Device& device, ForwardComparison& r, cons
         std::ostringstream s;
         s << "pixel (" << i % width << ", " << i / width << "): GPU (" << g[0] << ", " << g[1] << ", " << g[2] << ", " << g[3]
           << "), reference (" << centre.radiance.x << ", " << centre.radiance.y << ", " << centre.radiance.z << ", hit "
-          << centre.hit << "), tolerance " << tolerance << " (probes " << variation << ", rounding " << rounding << ")";
+          << centre.hit << "), tolerance " << tolerance << " (probes " << t.variation << ", rounding " << t.rounding << ")";
         r.first_failure = s.str();
       }
       ++r.failures;

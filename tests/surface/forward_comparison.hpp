@@ -18,6 +18,7 @@
 
 #include <glm/vec2.hpp>
 
+#include "renderer/reference/direct_light.hpp"
 #include "renderer/surface/forward/forward_pass.hpp"
 #include "renderer/surface/forward/shadowed_forward_pass.hpp"
 #include "scene/surface_scene.hpp"
@@ -42,6 +43,17 @@ struct ForwardComparison {
   bool finite = true;           // every GPU value finite (all pixels, excluded ones too)
   surface::ForwardImage gpu;
 };
+
+// Per pixel, what the comparison above allows: the reference's centre sample, whether the pixel
+// is compared (not on a silhouette, no ambiguous shadow ray) and its tolerance (per channel).
+struct ForwardTolerance {
+  reference::DirectLightSample centre;
+  bool silhouette = false, ambiguous = false;
+  double tolerance = 0.0, variation = 0.0, rounding = 0.0;
+  bool compared() const { return !silhouette && !ambiguous; }
+};
+std::vector<ForwardTolerance> forward_tolerances(uint32_t subpixel_bits, const SurfaceScene& scene, const Camera& camera, uint32_t width,
+                                                 uint32_t height, glm::dvec2 subpixel, bool shadows);
 
 ForwardComparison compare_forward(const vk::Device& device, surface::ForwardPass& pass, const SurfaceScene& scene,
                                   const Camera& camera, uint32_t width, uint32_t height, glm::dvec2 subpixel = glm::dvec2(0.0));

@@ -32,6 +32,35 @@
 
 namespace prismoid::test {
 
+ColorReference color_reference(uint32_t subpixel_bits, const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera,
+                               uint32_t w, uint32_t h, const volume::PreintegrationTable* table, const std::vector<float>* depth_limit) {
+  reference::InputPerturbation perturbation;
+  const double s = 2.0 * std::ldexp(1.0, -int(subpixel_bits));
+  perturbation.x_absolute = std::ldexp(1.0, -20);
+  perturbation.relative = std::ldexp(1.0, -19);
+  perturbation.window = std::ldexp(1.0, -19);
+  perturbation.step = 0.25 * s;
+  ColorReference r;
+  r.image = reference::emission_absorption_image(mesh, tf, camera, w, h, 0.0, 0.0, table, &perturbation, depth_limit);
+  const auto& ref = r.image;
+  std::vector<double> snap_tol(size_t(w) * h, 0.0);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (!dx && !dy) continue;
+      const auto shifted = reference::emission_absorption_image(mesh, tf, camera, w, h, dx * s, dy * s, table, nullptr, depth_limit);
+      for (size_t i = 0; i < snap_tol.size(); ++i)
+        for (int c = 0; c < 4; ++c) snap_tol[i] = std::max(snap_tol[i], std::abs(shifted.pixels[i][c] - ref.pixels[i][c]));
+    }
+  const auto samples = volume::breakpoints(tf);
+  const double integral_tol = table ? std::ldexp(1.0, -24) : std::ldexp(1.0, -18) * double(samples.size());
+  r.tolerance.resize(snap_tol.size());
+  for (size_t i = 0; i < snap_tol.size(); ++i) {
+    const double n = ref.segments[i] + 1.0;
+    r.tolerance[i] = snap_tol[i] + ref.sensitivity[i] + n * (integral_tol + std::ldexp(1.0, -24));
+  }
+  return r;
+}
+
 ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera, uint32_t w,
                                    uint32_t h, frame::Ordering ordering, uint32_t table_size,
                                    std::optional<frame::IntervalBackend> backend, std::shared_ptr<const std::vector<float>> depth_limit) {
@@ -52,36 +81,21 @@ ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFu
     world_table->max_length *= renderer.units().unit;
   }
   const volume::PreintegrationTable* table = world_table ? &*world_table : nullptr;
-  reference::InputPerturbation perturbation;
-  const double s = 2.0 * std::ldexp(1.0, -int(device().capabilities().subpixel_precision_bits));
-  perturbation.x_absolute = std::ldexp(1.0, -20);
-  perturbation.relative = std::ldexp(1.0, -19);
-  perturbation.window = std::ldexp(1.0, -19);
-  perturbation.step = 0.25 * s;
-  const auto ref = reference::emission_absorption_image(mesh, tf, camera, w, h, 0.0, 0.0, table, &perturbation, depth_limit.get());
-
-  std::vector<double> snap_tol(size_t(w) * h, 0.0);
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      if (!dx && !dy) continue;
-      const auto shifted = reference::emission_absorption_image(mesh, tf, camera, w, h, dx * s, dy * s, table, nullptr, depth_limit.get());
-      for (size_t i = 0; i < snap_tol.size(); ++i)
-        for (int c = 0; c < 4; ++c) snap_tol[i] = std::max(snap_tol[i], std::abs(shifted.pixels[i][c] - ref.pixels[i][c]));
-    }
-  const auto samples = volume::breakpoints(tf);
-  const double integral_tol = table ? std::ldexp(1.0, -24) : std::ldexp(1.0, -18) * double(samples.size());
+  const ColorReference reference =
+      color_reference(device().capabilities().subpixel_precision_bits, mesh, tf, camera, w, h, table, depth_limit.get());
+  const auto& ref = reference.image;
 
   ColorComparison c;
   for (const auto& p : gpu.passes) c.passes.push_back(p.name);
   c.ordering = gpu.report.ordering;
   c.order_exact = gpu.report.order_exact;
   c.report = gpu.report;
-  c.colour_failed.assign(snap_tol.size(), false);
-  c.alpha_failed.assign(snap_tol.size(), false);
+  const size_t pixels = size_t(w) * h;
+  c.colour_failed.assign(pixels, false);
+  c.alpha_failed.assign(pixels, false);
   c.segments = ref.segments;
-  for (size_t i = 0; i < snap_tol.size(); ++i) {
-    const double n = ref.segments[i] + 1.0;
-    const double tol = snap_tol[i] + ref.sensitivity[i] + n * (integral_tol + std::ldexp(1.0, -24));
+  for (size_t i = 0; i < pixels; ++i) {
+    const double tol = reference.tolerance[i];
     if (ref.pixels[i].a > 0.0) ++c.covered;
     for (int ch = 0; ch < 4; ++ch) {
       const float g = gpu.emission[4 * i + ch];
@@ -97,7 +111,7 @@ ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFu
                           std::to_string(tol) + " segments " + std::to_string(ref.segments[i]);
     }
   }
-  c.rmse = std::sqrt(c.rmse / (4.0 * double(snap_tol.size())));
+  c.rmse = std::sqrt(c.rmse / (4.0 * double(pixels)));
   return c;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/reference/emission_absorption.hpp"
 #include "renderer/volume/transfer_function.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh_fwd.hpp"
@@ -32,6 +33,15 @@ struct ColorComparison {
   std::vector<bool> colour_failed, alpha_failed;
   std::vector<uint32_t> segments;
 };
+
+// The CPU reference of a colour frame and each pixel's tolerance (the same for its four
+// channels), as derived in color_comparison.cpp, for a device snapping to 2^-subpixel_bits pixel.
+struct ColorReference {
+  reference::ColorImage image;
+  std::vector<double> tolerance;
+};
+ColorReference color_reference(uint32_t subpixel_bits, const TetMesh& mesh, const volume::TransferFunction& tf, const Camera& camera,
+                               uint32_t w, uint32_t h, const volume::PreintegrationTable* table, const std::vector<float>* depth_limit);
 
 // On both interval backends (support/backends.hpp): TEST_P, and PRISMOID_ON_BOTH_BACKENDS.
 class ColorTest : public GpuTest, public OnBackend {

@@ -1,0 +1,25 @@
+#pragma once
+// The opaque surface of the mixed-scene tests: one axis-aligned square, lit by a point light.
+#include "scene/surface_scene.hpp"
+
+namespace prismoid::test {
+
+// The square z = z, x in [x0, x1], y in [y0, y1], facing +z.
+struct Square {
+  double z, x0, x1, y0, y1;
+};
+
+inline SurfaceScene square_scene(const Square& s) {
+  SurfaceScene scene;
+  scene.name = "square";
+  scene.materials.push_back({});
+  SceneMesh m;
+  m.name = "square";
+  m.positions = {{s.x0, s.y0, s.z}, {s.x1, s.y0, s.z}, {s.x1, s.y1, s.z}, {s.x0, s.y1, s.z}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  scene.meshes.push_back(m);
+  scene.point_lights.push_back({{0.0, 0.0, 3.0}, {4.0, 4.0, 4.0}});
+  return scene;
+}
+
+}  // namespace prismoid::test
