@@ -117,7 +117,7 @@ const char* const kInfoHelp =
     "usage: prismoid info FILE\n"
     "       prismoid info [FILE] --plan [--mode M] [--quantity Q] [render's volume options, camera,\n"
     "                   --size, --depth-limit]\n"
-    "       prismoid info VOLUME SURFACE... --plan [--surface-mode forward] [the same options]\n"
+    "       prismoid info VOLUME SURFACE... --plan [--surface-mode M] [--shadows on|off] [the same options]\n"
     "\n"
     "Describes a mesh file (.vtu, .vtk, .vtm, .pvtu) without rendering: its cells by type, points,\n"
     "point and cell arrays with their ranges (vectors by magnitude), bounds, and what reading it\n"

@@ -69,8 +69,10 @@ int mixed_plan(const ParsedArgs& a) {
             << quantity_name(choice.quantity) << "; inside " << lit.name << ": " << c.triangles << " triangles, opaque, --surface-mode "
             << scene.surface_mode << "\n";
   const frame::FrameSettings& volume = choice.settings;
-  const mixed::MixedPlan plan = mixed::plan_mixed_frame(lit, choice.mesh, volume);
-  std::cout << "plan (first frame):\n  1. the surfaces (their depth read back along the viewing axis: where the volume's rays end):\n";
+  const mixed::MixedPlan plan = mixed::plan_mixed_frame(lit, *surface::find_surface_mode(scene.surface_mode),
+                                                        scene.shadows.value_or(scene.default_shadows), choice.mesh, volume);
+  std::cout << "plan (first frame, on a device that traces rays):\n  1. the surfaces (their depth read back along the viewing axis: "
+               "where the volume's rays end):\n";
   print_plan(plan.surfaces, "    ");
   std::cout << "  2. the volume, each ray ending at the surfaces' depth (backend " << frame::interval_backend_name(volume.backend)
             << (choice.backend_auto ? ", or as auto chooses on the device" : "") << "):\n";

@@ -170,9 +170,11 @@ std::string volume_modes_help() {
 const char* const kRenderMixedHelp =
     "\nA volume inside its surfaces (render VOLUME SURFACE... --output OUT): every surface opaque, the\n"
     "volume's rays ending at the first one; --mode names the volume's mode (interval modes, or reference:\n"
-    "the whole frame on the CPU), --surface-mode the surfaces' (forward); --reference-error measures the\n"
-    "frame against its CPU reference. .png: the composite; .pfm: the volume's quantity up to the\n"
-    "surfaces (color: the composite's RGB). `prismoid info VOLUME SURFACE... --plan` explains the frame.\n";
+    "the whole frame on the CPU), --surface-mode the surfaces' (any GPU surface mode above, default\n"
+    "forward), --shadows on|off whether they cast shadows (default: on where the device traces rays\n"
+    "and a light casts them); --reference-error measures the frame against its CPU reference (the\n"
+    "surfaces' direct light). .png: the composite; .pfm: the volume's quantity up to the surfaces\n"
+    "(color: the composite's RGB). `prismoid info VOLUME SURFACE... --plan` explains the frame.\n";
 
 std::string render_help() {
   return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + surface_render_help() + kRenderMixedHelp;

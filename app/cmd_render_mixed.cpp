@@ -24,7 +24,9 @@
 #include "renderer/metrics/flip.hpp"
 #include "renderer/mixed/mixed_frame.hpp"
 #include "renderer/mixed/mixed_reference.hpp"
+#include "renderer/surface/surface_modes.hpp"
 #include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
 #include "scene/input_error.hpp"
 
@@ -55,13 +57,16 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   const bool cpu = !choice.mode->gpu();
   if (cpu && a.flags.count("reference-error"))
     throw InputError("--reference-error", "--mode " + std::string(choice.mode->name) + " is the reference itself");
+  if (a.flags.count("reference-error") && surface::find_surface_mode(scene.surface_mode)->gi != frame::SurfaceGi::None)
+    throw InputError("--reference-error", "the mixed scene's reference lights the surfaces directly, and --surface-mode " +
+                                              scene.surface_mode + " adds indirect light; measure its error with `bench --sweeps surfaces`");
 
   frame::FrameSettings settings = choice.settings;
   std::string device_name = "CPU reference (double precision)", driver;
   std::unique_ptr<vk::Instance> instance;
   mixed::MixedFrame f;
   if (cpu) {
-    f = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, false);
+    f = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, scene.shadows.value_or(scene.default_shadows));
   } else {
     instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
     const auto devices = vk::query_devices(instance->get());
@@ -71,7 +76,13 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
     vk::Device device(*instance, caps, {});
     if (choice.backend_auto) resolve_auto_backend(settings, device);
     mixed::MixedRenderer renderer(device, choice.mesh, lit);
-    f = renderer.render(camera, settings, size);
+    if (scene.shadows) {
+      if (*scene.shadows && !renderer.surface_renderer().can_shadow())
+        throw vk::NoSuitableDevice(caps.name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure): "
+                                   "shadows need it; use --shadows off");
+      renderer.surface_renderer().set_shadows(*scene.shadows);
+    }
+    f = renderer.render(camera, settings, size, scene.surface_mode);
   }
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
@@ -90,7 +101,7 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   std::optional<Accuracy> accuracy;
   if (a.flags.count("reference-error")) {
     const auto start = std::chrono::steady_clock::now();
-    const mixed::MixedFrame ref = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, false);
+    const mixed::MixedFrame ref = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, f.shadows);
     accuracy.emplace();
     accuracy->reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     accuracy->error = frame::frame_error(shown(f), shown(ref), quantity);
@@ -110,12 +121,13 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   if (!cpu) said << ", backend " << f.volume.report.backend;
   said << ", ordering " << f.volume.report.ordering << (f.volume.report.order_exact ? " [exact]" : " [approximate]")
        << "; surfaces: " << (cpu ? "direct light (forward's reference)" : "--surface-mode " + scene.surface_mode)
-       << ", opaque, ending the volume's rays\n";
+       << (f.shadows ? " with shadows" : " without shadows") << ", opaque, ending the volume's rays\n";
   const double total = print_pass_times(said, f.passes);
   if (!f.passes.empty()) said << "  total: " << json_number(total) << " ms GPU\n";
   for (const vk::PassTiming& p : f.cpu_passes) said << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
   if (accuracy) {
-    said << "  against the CPU reference (double precision, exact per-pixel order, the surfaces' direct light; "
+    said << "  against the CPU reference (double precision, exact per-pixel order, the surfaces' direct light"
+         << (f.shadows ? " with shadows" : "") << "; "
          << json_number(accuracy->reference_ms) << " ms CPU): RMSE " << json_number(accuracy->error.rmse) << ", largest difference "
          << json_number(accuracy->error.max_abs) << (color ? " (display RGB)" : "");
     if (color) said << ", FLIP " << json_number(accuracy->flip);
@@ -131,7 +143,8 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
     js["surfaces"] = lit.name;
     js["triangles"] = triangles;
     js["mode"] = std::string(choice.mode->name);
-    js["surface_mode"] = cpu ? std::string("reference") : scene.surface_mode;
+    js["surface_mode"] = f.surface_mode;
+    js["shadows"] = f.shadows;
     js["quantity"] = quantity_name(quantity);
     js["width"] = size.width;
     js["height"] = size.height;

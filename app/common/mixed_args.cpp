@@ -9,6 +9,7 @@
 #include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "renderer/mixed/mixed_frame.hpp"
+#include "renderer/surface/surface_backend.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
@@ -76,11 +77,17 @@ MixedScene mixed_scene_from(const ParsedArgs& a) {
                      "in a scene of a volume and surfaces --mode names the volume's mode; name the surfaces' with --surface-mode");
   MixedScene scene;
   if (a.has("surface-mode")) scene.surface_mode = a.values.at("surface-mode");
-  if (scene.surface_mode != "forward") {
-    const surface::SurfaceMode* mode = surface::find_surface_mode(scene.surface_mode);
-    throw InputError("--surface-mode", mode ? "'" + scene.surface_mode + "' is not drawn with a volume yet: surfaces around a volume are "
-                                              "shaded forward (--surface-mode forward)"
-                                            : "'" + scene.surface_mode + "' is not a surface mode (forward)");
+  const surface::SurfaceMode* mode = surface::find_surface_mode(scene.surface_mode);
+  if (!mode) {
+    std::string known;
+    for (const surface::SurfaceMode& m : surface::surface_mode_table()) known += (known.empty() ? "" : ", ") + std::string(m.name);
+    throw InputError("--surface-mode", "'" + scene.surface_mode + "' is not a surface mode (" + known + ")");
+  }
+  if (const std::string problem = mixed::surface_mode_problem(*mode); !problem.empty()) throw InputError("--surface-mode", problem);
+  if (a.has("shadows")) {
+    const std::string& v = a.values.at("shadows");
+    if (v != "on" && v != "off") throw InputError("--shadows", "'" + v + "' is not on or off");
+    scene.shadows = v == "on";
   }
   ParsedArgs volume_args = a;
   volume_args.files = volumes;
@@ -95,6 +102,7 @@ MixedScene mixed_scene_from(const ParsedArgs& a) {
   const Bounds v = bounds_of(scene.volume.mesh), s = bounds_of(read);
   scene.camera = camera_from(a, {glm::min(v.min, s.min), glm::max(v.max, s.max)});
   scene.surfaces = with_default_lighting(read, scene.camera);
+  scene.default_shadows = surface::surface_contents(scene.surfaces).casts_shadows();
   return scene;
 }
 

@@ -6,8 +6,8 @@
 #include <memory>
 #include <stdexcept>
 
-#include "renderer/surface/forward/forward_backend.hpp"
 #include "renderer/surface/surface_backend.hpp"
+#include "renderer/surface/view_depth.hpp"
 
 #include "scene/input_error.hpp"
 
@@ -35,25 +35,32 @@ MixedPlan mixed_plan(frame::FramePlan surfaces, frame::FramePlan volume, volume:
 
 namespace {
 
-frame::FramePlan plan_forward_surfaces(const SurfaceScene& surfaces) {
-  frame::SurfaceFrameSettings s;
-  s.mode = "forward";
-  s.passes = surface::forward_backend().passes;
-  s.shadows = false;  // the surfaces around a volume are shaded without shadow rays so far
-  s.device_traces_rays = true;
-  return frame::plan_surface_frame(surface::surface_contents(surfaces), s);
-}
-
 double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace
 
-MixedPlan plan_mixed_frame(const SurfaceScene& surfaces, const TetMesh& volume, const frame::FrameSettings& settings) {
+std::string surface_mode_problem(const surface::SurfaceMode& mode) {
+  if (!mode.gpu())
+    return "'" + std::string(mode.name) + "' traces paths on the CPU and keeps no depth per pixel for a volume's rays to end at; "
+           "the mixed scene's CPU reference is --mode reference (the surfaces' direct light)";
+  return {};
+}
+
+MixedPlan plan_mixed_frame(const SurfaceScene& surfaces, const surface::SurfaceMode& mode, bool shadows, const TetMesh& volume,
+                           const frame::FrameSettings& settings) {
+  if (const std::string problem = surface_mode_problem(mode); !problem.empty()) throw InputError("surface mode", problem);
+  frame::SurfaceFrameSettings s;
+  s.mode = mode.name;
+  s.passes = mode.backend->passes;
+  s.gi = mode.gi;
+  s.shadows = shadows;
+  s.device_traces_rays = true;
   frame::SceneContents contents;
   contents.volumes.push_back(frame::volume_contents(volume, settings.resolve));
-  return mixed_plan(plan_forward_surfaces(surfaces), frame::plan_frame(contents, settings), settings.resolve.quantity);
+  return mixed_plan(frame::plan_surface_frame(surface::surface_contents(surfaces), s), frame::plan_frame(contents, settings),
+                    settings.resolve.quantity);
 }
 
 std::vector<float> composite_over_surfaces(const frame::OffscreenFrame& volume, std::span<const float> surface_rgba,
@@ -79,22 +86,25 @@ std::vector<float> composite_over_surfaces(const frame::OffscreenFrame& volume, 
   return out;
 }
 
-MixedRenderer::MixedRenderer(const vk::Device& device, const TetMesh& volume, SurfaceScene surfaces)
-    : device_(device),
-      surfaces_(std::move(surfaces)),
-      gpu_surfaces_(surface::upload(device, surfaces_)),
-      forward_(device),
-      volume_(device, volume) {}
+MixedRenderer::MixedRenderer(const vk::Device& device, const TetMesh& volume, const SurfaceScene& surfaces)
+    : device_(device), surfaces_(device, surfaces), volume_(device, volume) {}
 
-MixedFrame MixedRenderer::render(const Camera& camera, const frame::FrameSettings& settings, VkExtent2D extent) {
+MixedFrame MixedRenderer::render(const Camera& camera, const frame::FrameSettings& settings, VkExtent2D extent,
+                                 const std::string& surface_mode) {
   check_mixed_settings(settings.resolve);
+  const surface::SurfaceMode* mode = surface::find_surface_mode(surface_mode);
+  if (!mode) throw InputError("surface mode", "'" + surface_mode + "' is not a surface mode");
+  if (const std::string problem = surface_mode_problem(*mode); !problem.empty()) throw InputError("surface mode", problem);
+  if (const std::string problem = surfaces_.mode_problem(surface_mode); !problem.empty()) throw InputError("surface mode", problem);
   MixedFrame f;
-  surface::ForwardSettings forward;
-  forward.read_depth = true;
-  surface::ForwardImage surfaces = surface::render_forward(device_, forward_, gpu_surfaces_, camera, extent, forward);
-  f.surface_rgba = std::move(surfaces.rgba);
-  f.surface_depth = std::move(surfaces.depth);
-  f.passes = surfaces.passes;
+  f.surface_mode = surface_mode;
+  surface::SurfaceRenderer::Offscreen shaded = surfaces_.render_offscreen(camera, surface_mode, extent);
+  f.surface_rgba = std::move(shaded.rgba);
+  // Every surface backend draws its depth pre-pass each frame: the last one's depth is the
+  // surfaces' seen in the colour (one sub-pixel position; GI modes' still frames share the camera).
+  f.surface_depth = surface::read_view_axis_depth(device_, surfaces_.depth(), camera.near_distance);
+  f.shadows = shaded.plan.find(frame::PassId::ShadowRays) != nullptr;
+  f.passes = shaded.passes;
   frame::FrameSettings limited = settings;
   limited.resolve.depth_limit = std::make_shared<const std::vector<float>>(f.surface_depth);
   f.volume = volume_.render_offscreen(camera, limited, extent);
@@ -103,7 +113,7 @@ MixedFrame MixedRenderer::render(const Camera& camera, const frame::FrameSetting
   f.display = composite_over_surfaces(f.volume, f.surface_rgba, settings.resolve);
   f.cpu_passes = f.volume.report.cpu_passes;
   f.cpu_passes.push_back({kCompositePass, ms_since(start)});
-  f.plan = mixed_plan(plan_forward_surfaces(surfaces_), f.volume.report.plan, settings.resolve.quantity);
+  f.plan = mixed_plan(std::move(shaded.plan), f.volume.report.plan, settings.resolve.quantity);
   return f;
 }
 

@@ -3,8 +3,9 @@
 // surface is opaque: a pixel's ray crosses the volume from the near plane up to the first surface
 // it meets (or to infinity), so the volume's quantity (optical depth, transmittance, colour) is
 // integrated over that part only, and what the ray sees behind the volume is the shaded surface
-// there (the sky where it meets none). The frame: the surfaces (forward shading, their depth
-// read back along the viewing axis), the volume with each ray ending at that depth
+// there (the sky where it meets none). The frame: the surfaces (any GPU surface mode through
+// surface::SurfaceRenderer, every one of which draws a depth buffer; that depth read back along
+// the viewing axis), the volume with each ray ending at that depth
 // (volume::ResolveSettings::depth_limit, both backends), then the volume composited over the
 // surfaces: C = C_volume + (1 - A_volume) C_surface for colour; absorption-only quantities show
 // the surface through the medium, medium (1 - T) + T C_surface.
@@ -15,8 +16,8 @@
 #include <vulkan/vulkan.h>
 
 #include "renderer/frame/frame_renderer.hpp"
-#include "renderer/surface/forward/forward_pass.hpp"
-#include "renderer/surface/gpu_surface_scene.hpp"
+#include "renderer/surface/surface_modes.hpp"
+#include "renderer/surface/surface_renderer.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/camera.hpp"
 #include "scene/surface_scene.hpp"
@@ -33,15 +34,22 @@ struct MixedPlan {
   std::string composite;  // the composite's rule, for this quantity
 };
 MixedPlan mixed_plan(frame::FramePlan surfaces, frame::FramePlan volume, volume::Quantity quantity);
-// The plan of a mixed frame of the forward surface mode (no shadow rays) and these volume
-// settings, before any frame ran (`info --plan`): pure, as frame::plan_frame.
-MixedPlan plan_mixed_frame(const SurfaceScene& surfaces, const TetMesh& volume, const frame::FrameSettings& settings);
+// The plan of a mixed frame of a GPU surface mode (on a device that traces rays; `shadows` asked
+// for) and these volume settings, before any frame ran (`info --plan`): pure, as frame::plan_frame.
+MixedPlan plan_mixed_frame(const SurfaceScene& surfaces, const surface::SurfaceMode& mode, bool shadows, const TetMesh& volume,
+                           const frame::FrameSettings& settings);
+
+// Why `mode` cannot shade the surfaces around a volume (the CPU path tracer keeps no depth per
+// pixel and has a reference of its own); empty when it can.
+std::string surface_mode_problem(const surface::SurfaceMode& mode);
 
 // The composite's timing entry in MixedFrame::cpu_passes.
 inline constexpr const char* kCompositePass = "composite";
 
 struct MixedFrame {
   frame::OffscreenFrame volume;        // the volume's frame, its rays ended at the surfaces
+  std::string surface_mode;            // the surfaces' mode (surface_modes.hpp), "reference" on the CPU
+  bool shadows = false;                // the surfaces were shaded with shadow rays
   std::vector<float> surface_rgba;     // the surfaces shaded: linear RGBA, alpha = coverage (sky where 0)
   std::vector<float> surface_depth;    // per pixel, the nearest surface's depth along the viewing axis (+inf: none)
   std::vector<float> display;          // the composite: linear RGBA, alpha 1
@@ -66,19 +74,22 @@ std::vector<float> composite_over_surfaces(const frame::OffscreenFrame& volume, 
 class MixedRenderer {
  public:
   // `surfaces` must carry its lights already (with_default_lighting where it has none of its own).
-  MixedRenderer(const vk::Device& device, const TetMesh& volume, SurfaceScene surfaces);
+  MixedRenderer(const vk::Device& device, const TetMesh& volume, const SurfaceScene& surfaces);
 
-  // One frame: the surfaces, the volume ending at them, the composite. InputError as
-  // check_mixed_settings.
-  MixedFrame render(const Camera& camera, const frame::FrameSettings& settings, VkExtent2D extent);
+  // One frame: the surfaces in `surface_mode`, the volume ending at them, the composite.
+  // InputError as check_mixed_settings, for a mode surface_mode_problem names, or one this
+  // device cannot draw.
+  MixedFrame render(const Camera& camera, const frame::FrameSettings& settings, VkExtent2D extent,
+                    const std::string& surface_mode = "forward");
 
+  // The surfaces' renderer: its modes, and its shadows setting (on by default where the device
+  // traces rays and a light casts shadows).
+  surface::SurfaceRenderer& surface_renderer() { return surfaces_; }
   frame::FrameRenderer& volume_renderer() { return volume_; }
 
  private:
   const vk::Device& device_;
-  SurfaceScene surfaces_;
-  surface::GpuSurfaceScene gpu_surfaces_;
-  surface::ForwardPass forward_;
+  surface::SurfaceRenderer surfaces_;
   frame::FrameRenderer volume_;
 };
 

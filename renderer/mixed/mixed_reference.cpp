@@ -38,6 +38,8 @@ MixedFrame render_mixed_reference(const TetMesh& volume, const SurfaceScene& sur
                                   const volume::ResolveSettings& resolve, VkExtent2D size, bool shadows) {
   check_mixed_settings(resolve);
   MixedFrame f;
+  f.surface_mode = "reference";
+  f.shadows = shadows;
   auto start = std::chrono::steady_clock::now();
   reference::DirectLightOptions options;
   options.shadows = shadows;

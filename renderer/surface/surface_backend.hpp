@@ -116,6 +116,9 @@ class SurfaceBackend {
   virtual void record(const BackendFrame& frame) = 0;
   // The last recorded frame's colour: RGBA32F linear radiance, alpha = coverage.
   virtual const vk::Image& display() const = 0;
+  // The last recorded frame's depth: D32 reversed z (view_depth.hpp), in
+  // DEPTH_ATTACHMENT_OPTIMAL, readable (TRANSFER_SRC); what a volume's rays end at.
+  virtual const vk::Image& depth() const = 0;
   // The image size changed: targets are made again at the next record.
   virtual void release_targets() = 0;
   // The next frame shades everything it shows, as after a moved eye (another mode drew in

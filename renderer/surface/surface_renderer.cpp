@@ -98,6 +98,11 @@ const vk::Image& SurfaceRenderer::display() const {
   return last_backend_->display();
 }
 
+const vk::Image& SurfaceRenderer::depth() const {
+  if (!last_backend_) throw std::logic_error("SurfaceRenderer::depth before the first record");
+  return last_backend_->depth();
+}
+
 SurfaceRenderer::FrameCounts SurfaceRenderer::read_counts() const { return last_backend_ ? last_backend_->read_counts() : FrameCounts{}; }
 
 SurfaceRenderer::Offscreen SurfaceRenderer::render_offscreen(const Camera& camera, const std::string& mode, VkExtent2D extent,

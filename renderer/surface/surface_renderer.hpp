@@ -50,6 +50,8 @@ class SurfaceRenderer {
   // Leaves display() in TRANSFER_SRC_OPTIMAL: linear RGBA32F radiance, alpha = coverage.
   void record(VkCommandBuffer cmd, const Camera& camera, const std::string& mode, vk::GpuTimer& timer);
   const vk::Image& display() const;
+  // The last frame's depth buffer (SurfaceBackend::depth): view_depth.hpp reads it back.
+  const vk::Image& depth() const;
   // The plan the last record() carried out.
   const frame::FramePlan& last_plan() const { return last_plan_; }
 

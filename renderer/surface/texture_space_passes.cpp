@@ -42,7 +42,8 @@ TextureSpaceTargets create_texture_space_targets(const vk::Device& device, VkExt
   TextureSpaceTargets t;
   t.extent = extent;
   t.color = vk::Image(device, extent, kTextureSpaceColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  t.depth = vk::Image(device, extent, kTextureSpaceDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+  // Readable: a volume's rays end at the surfaces (renderer/mixed).
+  t.depth = vk::Image(device, extent, kTextureSpaceDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   t.visibility = vk::Buffer(device, VkDeviceSize(extent.width) * extent.height * 16,
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                             vk::MemoryUse::DeviceLocal);

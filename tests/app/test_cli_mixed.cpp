@@ -121,9 +121,14 @@ TEST(CliMixed, InfoPlanExplainsTheMixedFrame) {
                            "interval-shading (GPU)", "3. composite (CPU): the shaded surfaces seen through the medium"})
     EXPECT_NE(r.out.find(part), std::string::npos) << part << " in:\n" << r.out;
   EXPECT_EQ(r.out.find("no surfaces in the scene"), std::string::npos) << r.out;
-  const CliRun bad = run("info --plan ball " + square + " --surface-mode msa");
+  // Another surface mode: its own passes, shadow rays where asked.
+  const CliRun msa = run("info --plan ball " + square + " --quantity optical-depth --surface-mode msa --shadows on");
+  ASSERT_EQ(msa.code, 0) << msa.err;
+  for (const char* part : {"--surface-mode msa", "shadow rays (GPU, within the pass above)", "2. the volume"})
+    EXPECT_NE(msa.out.find(part), std::string::npos) << part << " in:\n" << msa.out;
+  const CliRun bad = run("info --plan ball " + square + " --surface-mode path-reference");
   EXPECT_EQ(bad.code, 2);
-  EXPECT_NE(bad.err.find("'msa' is not drawn with a volume yet"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("'path-reference' traces paths on the CPU"), std::string::npos) << bad.err;
 }
 
 // --reference-error of a mixed frame in colour: against the CPU reference of the whole frame
@@ -166,6 +171,18 @@ TEST(CliMixed, ColourAgainstTheMixedReference) {
   double worst = 0.0;
   for (size_t i = 0; i < g.pixels.size(); ++i) worst = std::max(worst, std::abs(double(g.pixels[i]) - double(cpu.pixels[i])));
   EXPECT_NEAR(worst, js["reference_error"]["max_abs"].get<double>(), 1e-6) << "the reference written is the one compared with";
+
+  // A texture-space surface mode, without shadows: composited the same way, measured the same way.
+  const CliRun t = run("render " + blobs.string() + " " + square + " --quantity color --mode interval-exact-order --surface-mode texel "
+                       "--shadows off --reference-error" + kCamera + size + " --output " + gpu.string() + " --stats " + stats.string());
+  ASSERT_EQ(t.code, 0) << t.err;
+  const nlohmann::json tj = nlohmann::json::parse(test::slurp(stats));
+  EXPECT_EQ(tj["surface_mode"], "texel");
+  EXPECT_EQ(tj["shadows"], false);
+  EXPECT_LT(tj["reference_error"]["max_abs"].get<double>(), 1e-3) << t.out;
+  std::vector<std::string> texel_ran;
+  for (const auto& p : tj["passes"]) texel_ran.push_back(p["name"].get<std::string>());
+  EXPECT_NE(std::find(texel_ran.begin(), texel_ran.end(), "gather"), texel_ran.end()) << t.out;
 }
 
 TEST(CliMixed, WhatAMixedSceneCannotDrawIsRefusedByName) {
@@ -176,8 +193,10 @@ TEST(CliMixed, WhatAMixedSceneCannotDrawIsRefusedByName) {
     EXPECT_NE(r.err.find(says), std::string::npos) << args << " printed: " << r.err;
   };
   refused("render ball ball:2 " + square, "takes one volume");
-  refused("render ball " + square + " --surface-mode htex", "'htex' is not drawn with a volume yet");
+  refused("render ball " + square + " --surface-mode path-reference", "keeps no depth per pixel");
   refused("render ball " + square + " --surface-mode bogus", "'bogus' is not a surface mode");
+  refused("render ball " + square + " --shadows maybe", "'maybe' is not on or off");
+  refused("render ball " + square + " --surface-mode htex-gi --reference-error", "adds indirect light");
   refused("render ball " + square + " --mode forward", "--mode names the volume's mode");
   refused("render ball " + square + " --mode reference --reference-error", "is the reference itself");
   refused("render field:blobs " + square + " --mode reference", "the reference of an analytic field marches it");

@@ -9,16 +9,27 @@ struct Square {
   double z, x0, x1, y0, y1;
 };
 
-inline SurfaceScene square_scene(const Square& s) {
-  SurfaceScene scene;
-  scene.name = "square";
-  scene.materials.push_back({});
+inline SceneMesh square_mesh(const Square& s) {
   SceneMesh m;
   m.name = "square";
   m.positions = {{s.x0, s.y0, s.z}, {s.x1, s.y0, s.z}, {s.x1, s.y1, s.z}, {s.x0, s.y1, s.z}};
   m.triangles = {{0, 1, 2}, {0, 2, 3}};
-  scene.meshes.push_back(m);
+  return m;
+}
+
+// One square, lit by a point light at (0, 0, 3).
+inline SurfaceScene square_scene(const Square& s) {
+  SurfaceScene scene;
+  scene.name = "square";
+  scene.materials.push_back({});
+  scene.meshes.push_back(square_mesh(s));
   scene.point_lights.push_back({{0.0, 0.0, 3.0}, {4.0, 4.0, 4.0}});
+  return scene;
+}
+
+// `scene` with one more square (of the same material).
+inline SurfaceScene with_square(SurfaceScene scene, const Square& s) {
+  scene.meshes.push_back(square_mesh(s));
   return scene;
 }
 

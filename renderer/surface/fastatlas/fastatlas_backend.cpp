@@ -67,6 +67,7 @@ class FastAtlasBackend final : public SurfaceBackend {
   }
 
   const vk::Image& display() const override { return targets_->color; }
+  const vk::Image& depth() const override { return targets_->depth; }
   void release_targets() override {
     targets_.reset();
     reuse_.forget();

@@ -22,6 +22,7 @@ class ForwardBackend final : public SurfaceBackend {
       if (!shadowed_targets_) shadowed_targets_ = std::make_unique<ShadowedForwardTargets>(create_shadowed_forward_targets(scene_.device(), f.extent));
       shadowed_->record(f.cmd, scene_.gpu(), scene_.accel(), *shadowed_targets_, f.camera, settings, f.timer);
       display_ = &shadowed_targets_->color;
+      depth_ = &shadowed_targets_->depth;
       light_ = "direct light with ray-traced shadows (one shadow ray per point or directional light, " +
                std::to_string(PRISMOID_EMITTER_SHADOW_SAMPLES) + " per emissive triangle)";
     } else {
@@ -29,6 +30,7 @@ class ForwardBackend final : public SurfaceBackend {
       if (!plain_targets_) plain_targets_ = std::make_unique<ForwardTargets>(create_forward_targets(scene_.device(), f.extent));
       plain_->record(f.cmd, scene_.gpu(), *plain_targets_, f.camera, settings, f.timer);
       display_ = &plain_targets_->color;
+      depth_ = &plain_targets_->depth;
       light_ = "direct light without shadows";
       for (const frame::SkippedPass& s : f.plan.skipped)
         if (s.name == "shadow rays") light_ += " (" + s.reason + ")";
@@ -37,6 +39,7 @@ class ForwardBackend final : public SurfaceBackend {
   }
 
   const vk::Image& display() const override { return *display_; }
+  const vk::Image& depth() const override { return *depth_; }
 
   void release_targets() override {
     plain_targets_.reset();
@@ -64,6 +67,7 @@ class ForwardBackend final : public SurfaceBackend {
   std::unique_ptr<ShadowedForwardPass> shadowed_;
   std::unique_ptr<ShadowedForwardTargets> shadowed_targets_;
   const vk::Image* display_ = nullptr;
+  const vk::Image* depth_ = nullptr;
   bool shadows_ = false;
   std::string light_;
 };

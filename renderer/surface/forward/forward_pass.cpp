@@ -1,6 +1,6 @@
 #include "renderer/surface/forward/forward_pass.hpp"
 
-#include "renderer/surface/forward/view_depth.hpp"
+#include "renderer/surface/view_depth.hpp"
 #include "renderer/surface/scene_descriptors.hpp"
 #include "renderer/surface/surface_frame.hpp"
 

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "renderer/surface/forward/view_depth.hpp"
+#include "renderer/surface/view_depth.hpp"
 #include "renderer/surface/scene_descriptors.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"

@@ -119,6 +119,7 @@ class HtexBackend final : public SurfaceBackend {
   }
 
   const vk::Image& display() const override { return targets_->color; }
+  const vk::Image& depth() const override { return targets_->depth; }
   void release_targets() override { targets_.reset(); }
   void forget_shading() override { reuse_.forget(); }
   uint32_t gi_frames() const override { return gi_frame_; }

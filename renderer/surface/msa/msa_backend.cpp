@@ -74,6 +74,7 @@ class MsaBackend final : public SurfaceBackend {
   }
 
   const vk::Image& display() const override { return targets_->color; }
+  const vk::Image& depth() const override { return targets_->depth; }
   void release_targets() override { targets_.reset(); }
   void forget_shading() override { reuse_.forget(); }
   void retune(const SurfaceTuning& tuning) override {

@@ -50,6 +50,7 @@ class TexelBackend final : public SurfaceBackend {
   }
 
   const vk::Image& display() const override { return targets_->color; }
+  const vk::Image& depth() const override { return targets_->depth; }
   void release_targets() override { targets_.reset(); }
   void forget_shading() override { reuse_.forget(); }
 

@@ -1,6 +1,7 @@
 #pragma once
-// The depth along the viewing axis of the nearest opaque surface per pixel, from the forward
-// passes' reversed-z depth buffer: what a volume's rays end at (volume::ResolveSettings::depth_limit).
+// The depth along the viewing axis of the nearest opaque surface per pixel, from a surface
+// backend's reversed-z depth buffer (every backend draws one: the forward passes' and the
+// texture-space backends' pre-pass): what a volume's rays end at (volume::ResolveSettings::depth_limit).
 #include <vector>
 
 #include "renderer/vk/device.hpp"
@@ -13,7 +14,7 @@ namespace prismoid::surface {
 // value back to d = near / z in double (+inf for 0): float's z is exact to 2^-24 relative, so d is.
 std::vector<float> view_axis_depth(const std::vector<float>& reversed_z, double near_distance);
 
-// The depth attachment of a forward pass (D32, in DEPTH_ATTACHMENT_OPTIMAL after its record),
+// The depth attachment of a surface backend (D32, in DEPTH_ATTACHMENT_OPTIMAL after its record),
 // read back and turned into depths along the viewing axis.
 std::vector<float> read_view_axis_depth(const vk::Device& device, const vk::Image& depth, double near_distance);
 

@@ -1,4 +1,4 @@
-#include "renderer/surface/forward/view_depth.hpp"
+#include "renderer/surface/view_depth.hpp"
 
 #include <limits>
 
