@@ -26,7 +26,7 @@ namespace {
 int surface_plan(const ParsedArgs& a, const surface::SurfaceMode& mode) {
   const std::string name(mode.name);
   const SurfaceScene scene = surface_scene_from(a, name);
-  const SurfaceScene lit = with_default_lighting(scene, surface_camera(a, scene.camera));
+  const SurfaceScene lit = with_default_lighting(scene, surface_camera(a, scene));
   const frame::SurfaceContents c = surface::surface_contents(lit);
   std::cout << scene.name << ": " << c.triangles << " triangles, " << c.point_lights << " point and " << c.directional_lights
             << " directional lights, " << c.emissive_triangles << " emissive triangles, " << (c.sky ? "a sky" : "no sky")

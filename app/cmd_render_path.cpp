@@ -44,7 +44,7 @@ int cmd_render_path_reference(const std::vector<std::string>& args, const surfac
   declare_render_files(files, a);
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
   const SurfaceScene loaded = surface_scene_from(a, std::string(mode.name));
-  const Camera camera = surface_camera(a, loaded.camera);
+  const Camera camera = surface_camera(a, loaded);
   const SurfaceScene scene = refined_for_view(a, loaded, camera, size.width, size.height);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
   validate_float_range(lit);  // double arithmetic, but the image is float32

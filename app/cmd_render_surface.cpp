@@ -145,7 +145,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   }
   const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
   const SurfaceScene loaded = surface_scene_from(a, name);
-  const Camera camera = surface_camera(a, loaded.camera);
+  const Camera camera = surface_camera(a, loaded);
   const SurfaceScene scene = refined_for_view(a, loaded, camera, size.width, size.height);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
 

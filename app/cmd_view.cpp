@@ -159,7 +159,7 @@ int view_surface(const ParsedArgs& a) {
   ViewerOptions options = window_options(a);
   options.inputs = window_inputs(a);
   options.mode = a.has("mode") ? a.values.at("mode") : "";
-  const Camera camera = surface_camera(a, loaded.camera);
+  const Camera camera = surface_camera(a, loaded);
   const SurfaceScene scene = refined_for_view(a, loaded, camera, options.width, options.height);
   bool any_camera = false;
   for (const auto& k : kCameraOptions) any_camera = any_camera || a.has(k);

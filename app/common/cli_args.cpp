@@ -5,10 +5,14 @@
 #include <charconv>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <sstream>
+
+#include <glm/geometric.hpp>
 
 #include "app/common/exit_code.hpp"
 #include "app/common/output_files.hpp"
+#include "scene/bounds.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -105,8 +109,24 @@ Camera camera_from(const ParsedArgs& a, const Bounds& bounds) {
   if (a.has("target")) c.target = parse_vec3("target", a.values.at("target"));
   if (a.has("up")) c.up = parse_vec3("up", a.values.at("up"));
   if (a.has("near")) c.near_distance = parse_double("near", a.values.at("near"));
+  else if (a.has("eye") || a.has("target")) c.near_distance = near_plane_for(c, bounds);
   validate(c);
   return c;
+}
+
+double near_plane_for(const Camera& camera, const Bounds& bounds) {
+  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p{corner & 1 ? bounds.max.x : bounds.min.x, corner & 2 ? bounds.max.y : bounds.min.y,
+                       corner & 4 ? bounds.max.z : bounds.min.z};
+    nearest = std::min(nearest, glm::dot(p - camera.eye, forward));
+  }
+  const double r = bounds.radius();
+  const double floor = (r > 0.0 && std::isfinite(r) ? r : 1.0) * 1e-3;
+  const double near = 0.5 * std::max(nearest, floor);
+  // Finite and positive whatever the input (validate() then checks the rest of the camera).
+  return std::isfinite(near) && near > 0.0 ? near : camera.near_distance;
 }
 
 const std::vector<std::string> kCameraOptions = {"eye", "target", "up", "fovy", "near"};

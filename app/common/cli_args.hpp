@@ -41,6 +41,11 @@ std::optional<uint32_t> parse_device(const ParsedArgs& a);
 double parse_fovy(const ParsedArgs& a, double otherwise);
 // The camera of --eye/--target/--up/--fovy/--near, framing `bounds` where they are silent.
 Camera camera_from(const ParsedArgs& a, const Bounds& bounds);
+// The near plane of a camera placed by hand (--eye or --target without --near), from where its
+// eye stands: half the nearest depth of the bounds' corners along the viewing axis, at least
+// 1/2000 of the bounds' radius (the eye inside or beside the data). The default framing's near
+// plane, half its distance to the data's sphere, would cut away what lies nearer to the new eye.
+double near_plane_for(const Camera& camera, const Bounds& bounds);
 extern const std::vector<std::string> kCameraOptions;
 std::vector<std::string> with_camera(std::vector<std::string> v);
 

@@ -165,12 +165,14 @@ SurfaceScene refined_for_view(const ParsedArgs& a, SurfaceScene scene, const Cam
   return refine_large_triangles(scene, camera, width, height, parse_double("max-triangle-pixels", a.values.at("max-triangle-pixels")));
 }
 
-Camera surface_camera(const ParsedArgs& a, Camera c) {
+Camera surface_camera(const ParsedArgs& a, const SurfaceScene& scene) {
+  Camera c = scene.camera;
   if (a.has("eye")) c.eye = parse_vec3("eye", a.values.at("eye"));
   if (a.has("target")) c.target = parse_vec3("target", a.values.at("target"));
   if (a.has("up")) c.up = parse_vec3("up", a.values.at("up"));
   c.fovy_degrees = parse_fovy(a, c.fovy_degrees);
   if (a.has("near")) c.near_distance = parse_double("near", a.values.at("near"));
+  else if (a.has("eye") || a.has("target")) c.near_distance = near_plane_for(c, bounds_of(scene));
   validate(c);
   return c;
 }

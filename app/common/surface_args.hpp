@@ -48,7 +48,8 @@ SurfaceScene surface_scene_from(const ParsedArgs& a, const std::string& mode);
 // atlas's paper prepares its scenes); the scene as it is without the option.
 SurfaceScene refined_for_view(const ParsedArgs& a, SurfaceScene scene, const Camera& camera, uint32_t width, uint32_t height);
 
-// The scene's own camera, with each camera option given replacing its part; validated.
-Camera surface_camera(const ParsedArgs& a, Camera camera);
+// The scene's own camera, with each camera option given replacing its part (the near plane from
+// the new eye where --eye or --target is given without --near: near_plane_for); validated.
+Camera surface_camera(const ParsedArgs& a, const SurfaceScene& scene);
 
 }  // namespace prismoid::app

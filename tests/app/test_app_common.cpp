@@ -10,9 +10,14 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+
+#include "app/common/cli_args.hpp"
 #include "app/common/frame_timing.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/warm_up.hpp"
+#include "scene/bounds.hpp"
+#include "scene/camera.hpp"
 
 namespace prismoid::app {
 namespace {
@@ -20,6 +25,29 @@ namespace {
 // Warm-up frames run for the time asked, and at least once (the first frame's pipelines and
 // caches are never timed); past that time they go on while the frames still get faster (a GPU
 // raising its clock), up to 4x the time.
+// A camera placed by hand keeps nothing of the data before its near plane. The default framing's
+// near plane (half its distance to the data's sphere) stood 5.9 in front of an eye placed 3.6 from
+// the near corner of a wide floor, and cut away everything nearer (a floor of 8 x 8 seen from
+// above its corner showed only its far half).
+TEST(CameraOptions, AnEyePlacedByHandSeesTheDataNearestIt) {
+  const Bounds floor{{-4.0, -1.05, -4.0}, {4.0, 1.0, 4.0}};
+  const ParsedArgs a = parse({"render", "--eye", "2.6,1.7,3.6", "--target", "0,-0.2,0"}, 1, kCameraOptions, {});
+  const Camera c = camera_from(a, floor);
+  const glm::dvec3 forward = glm::normalize(c.target - c.eye);
+  double nearest = 1e300;
+  for (int k = 0; k < 8; ++k)
+    nearest = std::min(nearest, glm::dot(glm::dvec3{k & 1 ? 4.0 : -4.0, k & 2 ? 1.0 : -1.05, k & 4 ? 4.0 : -4.0} - c.eye, forward));
+  EXPECT_GT(c.near_distance, 0.0);
+  EXPECT_LE(c.near_distance, 0.5 * std::max(nearest, 0.0) + 1e-3 * floor.radius());
+  // Inside the data: a small positive near plane (1/2000 of the radius).
+  const ParsedArgs inside = parse({"render", "--eye", "0.1,0,0.2", "--target", "1,0,0"}, 1, kCameraOptions, {});
+  EXPECT_NEAR(camera_from(inside, floor).near_distance, 0.5e-3 * floor.radius(), 1e-12);
+  // --near given is kept; without --eye or --target the default framing's stays.
+  const ParsedArgs given = parse({"render", "--eye", "2.6,1.7,3.6", "--near", "0.7"}, 1, kCameraOptions, {});
+  EXPECT_EQ(camera_from(given, floor).near_distance, 0.7);
+  EXPECT_EQ(camera_from(parse({"render"}, 1, kCameraOptions, {}), floor).near_distance, fit_camera(floor, 40.0).near_distance);
+}
+
 TEST(WarmUp, FramesRunForTheTimeAskedAndWhileTheyGetFaster) {
   uint32_t calls = 0;
   EXPECT_EQ(warm_up([&] { return double(++calls); }, 0.0), 1u);

@@ -16,6 +16,7 @@
 #include "io/image_io.hpp"
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/tet_ray.hpp"
+#include "scene/camera.hpp"
 #include "scene/surface_generators.hpp"
 #include "support/cli_run.hpp"
 
@@ -232,7 +233,7 @@ TEST(CliForward, ColoursBySurfaceArraysThroughTheTransferFunction) {
     app::ParsedArgs a = app::parse(words(vtp.string() + " " + coloring + camera), 0,
                                    app::with_surface_color(app::with_camera({})), {});
     const SurfaceScene raw = app::surface_scene_from(a, "forward");
-    const Camera cam = app::surface_camera(a, raw.camera);
+    const Camera cam = app::surface_camera(a, raw);
     const SurfaceScene scene = with_default_lighting(raw, cam);
     const SceneMesh& mesh = scene.meshes.at(0);
     if (coloring.find("--array x") != std::string::npos) {
@@ -274,6 +275,44 @@ TEST(CliForward, ColoursBySurfaceArraysThroughTheTransferFunction) {
   r = run("render cornell-box --mode forward --array x --output " + pfm.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("no data arrays"), std::string::npos) << r.err;
+}
+
+// A camera placed by hand (--eye, --target, no --near) sees the whole floor under it: every pixel
+// whose ray meets the 8 x 8 floor is covered, as the ray-plane intersection says (pixels within a
+// pixel of the floor's far edge aside). The default framing's near plane once cut away the near
+// half (app/common/cli_args.cpp: near_plane_for).
+TEST(CliForward, AnEyePlacedByHandSeesTheWholeFloorUnderIt) {
+  const fs::path off = work_dir() / "wide_floor.off", png = work_dir() / "wide_floor.png", stats = work_dir() / "wide_floor.json";
+  std::ofstream(off) << "OFF\n4 2 0\n-4 -1.05 -4\n4 -1.05 -4\n4 -1.05 4\n-4 -1.05 4\n3 0 3 2\n3 0 2 1\n";
+  const uint32_t w = 80, h = 60;
+  const CliRun r = run("render " + off.string() + " --mode forward --eye 2.6,1.7,3.6 --target 0,-0.2,0 --size " + std::to_string(w) + "x" +
+                       std::to_string(h) + " --output " + png.string() + " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  Camera c;
+  c.eye = {2.6, 1.7, 3.6};
+  c.target = {0.0, -0.2, 0.0};
+  c.fovy_degrees = 40.0;
+  auto meets = [&](double px, double py) {
+    const glm::dvec3 d = reference::ray_direction(c, w, h, px, py);
+    const double t = (-1.05 - c.eye.y) / d.y;
+    const glm::dvec3 p = c.eye + t * d;
+    return t > 0.0 && std::abs(p.x) <= 4.0 && std::abs(p.z) <= 4.0;
+  };
+  size_t sure = 0, edge = 0;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const bool centre = meets(x + 0.5, y + 0.5);
+      bool differs = false;
+      for (const auto& [dx, dy] : {std::pair{1.0, 0.0}, {-1.0, 0.0}, {0.0, 1.0}, {0.0, -1.0}}) differs |= meets(x + 0.5 + dx, y + 0.5 + dy) != centre;
+      (differs ? edge : sure) += differs || centre;
+    }
+  const std::string js = slurp(stats);
+  const size_t at = js.find("\"covered_pixels\": ");
+  ASSERT_NE(at, std::string::npos) << js;
+  const size_t covered = std::stoul(js.substr(at + 18));
+  EXPECT_GE(covered, sure) << "pixels whose ray meets the floor are not drawn";
+  EXPECT_LE(covered, sure + edge);
+  EXPECT_GT(sure, size_t(w) * h / 2);
 }
 
 }  // namespace
