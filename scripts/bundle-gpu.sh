@@ -17,8 +17,9 @@ cp build/app/prismoid "$out/"
 # test_rt: acceleration structures and the ray-tracing pipeline against the CPU BVH;
 # test_surface_gpu: forward and shadowed forward; test_htex_gpu: the Htex passes;
 # test_restir_gi: ReSTIR GI on the dense set; test_htex_gi: ReSTIR GI hosted by Htex;
-# test_texel_gpu: texel shading; test_msa_gpu: the meshlet shading atlas.
-gpu_tests="test_gpu test_rt test_surface_gpu test_htex_gpu test_restir_gi test_htex_gi test_texel_gpu test_msa_gpu test_fastatlas_gpu test_surface_renderer"
+# test_texel_gpu: texel shading; test_msa_gpu: the meshlet shading atlas; test_mixed_gpu: a volume
+# inside its surfaces.
+gpu_tests="test_gpu test_rt test_surface_gpu test_htex_gpu test_restir_gi test_htex_gi test_texel_gpu test_msa_gpu test_fastatlas_gpu test_surface_renderer test_mixed_gpu"
 for t in $gpu_tests; do [ -x "build/tests/$t" ] && cp "build/tests/$t" "$out/"; done
 # glibc and the dynamic linker come from the target machine (newer glibc runs older binaries).
 ldd build/app/prismoid | awk '/=> \// {print $3}' |
@@ -50,8 +51,8 @@ LAUNCH
 chmod +x "$out/prismoid.sh"
 # The GPU tests with the same environment (validation layer on, as here).
 # bundle/run-tests.sh [SUITE] [gtest options]: test_gpu, or test_SUITE (rt, surface_gpu, fastatlas_gpu, surface_renderer,
-# htex_gpu, restir_gi, htex_gi, texel_gpu, msa_gpu).
-printf '#!/usr/bin/env bash\nexe=test_gpu\ncase "${1:-}" in rt|surface_gpu|htex_gpu|restir_gi|htex_gi|texel_gpu|msa_gpu|fastatlas_gpu|surface_renderer) exe=test_$1; shift ;; esac\nPRISMOID_BUNDLE_EXE=$exe exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
+# htex_gpu, restir_gi, htex_gi, texel_gpu, msa_gpu, mixed_gpu).
+printf '#!/usr/bin/env bash\nexe=test_gpu\ncase "${1:-}" in rt|surface_gpu|htex_gpu|restir_gi|htex_gi|texel_gpu|msa_gpu|fastatlas_gpu|surface_renderer|mixed_gpu) exe=test_$1; shift ;; esac\nPRISMOID_BUNDLE_EXE=$exe exec "$(dirname "$0")/prismoid.sh" "$@"\n' >"$out/run-tests.sh"
 chmod +x "$out/run-tests.sh"
 # About 80 MB with the VTK, TetGen and image libraries: over the 64 MiB a device call carries, so
 # it also travels packed (about 17 MB): carry $out.tar.xz and unpack it there first.
