@@ -155,6 +155,20 @@ TEST_P(MixedFrameTest, ASquareInsideTheVolumeEndsItsRays) {
   }
 }
 
+// The camera nearly in the square's plane (8 degrees above it): the square a sliver a few pixels
+// tall across the view, its depth changing fast from pixel to pixel; each ray still ends where it
+// meets it.
+TEST_P(MixedFrameTest, AGrazingSquareEndsTheRaysItMeets) {
+  Camera c;
+  c.eye = {4.5, 0.3, 0.9};
+  c.target = {0.0, 0.0, 0.25};
+  c.fovy_degrees = 45.0;
+  c.near_distance = 0.1;
+  const Check check_grazing = check(c, {0.25, -0.9, 0.9, -0.8, 0.8}, volume::Quantity::OpticalDepth);
+  expect(check_grazing, "grazing");
+  EXPECT_GT(check_grazing.ended, 20u) << "the sliver must end enough rays for the comparison to tell";
+}
+
 // Entirely in front of the volume: zero where it covers; entirely behind: the full chord.
 TEST_P(MixedFrameTest, ASquareInFrontHidesTheVolumeAndOneBehindHidesNothing) {
   expect(check(outside(), {1.5, -0.5, 0.6, -0.4, 0.5}, volume::Quantity::OpticalDepth), "in front");
