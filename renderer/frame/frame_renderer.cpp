@@ -55,7 +55,7 @@ FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& world, con
 
 FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& world, const FrameUnits& units, const TetMesh& local)
     : device_(device), units_(units), mesh_(volume::upload(device, local)), bounds_(bounds_of(world)),
-      float_facts_(volume::float_facts(local)), interval_(device),
+      float_facts_(volume::float_facts(local)), inputs_(device), interval_(device), resolve_(device),
       orderings_(std::make_unique<Orderings>()), recorded_(std::make_unique<Recorded>()), offscreen_timer_(device, 16) {
   float_facts_.unit = units_.unit;
   orderings_->geometry.name = local.name;
@@ -96,7 +96,7 @@ SceneContents FrameRenderer::scene_contents(const Camera& camera, const FrameSet
   scene.camera_moved = !last.any || camera.eye != last.eye;
   scene.scene_moved = !last.any;  // the mesh and its fields are fixed for the renderer's life
   scene.transfer_changed =
-      settings.resolve.quantity == volume::Quantity::Color && !interval_.transfer_current(mesh_, settings.resolve);
+      settings.resolve.quantity == volume::Quantity::Color && !inputs_.transfer_current(mesh_, settings.resolve);
   scene.order_kept = last.order;
   scene.tetlets_built = o.tetlets.count(settings.resolve.tetlet_size) > 0;
   return scene;
@@ -120,7 +120,8 @@ FrameReport FrameRenderer::prepare(const Camera& world_camera, const FrameSettin
       throw InputError("depth limit", "is not followed when marching a field or drawing an isosurface");
   }
   // Checks the settings before anything is planned; the compute backend needs no mesh pipeline.
-  interval_.prepare(mesh_, settings.resolve, !compute);
+  interval_.prepare(settings.resolve, !compute);
+  inputs_.prepare(mesh_, settings.resolve);
   report.warnings =
       volume::check_float_limits(float_facts_, camera, targets_.extent.width, targets_.extent.height, settings.resolve, true,
                                  &orderings_->geometry.points)
@@ -144,7 +145,7 @@ FrameReport FrameRenderer::prepare(const Camera& world_camera, const FrameSettin
     switch (pass.id) {
       case PassId::TransferUpload:
       case PassId::Preintegrate:
-        interval_.upload_transfer(mesh_, settings.resolve);
+        inputs_.upload_transfer(mesh_, settings.resolve);
         break;
       case PassId::BuildTetlets:
         o.tetlets.emplace(settings.resolve.tetlet_size, volume::upload_tetlets(device_, o.geometry, settings.resolve.tetlet_size));
@@ -229,19 +230,21 @@ void FrameRenderer::record(VkCommandBuffer cmd, const Camera& world_camera, cons
         break;
       }
       case PassId::Intervals:
-        interval_.record_intervals(cmd, mesh_, targets_, camera, settings.resolve, timer, o.order, o.draw_tetlets);
+        interval_.record(cmd, mesh_, inputs_, targets_, camera, settings.resolve, timer, o.order, o.draw_tetlets);
         break;
       case PassId::BinCells:
-        compute_->record_bin(cmd, mesh_, targets_, camera, settings.resolve, interval_, timer);
+        compute_->record_bin(cmd, mesh_, inputs_, targets_, camera, settings.resolve, timer);
         break;
       case PassId::TileSort:
         compute_->record_sort(cmd, timer);
         break;
       case PassId::TileRaster:
-        compute_->record_raster(cmd, targets_, interval_, timer);
+        compute_->record_raster(cmd, targets_, timer);
         break;
       case PassId::Resolve:
-        interval_.record_resolve(cmd, targets_, settings.resolve, timer);
+        resolve_.record(cmd, targets_, settings.resolve,
+                        settings.backend == IntervalBackend::Compute ? volume::AccumulatedBy::Compute : volume::AccumulatedBy::Raster,
+                        timer);
         break;
       default:
         throw std::logic_error("FrameRenderer: the plan has a GPU pass it cannot record: " + pass.name);

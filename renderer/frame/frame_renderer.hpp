@@ -13,6 +13,8 @@
 #include "renderer/vk/timer.hpp"
 #include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/interval_shading.hpp"
+#include "renderer/volume/resolve_pass.hpp"
+#include "renderer/volume/volume_inputs.hpp"
 #include "scene/bounds.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh_fwd.hpp"
@@ -107,6 +109,8 @@ class FrameRenderer {
   // units and converted; the mesh was uploaded in them.
   const FrameUnits& units() const { return units_; }
   const volume::IntervalShadingPass& interval_pass() const { return interval_; }
+  // What both backends read (the transfer function and its table, a marched grid, the depth limit).
+  const volume::VolumeInputs& volume_inputs() const { return inputs_; }
   // The compute backend; nullptr until a frame chose it.
   const volume::ComputeIntervals* compute_intervals() const { return compute_.get(); }
   // The GPU visibility sort; nullptr until a frame planned a sort (for tests: its pipelines
@@ -126,8 +130,10 @@ class FrameRenderer {
   volume::GpuTetMesh mesh_;
   Bounds bounds_;
   volume::MeshFloatFacts float_facts_;
+  volume::VolumeInputs inputs_;
   volume::IntervalShadingPass interval_;
   std::unique_ptr<volume::ComputeIntervals> compute_;
+  volume::ResolvePass resolve_;
   std::unique_ptr<Orderings> orderings_;
   struct Recorded;  // what the last recorded frame left behind
   std::unique_ptr<Recorded> recorded_;

@@ -151,7 +151,6 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
                           VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                       vk::MemoryUse::DeviceLocal);
   stats_readback_ = vk::Buffer(device, stats_.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
-  depth_limit_ = vk::Buffer(device, sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);  // bound, unread, without a limit
   std::memset(stats_readback_.mapped(), 0, stats_readback_.size());
   scan_params_ = vk::Buffer(device, sizeof(gpu::RadixSortParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                             vk::MemoryUse::DeviceLocal);
@@ -284,20 +283,14 @@ void ComputeIntervals::prepare(const GpuTetMesh& mesh, const ResolveSettings& se
   }
   check_fits(f.cells, tiles, pairs);
   allocate(f.cells, tiles, pairs);
-  // Where each pixel's ray ends (opaque geometry), written while no frame is in flight.
+  // Where each pixel's ray ends (opaque geometry): VolumeInputs holds it, of the frame's size.
   f.depth_limited = settings.depth_limit != nullptr;
-  if (f.depth_limited) {
-    const std::vector<float>& limit = *settings.depth_limit;
-    if (limit.size() != size_t(extent.width) * extent.height)
-      throw InputError("depth limit", "has " + std::to_string(limit.size()) + " values for a " + std::to_string(extent.width) + "x" +
-                                          std::to_string(extent.height) + " frame");
-    const VkDeviceSize bytes = limit.size() * sizeof(float);
-    if (depth_limit_.size() < bytes) depth_limit_ = vk::Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::HostVisible);
-    depth_limit_.write(std::as_bytes(std::span(limit)));
-  }
+  if (f.depth_limited && settings.depth_limit->size() != size_t(extent.width) * extent.height)
+    throw InputError("depth limit", "has " + std::to_string(settings.depth_limit->size()) + " values for a " +
+                                        std::to_string(extent.width) + "x" + std::to_string(extent.height) + " frame");
 }
 
-void ComputeIntervals::bind_frame_inputs(const GpuTetMesh& mesh, const VolumeTargets& targets, const IntervalShadingPass& shading) {
+void ComputeIntervals::bind_frame_inputs(const GpuTetMesh& mesh, const VolumeInputs& inputs, const VolumeTargets& targets) {
   // Written on every frame, not cached: the recording rule guarantees no frame reads the set.
   const VkDescriptorSet s = set_.set;
   vk::write_buffer_descriptor(device_, s, PRISMOID_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frame_uniforms_.get());
@@ -305,14 +298,14 @@ void ComputeIntervals::bind_frame_inputs(const GpuTetMesh& mesh, const VolumeTar
       {PRISMOID_BINDING_POSITIONS, &mesh.positions},       {PRISMOID_BINDING_TETS, &mesh.tets},
       {PRISMOID_BINDING_CELL_SIGMA, &mesh.cell_sigma},     {PRISMOID_BINDING_POINT_SIGMA, &mesh.point_sigma},
       {PRISMOID_BINDING_CELL_SCALAR, &mesh.cell_scalar},   {PRISMOID_BINDING_POINT_SCALAR, &mesh.point_scalar},
-      {PRISMOID_BINDING_PREINTEGRATED, &shading.table_buffer()}, {PRISMOID_BINDING_TRANSFER, &shading.transfer_buffer()},
-      {PRISMOID_BINDING_FIELD_GRID, &shading.grid_buffer()}, {PRISMOID_CI_BINDING_BINS, &bins_},
+      {PRISMOID_BINDING_PREINTEGRATED, &inputs.table_buffer()}, {PRISMOID_BINDING_TRANSFER, &inputs.transfer_buffer()},
+      {PRISMOID_BINDING_FIELD_GRID, &inputs.grid_buffer()}, {PRISMOID_CI_BINDING_BINS, &bins_},
       {PRISMOID_CI_BINDING_OFFSETS, &offsets_},            {PRISMOID_CI_BINDING_KEYS, &keys_},
       {PRISMOID_CI_BINDING_VALUES, &values_},              {PRISMOID_CI_BINDING_TILE_RANGES, &tile_ranges_buffer_},
       {PRISMOID_CI_BINDING_STATS, &stats_},                {PRISMOID_CI_BINDING_BIG_CELLS, &big_cells_},
       {PRISMOID_CI_BINDING_CHUNK_BASE, &chunk_base_},      {PRISMOID_CI_BINDING_CHUNK_WORK, &chunk_work_},
       {PRISMOID_CI_BINDING_SPLIT_TILES, &split_tiles_},    {PRISMOID_CI_BINDING_PARTIALS, &partials_},
-      {PRISMOID_CI_BINDING_DEPTH_LIMIT, &depth_limit_},
+      {PRISMOID_CI_BINDING_DEPTH_LIMIT, &inputs.depth_limit_buffer()},
   };
   for (const auto& [binding, buffer] : buffers) vk::write_buffer_descriptor(device_, s, binding, kStorage, buffer->get());
   vk::write_storage_image_descriptor(device_, s, PRISMOID_CI_BINDING_OPTICAL_DEPTH, targets.optical_depth.view());
@@ -322,16 +315,17 @@ void ComputeIntervals::bind_frame_inputs(const GpuTetMesh& mesh, const VolumeTar
   vk::write_buffer_descriptor(device_, scan_set_.set, PRISMOID_SORT_BINDING_PARAMS, kStorage, scan_params_.get());
 }
 
-void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, const VolumeTargets& targets, const Camera& camera,
-                                  const ResolveSettings& settings, const IntervalShadingPass& shading, vk::GpuTimer& timer) {
+void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, const VolumeInputs& inputs, const VolumeTargets& targets,
+                                  const Camera& camera, const ResolveSettings& settings, vk::GpuTimer& timer) {
   Frame& f = *frame_;
   if (mesh.tet_count != f.cells || mode_of(settings) != f.mode)
     throw std::logic_error("ComputeIntervals: record_bin() for another mesh or quantity than prepare() saw");
   if (targets.extent.width != f.extent.width || targets.extent.height != f.extent.height)
     throw std::logic_error("ComputeIntervals: record_bin() for another image size than prepare() saw");
   // Every descriptor of the frame is written here, before its command buffer binds the set.
-  bind_frame_inputs(mesh, targets, shading);
-  const gpu::FrameUniforms frame = shading.frame_uniforms(mesh, camera, f.extent, settings, false);
+  inputs.check_ready(settings);
+  bind_frame_inputs(mesh, inputs, targets);
+  const gpu::FrameUniforms frame = inputs.frame_uniforms(mesh, camera, f.extent, settings, false);
   frame_uniforms_.write(std::as_bytes(std::span(&frame, 1)));
   // The depth key: the nearest depth of a cell's part beyond the near plane, minus the mesh
   // origin's, over the range the mesh can span, in (2^depth_bits - 1) steps.
@@ -419,7 +413,7 @@ void ComputeIntervals::record_sort(VkCommandBuffer cmd, vk::GpuTimer& timer) {
   vkCmdDispatch(cmd, 1, 1, 1);
 }
 
-void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets, IntervalShadingPass& shading, vk::GpuTimer& timer) {
+void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets, vk::GpuTimer& timer) {
   const Frame& f = *frame_;
   if (targets.extent.width != f.extent.width || targets.extent.height != f.extent.height)
     throw std::logic_error("ComputeIntervals: record_raster() for another image size than prepare() saw");
@@ -462,7 +456,6 @@ void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets
     vk::buffer_barrier(cmd, {stats_readback_.get()}, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   }
-  shading.intervals_drawn_by_compute();
   recorded_ = true;
 }
 

@@ -29,7 +29,7 @@
 
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
-#include "renderer/volume/interval_shading.hpp"
+#include "renderer/volume/volume_inputs.hpp"
 #include "renderer/volume/resolve_settings.hpp"
 #include "renderer/volume/visibility_sort.hpp"
 #include "scene/camera.hpp"
@@ -70,13 +70,14 @@ class ComputeIntervals {
   void reserve_pairs(uint64_t pairs);
 
   // The three passes, each timed under its name ("bin-cells", "tile-sort", "tile-raster"), in
-  // this order in one command buffer, for the settings and size prepare() saw. `shading`
-  // holds what both backends read (transfer function, table, grid) and runs the resolve after
-  // record_raster(), which leaves the target in GENERAL layout for it.
-  void record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, const VolumeTargets& targets, const Camera& camera,
-                  const ResolveSettings& settings, const IntervalShadingPass& shading, vk::GpuTimer& timer);
+  // this order in one command buffer, for the settings and size prepare() saw. `inputs` holds
+  // what both backends read (transfer function, table, grid, depth limit), prepared for these
+  // settings. record_raster() leaves the target in GENERAL layout for the resolve pass
+  // (resolve_pass.hpp, AccumulatedBy::Compute), which follows it.
+  void record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, const VolumeInputs& inputs, const VolumeTargets& targets,
+                  const Camera& camera, const ResolveSettings& settings, vk::GpuTimer& timer);
   void record_sort(VkCommandBuffer cmd, vk::GpuTimer& timer);
-  void record_raster(VkCommandBuffer cmd, VolumeTargets& targets, IntervalShadingPass& shading, vk::GpuTimer& timer);
+  void record_raster(VkCommandBuffer cmd, VolumeTargets& targets, vk::GpuTimer& timer);
 
   // The last recorded frame's counts; call only after the GPU finished it.
   ComputeIntervalStats read_stats() const;
@@ -91,7 +92,7 @@ class ComputeIntervals {
  private:
   void allocate(uint64_t cells, uint64_t tiles, uint64_t pairs);
   void check_fits(uint64_t cells, uint64_t tiles, uint64_t pairs) const;
-  void bind_frame_inputs(const GpuTetMesh& mesh, const VolumeTargets& targets, const IntervalShadingPass& shading);
+  void bind_frame_inputs(const GpuTetMesh& mesh, const VolumeInputs& inputs, const VolumeTargets& targets);
 
   const vk::Device& device_;
   vk::UniqueDescriptorSetLayout set_layout_;
@@ -116,7 +117,6 @@ class ComputeIntervals {
   vk::Buffer big_cells_;                          // per cell (at most every cell is big)
   vk::Buffer chunk_base_, split_tiles_;           // per tile
   vk::Buffer chunk_work_, partials_;              // per chunk slot (chunk_capacity_)
-  vk::Buffer depth_limit_;                        // per pixel when the settings have a depth limit (host-visible)
   uint64_t cell_capacity_ = 0, tile_capacity_ = 0, pair_capacity_ = 0, chunk_capacity_ = 0;
   uint64_t mesh_bytes_ = 0;  // the mesh's own buffers (they share the device's memory)
 

@@ -77,7 +77,7 @@ ColorComparison ColorTest::compare(const TetMesh& mesh, const volume::TransferFu
   // units, frame/frame_units.hpp; its texels hold dimensionless sigma * length).
   std::optional<volume::PreintegrationTable> world_table;
   if (table_size > 0) {
-    world_table = renderer.interval_pass().table();
+    world_table = renderer.volume_inputs().table();
     world_table->max_length *= renderer.units().unit;
   }
   const volume::PreintegrationTable* table = world_table ? &*world_table : nullptr;
