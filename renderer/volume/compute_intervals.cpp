@@ -154,7 +154,7 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
   std::memset(stats_readback_.mapped(), 0, stats_readback_.size());
   scan_params_ = vk::Buffer(device, sizeof(gpu::RadixSortParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                             vk::MemoryUse::DeviceLocal);
-  sort_ = std::make_unique<GpuRadixSort>(device, 1);
+  sort_ = std::make_unique<sort::GpuRadixSort>(device, 1);
 }
 
 ComputeIntervals::~ComputeIntervals() = default;
@@ -162,7 +162,7 @@ ComputeIntervals::~ComputeIntervals() = default;
 uint64_t ComputeIntervals::bytes_for(uint64_t cells, uint64_t tiles, uint64_t pairs) {
   const uint64_t per_cell = cells * (sizeof(glm::uvec4) + 2 * sizeof(uint32_t)) +
                             (cells + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK * sizeof(uint32_t);
-  const uint64_t per_pair = pairs * 2 * sizeof(uint32_t) + GpuRadixSort::scratch_bytes(static_cast<uint32_t>(std::min(pairs, kMaxPairs)));
+  const uint64_t per_pair = pairs * 2 * sizeof(uint32_t) + sort::GpuRadixSort::scratch_bytes(static_cast<uint32_t>(std::min(pairs, kMaxPairs)));
   const uint64_t per_chunk = chunk_slots_for(pairs) * (sizeof(glm::uvec2) + PRISMOID_CI_TILE_PIXELS * sizeof(gpu::ChunkPartial));
   return per_cell + tiles * (sizeof(glm::uvec2) + 2 * sizeof(uint32_t)) + per_pair + per_chunk + sizeof(gpu::FrameUniforms) + 2 * PRISMOID_CI_STAT_COUNT * sizeof(uint32_t) +
          sizeof(gpu::RadixSortParams);

@@ -31,7 +31,7 @@
 #include "renderer/vk/pipeline.hpp"
 #include "renderer/volume/volume_inputs.hpp"
 #include "renderer/volume/resolve_settings.hpp"
-#include "renderer/volume/visibility_sort.hpp"
+#include "renderer/sort/radix_sort.hpp"
 #include "scene/camera.hpp"
 
 namespace prismoid::vk {
@@ -105,7 +105,7 @@ class ComputeIntervals {
   vk::UniquePipelineLayout scan_layout_;
   vk::UniquePipeline scan_reduce_, scan_partials_, scan_downsweep_;
   vk::DescriptorSet scan_set_;
-  std::unique_ptr<GpuRadixSort> sort_;
+  std::unique_ptr<sort::GpuRadixSort> sort_;
 
   vk::Buffer frame_uniforms_;  // gpu::FrameUniforms (host-visible)
   vk::Buffer stats_;           // uint[PRISMOID_CI_STAT_COUNT], counted on the GPU

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "renderer/sort/radix_sort.hpp"
 #include "renderer/vk/timer.hpp"
 #include "renderer/volume/interval_shading.hpp"
 #include "renderer/volume/visibility_sort.hpp"
@@ -52,7 +53,7 @@ class RadixSortTest : public test::GpuTest {
   // std::stable_sort: equal values prove stability, not only order.
   // With `count_on_gpu`, the count reaches the sort in device memory (record_indirect), in
   // a buffer holding other numbers around it.
-  ::testing::AssertionResult sorts_like_stable_sort(volume::GpuRadixSort& sort, const std::vector<uint32_t>& keys,
+  ::testing::AssertionResult sorts_like_stable_sort(sort::GpuRadixSort& sort, const std::vector<uint32_t>& keys,
                                                     bool count_on_gpu = false) {
     const auto count = static_cast<uint32_t>(keys.size());
     std::vector<uint32_t> values(count);
@@ -89,7 +90,7 @@ TEST_F(RadixSortTest, RandomKeysMatchStableSortAtBlockBoundaries) {
   // 256 and 1024 are the sort's digit count and block size; 1'000'003 spans 977 blocks
   // (a partial last one) and several scan workgroups.
   const std::vector<uint32_t> counts = {0, 1, 255, 256, 257, 1023, 1024, 1025, 4099, 1'000'003};
-  volume::GpuRadixSort sort(device(), counts.back());
+  sort::GpuRadixSort sort(device(), counts.back());
   std::mt19937 rng(12345);
   for (uint32_t count : counts) {
     std::vector<uint32_t> keys(count);
@@ -100,7 +101,7 @@ TEST_F(RadixSortTest, RandomKeysMatchStableSortAtBlockBoundaries) {
 
 TEST_F(RadixSortTest, CountInDeviceMemoryMatchesStableSort) {
   const std::vector<uint32_t> counts = {0, 1, 2, 255, 1024, 1025, 4099, 300'007};
-  volume::GpuRadixSort sort(device(), counts.back() + kGuardEntries);
+  sort::GpuRadixSort sort(device(), counts.back() + kGuardEntries);
   std::mt19937 rng(2024);
   for (uint32_t count : counts) {
     std::vector<uint32_t> keys(count);
@@ -111,7 +112,7 @@ TEST_F(RadixSortTest, CountInDeviceMemoryMatchesStableSort) {
 
 TEST_F(RadixSortTest, CountInDeviceMemoryIsCutToTheLargestAllowed) {
   // The buffer says 5000 keys, the caller allows 3000: the first 3000 are sorted, the rest kept.
-  volume::GpuRadixSort sort(device(), 5000);
+  sort::GpuRadixSort sort(device(), 5000);
   std::mt19937 rng(5);
   std::vector<uint32_t> keys(5000), values(5000);
   for (auto& k : keys) k = random_u32(rng);
@@ -135,7 +136,7 @@ TEST_F(RadixSortTest, CountInDeviceMemoryIsCutToTheLargestAllowed) {
 // test_gpu --gtest_also_run_disabled_tests --gtest_filter='*SixteenMillion*'
 TEST_F(RadixSortTest, DISABLED_SixteenMillionKeys) {
   const uint32_t count = (1u << 24) + 3;
-  volume::GpuRadixSort sort(device(), count);
+  sort::GpuRadixSort sort(device(), count);
   std::mt19937 rng(16);
   std::vector<uint32_t> keys(count);
   for (auto& k : keys) k = random_u32(rng) % 100'000u;  // duplicates across blocks test stability at scale
@@ -143,7 +144,7 @@ TEST_F(RadixSortTest, DISABLED_SixteenMillionKeys) {
 }
 
 TEST_F(RadixSortTest, ManyDuplicatesKeepTheirInputOrder) {
-  volume::GpuRadixSort sort(device(), 200'000);
+  sort::GpuRadixSort sort(device(), 200'000);
   std::mt19937 rng(7);
   std::vector<uint32_t> few(100'000);
   for (auto& k : few) k = random_u32(rng) % 5;
@@ -158,7 +159,7 @@ TEST_F(RadixSortTest, ManyDuplicatesKeepTheirInputOrder) {
 }
 
 TEST_F(RadixSortTest, KeysUsingAll32Bits) {
-  volume::GpuRadixSort sort(device(), 70'000);
+  sort::GpuRadixSort sort(device(), 70'000);
   std::mt19937 rng(99);
   std::vector<uint32_t> keys;
   for (uint32_t bit = 0; bit < 32; ++bit) keys.push_back(1u << bit);
@@ -169,7 +170,7 @@ TEST_F(RadixSortTest, KeysUsingAll32Bits) {
 }
 
 TEST_F(RadixSortTest, SortedAndReversedInput) {
-  volume::GpuRadixSort sort(device(), 50'000);
+  sort::GpuRadixSort sort(device(), 50'000);
   std::vector<uint32_t> ascending(50'000);
   for (uint32_t i = 0; i < ascending.size(); ++i) ascending[i] = i * 85'899u;  // spans the 32-bit range
   EXPECT_TRUE(sorts_like_stable_sort(sort, ascending));
@@ -178,7 +179,7 @@ TEST_F(RadixSortTest, SortedAndReversedInput) {
 }
 
 TEST_F(RadixSortTest, CountAboveCapacityIsRefused) {
-  volume::GpuRadixSort sort(device(), 1000);
+  sort::GpuRadixSort sort(device(), 1000);
   const uint32_t too_many = sort.capacity() + 1;
   vk::Buffer keys = upload(std::vector<uint32_t>(too_many, 0u));
   vk::Buffer values = upload(std::vector<uint32_t>(too_many, 0u));
@@ -257,7 +258,7 @@ class VisibilitySortTest : public RadixSortTest {
     }
     size_t exact_inversions = 0;
     for (size_t i = 0; i < order.size(); ++i) {
-      const double key = double(volume::sort_key_value(keys[i]));
+      const double key = double(sort::sort_key_value(keys[i]));
       ASSERT_LE(std::abs(key - distance[order[i]]), bound[order[i]]) << "place " << i << ", cell " << order[i];
       if (i == 0) continue;
       ASSERT_LE(keys[i - 1], keys[i]) << "keys out of order at place " << i;

@@ -40,7 +40,7 @@
 #include "renderer/vk/memory.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "renderer/vk/timer.hpp"
-#include "renderer/volume/visibility_sort.hpp"
+#include "renderer/sort/radix_sort.hpp"
 #include "scene/camera.hpp"
 #include "shaders/shared/surface.h"
 
@@ -143,7 +143,7 @@ class FastAtlasPass {
   bool temporal_ = false;                           // the last recorded frame's
   std::vector<uint32_t> scales_;
   // Two sorts, as a GpuRadixSort updates its descriptor sets when recorded: once per command buffer.
-  volume::GpuRadixSort sort_by_root_, sort_by_height_;
+  sort::GpuRadixSort sort_by_root_, sort_by_height_;
   mutable vk::GpuTimer atlas_timer_;
   std::array<std::byte, 48> frame_push_{};  // this frame's FaPush (the compute dispatches change only pass.x)
   SceneSetBinding bound_;
