@@ -8,7 +8,6 @@
 
 #include "renderer/surface/surface_backend.hpp"
 #include "renderer/surface/view_depth.hpp"
-
 #include "scene/input_error.hpp"
 
 namespace prismoid::mixed {
@@ -44,7 +43,7 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 std::string surface_mode_problem(const surface::SurfaceMode& mode) {
   if (!mode.gpu())
     return "'" + std::string(mode.name) + "' traces paths on the CPU and keeps no depth per pixel for a volume's rays to end at; "
-           "the mixed scene's CPU reference is --mode reference (the surfaces' direct light)";
+           "the mixed scene's CPU reference lights the surfaces directly instead";
   return {};
 }
 
