@@ -52,20 +52,6 @@ PresentingDevice::PresentingDevice(bool validation, std::optional<uint32_t> devi
       caps(vk::select_device(devices, device_index)),
       device(instance, caps, {.presentation = true}) {}
 
-FrameResources::FrameResources(const vk::Device& d)
-    : device(d), image_available(vk::create_semaphore(d)), in_flight(vk::create_fence(d, true)) {
-  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  alloc.commandPool = d.command_pool();
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = 1;
-  vk::check(vkAllocateCommandBuffers(d.get(), &alloc, &cmd), "vkAllocateCommandBuffers");
-}
-
-FrameResources::~FrameResources() {
-  device.wait_idle();
-  vkFreeCommandBuffers(device.get(), device.command_pool(), 1, &cmd);
-}
-
 void recreate_swapchain(vk::Swapchain& swapchain, const Window& window, ImGuiLayer& ui, ViewerReport& report) {
   swapchain.recreate(window.framebuffer_extent());
   ui.swapchain_changed();
@@ -79,19 +65,6 @@ void finish_capture(SwapchainCapture& capture, ViewerReport& report, const std::
   } catch (const std::exception& e) {  // an unwritable path: say so, keep the window
     message(e.what());
   }
-}
-
-void submit_frame(const vk::Device& device, VkCommandBuffer cmd, VkSemaphore acquired, VkSemaphore done, VkFence fence) {
-  VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.waitSemaphoreCount = 1;
-  submit.pWaitSemaphores = &acquired;
-  submit.pWaitDstStageMask = &wait_stage;
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &cmd;
-  submit.signalSemaphoreCount = 1;
-  submit.pSignalSemaphores = &done;
-  vk::check(vkQueueSubmit(device.queue(), 1, &submit, fence), "vkQueueSubmit");
 }
 
 }  // namespace prismoid::app

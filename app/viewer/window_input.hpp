@@ -46,19 +46,6 @@ struct PresentingDevice {
   vk::Device device;
 };
 
-// One frame in flight: the semaphore the acquired image signals, the fence of the frame's
-// submission (created signalled) and its command buffer (freed once the device is idle).
-struct FrameResources {
-  explicit FrameResources(const vk::Device& device);
-  ~FrameResources();
-  FrameResources(const FrameResources&) = delete;
-  FrameResources& operator=(const FrameResources&) = delete;
-  const vk::Device& device;
-  vk::UniqueSemaphore image_available;
-  vk::UniqueFence in_flight;
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
-};
-
 // A new swapchain at the window's framebuffer size (resized or out of date), the UI told, the
 // report counting it.
 void recreate_swapchain(vk::Swapchain& swapchain, const Window& window, ImGuiLayer& ui, ViewerReport& report);
@@ -66,8 +53,5 @@ void recreate_swapchain(vk::Swapchain& swapchain, const Window& window, ImGuiLay
 // `inputs`) and lists it in the report; a failure goes to `message` (the window stays).
 void finish_capture(SwapchainCapture& capture, ViewerReport& report, const std::vector<std::string>& inputs,
                     const std::function<void(const std::string&)>& message);
-
-// Waits for the acquired image before the blit writes it; signals `done` for presentation.
-void submit_frame(const vk::Device& device, VkCommandBuffer cmd, VkSemaphore acquired, VkSemaphore done, VkFence fence);
 
 }  // namespace prismoid::app

@@ -7,6 +7,7 @@
 
 #include "app/viewer/present_thread.hpp"
 #include "app/viewer/window_input.hpp"
+#include "renderer/vk/frame_submission.hpp"
 #include "renderer/vk/error.hpp"
 
 namespace prismoid::app {
@@ -38,7 +39,7 @@ void run_window_loop(WindowParts& parts, WindowContent& content, const ViewerOpt
   ImGuiLayer& ui = parts.ui;
 
   vk::GpuTimer timer(device, 32);  // a split view records two modes' passes in one frame
-  FrameResources frame_resources(device);
+  vk::FrameResources frame_resources(device);
   const VkSemaphore image_available = frame_resources.image_available.get();
   const vk::UniqueFence& in_flight = frame_resources.in_flight;
   const VkCommandBuffer cmd = frame_resources.cmd;
@@ -152,7 +153,7 @@ void run_window_loop(WindowParts& parts, WindowContent& content, const ViewerOpt
     vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
     const VkSemaphore rendered = swapchain.render_finished(*index);
     presenter.hand_over([&device, &swapchain, cmd, image_available, rendered, fence = in_flight.get(), image = *index] {
-      submit_frame(device, cmd, image_available, rendered, fence);
+      vk::submit_frame(device, cmd, image_available, rendered, fence);
       return swapchain.present(image, rendered);
     });
     frame_in_flight = true;
