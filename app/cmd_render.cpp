@@ -16,6 +16,7 @@
 #include "app/common/frame_image.hpp"
 #include "app/common/frame_timing.hpp"
 #include "app/common/output_files.hpp"
+#include "app/common/reference_accuracy.hpp"
 #include "renderer/frame/reference_frame.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
@@ -23,7 +24,6 @@
 #include "io/image_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/frame/volume_modes.hpp"
-#include "renderer/metrics/flip.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
@@ -246,19 +246,12 @@ int cmd_render(const std::vector<std::string>& args) {
   }
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
   // What the image's accuracy is: the same frame on the CPU, in double precision and exact order.
-  struct Accuracy {
-    reference::ImageError error;
-    double flip = 0.0;
-    double reference_ms = 0.0;
-  };
-  std::optional<Accuracy> accuracy;
+  std::optional<ReferenceAccuracy> accuracy;
   if (a.flags.count("reference-error")) {
     const auto start = std::chrono::steady_clock::now();
     const frame::OffscreenFrame ref = frame::reference_of(mesh, camera, settings.resolve, size, field);
-    accuracy.emplace();
-    accuracy->reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    accuracy->error = frame::frame_error(result, ref, quantity);
-    if (color) accuracy->flip = reference::flip(result.display, ref.display, size.width, size.height, 4).mean;
+    accuracy = measure_accuracy(result, ref, quantity,
+                                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
 
   const io::FloatImage image = frame_image(result, output, color);
@@ -302,14 +295,7 @@ int cmd_render(const std::vector<std::string>& args) {
          << json_number(timing->total_ms.median) << ", worst " << json_number(timing->total_ms.worst) << ")";
   said << "\n";
   if (timing) print_sm_clock(said, *timing);
-  if (accuracy) {
-    said << "  against the CPU reference (double precision, exact per-pixel order; " << json_number(accuracy->reference_ms)
-         << " ms CPU): RMSE " << json_number(accuracy->error.rmse) << ", largest difference " << json_number(accuracy->error.max_abs)
-         << (color ? " (display RGB)" : "");
-    if (color) said << ", FLIP " << json_number(accuracy->flip);
-    if (accuracy->error.non_finite) said << "; " << accuracy->error.non_finite << " values not finite";
-    said << "\n";
-  }
+  if (accuracy) print_accuracy(said, *accuracy, color, "double precision, exact per-pixel order");
   for (const auto& p : result.report.cpu_passes) said << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
   if (result.report.counted) {
     said << "  drawn: " << result.report.fragments << " fragments";
@@ -366,18 +352,12 @@ int cmd_render(const std::vector<std::string>& args) {
     js["frames"] = frames;
     js["passes"] = timing ? passes_json(*timing) : passes_json(result.passes);
     if (timing) add_sm_clock(js, *timing);
-    StatsJson cpu_passes = StatsJson::array();
-    for (const vk::PassTiming& p : result.report.cpu_passes) cpu_passes.push_back({{"name", p.name}, {"cpu_ms", p.gpu_ms}});
-    js["cpu_passes"] = std::move(cpu_passes);
+    js["cpu_passes"] = cpu_passes_json(result.report.cpu_passes);
     add_plan(js, result.report.plan);
     js["gpu_ms_total"] = total;
     if (timing) js["frame_ms"] = {{"best", timing->total_ms.best}, {"median", timing->total_ms.median}, {"worst", timing->total_ms.worst}};
     js["validation_messages"] = validation_messages;
-    if (accuracy) {
-      js["reference_error"] = {{"rmse", accuracy->error.rmse}, {"max_abs", accuracy->error.max_abs},
-                               {"non_finite", accuracy->error.non_finite}, {"reference_cpu_ms", accuracy->reference_ms}};
-      if (color) js["reference_error"]["flip"] = accuracy->flip;
-    }
+    if (accuracy) add_accuracy(js, *accuracy, color);
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();

@@ -17,11 +17,11 @@
 #include "app/common/frame_image.hpp"
 #include "app/common/mixed_args.hpp"
 #include "app/common/output_files.hpp"
+#include "app/common/reference_accuracy.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "io/image_io.hpp"
 #include "renderer/frame/reference_frame.hpp"
-#include "renderer/metrics/flip.hpp"
 #include "renderer/mixed/mixed_frame.hpp"
 #include "renderer/mixed/mixed_reference.hpp"
 #include "renderer/surface/surface_modes.hpp"
@@ -93,19 +93,12 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
     return s;
   };
   // What the image's accuracy is: the same mixed frame on the CPU (renderer/mixed/mixed_reference).
-  struct Accuracy {
-    reference::ImageError error;
-    double flip = 0.0;
-    double reference_ms = 0.0;
-  };
-  std::optional<Accuracy> accuracy;
+  std::optional<ReferenceAccuracy> accuracy;
   if (a.flags.count("reference-error")) {
     const auto start = std::chrono::steady_clock::now();
     const mixed::MixedFrame ref = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, f.shadows);
-    accuracy.emplace();
-    accuracy->reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    accuracy->error = frame::frame_error(shown(f), shown(ref), quantity);
-    if (color) accuracy->flip = reference::flip(f.display, ref.display, size.width, size.height, 4).mean;
+    accuracy = measure_accuracy(shown(f), shown(ref), quantity,
+                                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
 
   const io::FloatImage image = frame_image(shown(f), output, color);
@@ -125,15 +118,9 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   const double total = print_pass_times(said, f.passes);
   if (!f.passes.empty()) said << "  total: " << json_number(total) << " ms GPU\n";
   for (const vk::PassTiming& p : f.cpu_passes) said << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
-  if (accuracy) {
-    said << "  against the CPU reference (double precision, exact per-pixel order, the surfaces' direct light"
-         << (f.shadows ? " with shadows" : "") << "; "
-         << json_number(accuracy->reference_ms) << " ms CPU): RMSE " << json_number(accuracy->error.rmse) << ", largest difference "
-         << json_number(accuracy->error.max_abs) << (color ? " (display RGB)" : "");
-    if (color) said << ", FLIP " << json_number(accuracy->flip);
-    if (accuracy->error.non_finite) said << "; " << accuracy->error.non_finite << " values not finite";
-    said << "\n";
-  }
+  if (accuracy)
+    print_accuracy(said, *accuracy, color,
+                   std::string("double precision, exact per-pixel order, the surfaces' direct light") + (f.shadows ? " with shadows" : ""));
   if (a.has("stats")) {
     StatsJson js;
     js["device"] = device_name;
@@ -152,18 +139,12 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
     js["ordering"] = f.volume.report.ordering;
     js["order_exact"] = f.volume.report.order_exact;
     js["passes"] = passes_json(f.passes);
-    StatsJson cpu_passes = StatsJson::array();
-    for (const vk::PassTiming& p : f.cpu_passes) cpu_passes.push_back({{"name", p.name}, {"cpu_ms", p.gpu_ms}});
-    js["cpu_passes"] = std::move(cpu_passes);
+    js["cpu_passes"] = cpu_passes_json(f.cpu_passes);
     add_plan(js, f.plan);
     js["gpu_ms_total"] = total;
     js["warnings"] = f.volume.report.warnings;
     js["validation_messages"] = validation_messages;
-    if (accuracy) {
-      js["reference_error"] = {{"rmse", accuracy->error.rmse}, {"max_abs", accuracy->error.max_abs},
-                               {"non_finite", accuracy->error.non_finite}, {"reference_cpu_ms", accuracy->reference_ms}};
-      if (color) js["reference_error"]["flip"] = accuracy->flip;
-    }
+    if (accuracy) add_accuracy(js, *accuracy, color);
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();

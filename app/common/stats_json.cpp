@@ -68,6 +68,12 @@ StatsJson passes_json(const std::vector<vk::PassTiming>& passes) {
   return list;
 }
 
+StatsJson cpu_passes_json(const std::vector<vk::PassTiming>& passes) {
+  StatsJson list = StatsJson::array();
+  for (const vk::PassTiming& p : passes) list.push_back({{"name", p.name}, {"cpu_ms", p.gpu_ms}});
+  return list;
+}
+
 StatsJson passes_json(const FrameTiming& timing) {
   StatsJson list = StatsJson::array();
   for (const PassSpread& p : timing.passes)

@@ -30,6 +30,8 @@ void write_stats(const std::string& path, const StatsJson& stats);
 // worst over them ("min_ms", "max_ms"; gpu_ms is then the median).
 StatsJson passes_json(const std::vector<vk::PassTiming>& passes);
 StatsJson passes_json(const FrameTiming& timing);
+// "cpu_passes": each CPU stage's name and time ("cpu_ms"; PassTiming::gpu_ms holds it).
+StatsJson cpu_passes_json(const std::vector<vk::PassTiming>& passes);
 // Sets "sm_clock_mhz" ({"min", "median", "max", "samples"}) where the clock was sampled.
 void add_sm_clock(StatsJson& stats, const FrameTiming& timing);
 // Sets "plan" (each planned pass: name, kind gpu|cpu|within, reason) and "skipped" (pass, reason).
