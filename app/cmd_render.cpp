@@ -7,7 +7,10 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
@@ -29,6 +32,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
 #include "renderer/volume/float_limits.hpp"
+#include "renderer/volume/volume_backends.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -59,11 +63,10 @@ const char* const kRenderHelpTail =
     "                       --near gets a near plane before the data nearest it)\n"
     "  --depth-limit D.pfm  where each pixel's ray ends, as a depth along the viewing axis (a grey PFM of\n"
     "                       --size, row 0 at the top; +inf where nothing is): opaque geometry in front of or\n"
-    "                       inside the volume. Not with marching or isosurfaces\n"
-    "  --volume-backend B   what draws the intervals: mesh (mesh shaders, the default), compute (compute\n"
-    "                       shaders on every core: cells binned into screen tiles, each pixel's exact\n"
-    "                       intervals in its own depth order), or auto (the faster on this device, by a\n"
-    "                       calibration frame kept in $XDG_CACHE_HOME/prismoid/backends.json)\n"
+    "                       inside the volume. Not with marching or isosurfaces\n";
+
+// After --volume-backend's lines.
+const char* const kRenderHelpAfterBackends =
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "  --tetlet-size N      cells per mesh workgroup: 1 (the paper's one cell per workgroup), 4, 8 or 16\n"
@@ -132,16 +135,16 @@ const char* const kRenderHelpTail =
     "With no FILE the embedded default dataset is rendered; asked for no --quantity and no --mode, in\n"
     "color, in exact order (interval-exact-order).\n";
 
-// The --mode lines of the help, from the volume mode table: each mode with its summary, wrapped.
-std::string volume_modes_help() {
+// An option's lines of the help listing the lines of a table, each name with its summary wrapped.
+std::string table_help(std::string_view option, const std::vector<std::pair<std::string_view, std::string_view>>& rows) {
   constexpr size_t kIndent = 23, kWidth = 100;
-  size_t name_width = std::string_view("SURFACE").size();
-  for (const frame::VolumeMode& m : frame::volume_mode_table()) name_width = std::max(name_width, m.name.size());
+  size_t name_width = 0;
+  for (const auto& [name, text] : rows) name_width = std::max(name_width, name.size());
   std::ostringstream out;
   const auto line = [&](std::string_view name, std::string_view text) {
     // (append, not +: GCC 12 warns falsely about the + of two temporaries, -Warray-bounds)
-    out << (out.tellp() == 0 ? std::string("  --mode MODE").append(kIndent - 13, ' ') : std::string(kIndent, ' ')) << name
-        << std::string(name_width + 2 - name.size(), ' ');
+    out << (out.tellp() == 0 ? std::string("  ").append(option).append(kIndent - 2 - option.size(), ' ') : std::string(kIndent, ' '))
+        << name << std::string(name_width + 2 - name.size(), ' ');
     const std::string margin(kIndent + name_width + 2, ' ');
     size_t column = margin.size();
     std::istringstream words{std::string(text)};
@@ -159,11 +162,29 @@ std::string volume_modes_help() {
     }
     out << "\n";
   };
-  for (const frame::VolumeMode& m : frame::volume_mode_table()) line(m.name, m.summary);
-  line("SURFACE", "a surface mode (listed below)");
-  out << std::string(kIndent, ' ') << "(default: " << frame::default_volume_mode(volume::Quantity::Transmittance).name << "; "
-      << frame::default_volume_mode(volume::Quantity::Color).name << " for --quantity color)\n";
+  for (const auto& [name, text] : rows) line(name, text);
   return out.str();
+}
+
+// The --mode lines of the help, from the volume mode table.
+std::string volume_modes_help() {
+  std::vector<std::pair<std::string_view, std::string_view>> rows;
+  for (const frame::VolumeMode& m : frame::volume_mode_table()) rows.emplace_back(m.name, m.summary);
+  rows.emplace_back("SURFACE", "a surface mode (listed below)");
+  std::string help = table_help("--mode MODE", rows);
+  help.append(23, ' ').append("(default: ").append(frame::default_volume_mode(volume::Quantity::Transmittance).name).append("; ");
+  help.append(frame::default_volume_mode(volume::Quantity::Color).name).append(" for --quantity color)\n");
+  return help;
+}
+
+// The --volume-backend lines of the help, from the volume backend table.
+std::string volume_backends_help() {
+  std::vector<std::pair<std::string_view, std::string_view>> rows;
+  for (const volume::VolumeBackendInfo* b : volume::volume_backend_table()) rows.emplace_back(b->name, b->summary);
+  rows.emplace_back("auto", "the faster GPU backend on this device, by a calibration frame kept in $XDG_CACHE_HOME/prismoid/backends.json");
+  std::string help = table_help("--volume-backend B", rows);
+  help.append(23, ' ').append("(default: mesh; cpu is what --mode reference draws)\n");
+  return help;
 }
 
 }  // namespace
@@ -178,7 +199,8 @@ const char* const kRenderMixedHelp =
     "(color: the composite's RGB). `prismoid info VOLUME SURFACE... --plan` explains the frame.\n";
 
 std::string render_help() {
-  return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + surface_render_help() + kRenderMixedHelp;
+  return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + volume_backends_help() + kRenderHelpAfterBackends +
+         surface_render_help() + kRenderMixedHelp;
 }
 
 
@@ -220,8 +242,7 @@ int cmd_render(const std::vector<std::string>& args) {
     // Double arithmetic, but the image is float32: refused where it cannot hold the answer.
     const volume::FloatCheck check =
         volume::check_float_limits(volume::float_facts(mesh), camera, size.width, size.height, settings.resolve, false);
-    result = field ? frame::render_field_reference(mesh, camera, settings.resolve, size)
-                   : frame::render_reference(mesh, camera, settings.resolve, size);
+    result = volume::reference_backend().render(mesh, camera, settings.resolve, size, field);
     result.report.warnings = check.warnings;
   } else {
     instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
@@ -249,7 +270,7 @@ int cmd_render(const std::vector<std::string>& args) {
   std::optional<ReferenceAccuracy> accuracy;
   if (a.flags.count("reference-error")) {
     const auto start = std::chrono::steady_clock::now();
-    const frame::OffscreenFrame ref = frame::reference_of(mesh, camera, settings.resolve, size, field);
+    const frame::OffscreenFrame ref = volume::reference_backend().render(mesh, camera, settings.resolve, size, field);
     accuracy = measure_accuracy(result, ref, quantity,
                                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }

@@ -12,6 +12,7 @@
 #include "io/image_io.hpp"
 #include "io/transfer_function_io.hpp"
 #include "io/vdb_io.hpp"
+#include "renderer/volume/volume_backends.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -128,7 +129,23 @@ VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
   if (a.has("quantity")) quantity = quantity_of_name(a.values.at("quantity"));
   else if (first_look) quantity = volume::Quantity::Color;
   const bool color = quantity == volume::Quantity::Color;
-  v.mode = first_look ? frame::find_volume_mode(frame::Ordering::Exact, false) : &volume_mode_from(a, quantity);
+  // Which backend draws the volume (the table's, or auto): every one gives the same quantities
+  // to its tolerances. The CPU one draws what the reference mode does.
+  const std::string backend = a.has("volume-backend") ? a.values.at("volume-backend") : "mesh";
+  const volume::VolumeBackendInfo* drawn_by = volume::find_volume_backend(backend);
+  if (backend == "auto") v.backend_auto = true;
+  else if (!drawn_by)
+    throw InputError("--volume-backend", "unknown backend '" + backend + "' (available: " + volume::volume_backend_names() + ", auto)");
+  if (drawn_by && !drawn_by->gpu()) {
+    const frame::VolumeMode* cpu_mode = nullptr;
+    for (const frame::VolumeMode& m : frame::volume_mode_table())
+      if (!m.gpu()) cpu_mode = &m;
+    if (a.has("mode") && a.values.at("mode") != cpu_mode->name)
+      throw InputError("--volume-backend " + backend, "draws the CPU reference: --mode " + a.values.at("mode") + " is drawn on the GPU");
+    v.mode = cpu_mode;
+  } else {
+    v.mode = first_look ? frame::find_volume_mode(frame::Ordering::Exact, false) : &volume_mode_from(a, quantity);
+  }
   const frame::VolumeMode& mode = *v.mode;
   const std::string name(mode.name);
   frame::FrameSettings& settings = v.settings;
@@ -168,12 +185,7 @@ VolumeChoice volume_choice(const ParsedArgs& a, const SceneLoader& load) {
   }
 
   settings.resolve.quantity = quantity;
-  // Which backend draws the intervals: both give the same quantities to the same tolerances.
-  const std::string backend = a.has("volume-backend") ? a.values.at("volume-backend") : "mesh";
-  if (backend == "mesh") settings.backend = frame::IntervalBackend::Mesh;
-  else if (backend == "compute") settings.backend = frame::IntervalBackend::Compute;
-  else if (backend == "auto") v.backend_auto = true;
-  else throw InputError("--volume-backend", "unknown backend '" + backend + "' (available: mesh, compute, auto)");
+  if (drawn_by && drawn_by->gpu()) settings.backend = frame::IntervalBackend{drawn_by->name};
   if (a.has("tetlet-size")) settings.resolve.tetlet_size = parse_uint("tetlet-size", a.values.at("tetlet-size"));
   settings.resolve.shared_vertices = a.flags.count("shared-vertices") > 0;
   if (color) {

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 #include "renderer/frame/volume_modes.hpp"
+#include "renderer/volume/volume_backends.hpp"
 
 namespace prismoid::app {
 
@@ -71,20 +73,23 @@ std::string set_compare_quantity(ViewState& state, volume::Quantity quantity) {
 
 namespace {
 
+// The backends the window switches between: the table's GPU ones.
+std::string gpu_volume_backend_names() {
+  std::string names;
+  for (const volume::VolumeBackendInfo* b : volume::volume_backend_table())
+    if (b->gpu()) names += (names.empty() ? "" : ", ") + std::string(b->name);
+  return names;
+}
+
 std::string apply_backend(frame::FrameSettings& settings, const std::string& backend) {
-  if (backend == "mesh") {
-    settings.backend = frame::IntervalBackend::Mesh;
-  } else if (backend == "compute") {
-    settings.backend = frame::IntervalBackend::Compute;
-    if (settings.resolve.shared_vertices) {
-      settings.resolve.shared_vertices = false;
-      settings.backend_reason.clear();
-      return "compute backend: shared vertices (tetlets) are the mesh backend's, turned off";
-    }
-  } else {
-    return "unknown backend '" + backend + "' (available: mesh, compute)";
-  }
+  const volume::VolumeBackendInfo* info = volume::find_volume_backend(backend);
+  if (!info || !info->gpu()) return "unknown backend '" + backend + "' (available: " + gpu_volume_backend_names() + ")";
+  settings.backend = frame::IntervalBackend{info->name};
   settings.backend_reason.clear();  // chosen by name now, not by auto's calibration
+  if (settings.resolve.shared_vertices && !info->supports.shared_vertices) {
+    settings.resolve.shared_vertices = false;
+    return std::string(info->name) + " backend: shared vertices (tetlets) are the mesh backend's, turned off";
+  }
   return {};
 }
 

@@ -8,6 +8,7 @@
 
 #include "app/common/volume_options.hpp"
 #include "app/viewer/compare.hpp"
+#include "renderer/volume/volume_backends.hpp"
 
 namespace prismoid::app {
 
@@ -88,8 +89,11 @@ void draw_compare_section(ViewState& state, PanelState& panel) {
     }
     const char* b_backend = frame::interval_backend_name(state.compare_settings.backend);
     if (ImGui::BeginCombo("B backend", b_backend)) {
-      for (const char* name : {"mesh", "compute"})
+      for (const volume::VolumeBackendInfo* info : volume::volume_backend_table()) {
+        if (!info->gpu()) continue;
+        const char* name = info->name.data();
         if (ImGui::Selectable(name, std::string(name) == b_backend)) panel.message = set_compare_backend(state, name);
+      }
       ImGui::EndCombo();
     }
     ImGui::TextDisabled("left: A (the mode above), right: B; B shares A's transfer function");

@@ -8,6 +8,7 @@
 #include "app/common/volume_options.hpp"
 #include "app/viewer/compare.hpp"
 #include "app/viewer/panels.hpp"
+#include "renderer/volume/volume_backends.hpp"
 
 namespace prismoid::app {
 
@@ -70,8 +71,11 @@ void draw_mode_section(ViewState& state, PanelState& panel, uint32_t max_tetlet_
 
   const char* backend = frame::interval_backend_name(state.settings.backend);
   if (ImGui::BeginCombo("backend", backend)) {
-    for (const char* name : {"mesh", "compute"})
+    for (const volume::VolumeBackendInfo* info : volume::volume_backend_table()) {
+      if (!info->gpu()) continue;
+      const char* name = info->name.data();
       if (ImGui::Selectable(name, std::string(name) == backend)) panel.message = set_backend(state, name);
+    }
     ImGui::EndCombo();
   }
   if (!state.settings.backend_reason.empty()) ImGui::TextDisabled("%s", state.settings.backend_reason.c_str());

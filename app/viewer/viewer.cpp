@@ -23,6 +23,7 @@
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
 #include "renderer/vk/memory.hpp"
+#include "renderer/volume/mesh/interval_shading.hpp"
 #include "scene/coarse_proxy.hpp"
 #include "scene/input_error.hpp"
 
@@ -85,12 +86,12 @@ class VolumeWindow final : public WindowContent {
     if (drawn_moving_) s_.report.moving_frames.push_back({wall_ms, in_flight_level_});
     else if (after_motion_) s_.report.still_frames_ms.push_back(wall_ms);
     after_motion_ = after_motion_ || drawn_moving_;
-    if (!last && s_.renderer.interval_pass().counts_draws()) {
-      const auto counts = s_.renderer.interval_pass().read_counts();
-      s_.stats.counted = true;
-      s_.stats.fragments = counts.fragments;
-      s_.stats.primitives = counts.primitives;
-    }
+    if (!last)
+      if (const auto counts = s_.renderer.draw_counts()) {
+        s_.stats.counted = true;
+        s_.stats.fragments = counts->fragments;
+        s_.stats.primitives = counts->primitives;
+      }
     compare_.frame_finished();
   }
   std::string timings_line() const override {

@@ -1,5 +1,7 @@
 #include "renderer/frame/frame_plan.hpp"
 
+#include "renderer/frame/volume_passes.hpp"
+
 #include <algorithm>
 #include <sstream>
 #include <stdexcept>
@@ -18,13 +20,7 @@ const char* ordering_name(Ordering ordering) {
   return "?";
 }
 
-const char* interval_backend_name(IntervalBackend backend) {
-  switch (backend) {
-    case IntervalBackend::Mesh: return "mesh";
-    case IntervalBackend::Compute: return "compute";
-  }
-  return "?";
-}
+const char* interval_backend_name(IntervalBackend backend) { return backend.name.data(); }
 
 VolumeContents volume_contents(uint64_t cells, bool point_extinction, bool point_scalars, const volume::ResolveSettings& settings) {
   VolumeContents v;
@@ -157,7 +153,7 @@ bool plan_ordering(const SceneContents& scene, const VolumeContents& volume, con
   return false;
 }
 
-std::string interval_reason(const VolumeContents& volume, const FrameSettings& settings) {
+std::string interval_reason_of(const VolumeContents& volume, const FrameSettings& settings) {
   const volume::ResolveSettings& r = settings.resolve;
   std::string why;
   switch (volume.optics) {
@@ -177,22 +173,6 @@ std::string interval_reason(const VolumeContents& volume, const FrameSettings& s
   return why;
 }
 
-// The compute backend's passes: the cells binned into tiles and sorted there on the GPU, then
-// each pixel's intervals found on its own ray.
-void plan_compute_intervals(const VolumeContents& volume, const FrameSettings& settings, PlanBuilder& plan) {
-  std::string bin_why = "compute backend: each cell's conservative screen bounds in 8x8 tiles and its depth key; pair counts "
-                        "prefix-summed into places; (tile, depth key) pairs written";
-  if (!settings.backend_reason.empty()) bin_why += "; " + settings.backend_reason;
-  plan.run(PassId::BinCells, "bin-cells", PassKind::Gpu, bin_why);
-  plan.run(PassId::TileSort, "tile-sort", PassKind::Gpu,
-           "the pairs sorted by tile, then depth, with the GPU radix sort, counted on the GPU (no read back); each tile's range");
-  std::string why = interval_reason(volume, settings);
-  why = why.substr(0, why.rfind("; "));  // the workgroup size is the mesh shader's
-  why += "; one workgroup per tile, each pixel's exact interval per cell on its own ray, clipped at the near plane";
-  if (volume.optics == VolumeOptics::EmissionAbsorption) why += "; composited in each pixel's own depth order (k-buffer)";
-  plan.run(PassId::TileRaster, "tile-raster", PassKind::Gpu, why);
-}
-
 void plan_surfaces(const SceneContents& scene, PlanBuilder& plan) {
   plan.skip("surface-shading", scene.surfaces == 0 ? "no surfaces in the scene" : "surfaces are not renderable yet");
   std::string gi;
@@ -205,16 +185,15 @@ void plan_surfaces(const SceneContents& scene, PlanBuilder& plan) {
 
 }  // namespace
 
-FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings) {
+std::string interval_reason(const VolumeContents& volume, const FrameSettings& settings) { return interval_reason_of(volume, settings); }
+
+FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings, const VolumePasses& passes) {
   if (scene.volumes.size() > 1) throw std::invalid_argument("plan_frame: one volume per frame (FrameRenderer draws one mesh)");
   const volume::ResolveSettings& r = settings.resolve;
   if (r.shared_vertices && volume::order_dependent(r.quantity) && settings.ordering != Ordering::MeshOrder)
     throw InputError("--shared-vertices", "tetlets fix the order cells are drawn in: use it with optical depth or "
                                           "transmittance, or with --mode interval");
-  const bool compute = settings.backend == IntervalBackend::Compute;
-  if (compute && r.shared_vertices)
-    throw InputError("--shared-vertices", "groups cells into mesh-shader workgroups: the compute backend loads each cell's points "
-                                          "per tile; use it with --volume-backend mesh");
+  if (!passes.tetlets && r.shared_vertices) throw InputError("--shared-vertices", std::string(passes.tetlets_refused));
   PlanBuilder plan;
   FramePlan result;
   if (scene.volumes.empty()) {
@@ -223,23 +202,24 @@ FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings) 
   } else {
     const VolumeContents& volume = scene.volumes.front();
     plan_transfer(scene, volume, settings, plan);
-    if (compute) {
-      plan.skip("build-tetlets", "compute backend: cells are loaded per tile");
-      const char* why = volume.optics == VolumeOptics::EmissionAbsorption
-                            ? "compute backend: each pixel composites its own intervals in their depth order"
-                            : volume.optics == VolumeOptics::Isosurface
-                                  ? "an isosurface is order-independent (each pixel keeps its nearest hit)"
+    if (passes.tetlets) plan_tetlets(scene, settings, plan);
+    else plan.skip("build-tetlets", std::string(passes.no_tetlets));
+    if (passes.chosen_order) {
+      result.reuses_order = plan_ordering(scene, volume, settings, plan);
+    } else {
+      const std::string why = volume.optics == VolumeOptics::EmissionAbsorption ? std::string(passes.own_order)
+                              : volume.optics == VolumeOptics::Isosurface && !passes.isosurface_order.empty()
+                                  ? std::string(passes.isosurface_order)
+                              : volume.optics == VolumeOptics::Isosurface
+                                  ? "an isosurface is order-independent (the depth test keeps the nearest hit)"
                                   : "optical depth is order-independent (sums of sigma * length commute)";
       skip_ordering(plan, why);
-      plan.skip(volume::interval_pass_name(r), "compute backend: tiles rasterized in compute (bin-cells, tile-sort, tile-raster)");
-      plan_compute_intervals(volume, settings, plan);
-    } else {
-      plan_tetlets(scene, settings, plan);
-      result.reuses_order = plan_ordering(scene, volume, settings, plan);
-      std::string why = interval_reason(volume, settings);
-      if (!settings.backend_reason.empty()) why += "; " + settings.backend_reason;
-      plan.run(PassId::Intervals, volume::interval_pass_name(r), PassKind::Gpu, why);
     }
+    std::vector<PlannedPass> runs;
+    std::vector<SkippedPass> skips;
+    passes.intervals(volume, settings, runs, skips);
+    for (PlannedPass& p : runs) plan.run(p.id, std::move(p.name), p.kind, std::move(p.reason));
+    for (SkippedPass& p : skips) plan.skip(std::move(p.name), std::move(p.reason));
     plan.run(PassId::Resolve, "resolve", PassKind::Gpu,
              volume.optics == VolumeOptics::EmissionAbsorption ? "the display colour (colour over the background) and the transmittance"
                                                                : "the quantity and its display colour from what the interval pass drew");

@@ -24,14 +24,19 @@ enum class Ordering {
 };
 const char* ordering_name(Ordering ordering);
 
-// What draws a volume frame's intervals into the accumulation targets (the resolve after
-// them is shared).
-enum class IntervalBackend {
-  Mesh,     // mesh shaders and the rasterizer (Tricard 2024): the paper's method
-  Compute,  // compute shaders on every core: cells binned into tiles, each pixel's exact
-            // interval through every cell of its tile on its own ray (volume/compute_intervals.hpp)
+// The GPU backend that draws a volume frame's intervals (the resolve after them is shared), by
+// its name in the volume backend table (renderer/volume/volume_backends.hpp): a backend is a
+// line of that table, and nothing here lists them. The name is the table's (a literal).
+struct IntervalBackend {
+  std::string_view name = "mesh";
+  // The first two of the table: mesh shaders and the rasterizer (Tricard 2024), and compute
+  // shaders on every core (volume/compute/compute_intervals.hpp).
+  static const IntervalBackend Mesh, Compute;
+  friend bool operator==(const IntervalBackend&, const IntervalBackend&) = default;
 };
-const char* interval_backend_name(IntervalBackend backend);  // "mesh", "compute"
+inline constexpr IntervalBackend IntervalBackend::Mesh{"mesh"};
+inline constexpr IntervalBackend IntervalBackend::Compute{"compute"};
+const char* interval_backend_name(IntervalBackend backend);  // its name
 
 struct FrameSettings {
   volume::ResolveSettings resolve;
@@ -126,7 +131,9 @@ struct FramePlan {
 };
 
 // Throws InputError for settings no plan satisfies (tetlets with an ordered colour mode, or
-// with the compute backend).
+// with a backend that builds none). The volume's passes are those of the backend that
+// settings.backend names: defined beside the volume backend table (it reads the table), and
+// frame/volume_passes.hpp plans with a backend's passes given.
 FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings);
 
 // One line per pass: "  NAME (GPU|CPU): REASON" ("(GPU, within the pass above)" for

@@ -4,7 +4,7 @@
 // comparisons treat both alike.
 #include <vulkan/vulkan.h>
 
-#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/frame/frame_report.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh_fwd.hpp"

@@ -3,7 +3,7 @@
 // when it marches an analytic field. Internal to renderer/volume.
 #include <vulkan/vulkan.h>
 
-#include "renderer/volume/interval_shading.hpp"
+#include "renderer/volume/volume_inputs.hpp"
 #include "shaders/shared/volume.h"
 
 namespace prismoid::volume {

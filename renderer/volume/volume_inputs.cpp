@@ -18,6 +18,13 @@
 
 namespace prismoid::volume {
 
+void check_workgroup_settings(const ResolveSettings& settings) {
+  if (std::find(kTetletSizes.begin(), kTetletSizes.end(), settings.tetlet_size) == kTetletSizes.end())
+    throw InputError("--tetlet-size", "must be 1, 4, 8 or 16 cells per mesh workgroup");
+  if (settings.shared_vertices && settings.tetlet_size == 1)
+    throw InputError("--shared-vertices", "groups several cells per workgroup: use --tetlet-size 4, 8 or 16");
+}
+
 namespace {
 
 constexpr VkFormat kOpticalDepthFormat = VK_FORMAT_R32_SFLOAT;

@@ -61,6 +61,11 @@ struct VolumeTargets {
 };
 VolumeTargets create_targets(const vk::Device& device, VkExtent2D extent);
 
+// The cells-per-workgroup settings every frame is checked against, whichever backend draws it
+// (InputError names the option): a tetlet size the mesh shaders are built for, and shared
+// vertices only with more than one cell per workgroup.
+void check_workgroup_settings(const ResolveSettings& settings);
+
 class VolumeInputs {
  public:
   explicit VolumeInputs(const vk::Device& device);

@@ -13,7 +13,7 @@
 #include "renderer/frame/backend_choice.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/vk/device.hpp"
-#include "renderer/volume/visibility_sort.hpp"
+#include "renderer/volume/mesh/visibility_sort.hpp"
 #include "scene/generators.hpp"
 #include "scene/tet_mesh.hpp"
 #include "support/gpu_fixture.hpp"

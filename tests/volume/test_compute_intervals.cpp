@@ -1,4 +1,4 @@
-// What only the compute interval backend has (renderer/volume/compute_intervals.hpp): its
+// What only the compute interval backend has (renderer/volume/compute/compute_intervals.hpp): its
 // passes and memory, tiles holding more cells than a workgroup sets up at once, pixels with
 // more intervals than their k-buffer, a cell covering the whole screen, a million cells, a
 // non-convex mesh whose topological order cannot be exact, and buffers that grow. Every image
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "renderer/frame/frame_renderer.hpp"
-#include "renderer/volume/compute_intervals.hpp"
+#include "renderer/volume/compute/compute_intervals.hpp"
 #include "renderer/volume/visibility_order.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"

@@ -12,8 +12,8 @@
 
 #include "renderer/sort/radix_sort.hpp"
 #include "renderer/vk/timer.hpp"
-#include "renderer/volume/interval_shading.hpp"
-#include "renderer/volume/visibility_sort.hpp"
+#include "renderer/volume/mesh/interval_shading.hpp"
+#include "renderer/volume/mesh/visibility_sort.hpp"
 #include "scene/generators.hpp"
 #include "scene/tet_mesh.hpp"
 #include "support/gpu_fixture.hpp"

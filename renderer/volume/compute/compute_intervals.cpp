@@ -1,4 +1,4 @@
-#include "renderer/volume/compute_intervals.hpp"
+#include "renderer/volume/compute/compute_intervals.hpp"
 
 #include <algorithm>
 #include <array>

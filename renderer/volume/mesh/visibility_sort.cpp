@@ -1,4 +1,4 @@
-#include "renderer/volume/visibility_sort.hpp"
+#include "renderer/volume/mesh/visibility_sort.hpp"
 
 #include <algorithm>
 #include <array>

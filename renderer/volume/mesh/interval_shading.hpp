@@ -48,9 +48,8 @@ class IntervalShadingPass {
   explicit IntervalShadingPass(const vk::Device& device);
 
   // CPU work before recording a frame, outside any command buffer: checks the cells-per-workgroup
-  // settings (InputError names the option at fault; the compute backend's frames are checked
-  // too) and makes the pipeline (unless `mesh_pipeline` is false: the compute backend draws).
-  void prepare(const ResolveSettings& settings, bool mesh_pipeline = true);
+  // settings against the device (InputError names the option at fault) and makes the pipeline.
+  void prepare(const ResolveSettings& settings);
 
   // Records the interval pass (named interval_pass_name(settings)) into the accumulation
   // target, reading `inputs` (prepared for these settings). Cells are drawn in the order of

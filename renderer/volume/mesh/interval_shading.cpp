@@ -1,4 +1,4 @@
-#include "renderer/volume/interval_shading.hpp"
+#include "renderer/volume/mesh/interval_shading.hpp"
 
 #include <algorithm>
 #include <array>
@@ -183,16 +183,12 @@ void IntervalShadingPass::bind_order(const vk::Buffer* order) {
   bound_order_ = buffer.serial();
 }
 
-void IntervalShadingPass::prepare(const ResolveSettings& settings, bool mesh_pipeline) {
-  if (std::find(kTetletSizes.begin(), kTetletSizes.end(), settings.tetlet_size) == kTetletSizes.end())
-    throw InputError("--tetlet-size", "must be 1, 4, 8 or 16 cells per mesh workgroup");
-  // The mesh shader's limits bind only the frames it draws.
-  if (mesh_pipeline && settings.tetlet_size > max_tetlet_size(device_))
+void IntervalShadingPass::prepare(const ResolveSettings& settings) {
+  check_workgroup_settings(settings);
+  if (settings.tetlet_size > max_tetlet_size(device_))
     throw InputError("--tetlet-size", device_.capabilities().name + " fits at most " + std::to_string(max_tetlet_size(device_)) +
                                           " near-clipped cells' proxies in one mesh workgroup");
-  if (settings.shared_vertices && settings.tetlet_size == 1)
-    throw InputError("--shared-vertices", "groups several cells per workgroup: use --tetlet-size 4, 8 or 16");
-  if (mesh_pipeline) pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
+  pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
 }
 
 void IntervalShadingPass::bind_mesh(const GpuTetMesh& mesh) {
