@@ -27,7 +27,7 @@
 #include "app/common/dataset_loader.hpp"
 #include "app/common/frame_timing.hpp"
 #include "app/common/output_files.hpp"
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 #include "app/common/volume_options.hpp"
 #include "app/common/warm_up.hpp"
 #include "renderer/frame/frame_renderer.hpp"

@@ -20,7 +20,7 @@
 #include "app/common/frame_timing.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_accuracy.hpp"
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "app/common/warm_up.hpp"

@@ -21,7 +21,7 @@
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "io/image_io.hpp"
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 #include "renderer/mixed/mixed_frame.hpp"
 #include "renderer/mixed/mixed_reference.hpp"
 #include "renderer/surface/surface_modes.hpp"

@@ -1,7 +1,7 @@
 #include "app/common/reference_accuracy.hpp"
 
 #include "app/common/cli_args.hpp"
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 #include "renderer/metrics/flip.hpp"
 
 namespace prismoid::app {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <exception>
 
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 
 namespace prismoid::app {
 

@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/input_error.hpp"
 

@@ -15,7 +15,7 @@
 
 #include "app/bench/vtk_peers.hpp"
 #include "app/bench/x_display.hpp"
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/generators.hpp"

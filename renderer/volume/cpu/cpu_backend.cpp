@@ -1,6 +1,6 @@
 #include "renderer/volume/cpu/cpu_backend.hpp"
 
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 
 namespace prismoid::volume {
 

@@ -1,6 +1,6 @@
 #pragma once
 // The CPU reference as a volume backend: every pixel's ray through the cells in double
-// precision and exact per-pixel order (renderer/frame/reference_frame.hpp), or through the
+// precision and exact per-pixel order (renderer/volume/cpu/reference_frame.hpp), or through the
 // analytic field itself. It draws whole frames without a device: what every GPU backend is
 // measured against, and what `--volume-backend cpu` (or `--mode reference`) shows.
 #include "renderer/volume/volume_backend.hpp"

@@ -1,4 +1,4 @@
-#include "renderer/frame/reference_frame.hpp"
+#include "renderer/volume/cpu/reference_frame.hpp"
 
 #include <algorithm>
 #include <chrono>
