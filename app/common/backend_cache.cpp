@@ -10,11 +10,14 @@
 #include <sys/stat.h>
 #include <system_error>
 #include <unistd.h>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "io/file_write.hpp"
 #include "renderer/vk/device.hpp"
+#include "renderer/volume/volume_backends.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -81,13 +84,16 @@ bool plausible_ms(double ms) { return std::isfinite(ms) && ms >= 1e-3 && ms <= 1
 
 bool read_entry(const nlohmann::json& e, frame::BackendCalibration& c) {
   if (!e.is_object()) return false;
-  for (const char* key : {"mesh_ms", "compute_ms"})
+  // Every GPU backend the table has now: an entry from before a backend joined it is measured again.
+  std::vector<std::string> keys;
+  for (const volume::VolumeBackendInfo* b : volume::volume_backend_table())
+    if (b->gpu()) keys.push_back(std::string(b->name) + "_ms");
+  for (const std::string& key : keys)
     if (!e.contains(key) || !e[key].is_number() || !plausible_ms(e[key].get<double>())) return false;
   for (const char* key : {"cells", "width", "height"})
     if (!e.contains(key) || !e[key].is_number_unsigned() || e[key].get<uint64_t>() == 0 || e[key].get<uint64_t>() > (uint64_t(1) << 32))
       return false;
-  c.mesh_ms = e["mesh_ms"].get<double>();
-  c.compute_ms = e["compute_ms"].get<double>();
+  for (const std::string& key : keys) c.ms[key.substr(0, key.size() - 3)] = e[key].get<double>();
   c.cells = e["cells"].get<uint64_t>();
   c.width = e["width"].get<uint32_t>();
   c.height = e["height"].get<uint32_t>();
@@ -150,7 +156,9 @@ frame::BackendChoice auto_backend(const vk::Device& device, const fs::path& cach
   if (from_cache) *from_cache = false;
   c = frame::calibrate_backends(device);
   if (!cache.empty() && replaceable) {
-    all[key] = {{"mesh_ms", c.mesh_ms}, {"compute_ms", c.compute_ms}, {"cells", c.cells}, {"width", c.width}, {"height", c.height}};
+    nlohmann::json entry = {{"cells", c.cells}, {"width", c.width}, {"height", c.height}};
+    for (const auto& [name, ms] : c.ms) entry[name + "_ms"] = ms;
+    all[key] = entry;
     write_cache(cache, all);
   }
   return frame::choose_backend(c);

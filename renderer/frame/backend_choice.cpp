@@ -4,30 +4,55 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/vk/device.hpp"
+#include "renderer/volume/volume_backends.hpp"
 #include "scene/generators.hpp"
 #include "scene/tet_mesh.hpp"
 
 namespace prismoid::frame {
 
 BackendChoice choose_backend(const BackendCalibration& c) {
-  char numbers[160];
-  std::snprintf(numbers, sizeof numbers, "a %llu-cell calibration frame at %ux%u took %.3g ms with compute, %.3g ms with mesh shaders",
-                static_cast<unsigned long long>(c.cells), c.width, c.height, c.compute_ms, c.mesh_ms);
-  const bool measured = std::isfinite(c.mesh_ms) && std::isfinite(c.compute_ms) && c.mesh_ms > 0.0 && c.compute_ms > 0.0;
-  if (!measured) {
-    return {IntervalBackend::Mesh, std::string("auto: mesh shaders, the calibration could not time both backends (") + numbers + ")"};
+  std::vector<std::pair<std::string_view, double>> timed;  // in table order
+  std::string untimed, numbers;
+  for (const volume::VolumeBackendInfo* b : volume::volume_backend_table()) {
+    if (!b->gpu()) continue;
+    const auto found = c.ms.find(b->name);
+    const double ms = found == c.ms.end() ? std::numeric_limits<double>::quiet_NaN() : found->second;
+    if (std::isfinite(ms) && ms > 0.0) {
+      timed.emplace_back(b->name, ms);
+      char time[64];
+      std::snprintf(time, sizeof time, "%.3g ms with %s", ms, std::string(b->name).c_str());
+      numbers.append(numbers.empty() ? "" : ", ").append(time);
+    } else {
+      untimed.append(untimed.empty() ? "" : ", ").append(b->name);
+    }
   }
-  if (c.compute_ms < c.mesh_ms) {
+  char frame[96];
+  std::snprintf(frame, sizeof frame, "a %llu-cell calibration frame at %ux%u", static_cast<unsigned long long>(c.cells), c.width,
+                c.height);
+  const std::string measured = std::string(frame).append(numbers.empty() ? " was not timed" : " took " + numbers);
+  if (timed.empty()) {
+    const IntervalBackend fallback{volume::volume_backend_table().front()->name};
+    return {fallback, std::string("auto: ").append(fallback.name).append(", the calibration could not time any backend (")
+                          .append(measured).append(")")};
+  }
+  std::stable_sort(timed.begin(), timed.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  std::string why = std::string("auto: ").append(timed[0].first).append(", ");
+  if (timed.size() > 1) {
     char ratio[48];
-    std::snprintf(ratio, sizeof ratio, "%.2gx faster", c.mesh_ms / c.compute_ms);
-    return {IntervalBackend::Compute, std::string("auto: compute, ") + ratio + " on this device (" + numbers + ")"};
+    std::snprintf(ratio, sizeof ratio, "%.2gx faster than %s", timed[1].second / timed[0].second, std::string(timed[1].first).c_str());
+    why.append(ratio).append(" on this device");
+  } else {
+    why.append("the only backend timed");
   }
-  char ratio[48];
-  std::snprintf(ratio, sizeof ratio, "%.2gx faster", c.compute_ms / c.mesh_ms);
-  return {IntervalBackend::Mesh, std::string("auto: mesh shaders, ") + ratio + " on this device (" + numbers + ")"};
+  if (!untimed.empty()) why.append("; the calibration could not time ").append(untimed);
+  return {IntervalBackend{timed[0].first}, why.append(" (").append(measured).append(")")};
 }
 
 std::string device_key(const vk::Device& device) {
@@ -48,7 +73,7 @@ BackendCalibration calibrate_backends(const vk::Device& device, uint32_t frames)
   c.cells = mesh.tets.size();
   FrameRenderer renderer(device, mesh);
   const Camera camera = fit_camera(renderer.bounds());
-  auto best_of = [&](IntervalBackend backend) {
+  const auto best_of = [&](IntervalBackend backend) {
     FrameSettings settings;
     settings.resolve.quantity = volume::Quantity::OpticalDepth;
     settings.backend = backend;
@@ -60,8 +85,8 @@ BackendCalibration calibrate_backends(const vk::Device& device, uint32_t frames)
     }
     return best;
   };
-  c.mesh_ms = best_of(IntervalBackend::Mesh);
-  c.compute_ms = best_of(IntervalBackend::Compute);
+  for (const volume::VolumeBackendInfo* b : volume::volume_backend_table())
+    if (b->gpu() && volume::device_problem(*b, device.capabilities()).empty()) c.ms[std::string(b->name)] = best_of(IntervalBackend{b->name});
   return c;
 }
 

@@ -4,6 +4,8 @@
 // GPU with a full graphics pipeline may favour the mesh-shader backend, a compute GPU (whose
 // rasterizer runs on a few of its units) or a CPU device (lavapipe) the compute one.
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -15,12 +17,14 @@ class Device;
 
 namespace prismoid::frame {
 
-// One device's calibration: the best GPU time of the same frame drawn by each backend.
+// One device's calibration: the best GPU time of the same frame drawn by each GPU backend of
+// the volume backend table that the device runs.
 struct BackendCalibration {
-  std::string device_key;      // device name, driver version and pipeline-cache UUID: what it was measured on
-  double mesh_ms = 0.0;        // best of the timed frames, all passes of the frame
-  double compute_ms = 0.0;
-  uint64_t cells = 0;          // the calibration mesh's cells
+  std::string device_key;  // device name, driver version and pipeline-cache UUID: what it was measured on
+  // Best of the timed frames, all passes of the frame, by backend name (absent or not finite:
+  // not measured).
+  std::map<std::string, double, std::less<>> ms;
+  uint64_t cells = 0;      // the calibration mesh's cells
   uint32_t width = 0, height = 0;
 };
 
@@ -29,15 +33,15 @@ struct BackendChoice {
   std::string reason;  // why, with the calibration's numbers, for info --plan and the stats
 };
 
-// The faster backend of the calibration; the mesh-shader one where the device cannot run the
-// compute one (nullopt times: not measured) or the times are not finite.
+// The fastest GPU backend of the calibration, among the table's; the table's first (the
+// default) where none could be timed.
 BackendChoice choose_backend(const BackendCalibration& calibration);
 
 // "name driver-version uuid-hex": changes with a driver update, which may change the answer.
 std::string device_key(const vk::Device& device);
 
 // Draws the calibration frame (a 12^3-cube box of 10,368 cells with a varying field, optical
-// depth at 128x128, the camera framing it) with each backend, `frames` timed frames after one
+// depth at 128x128, the camera framing it) with each GPU backend of the table the device runs, `frames` timed frames after one
 // untimed, and returns the best times. About a second on lavapipe, milliseconds on a GPU.
 BackendCalibration calibrate_backends(const vk::Device& device, uint32_t frames = 3);
 

@@ -178,16 +178,16 @@ TEST_F(FramePlanGpuTest, AStillCameraReusesTheExactOrderWithTheSameImage) {
 // `auto` picks the backend its calibration measured faster, says so with the numbers, and
 // falls back to the mesh-shader backend where a time is missing.
 TEST(BackendChoice, PicksTheFasterBackendWithItsNumbers) {
-  frame::BackendCalibration c{"dev", 10.0, 2.5, 10368, 128, 128};
+  frame::BackendCalibration c{"dev", {{"mesh", 10.0}, {"compute", 2.5}}, 10368, 128, 128};
   auto choice = frame::choose_backend(c);
   EXPECT_EQ(choice.backend, frame::IntervalBackend::Compute);
   EXPECT_NE(choice.reason.find("4x faster"), std::string::npos) << choice.reason;
   EXPECT_NE(choice.reason.find("10368-cell"), std::string::npos) << choice.reason;
-  c.compute_ms = 30.0;
+  c.ms["compute"] = 30.0;
   choice = frame::choose_backend(c);
   EXPECT_EQ(choice.backend, frame::IntervalBackend::Mesh);
   EXPECT_NE(choice.reason.find("3x faster"), std::string::npos) << choice.reason;
-  c.compute_ms = std::numeric_limits<double>::quiet_NaN();
+  c.ms["compute"] = std::numeric_limits<double>::quiet_NaN();
   choice = frame::choose_backend(c);
   EXPECT_EQ(choice.backend, frame::IntervalBackend::Mesh);
   EXPECT_NE(choice.reason.find("could not time"), std::string::npos) << choice.reason;
@@ -198,10 +198,10 @@ TEST_F(FramePlanGpuTest, CalibrationTimesBothBackends) {
   const frame::BackendCalibration c = frame::calibrate_backends(device(), 1);
   EXPECT_EQ(c.device_key, frame::device_key(device()));
   EXPECT_EQ(c.cells, 10368u);
-  ASSERT_TRUE(std::isfinite(c.mesh_ms) && c.mesh_ms > 0.0) << c.mesh_ms;
-  ASSERT_TRUE(std::isfinite(c.compute_ms) && c.compute_ms > 0.0) << c.compute_ms;
-  EXPECT_EQ(frame::choose_backend(c).backend,
-            c.compute_ms < c.mesh_ms ? frame::IntervalBackend::Compute : frame::IntervalBackend::Mesh);
+  const double mesh_ms = c.ms.at("mesh"), compute_ms = c.ms.at("compute");
+  ASSERT_TRUE(std::isfinite(mesh_ms) && mesh_ms > 0.0) << mesh_ms;
+  ASSERT_TRUE(std::isfinite(compute_ms) && compute_ms > 0.0) << compute_ms;
+  EXPECT_EQ(frame::choose_backend(c).backend, compute_ms < mesh_ms ? frame::IntervalBackend::Compute : frame::IntervalBackend::Mesh);
 }
 
 }  // namespace
