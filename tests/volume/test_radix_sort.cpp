@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "renderer/sort/prefix_sum.hpp"
 #include "renderer/sort/radix_sort.hpp"
 #include "renderer/vk/timer.hpp"
 #include "renderer/volume/mesh/interval_shading.hpp"
@@ -176,6 +177,29 @@ TEST_F(RadixSortTest, SortedAndReversedInput) {
   EXPECT_TRUE(sorts_like_stable_sort(sort, ascending));
   std::vector<uint32_t> descending(ascending.rbegin(), ascending.rend());
   EXPECT_TRUE(sorts_like_stable_sort(sort, descending));
+}
+
+// The exclusive prefix sum the compute backend's pair counts go through, against std's, at the
+// scan's block boundaries and past one scan workgroup; the values after `count` stay.
+TEST_F(RadixSortTest, PrefixSumMatchesExclusiveScan) {
+  const std::vector<uint32_t> counts = {1, 2, 1023, 1024, 1025, 4099, 300'007};
+  sort::GpuPrefixSum scan(device());
+  std::mt19937 rng(777);
+  for (uint32_t count : counts) {
+    std::vector<uint32_t> values(count);
+    for (auto& v : values) v = random_u32(rng) % 1000u;  // sums stay far below 2^32
+    std::vector<uint32_t> guarded = values;
+    guarded.resize(count + kGuardEntries, kGuardValue);
+    vk::Buffer buffer = upload(guarded);
+    scan.reserve(count);
+    device().submit_and_wait([&](VkCommandBuffer cmd) { scan.record(cmd, buffer, count); });
+    const std::vector<uint32_t> gpu = download(buffer, count + kGuardEntries);
+    std::vector<uint32_t> expected(count);
+    std::exclusive_scan(values.begin(), values.end(), expected.begin(), 0u);
+    for (uint32_t i = 0; i < count; ++i) ASSERT_EQ(gpu[i], expected[i]) << count << " values, place " << i;
+    for (uint32_t i = count; i < count + kGuardEntries; ++i) ASSERT_EQ(gpu[i], kGuardValue) << count << " values: entry " << i;
+  }
+  EXPECT_EQ(scan.bytes(), sort::GpuPrefixSum::bytes_for(counts.back()));
 }
 
 TEST_F(RadixSortTest, CountAboveCapacityIsRefused) {

@@ -50,17 +50,10 @@ const std::array<vk::DescriptorBinding, 24> kBindings = {{
     {PRISMOID_CI_BINDING_DEPTH_LIMIT, kStorage, kCompute},
 }};
 
-// The radix sort's scan kernels, run on the pair counts.
-const std::array<vk::DescriptorBinding, 3> kScanBindings = {{
-    {PRISMOID_SORT_BINDING_HISTOGRAMS, kStorage, kCompute},
-    {PRISMOID_SORT_BINDING_PARTIALS, kStorage, kCompute},
-    {PRISMOID_SORT_BINDING_PARAMS, kStorage, kCompute},
-}};
-
 // The dispatch-size minimum every device offers, per dimension; also the most blocks the
 // sort and the prefix sum (1024 entries each) can take.
 constexpr uint64_t kMaxGroups = 65535;
-constexpr uint64_t kMaxScanned = kMaxGroups * PRISMOID_SORT_SCAN_BLOCK;
+const uint64_t kMaxScanned = sort::GpuPrefixSum::max_count();
 constexpr uint64_t kMaxPairs = kMaxGroups * PRISMOID_SORT_BLOCK;
 
 uint32_t groups_for(uint64_t items, uint64_t per_group) {
@@ -135,15 +128,7 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
   chunk_args_ = vk::create_compute_pipeline(device, "volume/compute/chunk_args.comp", layout_.get());
   tile_merge_ = vk::create_compute_pipeline(device, "volume/compute/tile_merge.comp", layout_.get());
   set_ = vk::allocate_descriptor_set(device, set_layout_.get(), kBindings);
-
-  scan_set_layout_ = vk::create_descriptor_set_layout(device, kScanBindings);
-  VkDescriptorSetLayout scan_sets[] = {scan_set_layout_.get()};
-  VkPushConstantRange scan_push{kCompute, 0, sizeof(gpu::RadixSortPush)};
-  scan_layout_ = vk::create_pipeline_layout(device, scan_sets, std::span(&scan_push, 1));
-  scan_reduce_ = vk::create_compute_pipeline(device, "sort/radix_scan_reduce.comp", scan_layout_.get());
-  scan_partials_ = vk::create_compute_pipeline(device, "sort/radix_scan_partials.comp", scan_layout_.get());
-  scan_downsweep_ = vk::create_compute_pipeline(device, "sort/radix_scan_downsweep.comp", scan_layout_.get());
-  scan_set_ = vk::allocate_descriptor_set(device, scan_set_layout_.get(), kScanBindings);
+  scan_ = std::make_unique<sort::GpuPrefixSum>(device);
 
   frame_uniforms_ = vk::Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
   stats_ = vk::Buffer(device, PRISMOID_CI_STAT_COUNT * sizeof(uint32_t),
@@ -152,25 +137,21 @@ ComputeIntervals::ComputeIntervals(const vk::Device& device) : device_(device), 
                       vk::MemoryUse::DeviceLocal);
   stats_readback_ = vk::Buffer(device, stats_.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::HostVisible);
   std::memset(stats_readback_.mapped(), 0, stats_readback_.size());
-  scan_params_ = vk::Buffer(device, sizeof(gpu::RadixSortParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                            vk::MemoryUse::DeviceLocal);
   sort_ = std::make_unique<sort::GpuRadixSort>(device, 1);
 }
 
 ComputeIntervals::~ComputeIntervals() = default;
 
 uint64_t ComputeIntervals::bytes_for(uint64_t cells, uint64_t tiles, uint64_t pairs) {
-  const uint64_t per_cell = cells * (sizeof(glm::uvec4) + 2 * sizeof(uint32_t)) +
-                            (cells + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK * sizeof(uint32_t);
+  const uint64_t per_cell = cells * (sizeof(glm::uvec4) + 2 * sizeof(uint32_t)) + sort::GpuPrefixSum::bytes_for(cells);
   const uint64_t per_pair = pairs * 2 * sizeof(uint32_t) + sort::GpuRadixSort::scratch_bytes(static_cast<uint32_t>(std::min(pairs, kMaxPairs)));
   const uint64_t per_chunk = chunk_slots_for(pairs) * (sizeof(glm::uvec2) + PRISMOID_CI_TILE_PIXELS * sizeof(gpu::ChunkPartial));
-  return per_cell + tiles * (sizeof(glm::uvec2) + 2 * sizeof(uint32_t)) + per_pair + per_chunk + sizeof(gpu::FrameUniforms) + 2 * PRISMOID_CI_STAT_COUNT * sizeof(uint32_t) +
-         sizeof(gpu::RadixSortParams);
+  return per_cell + tiles * (sizeof(glm::uvec2) + 2 * sizeof(uint32_t)) + per_pair + per_chunk + sizeof(gpu::FrameUniforms) + 2 * PRISMOID_CI_STAT_COUNT * sizeof(uint32_t);
 }
 
 uint64_t ComputeIntervals::bytes() const {
-  uint64_t total = sort_->bytes();
-  for (const vk::Buffer* b : {&frame_uniforms_, &stats_, &stats_readback_, &scan_params_, &bins_, &offsets_, &scan_partials_buffer_,
+  uint64_t total = sort_->bytes() + scan_->bytes();
+  for (const vk::Buffer* b : {&frame_uniforms_, &stats_, &stats_readback_, &bins_, &offsets_,
                               &keys_, &values_, &tile_ranges_buffer_, &big_cells_, &chunk_base_, &chunk_work_,
                               &split_tiles_, &partials_})
     total += b->size();
@@ -209,9 +190,7 @@ void ComputeIntervals::allocate(uint64_t cells, uint64_t tiles, uint64_t pairs) 
   if (cells > cell_capacity_) {
     bins_ = vk::Buffer(device_, cells * sizeof(glm::uvec4), usage, vk::MemoryUse::DeviceLocal);
     offsets_ = vk::Buffer(device_, cells * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
-    scan_partials_buffer_ =
-        vk::Buffer(device_, (cells + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK * sizeof(uint32_t), usage,
-                   vk::MemoryUse::DeviceLocal);
+    scan_->reserve(cells);
     big_cells_ = vk::Buffer(device_, cells * sizeof(uint32_t), usage, vk::MemoryUse::DeviceLocal);
     cell_capacity_ = cells;
   }
@@ -310,9 +289,6 @@ void ComputeIntervals::bind_frame_inputs(const GpuTetMesh& mesh, const VolumeInp
   for (const auto& [binding, buffer] : buffers) vk::write_buffer_descriptor(device_, s, binding, kStorage, buffer->get());
   vk::write_storage_image_descriptor(device_, s, PRISMOID_CI_BINDING_OPTICAL_DEPTH, targets.optical_depth.view());
   vk::write_storage_image_descriptor(device_, s, PRISMOID_CI_BINDING_EMISSION, targets.emission.view());
-  vk::write_buffer_descriptor(device_, scan_set_.set, PRISMOID_SORT_BINDING_HISTOGRAMS, kStorage, offsets_.get());
-  vk::write_buffer_descriptor(device_, scan_set_.set, PRISMOID_SORT_BINDING_PARTIALS, kStorage, scan_partials_buffer_.get());
-  vk::write_buffer_descriptor(device_, scan_set_.set, PRISMOID_SORT_BINDING_PARAMS, kStorage, scan_params_.get());
 }
 
 void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, const VolumeInputs& inputs, const VolumeTargets& targets,
@@ -357,23 +333,7 @@ void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, c
   compute_to_compute(cmd, {bins_.get(), offsets_.get(), big_cells_.get(), stats_.get()});
 
   // Prefix sum of the pair counts, in place: each cell's first pair.
-  const uint32_t scan_groups = groups_for(f.cells, PRISMOID_SORT_SCAN_BLOCK);
-  const gpu::RadixSortParams scan{glm::uvec4(f.cells, 0u, 0u, f.cells), glm::uvec4(0u), glm::uvec4(0u)};
-  vkCmdUpdateBuffer(cmd, scan_params_.get(), 0, sizeof(scan), &scan);
-  vk::buffer_barrier(cmd, {scan_params_.get()}, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-  const gpu::RadixSortPush scan_push{glm::uvec4(0u)};
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_layout_.get(), 0, 1, &scan_set_.set, 0, nullptr);
-  vkCmdPushConstants(cmd, scan_layout_.get(), kCompute, 0, sizeof(scan_push), &scan_push);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_reduce_.get());
-  vkCmdDispatch(cmd, scan_groups, 1, 1);
-  compute_to_compute(cmd, {scan_partials_buffer_.get()});
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_partials_.get());
-  vkCmdDispatch(cmd, 1, 1, 1);
-  compute_to_compute(cmd, {scan_partials_buffer_.get()});
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_downsweep_.get());
-  vkCmdDispatch(cmd, scan_groups, 1, 1);
-  compute_to_compute(cmd, {offsets_.get()});
+  scan_->record(cmd, offsets_, static_cast<uint32_t>(f.cells));
 
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_.set, 0, nullptr);
   vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(push), &push);

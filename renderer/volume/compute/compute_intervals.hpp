@@ -31,6 +31,7 @@
 #include "renderer/vk/pipeline.hpp"
 #include "renderer/volume/volume_inputs.hpp"
 #include "renderer/volume/resolve_settings.hpp"
+#include "renderer/sort/prefix_sum.hpp"
 #include "renderer/sort/radix_sort.hpp"
 #include "scene/camera.hpp"
 
@@ -101,17 +102,13 @@ class ComputeIntervals {
   std::map<uint32_t, vk::UniquePipeline> tile_rasters_;  // by PRISMOID_CI_* mode, made in prepare() on first use
   vk::DescriptorSet set_;
   // The prefix sum of the pair counts runs the radix sort's scan kernels on these bindings.
-  vk::UniqueDescriptorSetLayout scan_set_layout_;
-  vk::UniquePipelineLayout scan_layout_;
-  vk::UniquePipeline scan_reduce_, scan_partials_, scan_downsweep_;
-  vk::DescriptorSet scan_set_;
+  std::unique_ptr<sort::GpuPrefixSum> scan_;  // the pair counts into each cell's first pair
   std::unique_ptr<sort::GpuRadixSort> sort_;
 
   vk::Buffer frame_uniforms_;  // gpu::FrameUniforms (host-visible)
   vk::Buffer stats_;           // uint[PRISMOID_CI_STAT_COUNT], counted on the GPU
   vk::Buffer stats_readback_;  // their copy in host memory, read after the frame
-  vk::Buffer scan_params_;     // gpu::RadixSortParams of the prefix sum
-  vk::Buffer bins_, offsets_, scan_partials_buffer_;
+  vk::Buffer bins_, offsets_;
   vk::Buffer keys_, values_;
   vk::Buffer tile_ranges_buffer_;
   vk::Buffer big_cells_;                          // per cell (at most every cell is big)
