@@ -94,7 +94,8 @@ std::string surface_render_help() {
 int cmd_render_surface(const std::vector<std::string>& args, const surface::SurfaceMode& chosen) {
   // Every GPU backend's options parse, so that another mode's is refused naming that mode.
   std::vector<std::string> values = with_surface_color(with_camera({"output", "size", "mode", "quantity", "stats", "device"}));
-  std::vector<std::string> flags = {"validate", "help", "reference-error"};
+  // --no-shadows: the texture-space modes' old spelling of --shadows off, still understood.
+  std::vector<std::string> flags = {"validate", "help", "reference-error", "no-shadows"};
   std::vector<std::string> backend_options;
   for (const surface::SurfaceMode& m : surface::surface_mode_table())
     if (m.gpu())
@@ -137,7 +138,11 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   const uint32_t frames = given.count("frames") ? parse_uint("frames", given.at("frames")) : 1;
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
   std::optional<bool> shadows_asked;
-  if (given.count("no-shadows")) shadows_asked = false;
+  if (a.flags.count("no-shadows")) {
+    if (given.count("shadows")) throw InputError("--no-shadows", "is the old spelling of --shadows off: give --shadows alone");
+    std::cerr << "prismoid: note: --no-shadows is spelled --shadows off now (every surface mode takes --shadows on|off)\n";
+    shadows_asked = false;
+  }
   if (given.count("shadows")) {
     const std::string& v = given.at("shadows");
     if (v != "on" && v != "off") throw InputError("--shadows", "'" + v + "' is not on or off");
@@ -158,7 +163,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   surface::SurfaceRenderer renderer(device, lit, given);
   if (shadows_asked && *shadows_asked && !renderer.can_shadow())
     throw vk::NoSuitableDevice(caps.name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure): "
-                               "shadows need it; use " + std::string(takes(backend, "shadows") ? "--shadows off" : "--no-shadows"));
+                               "shadows need it; use --shadows off");
   if (shadows_asked) renderer.set_shadows(*shadows_asked);
 
   auto render = [&] { return renderer.render_offscreen(camera, name, size, k); };

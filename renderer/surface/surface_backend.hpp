@@ -32,9 +32,9 @@ namespace prismoid::surface {
 // A backend's options as `render` got them: name (without "--") -> value ("" for a flag).
 using SurfaceOptions = std::map<std::string, std::string>;
 
-// One option a backend's modes take on `render`'s command line. Four names mean the same to every
-// backend that takes them and are read by the command itself: `shadows` (on|off), `no-shadows`,
-// `supersample` (K x K sub-pixel positions averaged) and `frames` (timed frames, median).
+// One option a backend's modes take on `render`'s command line. Three names mean the same to every
+// backend that takes them and are read by the command itself: `shadows` (on|off; every backend
+// takes it), `supersample` (K x K sub-pixel positions averaged) and `frames` (timed frames, median).
 struct SurfaceOption {
   std::string_view name;
   bool flag = false;  // --name alone; else --name VALUE

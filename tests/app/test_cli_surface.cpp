@@ -104,6 +104,39 @@ TEST(CliSurface, RenderStatsListThePlannedAndSkippedPasses) {
     EXPECT_NE(js.find(key), std::string::npos) << key << " in " << js;
 }
 
+// One spelling of the shadows setting for every surface mode: --shadows off leaves the shadow
+// rays out of each backend's plan (on lavapipe, which traces no rays, the default is off too, so
+// the plan's reason is what tells the setting was read). The texture-space modes' old
+// --no-shadows still works, with a note naming the new spelling; both at once are refused.
+TEST(CliSurface, EveryGpuModeTakesShadowsOnOrOff) {
+  const fs::path pfm = work_dir() / "shadows.pfm", stats = work_dir() / "shadows.json";
+  std::string backends;
+  for (const surface::SurfaceMode& m : surface::surface_mode_table()) {
+    if (!m.gpu() || m.gi != frame::SurfaceGi::None) continue;
+    std::string args = "render cornell-box --mode " + std::string(m.name) + " --shadows off --size 16x12 --validate --output " +
+                       pfm.string() + " --stats " + stats.string();
+    if (m.backend == surface::find_surface_mode("htex")->backend) args += " --pool-pages 16 --texels-per-unit 0.05";
+    const CliRun r = run(args);
+    ASSERT_EQ(r.code, 0) << m.name << ": " << r.err;
+    const std::string js = slurp(stats);
+    EXPECT_NE(js.find("{\"pass\": \"shadow rays\", \"reason\": \"shadows are off\"}"), std::string::npos) << m.name << ": " << js;
+    EXPECT_NE(js.find("\"shadows\": false"), std::string::npos) << m.name << ": " << js;
+    backends += std::string(m.name) + " ";
+  }
+  EXPECT_NE(backends.find("forward"), std::string::npos) << backends;
+  EXPECT_NE(backends.find("msa"), std::string::npos) << backends;
+
+  CliRun r = run("render cornell-box --mode msa --no-shadows --size 16x12 --output " + pfm.string() + " --stats " + stats.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: --no-shadows is spelled --shadows off now"), std::string::npos) << r.err;
+  EXPECT_NE(slurp(stats).find("{\"pass\": \"shadow rays\", \"reason\": \"shadows are off\"}"), std::string::npos);
+  r = run("render cornell-box --mode forward --no-shadows --size 16x12 --output " + pfm.string());
+  EXPECT_EQ(r.code, 0) << "forward understands the old spelling too: " << r.err;
+  r = run("render cornell-box --mode msa --no-shadows --shadows on --size 16x12 --output " + pfm.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--no-shadows: is the old spelling of --shadows off"), std::string::npos) << r.err;
+}
+
 // Every GPU mode of the table renders by its own name (the GI modes too, which render's --gi
 // names as well); an unknown mode is not a surface mode.
 TEST(CliSurface, EveryGpuModeOfTheTableRendersByItsName) {

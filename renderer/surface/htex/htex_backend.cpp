@@ -246,9 +246,9 @@ const SurfaceBackendInfo& htex_backend() {
               .display = {"gather", "per pixel, its footprint's texels through the page table, blended across edges; the sky elsewhere", ""},
           },
       .options = {{"texels-per-unit", false}, {"pool-pages", false}, {"gi", false}, {"gi-frames", false}, {"gi-neighbours", false},
-                  {"gi-fallback", false}, {"no-shadows", true}},
+                  {"gi-fallback", false}, {"shadows", false}},
       .options_help =
-          "--no-shadows; --texels-per-unit D (default 128; the window: 2048 along the scene's diagonal),\n"
+          "--shadows on|off; --texels-per-unit D (default 128; the window: 2048 along the scene's diagonal),\n"
           "--pool-pages N (64 KiB each, default 1024; 64 with GI); --gi off|biased|unbiased|path-traced:\n"
           "one-bounce indirect light (the mode of this backend with that light), the image the mean of\n"
           "--gi-frames N (default 8) frames; --gi-neighbours K (0..16, default 4), --gi-fallback on|off",

@@ -167,9 +167,9 @@ const SurfaceBackendInfo& msa_backend() {
               .gi = {},
               .display = {"display", "per pixel, its chart point through its meshlet's block, bilinear from the atlas; the sky elsewhere", ""},
           },
-      .options = {{"meshlets", false}, {"msa-charts", false}, {"msa-superblocks", false}, {"shading-budget", false}, {"no-shadows", true}},
+      .options = {{"meshlets", false}, {"msa-charts", false}, {"msa-superblocks", false}, {"shading-budget", false}, {"shadows", false}},
       .options_help =
-          "--no-shadows; --meshlets normal-cone|meshoptimizer (default normal-cone), --msa-charts\n"
+          "--shadows on|off; --meshlets normal-cone|meshoptimizer (default normal-cone), --msa-charts\n"
           "projection|conformal|perspective|orthographic (the meshlets' charts: static orthogonal projection,\n"
           "default, or least-squares conformal maps, the paper's LSCM; or made every frame from the camera:\n"
           "perspective, MSA-P, or orthographic, MSA-O), --msa-superblocks N (256x256 texels each, default 64),\n"

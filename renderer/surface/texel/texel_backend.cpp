@@ -116,9 +116,9 @@ const SurfaceBackendInfo& texel_backend() {
               .gi = {},
               .display = {"gather", "per pixel, its four taps blended bilinearly from the atlas; the sky elsewhere", ""},
           },
-      .options = {{"texel-density", false}, {"texel-levels", false}, {"mip-bias", false}, {"no-shadows", true}},
+      .options = {{"texel-density", false}, {"texel-levels", false}, {"mip-bias", false}, {"shadows", false}},
       .options_help =
-          "--no-shadows; --texel-density D (level-0 texels per unit; default: about 4M texels in all, fewer\n"
+          "--shadows on|off; --texel-density D (level-0 texels per unit; default: about 4M texels in all, fewer\n"
           "where the device's buffers are smaller), --texel-levels N (default 4), --mip-bias B (shading\n"
           "rate: +1 shades a quarter)",
       .tuning = kTuneLodBias,
