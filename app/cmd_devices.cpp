@@ -5,6 +5,7 @@
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
 #include "renderer/frame/volume_modes.hpp"
+#include "renderer/volume/volume_backends.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
@@ -47,6 +48,13 @@ int cmd_devices(const std::vector<std::string>& args) {
     for (const frame::VolumeMode& m : frame::volume_mode_table())
       if (m.gpu() && frame::device_problem(m, d).empty()) volume_modes += (volume_modes.empty() ? "" : ", ") + std::string(m.name);
     std::cout << "  volume modes it draws: " << (volume_modes.empty() ? "none" : volume_modes) << "\n";
+    std::string backends;
+    for (const volume::VolumeBackendInfo* b : volume::volume_backend_table()) {
+      if (!b->gpu()) continue;
+      const std::string missing = volume::device_problem(*b, d);
+      backends.append(backends.empty() ? "" : ", ").append(b->name).append(missing.empty() ? "" : " (no: needs " + missing + ")");
+    }
+    std::cout << "  volume backends: " << backends << "\n";
   }
   try {
     const auto& chosen = vk::select_device(devices, std::nullopt);

@@ -28,6 +28,7 @@
 #include "renderer/reference/emission_absorption.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/region_mesh.hpp"
+#include "renderer/volume/volume_backends.hpp"
 #include "scene/generators.hpp"
 #include "support/cli_run.hpp"
 
@@ -110,6 +111,39 @@ TEST(Cli, VolumeModesComeFromTheirTable) {
                              "interval-march-exact-order\n"),
             std::string::npos)
       << devices.out;
+}
+
+// --volume-backend offers the volume backend table: the help lists each backend with its summary,
+// an unknown name is refused naming every one, `devices` says which GPU backends a device runs,
+// and the CPU reference is a backend too (the reference mode's frame; refused with a GPU mode).
+TEST(Cli, VolumeBackendsComeFromTheirTable) {
+  const CliRun help = run("render --help");
+  ASSERT_EQ(help.code, 0) << help.err;
+  std::string names, gpu_names;
+  for (const volume::VolumeBackendInfo* b : volume::volume_backend_table()) {
+    const std::string summary(b->summary);
+    EXPECT_NE(help.out.find(std::string(b->name) + "  "), std::string::npos) << b->name << " missing from:\n" << help.out;
+    EXPECT_NE(help.out.find(summary.substr(0, summary.find(' ', 20))), std::string::npos) << b->name << "'s summary missing";
+    names += std::string(b->name) + ", ";
+    if (b->gpu()) gpu_names += (gpu_names.empty() ? "" : ", ") + std::string(b->name);
+  }
+  const CliRun bad = run("render ball --size 8x8 --output x.png --volume-backend quantum");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("unknown backend 'quantum' (available: " + names + "auto)"), std::string::npos) << bad.err;
+  const CliRun devices = run("devices");
+  ASSERT_EQ(devices.code, 0) << devices.err;
+  EXPECT_NE(devices.out.find("volume backends: " + gpu_names + "\n"), std::string::npos) << devices.out;
+
+  const fs::path cpu = work_dir() / "backend_cpu.pfm", reference = work_dir() / "mode_reference.pfm";
+  CliRun r = run("render ball --quantity optical-depth --size 24x16 --volume-backend cpu --output " + cpu.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("CPU reference (double precision)"), std::string::npos) << r.out;
+  r = run("render ball --quantity optical-depth --size 24x16 --mode reference --output " + reference.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(io::read_pfm(cpu.string()).pixels, io::read_pfm(reference.string()).pixels);
+  r = run("render ball --size 8x8 --volume-backend cpu --mode interval --output " + cpu.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--volume-backend cpu: draws the CPU reference: --mode interval is drawn on the GPU"), std::string::npos) << r.err;
 }
 
 TEST(Cli, RenderWritesPfmThatMatchesTheReference) {
