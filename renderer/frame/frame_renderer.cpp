@@ -135,6 +135,12 @@ FrameReport FrameRenderer::prepare(const Camera& world_camera, const FrameSettin
       throw InputError("depth limit", "is not followed when marching a field or drawing an isosurface");
   }
   volume::check_workgroup_settings(settings.resolve);
+  // What the backend draws, from its line of the table: it is refused by name for the rest.
+  const volume::VolumeBackendInfo* info = volume::find_volume_backend(interval_backend_name(settings.backend));
+  if (info && settings.resolve.depth_limit && !info->supports.depth_limit)
+    throw InputError("depth limit", "the " + std::string(info->name) + " volume backend does not end rays at opaque geometry");
+  if (info && (settings.resolve.march.enabled || settings.resolve.quantity == volume::Quantity::Isosurface) && !info->supports.march)
+    throw InputError("march", "the " + std::string(info->name) + " volume backend does not sample a field inside its intervals");
   volume::GpuVolumeBackend& backend = backend_for(settings);
   active_ = &backend;
   const volume::BackendPrepare frame{camera, settings, targets_.extent};
