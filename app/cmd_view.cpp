@@ -74,7 +74,8 @@ const char* const kViewHelp =
     "  --frames N           close after N frames (for scripted runs)\n"
     "  --script FILE        drive the window from a command file (see docs/user-guide.md)\n"
     "  --no-ui              start with the panels hidden (H shows them)\n"
-    "  --volume-backend B   mesh (default), compute or auto, as for render; switchable in the mode panel\n"
+    "  --volume-backend B   a GPU backend of render's (mesh, the default, or compute) or auto; switchable in\n"
+    "                       the mode panel\n"
     "  --device N           use Vulkan device N\n"
     "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
     "\n"
@@ -183,7 +184,11 @@ int cmd_view(const std::vector<std::string>& args) {
   if (first.files.size() > 1) first.files.resize(1);
   VolumeChoice choice = volume_choice(first);
   const std::string mode(choice.mode->name);
-  if (!choice.mode->gpu()) throw InputError("--mode " + mode, "runs on the CPU: use `prismoid render --mode " + mode + "`");
+  if (!choice.mode->gpu()) {
+    // The window draws on the GPU; the CPU backend's frames are `render`'s (and the difference view's).
+    const std::string asked = a.has("mode") ? "--mode " + mode : "--volume-backend " + a.values.at("volume-backend");
+    throw InputError(asked, "runs on the CPU: use `prismoid render " + asked + "` (the window's difference view shows the CPU reference)");
+  }
   if (a.files.size() > 1 && choice.settings.resolve.march.enabled)
     throw InputError("--mode " + mode, "marches the field of one dataset: give one FILE");
   const bool color = choice.settings.resolve.quantity == volume::Quantity::Color;

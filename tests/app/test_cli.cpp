@@ -144,6 +144,9 @@ TEST(Cli, VolumeBackendsComeFromTheirTable) {
   r = run("render ball --size 8x8 --volume-backend cpu --mode interval --output " + cpu.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--volume-backend cpu: draws the CPU reference: --mode interval is drawn on the GPU"), std::string::npos) << r.err;
+  r = run("view ball --volume-backend cpu");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--volume-backend cpu: runs on the CPU: use `prismoid render --volume-backend cpu`"), std::string::npos) << r.err;
 }
 
 TEST(Cli, RenderWritesPfmThatMatchesTheReference) {
