@@ -1,5 +1,7 @@
 #include "renderer/frame/volume_modes.hpp"
 
+#include "renderer/volume/volume_backends.hpp"
+
 namespace prismoid::frame {
 
 const char* volume_backend_name(VolumeBackend backend) {
@@ -55,10 +57,7 @@ std::string volume_mode_names() {
 }
 
 std::string device_problem(const VolumeMode& mode, const vk::DeviceCapabilities& caps) {
-  std::string missing;
-  for (const vk::Feature f : mode.needs)
-    if (!vk::has_feature(caps, f)) missing += (missing.empty() ? "" : ", ") + std::string(vk::feature_name(f));
-  return missing;
+  return volume::missing_features(mode.needs, caps);
 }
 
 }  // namespace prismoid::frame

@@ -36,11 +36,15 @@ std::string volume_backend_names() {
   return names;
 }
 
-std::string device_problem(const VolumeBackendInfo& backend, const vk::DeviceCapabilities& caps) {
+std::string missing_features(const std::vector<vk::Feature>& needs, const vk::DeviceCapabilities& caps) {
   std::string missing;
-  for (const vk::Feature f : backend.needs)
+  for (const vk::Feature f : needs)
     if (!vk::has_feature(caps, f)) missing += (missing.empty() ? "" : ", ") + std::string(vk::feature_name(f));
   return missing;
+}
+
+std::string device_problem(const VolumeBackendInfo& backend, const vk::DeviceCapabilities& caps) {
+  return missing_features(backend.needs, caps);
 }
 
 }  // namespace prismoid::volume

@@ -20,7 +20,10 @@ const VolumeBackendInfo* find_volume_backend(std::string_view name);
 const VolumeBackendInfo& reference_backend();
 // Every name, ", "-separated, for messages.
 std::string volume_backend_names();
-// What `caps` lacks for the backend ("mesh shader, ..."); empty when it can run it.
+// What `caps` lacks of `needs` ("mesh shader, ..."); empty when it has them all. The volume
+// modes' table asks it too.
+std::string missing_features(const std::vector<vk::Feature>& needs, const vk::DeviceCapabilities& caps);
+// What `caps` lacks for the backend; empty when it can run it.
 std::string device_problem(const VolumeBackendInfo& backend, const vk::DeviceCapabilities& caps);
 
 }  // namespace prismoid::volume

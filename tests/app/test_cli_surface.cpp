@@ -105,9 +105,10 @@ TEST(CliSurface, RenderStatsListThePlannedAndSkippedPasses) {
 }
 
 // One spelling of the shadows setting for every surface mode: --shadows off leaves the shadow
-// rays out of each backend's plan (on lavapipe, which traces no rays, the default is off too, so
-// the plan's reason is what tells the setting was read). The texture-space modes' old
-// --no-shadows still works, with a note naming the new spelling; both at once are refused.
+// rays out of each backend's plan (their default is on here: lavapipe traces rays and the box's
+// light casts shadows, as RenderStatsListThePlannedAndSkippedPasses checks for msa). The
+// texture-space modes' old --no-shadows still works, with a note naming the new spelling; both at
+// once are refused.
 TEST(CliSurface, EveryGpuModeTakesShadowsOnOrOff) {
   const fs::path pfm = work_dir() / "shadows.pfm", stats = work_dir() / "shadows.json";
   std::string backends;
