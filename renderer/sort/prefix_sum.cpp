@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "renderer/vk/compute_barrier.hpp"
 #include "renderer/vk/device.hpp"
 #include "shaders/shared/sort.h"
 
@@ -24,11 +25,6 @@ const std::array<vk::DescriptorBinding, 3> kBindings = {{
 }};
 
 uint64_t blocks_for(uint64_t count) { return (count + PRISMOID_SORT_SCAN_BLOCK - 1) / PRISMOID_SORT_SCAN_BLOCK; }
-
-void compute_to_compute(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers) {
-  vk::buffer_barrier(cmd, buffers, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-}
 
 }  // namespace
 
@@ -76,13 +72,13 @@ void GpuPrefixSum::record(VkCommandBuffer cmd, const vk::Buffer& values, uint32_
   vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(push), &push);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, reduce_.get());
   vkCmdDispatch(cmd, groups, 1, 1);
-  compute_to_compute(cmd, {partials_.get()});
+  vk::compute_to_compute(cmd, {partials_.get()});
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, partials_pass_.get());
   vkCmdDispatch(cmd, 1, 1, 1);
-  compute_to_compute(cmd, {partials_.get()});
+  vk::compute_to_compute(cmd, {partials_.get()});
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, downsweep_.get());
   vkCmdDispatch(cmd, groups, 1, 1);
-  compute_to_compute(cmd, {values.get()});
+  vk::compute_to_compute(cmd, {values.get()});
 }
 
 }  // namespace prismoid::sort

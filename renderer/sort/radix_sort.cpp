@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/vk/compute_barrier.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "shaders/shared/sort.h"
@@ -40,14 +41,6 @@ VkPipelineStageFlags2 sorted_readers_stages(const vk::Device& device) {
 }
 
 namespace {
-
-// A compute dispatch's writes to `buffers` made visible to the next dispatch (the barrier's
-// execution dependency also orders the next dispatch's writes after this one's reads).
-void compute_to_compute(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers) {
-  vk::buffer_barrier(cmd, buffers, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-}
 
 uint32_t blocks_for(uint32_t count) {
   return static_cast<uint32_t>((uint64_t(count) + PRISMOID_SORT_BLOCK - 1) / PRISMOID_SORT_BLOCK);  // no wrap near 2^32
@@ -234,16 +227,16 @@ void GpuRadixSort::record_passes(VkCommandBuffer cmd, const VkBuffer (&caller)[2
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &pass_sets_[pass % 2].set, 0, nullptr);
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
     dispatch(histogram_.get(), blocks, block_dispatch);
-    compute_to_compute(cmd, {histograms_.get()});
+    vk::compute_to_compute(cmd, {histograms_.get()});
     dispatch(scan_reduce_.get(), scan_groups, scan_dispatch);
-    compute_to_compute(cmd, {partials_.get()});
+    vk::compute_to_compute(cmd, {partials_.get()});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_partials_.get());
     vkCmdDispatch(cmd, 1, 1, 1);
-    compute_to_compute(cmd, {partials_.get()});
+    vk::compute_to_compute(cmd, {partials_.get()});
     dispatch(scan_downsweep_.get(), scan_groups, scan_dispatch);
-    compute_to_compute(cmd, {histograms_.get()});
+    vk::compute_to_compute(cmd, {histograms_.get()});
     dispatch(scatter_.get(), blocks, block_dispatch);
-    if (pass + 1 < PRISMOID_SORT_PASSES) compute_to_compute(cmd, {out[0], out[1]});
+    if (pass + 1 < PRISMOID_SORT_PASSES) vk::compute_to_compute(cmd, {out[0], out[1]});
   }
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "renderer/vk/compute_barrier.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/input_error.hpp"
@@ -58,11 +59,6 @@ constexpr uint64_t kMaxPairs = kMaxGroups * PRISMOID_SORT_BLOCK;
 
 uint32_t groups_for(uint64_t items, uint64_t per_group) {
   return static_cast<uint32_t>(std::clamp<uint64_t>((items + per_group - 1) / per_group, 1, kMaxGroups));
-}
-
-void compute_to_compute(VkCommandBuffer cmd, std::initializer_list<VkBuffer> buffers) {
-  vk::buffer_barrier(cmd, buffers, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
 // Indirect dispatch arguments written by a kernel, read by the dispatch after it.
@@ -330,7 +326,7 @@ void ComputeIntervals::record_bin(VkCommandBuffer cmd, const GpuTetMesh& mesh, c
   vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(push), &push);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bin_count_.get());
   vkCmdDispatch(cmd, groups_for(f.cells, PRISMOID_CI_WORKGROUP), 1, 1);
-  compute_to_compute(cmd, {bins_.get(), offsets_.get(), big_cells_.get(), stats_.get()});
+  vk::compute_to_compute(cmd, {bins_.get(), offsets_.get(), big_cells_.get(), stats_.get()});
 
   // Prefix sum of the pair counts, in place: each cell's first pair.
   scan_->record(cmd, offsets_, static_cast<uint32_t>(f.cells));
@@ -365,10 +361,10 @@ void ComputeIntervals::record_sort(VkCommandBuffer cmd, vk::GpuTimer& timer) {
   vkCmdDispatch(cmd, groups_for(pair_capacity_, PRISMOID_CI_WORKGROUP), 1, 1);
   // Tiles with long lists are split into chunks, and the dispatches that raster and merge
   // them sized.
-  compute_to_compute(cmd, {tile_ranges_buffer_.get()});
+  vk::compute_to_compute(cmd, {tile_ranges_buffer_.get()});
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_chunks_.get());
   vkCmdDispatch(cmd, groups_for(uint64_t(f.tiles_x) * f.tiles_y, PRISMOID_CI_WORKGROUP), 1, 1);
-  compute_to_compute(cmd, {stats_.get()});
+  vk::compute_to_compute(cmd, {stats_.get()});
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, chunk_args_.get());
   vkCmdDispatch(cmd, 1, 1, 1);
 }
@@ -379,7 +375,7 @@ void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets
     throw std::logic_error("ComputeIntervals: record_raster() for another image size than prepare() saw");
   {
     vk::ScopedPass pass(timer, cmd, "tile-raster");
-    compute_to_compute(cmd, {tile_ranges_buffer_.get(), chunk_base_.get(), chunk_work_.get(), split_tiles_.get()});
+    vk::compute_to_compute(cmd, {tile_ranges_buffer_.get(), chunk_base_.get(), chunk_work_.get(), split_tiles_.get()});
     compute_to_indirect(cmd, stats_.get());
     // Both accumulation images are named by the set; the one this frame does not write keeps
     // undefined contents (the resolve never reads it), like the mesh-shader pass's.
@@ -397,12 +393,12 @@ void ComputeIntervals::record_raster(VkCommandBuffer cmd, VolumeTargets& targets
     chunks.chunks.y = PRISMOID_CI_LAUNCH_CHUNKS;
     vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(chunks), &chunks);
     vkCmdDispatchIndirect(cmd, stats_.get(), PRISMOID_CI_ARGS_CHUNKS * sizeof(uint32_t));
-    compute_to_compute(cmd, {partials_.get()});
+    vk::compute_to_compute(cmd, {partials_.get()});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_merge_.get());
     vkCmdDispatchIndirect(cmd, stats_.get(), PRISMOID_CI_ARGS_MERGE * sizeof(uint32_t));
     if (f.mode == PRISMOID_CI_EMISSION || f.mode == PRISMOID_CI_MARCH_COLOR) {
       // Split tiles whose colour the merge could not put in each pixel's order, whole.
-      compute_to_compute(cmd, {split_tiles_.get()});
+      vk::compute_to_compute(cmd, {split_tiles_.get()});
       chunks.chunks.y = PRISMOID_CI_LAUNCH_REDO;
       vkCmdPushConstants(cmd, layout_.get(), kCompute, 0, sizeof(chunks), &chunks);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tile_rasters_.at(f.mode).get());
