@@ -135,9 +135,11 @@ const char* const kRenderHelpAfterBackends =
     "With no FILE the embedded default dataset is rendered; asked for no --quantity and no --mode, in\n"
     "color, in exact order (interval-exact-order).\n";
 
+// Where an option's explanation starts in render's help, and the help's width.
+constexpr size_t kIndent = 23, kWidth = 100;
+
 // An option's lines of the help listing the lines of a table, each name with its summary wrapped.
 std::string table_help(std::string_view option, const std::vector<std::pair<std::string_view, std::string_view>>& rows) {
-  constexpr size_t kIndent = 23, kWidth = 100;
   size_t name_width = 0;
   for (const auto& [name, text] : rows) name_width = std::max(name_width, name.size());
   std::ostringstream out;
@@ -172,7 +174,7 @@ std::string volume_modes_help() {
   for (const frame::VolumeMode& m : frame::volume_mode_table()) rows.emplace_back(m.name, m.summary);
   rows.emplace_back("SURFACE", "a surface mode (listed below)");
   std::string help = table_help("--mode MODE", rows);
-  help.append(23, ' ').append("(default: ").append(frame::default_volume_mode(volume::Quantity::Transmittance).name).append("; ");
+  help.append(kIndent, ' ').append("(default: ").append(frame::default_volume_mode(volume::Quantity::Transmittance).name).append("; ");
   help.append(frame::default_volume_mode(volume::Quantity::Color).name).append(" for --quantity color)\n");
   return help;
 }
@@ -181,9 +183,9 @@ std::string volume_modes_help() {
 std::string volume_backends_help() {
   std::vector<std::pair<std::string_view, std::string_view>> rows;
   for (const volume::VolumeBackendInfo* b : volume::volume_backend_table()) rows.emplace_back(b->name, b->summary);
-  rows.emplace_back("auto", "the faster GPU backend on this device, by a calibration frame kept in $XDG_CACHE_HOME/prismoid/backends.json");
+  rows.emplace_back("auto", "the fastest GPU backend on this device, by a calibration frame kept in $XDG_CACHE_HOME/prismoid/backends.json");
   std::string help = table_help("--volume-backend B", rows);
-  help.append(23, ' ').append("(default: mesh; cpu is what --mode reference draws)\n");
+  help.append(kIndent, ' ').append("(default: mesh; cpu is what --mode reference draws)\n");
   return help;
 }
 
