@@ -86,7 +86,7 @@ std::string apply_backend(frame::FrameSettings& settings, const std::string& bac
   if (!info || !info->gpu()) return "unknown backend '" + backend + "' (available: " + gpu_volume_backend_names() + ")";
   settings.backend = frame::IntervalBackend{info->name};
   settings.backend_reason.clear();  // chosen by name now, not by auto's calibration
-  if (settings.resolve.shared_vertices && !info->supports.shared_vertices) {
+  if (settings.resolve.shared_vertices && !info->passes.tetlets) {
     settings.resolve.shared_vertices = false;
     return std::string(info->name) + " backend: shared vertices (tetlets) are the mesh backend's, turned off";
   }

@@ -95,12 +95,11 @@ class GpuVolumeBackend {
   virtual std::optional<DrawCounts> draw_counts() const { return std::nullopt; }
 };
 
-// What a backend draws, for `--volume-backend`'s list and the refusals.
+// What a backend draws, for the refusals (whether it draws cells in the mode's order and builds
+// tetlets is its VolumePasses').
 struct VolumeSupport {
-  bool march = false;            // samples a non-linear field inside intervals (and isosurfaces of it)
-  bool depth_limit = false;      // rays end at opaque geometry (mixed scenes)
-  bool chosen_order = false;     // draws cells in the order the mode asks for (else it orders each pixel itself)
-  bool shared_vertices = false;  // tetlets: cells sharing their points per workgroup
+  bool march = false;        // samples a non-linear field inside intervals (and isosurfaces of it)
+  bool depth_limit = false;  // rays end at opaque geometry (mixed scenes)
 };
 
 // A backend as the table names it: plain data and the functions that make or run it.

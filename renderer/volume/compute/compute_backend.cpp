@@ -35,7 +35,7 @@ const VolumeBackendInfo& compute_backend() {
       .summary = "compute shaders on every core: cells binned into tiles, each pixel's exact intervals on its own ray, composited "
                  "in its own depth order",
       .needs = {},
-      .supports = {.march = true, .depth_limit = true, .chosen_order = false, .shared_vertices = false},
+      .supports = {.march = true, .depth_limit = true},
       .passes = {.backend = "compute",
                  .chosen_order = false,
                  .own_order = "compute backend: each pixel composites its own intervals in their depth order",

@@ -9,7 +9,7 @@ const VolumeBackendInfo& cpu_backend() {
       .name = "cpu",
       .summary = "the CPU reference: double precision, exact per-pixel order (of a field:, grid: or .vdb dataset, the field itself)",
       .needs = {},
-      .supports = {.march = true, .depth_limit = true, .chosen_order = false, .shared_vertices = false},
+      .supports = {.march = true, .depth_limit = true},
       .render = frame::reference_of,
   };
   return info;

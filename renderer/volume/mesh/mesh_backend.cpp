@@ -34,7 +34,7 @@ const VolumeBackendInfo& mesh_backend() {
       .summary = "mesh shaders and the rasterizer (interval shading, Tricard 2024): each cell's proxy drawn, each fragment its "
                  "interval",
       .needs = {vk::Feature::MeshShader},
-      .supports = {.march = true, .depth_limit = true, .chosen_order = true, .shared_vertices = true},
+      .supports = {.march = true, .depth_limit = true},
       .passes = {.backend = "mesh", .chosen_order = true, .tetlets = true, .intervals = plan_intervals},
       .make = make,
   };
