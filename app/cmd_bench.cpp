@@ -25,11 +25,11 @@
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/dataset_loader.hpp"
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "app/common/output_files.hpp"
 #include "renderer/volume/cpu/reference_frame.hpp"
 #include "app/common/volume_options.hpp"
-#include "app/common/warm_up.hpp"
+#include "renderer/timing/warm_up.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
@@ -367,7 +367,7 @@ int cmd_bench(const std::vector<std::string>& args) {
   preset.max_cells = a.has("max-cells") ? parse_uint("max-cells", a.values.at("max-cells")) : 2'000'000;
   const uint32_t frames = a.has("frames") ? parse_uint("frames", a.values.at("frames")) : preset.quick ? 3 : 10;
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
-  preset.warm_up_seconds = a.has("warm-up") ? parse_double("warm-up", a.values.at("warm-up")) : preset.quick ? 0.0 : app::kTimedWarmUpSeconds;
+  preset.warm_up_seconds = a.has("warm-up") ? parse_double("warm-up", a.values.at("warm-up")) : preset.quick ? 0.0 : timing::kTimedWarmUpSeconds;
   if (!(preset.warm_up_seconds >= 0.0 && preset.warm_up_seconds <= 600.0)) throw InputError("--warm-up", "seconds must lie in [0, 600]");
   const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells", "surfaces"};
   const std::vector<std::string> sweeps = a.has("sweeps") ? split_list("sweeps", a.values.at("sweeps")) : all_sweeps;
@@ -467,11 +467,11 @@ int cmd_bench(const std::vector<std::string>& args) {
     }
 
     frame::FrameRenderer renderer(device, choice.mesh);
-    app::warm_up([&] { return vk::total_gpu_ms(renderer.render_timed(camera, choice.settings, extent).passes); }, preset.warm_up_seconds);
+    timing::warm_up([&] { return vk::total_gpu_ms(renderer.render_timed(camera, choice.settings, extent).passes); }, preset.warm_up_seconds);
     std::vector<double> cpu;
     // Timed frames read no image back (the GPU stays at its clock between them); the image
     // whose error is measured comes from one more frame of the same camera.
-    const FrameTiming timing = time_frames(frames, [&] {
+    const timing::FrameTiming timing = timing::time_frames(frames, [&] {
       renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused
       const frame::OffscreenFrame timed = renderer.render_timed(camera, choice.settings, extent);
       cpu.push_back(vk::total_gpu_ms(timed.report.cpu_passes));
@@ -491,7 +491,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     m.width = extent.width;
     m.height = extent.height;
     bench::set_times(m, timing);
-    m.cpu_ms = median_of(cpu);
+    m.cpu_ms = timing::median_of(cpu);
     m.mesh_bytes = result.report.mesh_bytes;
     // The image is one more frame's: every frame draws the same cells from the same camera.
     m.error = frame::frame_error(result, ref->second.first, choice.quantity);
@@ -525,7 +525,7 @@ int cmd_bench(const std::vector<std::string>& args) {
         p.sm_mhz_min = p.sm_mhz_median = p.sm_mhz_max = std::numeric_limits<double>::quiet_NaN();  // the GPU row's, not VTK's
         try {
           const bench::PeerFrame f = bench::render_peer(peer, choice.mesh, camera, resolve, extent.width, extent.height, frames);
-          const Spread wall = spread_of(f.frame_ms);
+          const timing::Spread wall = timing::spread_of(f.frame_ms);
           p.ms_median = wall.median;
           p.ms_min = wall.best;
           p.ms_max = wall.worst;

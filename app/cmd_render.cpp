@@ -17,13 +17,13 @@
 #include "app/common/backend_cache.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/frame_image.hpp"
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_accuracy.hpp"
 #include "renderer/volume/cpu/reference_frame.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
-#include "app/common/warm_up.hpp"
+#include "renderer/timing/warm_up.hpp"
 #include "io/image_io.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/frame/volume_modes.hpp"
@@ -236,7 +236,7 @@ int cmd_render(const std::vector<std::string>& args) {
   const bool field = field_of(a).has_value();  // an analytic field: its own CPU reference
   const Camera camera = camera_from(a, bounds_of(mesh));
   frame::OffscreenFrame result;
-  std::optional<FrameTiming> timing;  // GPU modes: the timed frames
+  std::optional<timing::FrameTiming> timing;  // GPU modes: the timed frames
   std::string device_name, driver;
   std::unique_ptr<vk::Instance> instance;
   if (!mode.gpu()) {
@@ -256,10 +256,10 @@ int cmd_render(const std::vector<std::string>& args) {
     if (choice.backend_auto) resolve_auto_backend(settings, device);
     frame::FrameRenderer renderer(device, mesh);
     if (frames > 1)
-      app::warm_up([&] { return vk::total_gpu_ms(renderer.render_timed(camera, settings, size).passes); }, app::kTimedWarmUpSeconds);
+      timing::warm_up([&] { return vk::total_gpu_ms(renderer.render_timed(camera, settings, size).passes); }, timing::kTimedWarmUpSeconds);
     // Timed frames read no image back, so the GPU stays busy (and at its clock) between them;
     // the image comes from one more frame of the same camera.
-    timing = time_frames(frames, [&] {
+    timing = timing::time_frames(frames, [&] {
       renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused
       return renderer.render_timed(camera, settings, size).passes;
     });

@@ -11,11 +11,11 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/surface_args.hpp"
-#include "app/common/warm_up.hpp"
+#include "renderer/timing/warm_up.hpp"
 #include "io/image_io.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
@@ -167,9 +167,9 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   if (shadows_asked) renderer.set_shadows(*shadows_asked);
 
   auto render = [&] { return renderer.render_offscreen(camera, name, size, k); };
-  if (frames > 1) app::warm_up([&] { return vk::total_gpu_ms(render().passes); }, app::kTimedWarmUpSeconds);
+  if (frames > 1) timing::warm_up([&] { return vk::total_gpu_ms(render().passes); }, timing::kTimedWarmUpSeconds);
   surface::SurfaceRenderer::Offscreen image;
-  const FrameTiming timing = time_frames(frames, [&] {
+  const timing::FrameTiming timing = timing::time_frames(frames, [&] {
     renderer.forget_shading();  // each timed frame costs what a moving camera's does
     image = render();
     return image.passes;

@@ -24,7 +24,7 @@ struct BenchCase {
 
 struct BenchPreset {
   bool quick = false;
-  double warm_up_seconds = 0.0;  // frames before each row's timed ones (app::warm_up)
+  double warm_up_seconds = 0.0;  // frames before each row's timed ones (timing::warm_up)
   ImageSize size;              // the image size of every sweep but image-size
   uint64_t max_cells = 0;      // the cell-count sweep stops below this many cells
 };

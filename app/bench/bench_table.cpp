@@ -74,13 +74,13 @@ void write_findings(std::ostream& out, const std::vector<BenchRow>& rows) {
 
 }  // namespace
 
-void set_times(BenchRow& row, const app::FrameTiming& timing) {
+void set_times(BenchRow& row, const timing::FrameTiming& timing) {
   row.frames = timing.frames;
   row.ms_median = timing.total_ms.median;
   row.ms_min = timing.total_ms.best;
   row.ms_max = timing.total_ms.worst;
   row.passes.clear();
-  for (const app::PassSpread& p : timing.passes) row.passes += (row.passes.empty() ? "" : ";") + p.name + "=" + app::json_number(p.ms.median);
+  for (const timing::PassSpread& p : timing.passes) row.passes += (row.passes.empty() ? "" : ";") + p.name + "=" + app::json_number(p.ms.median);
   if (timing.sm_clock) {
     row.sm_mhz_min = timing.sm_clock->min_mhz;
     row.sm_mhz_median = timing.sm_clock->median_mhz;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "renderer/metrics/image_error.hpp"
 
 namespace prismoid::bench {
@@ -43,7 +43,7 @@ struct BenchRow {
 
 // The row's times from its timed frames: the frames' totals (median, best, worst), each pass's
 // median, and the SM clock where it was sampled.
-void set_times(BenchRow& row, const app::FrameTiming& timing);
+void set_times(BenchRow& row, const timing::FrameTiming& timing);
 
 // Marks the rows no other row of the same dataset, quantity and image size beats: at least as
 // fast and at least as accurate (RMSE), and better in one. Errors of different quantities or

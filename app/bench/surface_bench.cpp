@@ -7,9 +7,9 @@
 #include <map>
 
 #include "app/common/cli_args.hpp"
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "app/common/surface_args.hpp"
-#include "app/common/warm_up.hpp"
+#include "renderer/timing/warm_up.hpp"
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "renderer/reference/direct_light.hpp"
@@ -235,7 +235,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       const ReferenceImage& ref = references.at(ref_key);
       const std::vector<float>& reference = ref.rgba;
       const double reference_ms = ref.ms;
-      app::warm_up([&] { return vk::total_gpu_ms(draw(device, renderer, camera, mode, extent)); }, options.warm_up_seconds);
+      timing::warm_up([&] { return vk::total_gpu_ms(draw(device, renderer, camera, mode, extent)); }, options.warm_up_seconds);
       if (covered_pixels == 0) {
         const std::vector<float> first = read_display(device, renderer, extent);
         for (size_t p = 3; p < first.size(); p += 4) covered_pixels += first[p] == 1.0f;
@@ -258,7 +258,7 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       // The timed frames follow each other with no read-back; the image is the last one's.
       uint64_t shaded_sum = 0;
       uint32_t frame_index = 0;
-      const app::FrameTiming timing = app::time_frames(options.frames, [&] {
+      const timing::FrameTiming timing = timing::time_frames(options.frames, [&] {
         if (!gi_mode(mode) && !run.still && !run.moving) renderer.forget_shading();  // each frame costs what a moving camera's does
         const std::vector<vk::PassTiming> passes =
             draw(device, renderer, run.moving ? orbit_camera(options.frames + frame_index) : camera, mode, extent);

@@ -20,7 +20,7 @@ struct SurfaceBenchOptions {
   std::vector<std::string> scenes{"cornell-box"};  // as `prismoid render` names them
   ImageSize size{96, 72};
   uint32_t frames = 3;
-  double warm_up_seconds = 0.0;  // before each row's timed frames (app::warm_up); at least one frame
+  double warm_up_seconds = 0.0;  // before each row's timed frames (timing::warm_up); at least one frame
   uint32_t supersample = 4;  // the direct-light reference's samples per pixel side
   uint32_t path_spp = 64;    // the GI modes' reference: path tracer samples per pixel
   uint32_t gi_frames = 16;   // GI rows measure the frame after this many frames of a still camera

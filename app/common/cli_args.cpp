@@ -169,4 +169,11 @@ int validation_exit(const vk::Instance& instance) {
   return kValidationMessages;
 }
 
+void print_sm_clock(std::ostream& out, const timing::FrameTiming& timing) {
+  if (!timing.sm_clock) return;
+  const timing::ClockSpread& c = *timing.sm_clock;
+  out << "  SM clock: " << json_number(c.min_mhz) << " / " << json_number(c.median_mhz) << " / " << json_number(c.max_mhz)
+      << " MHz (min / median / max of " << c.samples << (c.samples == 1 ? " sample" : " samples") << ", nvidia-smi)\n";
+}
+
 }  // namespace prismoid::app

@@ -13,6 +13,7 @@
 #include <vulkan/vulkan.h>
 
 #include "renderer/vk/instance.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/bounds.hpp"
 #include "scene/camera.hpp"
@@ -58,6 +59,9 @@ int validation_exit(const vk::Instance& instance);
 
 // Prints each pass's GPU time ("  NAME: X ms GPU", or "no timestamps") and returns their sum.
 double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& passes);
+
+// "  SM clock: MIN / MEDIAN / MAX MHz (N samples)" where the clock was sampled; nothing otherwise.
+void print_sm_clock(std::ostream& out, const timing::FrameTiming& timing);
 
 class OutputFiles;
 // What every render verb reads and writes, declared before its work (app/common/output_files.hpp):

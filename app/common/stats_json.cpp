@@ -74,16 +74,16 @@ StatsJson cpu_passes_json(const std::vector<vk::PassTiming>& passes) {
   return list;
 }
 
-StatsJson passes_json(const FrameTiming& timing) {
+StatsJson passes_json(const timing::FrameTiming& timing) {
   StatsJson list = StatsJson::array();
-  for (const PassSpread& p : timing.passes)
+  for (const timing::PassSpread& p : timing.passes)
     list.push_back({{"name", p.name}, {"gpu_ms", p.ms.median}, {"min_ms", p.ms.best}, {"max_ms", p.ms.worst}});
   return list;
 }
 
-void add_sm_clock(StatsJson& stats, const FrameTiming& timing) {
+void add_sm_clock(StatsJson& stats, const timing::FrameTiming& timing) {
   if (!timing.sm_clock) return;
-  const ClockSpread& c = *timing.sm_clock;
+  const timing::ClockSpread& c = *timing.sm_clock;
   stats["sm_clock_mhz"] = {{"min", c.min_mhz}, {"median", c.median_mhz}, {"max", c.max_mhz}, {"samples", c.samples}};
 }
 

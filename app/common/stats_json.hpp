@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "renderer/frame/frame_plan.hpp"
 #include "renderer/vk/timer.hpp"
 
@@ -29,11 +29,11 @@ void write_stats(const std::string& path, const StatsJson& stats);
 // "passes": each pass's name and GPU time ("gpu_ms"), and where frames were timed its best and
 // worst over them ("min_ms", "max_ms"; gpu_ms is then the median).
 StatsJson passes_json(const std::vector<vk::PassTiming>& passes);
-StatsJson passes_json(const FrameTiming& timing);
+StatsJson passes_json(const timing::FrameTiming& timing);
 // "cpu_passes": each CPU stage's name and time ("cpu_ms"; PassTiming::gpu_ms holds it).
 StatsJson cpu_passes_json(const std::vector<vk::PassTiming>& passes);
 // Sets "sm_clock_mhz" ({"min", "median", "max", "samples"}) where the clock was sampled.
-void add_sm_clock(StatsJson& stats, const FrameTiming& timing);
+void add_sm_clock(StatsJson& stats, const timing::FrameTiming& timing);
 // Sets "plan" (each planned pass: name, kind gpu|cpu|within, reason) and "skipped" (pass, reason).
 void add_plan(StatsJson& stats, const frame::FramePlan& plan);
 // The same for a volume inside its surfaces: the surfaces' passes, the volume's, the composite,

@@ -13,9 +13,9 @@
 #include <glm/geometric.hpp>
 
 #include "app/common/cli_args.hpp"
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "app/common/stats_json.hpp"
-#include "app/common/warm_up.hpp"
+#include "renderer/timing/warm_up.hpp"
 #include "scene/bounds.hpp"
 #include "scene/camera.hpp"
 
@@ -50,7 +50,7 @@ TEST(CameraOptions, AnEyePlacedByHandSeesTheDataNearestIt) {
 
 TEST(WarmUp, FramesRunForTheTimeAskedAndWhileTheyGetFaster) {
   uint32_t calls = 0;
-  EXPECT_EQ(warm_up([&] { return double(++calls); }, 0.0), 1u);
+  EXPECT_EQ(timing::warm_up([&] { return double(++calls); }, 0.0), 1u);
   EXPECT_EQ(calls, 1u);
   const auto seconds_of = [](const auto& f) {
     const auto start = std::chrono::steady_clock::now();
@@ -63,7 +63,7 @@ TEST(WarmUp, FramesRunForTheTimeAskedAndWhileTheyGetFaster) {
   };
   // Steady frames: the time asked, then done.
   uint32_t steady = 0;
-  const double steady_s = seconds_of([&] { steady = warm_up([&] { return sleepy(10.0); }, 0.1); });
+  const double steady_s = seconds_of([&] { steady = timing::warm_up([&] { return sleepy(10.0); }, 0.1); });
   EXPECT_GE(steady_s, 0.1);
   EXPECT_LT(steady_s, 0.3);
   EXPECT_GE(steady, 8u);
@@ -71,16 +71,16 @@ TEST(WarmUp, FramesRunForTheTimeAskedAndWhileTheyGetFaster) {
   // Frames 10% faster each time for 60 frames, then steady: past the time asked until they settle.
   calls = 0;
   double ms = 100.0;
-  const uint32_t settling = warm_up([&] { ++calls; if (calls <= 60) ms *= 0.9; return sleepy(ms); }, 0.1);
+  const uint32_t settling = timing::warm_up([&] { ++calls; if (calls <= 60) ms *= 0.9; return sleepy(ms); }, 0.1);
   EXPECT_GE(settling, 60u);
   EXPECT_LE(settling, 72u);
   // Frames without a time (a device without timestamps) stop at the time asked.
-  const double untimed_s = seconds_of([&] { warm_up([&] { return sleepy(std::nan("")); }, 0.05); });
+  const double untimed_s = seconds_of([&] { timing::warm_up([&] { return sleepy(std::nan("")); }, 0.05); });
   EXPECT_GE(untimed_s, 0.05);
   EXPECT_LT(untimed_s, 0.15);
   // Frames that always get faster stop at 4x the time.
   ms = 1e30;
-  const double capped_s = seconds_of([&] { warm_up([&] { ms *= 0.5; return sleepy(ms); }, 0.05); });
+  const double capped_s = seconds_of([&] { timing::warm_up([&] { ms *= 0.5; return sleepy(ms); }, 0.05); });
   EXPECT_GE(capped_s, 0.2);
   EXPECT_LT(capped_s, 0.5);
 }
@@ -95,15 +95,15 @@ std::vector<vk::PassTiming> frame_of(std::initializer_list<std::pair<const char*
 }
 
 TEST(FrameTiming, MedianOfFiniteValues) {
-  EXPECT_EQ(median_of({3.0, 1.0, 2.0}), 2.0);
-  EXPECT_EQ(median_of({4.0, 1.0, 3.0, 2.0}), 2.5);
-  EXPECT_EQ(median_of({std::nan(""), 5.0}), 5.0);
-  EXPECT_TRUE(std::isnan(median_of({})));
-  EXPECT_TRUE(std::isnan(median_of({std::nan("")})));
+  EXPECT_EQ(timing::median_of({3.0, 1.0, 2.0}), 2.0);
+  EXPECT_EQ(timing::median_of({4.0, 1.0, 3.0, 2.0}), 2.5);
+  EXPECT_EQ(timing::median_of({std::nan(""), 5.0}), 5.0);
+  EXPECT_TRUE(std::isnan(timing::median_of({})));
+  EXPECT_TRUE(std::isnan(timing::median_of({std::nan("")})));
 }
 
 TEST(FrameTiming, EachPassBestMedianWorstOverTheFrames) {
-  const FrameTiming t = summarize_frames({frame_of({{"sort", 1.0}, {"intervals", 4.0}, {"resolve", 0.5}}),
+  const timing::FrameTiming t = timing::summarize_frames({frame_of({{"sort", 1.0}, {"intervals", 4.0}, {"resolve", 0.5}}),
                                           frame_of({{"sort", 3.0}, {"intervals", 2.0}, {"resolve", 0.5}}),
                                           frame_of({{"sort", 2.0}, {"intervals", 9.0}, {"resolve", 0.25}})});
   EXPECT_EQ(t.frames, 3u);
@@ -131,7 +131,7 @@ TEST(FrameTiming, EachPassBestMedianWorstOverTheFrames) {
 
 // A name that repeats in a frame is two passes; a frame without a pass leaves the others in place.
 TEST(FrameTiming, RepeatedNamesStayApartAndMissingPassesShiftNothing) {
-  const FrameTiming t = summarize_frames({frame_of({{"gi", 1.0}, {"gi", 10.0}, {"display", 2.0}}),
+  const timing::FrameTiming t = timing::summarize_frames({frame_of({{"gi", 1.0}, {"gi", 10.0}, {"display", 2.0}}),
                                           frame_of({{"gi", 3.0}, {"display", 4.0}}),
                                           frame_of({{"gi", 5.0}, {"gi", 30.0}, {"display", 6.0}})});
   ASSERT_EQ(t.passes.size(), 3u);
@@ -142,7 +142,7 @@ TEST(FrameTiming, RepeatedNamesStayApartAndMissingPassesShiftNothing) {
 }
 
 TEST(FrameTiming, NoTimestampsGiveNaNNotGarbage) {
-  const FrameTiming t = summarize_frames({frame_of({{"a", std::nan("")}}), frame_of({{"a", std::nan("")}})});
+  const timing::FrameTiming t = timing::summarize_frames({frame_of({{"a", std::nan("")}}), frame_of({{"a", std::nan("")}})});
   ASSERT_EQ(t.passes.size(), 1u);
   EXPECT_TRUE(std::isnan(t.passes[0].ms.best));
   EXPECT_TRUE(std::isnan(t.passes[0].ms.median));
@@ -164,10 +164,10 @@ class FakePath {
     }
     if (const char* p = std::getenv("PATH")) old_ = p;
     setenv("PATH", (script.empty() ? dir_.string() : dir_.string() + ":" + old_).c_str(), 1);
-    stop_process_sm_clock();
+    timing::stop_process_sm_clock();
   }
   ~FakePath() {
-    stop_process_sm_clock();
+    timing::stop_process_sm_clock();
     setenv("PATH", old_.c_str(), 1);
     std::filesystem::remove_all(dir_);
   }
@@ -182,9 +182,9 @@ class FakePath {
 TEST(SmClock, SamplesAreParsedFromNvidiaSmi) {
   const FakePath path("#!/bin/sh\nprintf '1410\\n1395\\n[N/A]\\n1980\\n'\nexec sleep 30\n");
   const auto start = std::chrono::steady_clock::now();
-  SmClockSampler sampler;
+  timing::SmClockSampler sampler;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  const std::optional<ClockSpread> clock = sampler.stop();
+  const std::optional<timing::ClockSpread> clock = sampler.stop();
   ASSERT_TRUE(clock.has_value());
   EXPECT_EQ(clock->samples, 3u);
   EXPECT_EQ(clock->min_mhz, 1395.0);
@@ -196,7 +196,7 @@ TEST(SmClock, SamplesAreParsedFromNvidiaSmi) {
 TEST(SmClock, TimedFramesCarryTheClock) {
   const FakePath path("#!/bin/sh\necho 1500\nexec sleep 30\n");
   uint32_t calls = 0;
-  const FrameTiming t = time_frames(3, [&] {
+  const timing::FrameTiming t = timing::time_frames(3, [&] {
     ++calls;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     return frame_of({{"pass", double(calls)}});
@@ -219,12 +219,12 @@ TEST(SmClock, ShortTimedFramesCarryTheWarmUpsClock) {
   const FakePath path("#!/bin/sh\nsleep 0.1\nwhile true; do if [ -e " + busy.string() +
                       " ]; then echo 1980; else echo 345; fi; sleep 0.1; done\n");
   std::ofstream(busy) << "frames run";
-  warm_up([] {
+  timing::warm_up([] {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     return 1.0;
   }, 0.3);
   uint32_t frames = 0;
-  const FrameTiming t = time_frames(2, [&] {
+  const timing::FrameTiming t = timing::time_frames(2, [&] {
     if (++frames == 2) std::filesystem::remove(busy);  // the GPU idles after the last one
     return frame_of({{"pass", 1.0}});
   });
@@ -236,14 +236,14 @@ TEST(SmClock, ShortTimedFramesCarryTheWarmUpsClock) {
 TEST(SmClock, NoNvidiaSmiNoClock) {
   {
     const FakePath path("");  // not on PATH
-    SmClockSampler sampler;
+    timing::SmClockSampler sampler;
     EXPECT_FALSE(sampler.stop().has_value());
   }
   {
     // On PATH but without a driver: an error and no numbers.
     const FakePath path("#!/bin/sh\necho 'NVIDIA-SMI has failed because it could not communicate with the NVIDIA driver.'\nexit 9\n");
     const auto start = std::chrono::steady_clock::now();
-    SmClockSampler sampler;
+    timing::SmClockSampler sampler;
     EXPECT_FALSE(sampler.stop().has_value());
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.5);
   }
@@ -260,11 +260,11 @@ TEST(StatsJson, OneKeyALineObjectsInArraysOneALine) {
   js["no_time"] = std::nan("");
   js["tf_range"] = {0.0, 2.5};
   js["warnings"] = StatsJson::array();
-  js["passes"] = passes_json(summarize_frames({frame_of({{"sort", 1.0}}), frame_of({{"sort", 3.0}}), frame_of({{"sort", 2.0}})}));
-  FrameTiming clocked;
-  clocked.sm_clock = ClockSpread{1395.0, 1410.0, 1980.0, 3};
+  js["passes"] = passes_json(timing::summarize_frames({frame_of({{"sort", 1.0}}), frame_of({{"sort", 3.0}}), frame_of({{"sort", 2.0}})}));
+  timing::FrameTiming clocked;
+  clocked.sm_clock = timing::ClockSpread{1395.0, 1410.0, 1980.0, 3};
   add_sm_clock(js, clocked);
-  add_sm_clock(js, FrameTiming{});  // unsampled: nothing set, nothing removed
+  add_sm_clock(js, timing::FrameTiming{});  // unsampled: nothing set, nothing removed
   EXPECT_EQ(format_stats(js),
             "{\n"
             "  \"device\": \"lavapipe \\\"quoted\\\"\",\n"

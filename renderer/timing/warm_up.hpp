@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <functional>
 
-namespace prismoid::app {
+namespace prismoid::timing {
 
 // Draws `frame`, which returns its GPU time in ms, until `seconds` of wall clock have passed and
 // the frames have stopped getting faster (the median of the last 4 within 2% of the 4 before), for
@@ -18,4 +18,4 @@ uint32_t warm_up(const std::function<double()>& frame, double seconds);
 // The warm-up of `prismoid render --frames N` (N > 1) and the bench's default.
 inline constexpr double kTimedWarmUpSeconds = 2.0;
 
-}  // namespace prismoid::app
+}  // namespace prismoid::timing

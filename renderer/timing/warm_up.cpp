@@ -1,12 +1,12 @@
-#include "app/common/warm_up.hpp"
+#include "renderer/timing/warm_up.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <vector>
 
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 
-namespace prismoid::app {
+namespace prismoid::timing {
 
 uint32_t warm_up(const std::function<double()>& frame, double seconds) {
   // The clock sampler starts now, so its samples come while these frames keep the GPU busy: timed
@@ -25,4 +25,4 @@ uint32_t warm_up(const std::function<double()>& frame, double seconds) {
   return uint32_t(ms.size());
 }
 
-}  // namespace prismoid::app
+}  // namespace prismoid::timing

@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
@@ -15,7 +14,7 @@
 
 #include "renderer/vk/timer.hpp"
 
-namespace prismoid::app {
+namespace prismoid::timing {
 
 // The median of the finite values (the mean of the middle two for an even count); NaN for none.
 double median_of(std::vector<double> values);
@@ -88,11 +87,8 @@ SmClockSampler* process_sm_clock();
 // Ends that sampler (the next process_sm_clock() starts another).
 void stop_process_sm_clock();
 
-// "  SM clock: MIN / MEDIAN / MAX MHz (N samples)" where the clock was sampled; nothing otherwise.
-void print_sm_clock(std::ostream& out, const FrameTiming& timing);
-
 // Times `frames` calls of `frame` (which draws one frame and returns its passes' GPU times), with
 // the SM clock sampled meanwhile; frames > 0.
 FrameTiming time_frames(uint32_t frames, const std::function<std::vector<vk::PassTiming>()>& frame);
 
-}  // namespace prismoid::app
+}  // namespace prismoid::timing

@@ -1,4 +1,4 @@
-#include "app/common/frame_timing.hpp"
+#include "renderer/timing/frame_timing.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -10,7 +10,6 @@
 #include <cstdlib>
 #include <fcntl.h>
 #include <map>
-#include <ostream>
 #include <mutex>
 #include <poll.h>
 #include <spawn.h>
@@ -18,11 +17,9 @@
 #include <thread>
 #include <unistd.h>
 
-#include "app/common/cli_args.hpp"
-
 extern char** environ;
 
-namespace prismoid::app {
+namespace prismoid::timing {
 
 double median_of(std::vector<double> values) {
   values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }), values.end());
@@ -265,13 +262,6 @@ SmClockSampler::~SmClockSampler() {
   if (state_) state_->end();
 }
 
-void print_sm_clock(std::ostream& out, const FrameTiming& timing) {
-  if (!timing.sm_clock) return;
-  const ClockSpread& c = *timing.sm_clock;
-  out << "  SM clock: " << json_number(c.min_mhz) << " / " << json_number(c.median_mhz) << " / " << json_number(c.max_mhz)
-      << " MHz (min / median / max of " << c.samples << (c.samples == 1 ? " sample" : " samples") << ", nvidia-smi)\n";
-}
-
 FrameTiming time_frames(uint32_t frames, const std::function<std::vector<vk::PassTiming>()>& frame) {
   std::vector<std::vector<vk::PassTiming>> timings;
   SmClockSampler* clock = process_sm_clock();
@@ -283,4 +273,4 @@ FrameTiming time_frames(uint32_t frames, const std::function<std::vector<vk::Pas
   return t;
 }
 
-}  // namespace prismoid::app
+}  // namespace prismoid::timing
