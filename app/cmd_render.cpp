@@ -17,21 +17,16 @@
 #include "app/common/backend_cache.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/frame_image.hpp"
-#include "renderer/timing/frame_timing.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_accuracy.hpp"
-#include "renderer/volume/cpu/reference_frame.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
-#include "renderer/timing/warm_up.hpp"
 #include "io/image_io.hpp"
-#include "renderer/frame/frame_renderer.hpp"
 #include "renderer/frame/volume_modes.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/surface/surface_modes.hpp"
-#include "renderer/vk/capabilities.hpp"
-#include "renderer/vk/device.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "renderer/vk/instance.hpp"
-#include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/volume_backends.hpp"
 #include "scene/input_error.hpp"
 
@@ -211,7 +206,7 @@ const std::vector<std::string> kRenderFlags = {"validate", "help", "shared-verti
 int cmd_render(const std::vector<std::string>& args) {
   if (mixed_scene_named(args)) return cmd_render_mixed(args);
   if (const surface::SurfaceMode* surface = surface_mode_named(args))
-    return surface->gpu() ? cmd_render_surface(args, *surface) : cmd_render_path_reference(args, *surface);
+    return cmd_render_surface(args, *surface);
   std::vector<std::string> value_options = with_camera({"output", "stats", "size", "device", "frames", "depth-limit"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   ParsedArgs a = parse(args, 1, value_options, kRenderFlags);
@@ -235,45 +230,28 @@ int cmd_render(const std::vector<std::string>& args) {
   if (a.has("depth-limit")) settings.resolve.depth_limit = read_depth_limit(a.values.at("depth-limit"), size);
   const bool field = field_of(a).has_value();  // an analytic field: its own CPU reference
   const Camera camera = camera_from(a, bounds_of(mesh));
-  frame::OffscreenFrame result;
-  std::optional<timing::FrameTiming> timing;  // GPU modes: the timed frames
-  std::string device_name, driver;
-  std::unique_ptr<vk::Instance> instance;
-  if (!mode.gpu()) {
-    device_name = "CPU reference (double precision)";
-    // Double arithmetic, but the image is float32: refused where it cannot hold the answer.
-    const volume::FloatCheck check =
-        volume::check_float_limits(volume::float_facts(mesh), camera, size.width, size.height, settings.resolve, false);
-    result = volume::reference_backend().render(mesh, camera, settings.resolve, size, field);
-    result.report.warnings = check.warnings;
-  } else {
-    instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
-    const auto devices = vk::query_devices(instance->get());
-    const auto& caps = vk::select_device(devices, device_index);
-    device_name = caps.name;
-    driver = caps.driver_info;
-    vk::Device device(*instance, caps, {});
-    if (choice.backend_auto) resolve_auto_backend(settings, device);
-    frame::FrameRenderer renderer(device, mesh);
-    if (frames > 1)
-      timing::warm_up([&] { return vk::total_gpu_ms(renderer.render_timed(camera, settings, size).passes); }, timing::kTimedWarmUpSeconds);
-    // Timed frames read no image back, so the GPU stays busy (and at its clock) between them;
-    // the image comes from one more frame of the same camera.
-    timing = timing::time_frames(frames, [&] {
-      renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused
-      return renderer.render_timed(camera, settings, size).passes;
-    });
-    renderer.forget_history();
-    result = renderer.render_offscreen(camera, settings, size);
-    result.passes = timing->medians();
-  }
+  mixed::SceneSettings scene_settings;
+  scene_settings.size = size;
+  scene_settings.volume_mode = &mode;
+  scene_settings.volume = settings;
+  scene_settings.volume_backend_auto = choice.backend_auto;
+  scene_settings.frames = frames;
+  mixed::SceneRenderer renderer({.volume = &mesh, .analytic_field = field},
+                                {.validation = a.flags.count("validate") > 0, .index = device_index}, resolve_auto_backend);
+  const mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
+  const frame::OffscreenFrame& result = *drawn.volume;
+  const std::optional<timing::FrameTiming>& timing = drawn.timing;
+  settings = drawn.volume_settings;
+  const std::string& device_name = drawn.device;
+  const std::string& driver = drawn.driver;
+  const vk::Instance* instance = renderer.instance();
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
   // What the image's accuracy is: the same frame on the CPU, in double precision and exact order.
   std::optional<ReferenceAccuracy> accuracy;
   if (a.flags.count("reference-error")) {
     const auto start = std::chrono::steady_clock::now();
-    const frame::OffscreenFrame ref = volume::reference_backend().render(mesh, camera, settings.resolve, size, field);
-    accuracy = measure_accuracy(result, ref, quantity,
+    const mixed::SceneFrame ref = renderer.reference(camera, scene_settings, drawn);
+    accuracy = measure_accuracy(result, *ref.volume, quantity,
                                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
 
@@ -281,7 +259,7 @@ int cmd_render(const std::vector<std::string>& args) {
   files.write(output, [&](const std::string& file) { io::write_image(file, image); });
   for (const std::string& w : result.report.warnings) std::cerr << "prismoid: warning: " << w << "\n";
 
-  const bool cpu = !mode.gpu();
+  const bool cpu = !drawn.gpu;
   // What the render says is printed once its files are in place: a write that fails after this
   // point (the stats, the rename) must not follow a "wrote".
   std::ostringstream said;

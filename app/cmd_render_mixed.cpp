@@ -1,6 +1,6 @@
 // `prismoid render VOLUME SURFACE... --output OUT`: a volume inside its opaque surfaces in one
-// frame, through mixed::MixedRenderer on the GPU or, with --mode reference, on the CPU in double
-// precision (renderer/mixed); the verb parses, loads and reports, the renderer draws. .png: the composite; .pfm: the volume's quantity (optical depth,
+// frame, through the renderer facade (mixed::SceneRenderer: on the GPU or, with --mode reference, on
+// the CPU in double precision); the verb parses, loads and reports, the renderer draws. .png: the composite; .pfm: the volume's quantity (optical depth,
 // transmittance) up to the surfaces, or for colour the composite's RGB.
 #include <chrono>
 #include <iostream>
@@ -21,12 +21,9 @@
 #include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "io/image_io.hpp"
-#include "renderer/volume/cpu/reference_frame.hpp"
 #include "renderer/mixed/mixed_frame.hpp"
-#include "renderer/mixed/mixed_reference.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/surface/surface_modes.hpp"
-#include "renderer/vk/device.hpp"
-#include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
 #include "scene/input_error.hpp"
 
@@ -54,36 +51,27 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   const SurfaceScene& lit = scene.surfaces;
   const volume::Quantity quantity = choice.quantity;
   const bool color = quantity == volume::Quantity::Color;
-  const bool cpu = !choice.mode->gpu();
-  if (cpu && a.flags.count("reference-error"))
+  if (!choice.mode->gpu() && a.flags.count("reference-error"))
     throw InputError("--reference-error", "--mode " + std::string(choice.mode->name) + " is the reference itself");
   if (a.flags.count("reference-error") && surface::find_surface_mode(scene.surface_mode)->gi != frame::SurfaceGi::None)
     throw InputError("--reference-error", "the mixed scene's reference lights the surfaces directly, and --surface-mode " +
                                               scene.surface_mode + " adds indirect light; measure its error with `bench --sweeps surfaces`");
 
-  frame::FrameSettings settings = choice.settings;
-  std::string device_name = "CPU reference (double precision)", driver;
-  std::unique_ptr<vk::Instance> instance;
-  mixed::MixedFrame f;
-  if (cpu) {
-    f = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, scene.shadows.value_or(scene.default_shadows));
-  } else {
-    instance = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
-    const auto devices = vk::query_devices(instance->get());
-    const auto& caps = vk::select_device(devices, parse_device(a));
-    device_name = caps.name;
-    driver = caps.driver_info;
-    vk::Device device(*instance, caps, {});
-    if (choice.backend_auto) resolve_auto_backend(settings, device);
-    mixed::MixedRenderer renderer(device, choice.mesh, lit);
-    if (scene.shadows) {
-      if (*scene.shadows && !renderer.surface_renderer().can_shadow())
-        throw vk::NoSuitableDevice(caps.name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure): "
-                                   "shadows need it; use --shadows off");
-      renderer.surface_renderer().set_shadows(*scene.shadows);
-    }
-    f = renderer.render(camera, settings, size, scene.surface_mode);
-  }
+  mixed::SceneSettings scene_settings;
+  scene_settings.size = size;
+  scene_settings.volume_mode = choice.mode;
+  scene_settings.volume = choice.settings;
+  scene_settings.volume_backend_auto = choice.backend_auto;
+  scene_settings.surface_mode = surface::find_surface_mode(scene.surface_mode);
+  scene_settings.shadows = scene.shadows;
+  mixed::SceneRenderer renderer({.volume = &choice.mesh, .surfaces = &lit},
+                                {.validation = a.flags.count("validate") > 0, .index = parse_device(a)}, resolve_auto_backend);
+  const mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
+  const mixed::MixedFrame& f = *drawn.mixed;
+  const bool cpu = !drawn.gpu;
+  const std::string& device_name = drawn.device;
+  const std::string& driver = drawn.driver;
+  const vk::Instance* instance = renderer.instance();
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
   // The composite, where the volume's frame had its display.
@@ -96,8 +84,8 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   std::optional<ReferenceAccuracy> accuracy;
   if (a.flags.count("reference-error")) {
     const auto start = std::chrono::steady_clock::now();
-    const mixed::MixedFrame ref = mixed::render_mixed_reference(choice.mesh, lit, camera, settings.resolve, size, f.shadows);
-    accuracy = measure_accuracy(shown(f), shown(ref), quantity,
+    const mixed::SceneFrame ref = renderer.reference(camera, scene_settings, drawn);
+    accuracy = measure_accuracy(shown(f), shown(*ref.mixed), quantity,
                                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
 

@@ -1,15 +1,18 @@
-// `prismoid render ... --mode path-reference`: a surface scene through the CPU path tracer
-// (renderer/reference/path_tracer.hpp), linear RGB to PFM (or display sRGB to PNG).
+// `prismoid render ... --mode path-reference`: the CPU path tracer's options and its frame's report
+// (the frame itself is drawn through the renderer facade by cmd_render_surface.cpp): linear RGB to
+// PFM (or display sRGB to PNG), the per-pixel variance where asked.
+#include "app/cmd_render_path.hpp"
+
 #include <iostream>
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/surface_args.hpp"
 #include "io/image_io.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/reference/path_tracer.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "scene/input_error.hpp"
@@ -32,38 +35,29 @@ io::FloatImage rgb_image(const reference::PathTracedImage& r, const std::vector<
 const char* const kPathTracerOptionsHelp =
     "--spp N (default 64), --max-bounces N, --seed N, --variance OUT.pfm (per-pixel sample variance)\n";
 
-int cmd_render_path_reference(const std::vector<std::string>& args, const surface::SurfaceMode& mode) {
-  const ParsedArgs a =
-      parse(args, 1, with_surface_color(with_camera({"output", "size", "mode", "spp", "max-bounces", "seed", "variance", "stats"})),
-            {"reference-error"});
-  if (a.flags.count("reference-error"))
-    throw InputError("--reference-error", "--mode " + std::string(mode.name) + " is the reference itself");
-  if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
-  const std::string output = a.values.at("output");
-  OutputFiles files;
-  declare_render_files(files, a);
-  const VkExtent2D size = a.has("size") ? parse_size(a.values.at("size")) : VkExtent2D{256, 256};
-  const SurfaceScene loaded = surface_scene_from(a, std::string(mode.name));
-  const Camera camera = surface_camera(a, loaded);
-  const SurfaceScene scene = refined_for_view(a, loaded, camera, size.width, size.height);
-  const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
-  validate_float_range(lit);  // double arithmetic, but the image is float32
+const std::vector<std::string> kPathTracerOptions = {"spp", "max-bounces", "seed", "variance"};
 
+reference::PathTracerSettings path_tracer_settings(const ParsedArgs& a) {
   reference::PathTracerSettings settings;
-  settings.width = size.width;
-  settings.height = size.height;
   settings.samples_per_pixel = a.has("spp") ? parse_uint("spp", a.values.at("spp")) : 64;
   settings.max_bounces = a.has("max-bounces") ? parse_uint("max-bounces", a.values.at("max-bounces")) : settings.max_bounces;
   settings.seed = a.has("seed") ? parse_uint("seed", a.values.at("seed")) : settings.seed;
   if (settings.samples_per_pixel == 0 || settings.samples_per_pixel > (1u << 20))
     throw InputError("--spp", "must be between 1 and 1048576");
-  const reference::PathTracedImage image = reference::path_trace(lit, camera, settings);
+  return settings;
+}
 
+void report_path_traced(const ParsedArgs& a, OutputFiles& files, const PathTracedRun& run, std::ostream& said) {
+  const SurfaceScene& scene = run.scene;
+  const SurfaceScene& lit = run.lit;
+  const mixed::SceneFrame& drawn = run.drawn;
+  const reference::PathTracerSettings& settings = run.settings;
+  const reference::PathTracedImage& image = *drawn.path;
+  const std::string& output = a.values.at("output");
   files.write(output, [&](const std::string& file) { io::write_image(file, rgb_image(image, image.mean)); });
   if (a.has("variance"))
     files.write(a.values.at("variance"), [&](const std::string& file) { io::write_pfm(file, rgb_image(image, image.variance)); });
   const auto& c = image.counts;
-  std::ostringstream said;  // printed once the files are in place (cmd_render.cpp says why)
   said << "wrote " << output << " (" << image.width << "x" << image.height << ", " << scene.name << ", " << settings.samples_per_pixel
        << " samples per pixel, at most " << settings.max_bounces << " bounces) on the CPU path tracer in "
        << json_number(image.seconds) << " s\n"
@@ -72,9 +66,9 @@ int cmd_render_path_reference(const std::vector<std::string>& args, const surfac
   if (lit.directional_lights.size() != scene.directional_lights.size()) said << "  no lights in the scene: default key light (it casts shadows) and sky\n";
   if (a.has("stats")) {
     StatsJson js;
-    js["device"] = "CPU path tracer (double precision)";
+    js["device"] = drawn.device;
     js["dataset"] = scene.name;
-    js["mode"] = std::string(mode.name);
+    js["mode"] = std::string(run.mode.name);
     js["width"] = image.width;
     js["height"] = image.height;
     js["samples_per_pixel"] = settings.samples_per_pixel;
@@ -88,9 +82,6 @@ int cmd_render_path_reference(const std::vector<std::string>& args, const surfac
     js["degenerate_triangles"] = c.degenerate_triangles;
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
-  files.commit();
-  std::cout << said.str();
-  return kOk;
 }
 
 }  // namespace prismoid::app

@@ -1,26 +1,26 @@
-// `prismoid render SCENE --mode M` for the surface modes of renderer/surface/surface_modes.hpp: a
-// GPU mode through surface::SurfaceRenderer (the object the window and the bench draw with),
-// whose frame the planner plans; linear RGB to PFM (or display sRGB to PNG), the passes, the
-// plan and the backend's counters in the stats. The CPU mode (the path tracer) is
+// `prismoid render SCENE --mode M` for the surface modes of renderer/surface/surface_modes.hpp,
+// drawn through the renderer facade (mixed::SceneRenderer): a GPU mode by its backend, whose frame
+// the planner plans; linear RGB to PFM (or display sRGB to PNG), the passes, the plan and the
+// backend's counters in the stats. The CPU mode's (the path tracer's) options and report are
 // cmd_render_path.cpp's.
 #include <algorithm>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 #include <variant>
 
 #include "app/cli.hpp"
+#include "app/cmd_render_path.hpp"
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
 #include "renderer/timing/frame_timing.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/stats_json.hpp"
 #include "app/common/surface_args.hpp"
-#include "renderer/timing/warm_up.hpp"
 #include "io/image_io.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
-#include "renderer/vk/device.hpp"
-#include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
@@ -38,6 +38,13 @@ const surface::SurfaceMode* mode_taking(const std::string& option) {
   for (const surface::SurfaceMode& m : surface::surface_mode_table())
     if (m.gpu() && takes(*m.backend, option)) return &m;
   return nullptr;
+}
+
+// The surface mode drawn on the CPU (the path tracer).
+const surface::SurfaceMode& cpu_mode() {
+  for (const surface::SurfaceMode& m : surface::surface_mode_table())
+    if (!m.gpu()) return m;
+  throw std::logic_error("the surface mode table has no CPU mode");
 }
 
 // --gi picks the mode of the same backend with that indirect light.
@@ -94,6 +101,7 @@ std::string surface_render_help() {
 int cmd_render_surface(const std::vector<std::string>& args, const surface::SurfaceMode& chosen) {
   // Every GPU backend's options parse, so that another mode's is refused naming that mode.
   std::vector<std::string> values = with_surface_color(with_camera({"output", "size", "mode", "quantity", "stats", "device"}));
+  values.insert(values.end(), kPathTracerOptions.begin(), kPathTracerOptions.end());
   // --no-shadows: the texture-space modes' old spelling of --shadows off, still understood.
   std::vector<std::string> flags = {"validate", "help", "reference-error", "no-shadows"};
   std::vector<std::string> backend_options;
@@ -110,21 +118,27 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
     return kOk;
   }
   if (a.flags.count("reference-error"))
-    throw InputError("--reference-error", "compares volume modes with their CPU reference; a surface mode's error against the "
-                                          "path tracer is measured by bench (--sweeps surfaces), or by rendering --mode "
-                                          "path-reference and comparing");
-  const surface::SurfaceBackendInfo& backend = *chosen.backend;
+    throw InputError("--reference-error", chosen.gpu() ? "compares volume modes with their CPU reference; a surface mode's error against the "
+                                                         "path tracer is measured by bench (--sweeps surfaces), or by rendering --mode "
+                                                         "path-reference and comparing"
+                                                       : "--mode " + std::string(chosen.name) + " is the reference itself");
+  // Each option belongs to the modes whose backend (or, for the path tracer's, whose CPU mode) takes it.
+  for (const std::string& option : kPathTracerOptions)
+    if (a.has(option) && chosen.gpu()) throw InputError("--" + option, "is an option of --mode " + std::string(cpu_mode().name));
+  if (a.flags.count("no-shadows") && !chosen.gpu())
+    throw InputError("--no-shadows", "is an option of --mode " + std::string(mode_taking("shadows")->name));
   surface::SurfaceOptions given;
   auto take = [&](const std::string& name, const std::string& value) {
     if (std::find(backend_options.begin(), backend_options.end(), name) == backend_options.end()) return;
-    if (!takes(backend, name)) throw InputError("--" + name, "is an option of --mode " + std::string(mode_taking(name)->name));
+    if (!chosen.gpu() || !takes(*chosen.backend, name))
+      throw InputError("--" + name, "is an option of --mode " + std::string(mode_taking(name)->name));
     given[name] = value;
   };
   for (const auto& [name, value] : a.values) take(name, value);
   for (const auto& [name, on] : a.flags) take(name, "");
   const surface::SurfaceMode& mode = given.count("gi") ? mode_with_gi(chosen, given.at("gi")) : chosen;
   given.erase("gi");
-  given = backend.command_options(given, mode.gi);
+  if (mode.gpu()) given = mode.backend->command_options(given, mode.gi);
   const std::string name(mode.name);
 
   if (!a.has("output")) throw InputError("render", "--output OUT.pfm|OUT.png is required");
@@ -154,27 +168,25 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   const SurfaceScene scene = refined_for_view(a, loaded, camera, size.width, size.height);
   const SurfaceScene lit = with_default_lighting(scene, camera);  // a file without lights is never black
 
-  vk::Instance instance(vk::InstanceOptions{.validation = a.flags.count("validate") > 0});
-  const auto devices = vk::query_devices(instance.get());
-  const auto& caps = vk::select_device(devices, parse_device(a));
-  vk::Device device(instance, caps, {});
-  if (const std::string problem = backend.device_problem(device); !problem.empty())
-    throw vk::NoSuitableDevice(problem + ": --mode " + name + " needs " + std::string(backend.needs));
-  surface::SurfaceRenderer renderer(device, lit, given);
-  if (shadows_asked && *shadows_asked && !renderer.can_shadow())
-    throw vk::NoSuitableDevice(caps.name + " has no ray tracing (VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure): "
-                               "shadows need it; use --shadows off");
-  if (shadows_asked) renderer.set_shadows(*shadows_asked);
-
-  auto render = [&] { return renderer.render_offscreen(camera, name, size, k); };
-  if (frames > 1) timing::warm_up([&] { return vk::total_gpu_ms(render().passes); }, timing::kTimedWarmUpSeconds);
-  surface::SurfaceRenderer::Offscreen image;
-  const timing::FrameTiming timing = timing::time_frames(frames, [&] {
-    renderer.forget_shading();  // each timed frame costs what a moving camera's does
-    image = render();
-    return image.passes;
-  });
-  image.passes = timing.medians();
+  mixed::SceneSettings scene_settings;
+  scene_settings.size = size;
+  scene_settings.surface_mode = &mode;
+  scene_settings.surface_options = given;
+  scene_settings.shadows = shadows_asked;
+  scene_settings.supersample = k;
+  scene_settings.frames = frames;
+  scene_settings.path = path_tracer_settings(a);
+  mixed::SceneRenderer renderer({.surfaces = &lit}, {.validation = a.flags.count("validate") > 0, .index = parse_device(a)});
+  mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
+  if (drawn.path) {
+    std::ostringstream said;  // printed once the files are in place (cmd_render.cpp says why)
+    report_path_traced(a, files, {mode, scene_settings.path, scene, lit, drawn}, said);
+    files.commit();
+    std::cout << said.str();
+    return kOk;
+  }
+  const surface::SurfaceRenderer::Offscreen& image = *drawn.surfaces;
+  const timing::FrameTiming& timing = *drawn.timing;
   io::FloatImage out;
   out.width = image.width;
   out.height = image.height;
@@ -182,7 +194,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   for (size_t i = 0; i < image.rgba.size(); i += 4) out.pixels.insert(out.pixels.end(), {image.rgba[i], image.rgba[i + 1], image.rgba[i + 2]});
   files.write(output, [&](const std::string& file) { io::write_image(file, out); });
 
-  const surface::GpuSurfaceScene& gpu = renderer.gpu_scene();
+  const surface::GpuSurfaceScene& gpu = *renderer.gpu_surfaces();
   const surface::SurfaceRenderer::FrameCounts& c = image.counts;
   const bool shadows = image.plan.find(frame::PassId::ShadowRays) != nullptr;
   const bool default_lighting = lit.directional_lights.size() != scene.directional_lights.size();
@@ -191,7 +203,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   std::ostringstream said;  // printed once the files are in place (cmd_render.cpp says why)
   said << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count
        << " triangles, " << gpu.emitter_count << " emissive" << (c.space.empty() ? "" : ", " + c.space)
-       << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "") << ") on " << caps.name << "\n";
+       << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "") << ") on " << drawn.device << "\n";
   const double total = print_pass_times(said, image.passes);
   said << "  total: " << json_number(total) << " ms GPU";
   if (frames > 1)
@@ -206,14 +218,14 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
 
   if (a.has("stats")) {
     StatsJson js;
-    js["device"] = caps.name;
-    js["driver"] = caps.driver_info;
+    js["device"] = drawn.device;
+    js["driver"] = drawn.driver;
     js["dataset"] = scene.name;
     js["mode"] = std::string(chosen.name);  // as given (--gi may have picked another mode of its backend: "gi" says which light)
     js["quantity"] = "color";
     js["width"] = size.width;
     js["height"] = size.height;
-    if (takes(backend, "supersample")) js["supersample"] = k;
+    if (takes(*mode.backend, "supersample")) js["supersample"] = k;
     js["triangles"] = gpu.triangle_count;
     js["emitters"] = gpu.emitter_count;
     js["gpu_scene_bytes"] = gpu.bytes;
@@ -221,18 +233,18 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
     js["default_lighting"] = default_lighting;
     js["shadows"] = shadows;
     if (!c.shaded_field.empty()) js[c.shaded_field] = c.shaded;
-    if (takes(backend, "frames")) js["frames"] = frames;
+    if (takes(*mode.backend, "frames")) js["frames"] = frames;
     for (const auto& [key, value] : c.stats) std::visit([&, &key = key](const auto& v) { js[key] = v; }, value);
     add_plan(js, image.plan);
     js["passes"] = passes_json(timing);
     add_sm_clock(js, timing);
     js["gpu_ms_total"] = total;
-    js["validation_messages"] = instance.validation_log().count();
+    js["validation_messages"] = renderer.instance()->validation_log().count();
     files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
   }
   files.commit();
   std::cout << said.str();
-  return validation_exit(instance);
+  return validation_exit(*renderer.instance());
 }
 
 }  // namespace prismoid::app

@@ -24,10 +24,9 @@ bool window_available();
 // The surface mode `--mode` names (either --mode M or --mode=M), from the surface mode table;
 // nullptr when it names none (then the volume modes apply).
 const surface::SurfaceMode* surface_mode_named(const std::vector<std::string>& args);
-// `render --mode M` for a GPU surface mode: through surface::SurfaceRenderer (app/cmd_render_surface.cpp).
+// `render --mode M` for a surface mode, on the GPU or the CPU path tracer as the mode is
+// (app/cmd_render_surface.cpp).
 int cmd_render_surface(const std::vector<std::string>& args, const surface::SurfaceMode& mode);
-// `render --mode path-reference`: a surface scene through the CPU path tracer (app/cmd_render_path.cpp).
-int cmd_render_path_reference(const std::vector<std::string>& args, const surface::SurfaceMode& mode);
 // render's flags (options without a value): a word after one of them is a file, after any other
 // option its value.
 extern const std::vector<std::string> kRenderFlags;
@@ -40,8 +39,6 @@ int cmd_render_mixed(const std::vector<std::string>& args);
 std::string render_help();
 // The surface modes' part of render's help, from the table.
 std::string surface_render_help();
-// The CPU path tracer's options, for that help (app/cmd_render_path.cpp).
-extern const char* const kPathTracerOptionsHelp;
 
 struct ParsedArgs;
 // `info --plan`: prints the frame plan the volume options give, or for a surface scene or a

@@ -194,5 +194,26 @@ TEST(CliSurface, PerFrameAtlasOptionsGivenBadlyAreRefusedByName) {
   }
 }
 
+// One surface verb parses every surface mode's options: each is refused, by name, for the modes
+// that do not take it, naming one that does (the path tracer's for the GPU modes and back).
+TEST(CliSurface, EachModesOptionsAreRefusedForTheOthersNamingAModeThatTakesThem) {
+  const fs::path out = work_dir() / "refused-option.pfm";
+  const std::pair<std::string, std::string> cases[] = {
+      {"cornell-box --mode forward --spp 4", "--spp: is an option of --mode path-reference"},
+      {"cornell-box --mode htex --variance v.pfm", "--variance: is an option of --mode path-reference"},
+      {"cornell-box --mode path-reference --frames 2", "--frames: is an option of --mode forward"},
+      {"cornell-box --mode path-reference --shadows off", "--shadows: is an option of --mode forward"},
+      {"cornell-box --mode path-reference --no-shadows", "--no-shadows: is an option of --mode forward"},
+      {"cornell-box --mode path-reference --reference-error", "--mode path-reference is the reference itself"},
+  };
+  for (const auto& [args, message] : cases) {
+    fs::remove(out);
+    const CliRun r = run("render " + args + " --size 8x8 --output " + out.string());
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
 }  // namespace
 }  // namespace prismoid

@@ -1,0 +1,36 @@
+#pragma once
+// `render --mode path-reference`'s part of the surface verb (app/cmd_render_surface.cpp): the CPU
+// path tracer's options, and the report of its frame.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "app/common/cli_args.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
+#include "renderer/reference/path_tracer.hpp"
+#include "renderer/surface/surface_modes.hpp"
+#include "scene/surface_scene.hpp"
+
+namespace prismoid::app {
+
+class OutputFiles;
+
+// The path tracer's options: render parses them with every surface mode and refuses them for the
+// GPU ones.
+extern const std::vector<std::string> kPathTracerOptions;
+extern const char* const kPathTracerOptionsHelp;
+
+// --spp, --max-bounces and --seed (InputError naming the option for a value out of range).
+reference::PathTracerSettings path_tracer_settings(const ParsedArgs& a);
+
+struct PathTracedRun {
+  const surface::SurfaceMode& mode;
+  const reference::PathTracerSettings& settings;
+  const SurfaceScene& scene;  // as loaded
+  const SurfaceScene& lit;    // as drawn (default lights where it had none)
+  const mixed::SceneFrame& drawn;
+};
+// Writes the image and --variance into `files`, the --stats file, and says what was drawn.
+void report_path_traced(const ParsedArgs& a, OutputFiles& files, const PathTracedRun& run, std::ostream& said);
+
+}  // namespace prismoid::app

@@ -1,0 +1,182 @@
+#include "renderer/mixed/scene_renderer.hpp"
+
+#include <stdexcept>
+#include <utility>
+
+#include "renderer/mixed/mixed_reference.hpp"
+#include "renderer/surface/surface_backend.hpp"
+#include "renderer/vk/capabilities.hpp"
+#include "renderer/vk/device.hpp"
+#include "renderer/vk/error.hpp"
+#include "renderer/vk/instance.hpp"
+#include "renderer/volume/float_limits.hpp"
+#include "renderer/volume/volume_backends.hpp"
+#include "scene/input_error.hpp"
+#include "scene/tet_mesh.hpp"
+
+namespace prismoid::mixed {
+
+namespace {
+
+const char* const kVolumeReference = "CPU reference (double precision)";
+
+// Refuses shadows asked of a device that traces no rays.
+void set_shadows(surface::SurfaceRenderer& renderer, const std::optional<bool>& shadows, const std::string& device) {
+  if (!shadows) return;
+  if (*shadows && !renderer.can_shadow())
+    throw vk::NoSuitableDevice(device + " has no ray tracing (VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure): "
+                               "shadows need it; use --shadows off");
+  renderer.set_shadows(*shadows);
+}
+
+// `frames` timed calls of `frame` (each returning its passes), after the warm-up where frames > 1.
+timing::FrameTiming timed(const SceneSettings& settings, const std::function<std::vector<vk::PassTiming>()>& frame) {
+  if (settings.frames > 1) timing::warm_up([&] { return vk::total_gpu_ms(frame()); }, settings.warm_up_seconds);
+  return timing::time_frames(settings.frames, frame);
+}
+
+}  // namespace
+
+SceneRenderer::SceneRenderer(SceneData scene, DeviceRequest device, AutoBackend auto_backend)
+    : scene_(scene), request_(device), auto_backend_(std::move(auto_backend)) {
+  if (!scene_.volume && !scene_.surfaces) throw std::invalid_argument("SceneRenderer: a scene of neither a volume nor surfaces");
+}
+
+SceneRenderer::SceneRenderer(SceneData scene, const vk::Device& device, AutoBackend auto_backend)
+    : SceneRenderer(scene, DeviceRequest{}, std::move(auto_backend)) {
+  device_ = &device;
+  device_name_ = device.capabilities().name;
+  driver_ = device.capabilities().driver_info;
+}
+
+SceneRenderer::~SceneRenderer() = default;
+
+const vk::Device& SceneRenderer::device() {
+  if (!device_) {
+    instance_ = std::make_unique<vk::Instance>(vk::InstanceOptions{.validation = request_.validation});
+    const auto devices = vk::query_devices(instance_->get());
+    const vk::DeviceCapabilities& caps = vk::select_device(devices, request_.index);
+    device_name_ = caps.name;
+    driver_ = caps.driver_info;
+    owned_device_ = std::make_unique<vk::Device>(*instance_, caps, vk::DeviceOptions{});
+    device_ = owned_device_.get();
+  }
+  return *device_;
+}
+
+void SceneRenderer::gpu_identity(SceneFrame& f) const {
+  f.gpu = true;
+  f.device = device_name_;
+  f.driver = driver_;
+}
+
+SceneFrame SceneRenderer::render(const Camera& camera, const SceneSettings& settings) {
+  if (scene_.volume && scene_.surfaces) return render_mixed(camera, settings);
+  return scene_.volume ? render_volume(camera, settings) : render_surfaces(camera, settings);
+}
+
+SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSettings& settings) {
+  if (!settings.volume_mode) throw std::invalid_argument("SceneRenderer: a volume frame without a volume mode");
+  const TetMesh& mesh = *scene_.volume;
+  SceneFrame f;
+  f.volume_settings = settings.volume;
+  if (!settings.volume_mode->gpu()) {
+    f.device = kVolumeReference;
+    // Double arithmetic, but the image is float32: refused where it cannot hold the answer.
+    const volume::FloatCheck check = volume::check_float_limits(volume::float_facts(mesh), camera, settings.size.width,
+                                                                settings.size.height, settings.volume.resolve, false);
+    f.volume = volume::reference_backend().render(mesh, camera, settings.volume.resolve, settings.size, scene_.analytic_field);
+    f.volume->report.warnings = check.warnings;
+    return f;
+  }
+  const vk::Device& gpu = device();
+  gpu_identity(f);
+  if (settings.volume_backend_auto && auto_backend_) auto_backend_(f.volume_settings, gpu);
+  if (!volume_) volume_ = std::make_unique<frame::FrameRenderer>(gpu, mesh);
+  // Timed frames read no image back, so the GPU stays busy (and at its clock) between them; the
+  // image comes from one more frame of the same camera.
+  f.timing = timed(settings, [&] {
+    volume_->forget_history();  // each timed frame costs what a moving camera's does: no order reused
+    return volume_->render_timed(camera, f.volume_settings, settings.size).passes;
+  });
+  volume_->forget_history();
+  f.volume = volume_->render_offscreen(camera, f.volume_settings, settings.size);
+  f.volume->passes = f.timing->medians();
+  return f;
+}
+
+SceneFrame SceneRenderer::render_surfaces(const Camera& camera, const SceneSettings& settings) {
+  if (!settings.surface_mode) throw std::invalid_argument("SceneRenderer: a surface frame without a surface mode");
+  const surface::SurfaceMode& mode = *settings.surface_mode;
+  const SurfaceScene& scene = *scene_.surfaces;
+  SceneFrame f;
+  f.volume_settings = settings.volume;
+  if (!mode.gpu()) {
+    f.device = "CPU path tracer (double precision)";
+    validate_float_range(scene);  // double arithmetic, but the image is float32
+    reference::PathTracerSettings path = settings.path;
+    path.width = settings.size.width;
+    path.height = settings.size.height;
+    f.path = reference::path_trace(scene, camera, path);
+    return f;
+  }
+  const vk::Device& gpu = device();
+  gpu_identity(f);
+  const surface::SurfaceBackendInfo& backend = *mode.backend;
+  const std::string name(mode.name);
+  if (const std::string problem = backend.device_problem(gpu); !problem.empty())
+    throw vk::NoSuitableDevice(problem + ": --mode " + name + " needs " + std::string(backend.needs));
+  if (!surfaces_ || surface_options_ != settings.surface_options) {
+    surfaces_ = std::make_unique<surface::SurfaceRenderer>(gpu, scene, settings.surface_options);
+    surface_options_ = settings.surface_options;
+  }
+  set_shadows(*surfaces_, settings.shadows, device_name_);
+  // Each timed frame is read back (a GI mode's image is the mean of its still frames): the image
+  // is the last timed frame's.
+  surface::SurfaceRenderer::Offscreen image;
+  f.timing = timed(settings, [&] {
+    surfaces_->forget_shading();  // each timed frame costs what a moving camera's does
+    image = surfaces_->render_offscreen(camera, name, settings.size, settings.supersample);
+    return image.passes;
+  });
+  image.passes = f.timing->medians();
+  f.surfaces = std::move(image);
+  return f;
+}
+
+SceneFrame SceneRenderer::render_mixed(const Camera& camera, const SceneSettings& settings) {
+  if (!settings.volume_mode) throw std::invalid_argument("SceneRenderer: a mixed frame without a volume mode");
+  const std::string surface_mode = settings.surface_mode ? std::string(settings.surface_mode->name) : "forward";
+  SceneFrame f;
+  f.volume_settings = settings.volume;
+  if (!settings.volume_mode->gpu()) {
+    f.device = kVolumeReference;
+    const bool shadows = settings.shadows.value_or(surface::surface_contents(*scene_.surfaces).casts_shadows());
+    f.mixed = render_mixed_reference(*scene_.volume, *scene_.surfaces, camera, settings.volume.resolve, settings.size, shadows);
+    return f;
+  }
+  const vk::Device& gpu = device();
+  gpu_identity(f);
+  if (settings.volume_backend_auto && auto_backend_) auto_backend_(f.volume_settings, gpu);
+  if (!mixed_) mixed_ = std::make_unique<MixedRenderer>(gpu, *scene_.volume, *scene_.surfaces);
+  set_shadows(mixed_->surface_renderer(), settings.shadows, device_name_);
+  f.mixed = mixed_->render(camera, f.volume_settings, settings.size, surface_mode);
+  return f;
+}
+
+SceneFrame SceneRenderer::reference(const Camera& camera, const SceneSettings& settings, const SceneFrame& drawn) const {
+  if (!scene_.volume) throw std::logic_error("SceneRenderer::reference: surfaces alone have the path tracer, a mode of their own");
+  SceneFrame f;
+  f.device = kVolumeReference;
+  f.volume_settings = drawn.volume_settings;
+  if (scene_.surfaces) {
+    const bool shadows = drawn.mixed ? drawn.mixed->shadows : settings.shadows.value_or(false);
+    f.mixed = render_mixed_reference(*scene_.volume, *scene_.surfaces, camera, drawn.volume_settings.resolve, settings.size, shadows);
+  } else {
+    f.volume = volume::reference_backend().render(*scene_.volume, camera, drawn.volume_settings.resolve, settings.size,
+                                                  scene_.analytic_field);
+  }
+  return f;
+}
+
+}  // namespace prismoid::mixed

@@ -1,0 +1,133 @@
+#pragma once
+// The renderer's one door (issue "One renderer for every front end"): a scene (a volume, surfaces,
+// or a volume inside its surfaces) and settings in, a frame out. Whether a frame is drawn on the
+// GPU or by a CPU reference, and by which backend, follows from the mode tables
+// (frame::volume_mode_table, surface::surface_mode_table) and the backend tables behind them: the
+// front end names modes, never a code path. The device is opened with the first frame that needs
+// one, and the renderers made for the scene are kept for the frames after (a scene that persists,
+// as the window will want).
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/frame/volume_modes.hpp"
+#include "renderer/mixed/mixed_frame.hpp"
+#include "renderer/reference/path_tracer.hpp"
+#include "renderer/surface/surface_modes.hpp"
+#include "renderer/surface/surface_renderer.hpp"
+#include "renderer/timing/frame_timing.hpp"
+#include "renderer/timing/warm_up.hpp"
+#include "scene/camera.hpp"
+#include "scene/surface_scene.hpp"
+#include "scene/tet_mesh_fwd.hpp"
+
+namespace prismoid::vk {
+class Instance;
+class Device;
+}  // namespace prismoid::vk
+
+namespace prismoid::mixed {
+
+// The GPU frames' device, opened with the first frame that needs one.
+struct DeviceRequest {
+  bool validation = false;        // the Khronos validation layer, its messages logged (instance())
+  std::optional<uint32_t> index;  // vk::select_device's choice; none: the first suitable device
+};
+
+// What the frames draw: a volume, surfaces, or both. The renderer keeps the pointers: the data
+// must outlive it.
+struct SceneData {
+  const TetMesh* volume = nullptr;
+  bool analytic_field = false;             // the volume samples an analytic field: its CPU reference marches the field
+  const SurfaceScene* surfaces = nullptr;  // with its lights already (with_default_lighting)
+};
+
+struct SceneSettings {
+  VkExtent2D size{800, 600};
+  // The volume's mode (a row of frame::volume_mode_table()) and its frame's settings.
+  const frame::VolumeMode* volume_mode = nullptr;
+  frame::FrameSettings volume;
+  bool volume_backend_auto = false;  // volume.backend is chosen on the device (SceneRenderer's AutoBackend)
+  // The surfaces' mode (a row of surface::surface_mode_table()), its backend's options, and whether
+  // they cast shadows (none: the surface renderer's default, on where the device traces rays and a
+  // light casts them).
+  const surface::SurfaceMode* surface_mode = nullptr;
+  surface::SurfaceOptions surface_options;
+  std::optional<bool> shadows;
+  uint32_t supersample = 1;            // surfaces alone, on the GPU: the mean of k x k sub-pixel positions
+  reference::PathTracerSettings path;  // surfaces alone, by the CPU path tracer (its size is `size`)
+  // GPU frames of a volume or of surfaces alone are timed: `frames` of them, each costing what a
+  // moving camera's does (no order or shading kept from the one before), after at least
+  // `warm_up_seconds` of untimed ones where frames > 1 (timing::warm_up says why).
+  uint32_t frames = 1;
+  double warm_up_seconds = timing::kTimedWarmUpSeconds;
+};
+
+// One frame: what drew it and what it drew. Exactly one of volume, surfaces, path and mixed holds
+// the images, by the scene and the modes.
+struct SceneFrame {
+  std::string device, driver;  // the GPU's name and driver, or which CPU reference drew it
+  bool gpu = false;
+  frame::FrameSettings volume_settings;       // as drawn: an `auto` backend resolved, with its reason
+  std::optional<timing::FrameTiming> timing;  // timed GPU frames: each pass's spread (the images' passes hold the medians)
+  std::optional<frame::OffscreenFrame> volume;                   // a volume alone
+  std::optional<surface::SurfaceRenderer::Offscreen> surfaces;   // surfaces alone, on the GPU
+  std::optional<reference::PathTracedImage> path;                // surfaces alone, by the path tracer
+  std::optional<MixedFrame> mixed;                               // a volume inside its surfaces
+};
+
+// Chooses the backend of `--volume-backend auto` on a device (the CLI keeps its calibrations in a
+// cache file): sets settings.backend and settings.backend_reason.
+using AutoBackend = std::function<void(frame::FrameSettings& settings, const vk::Device& device)>;
+
+class SceneRenderer {
+ public:
+  SceneRenderer(SceneData scene, DeviceRequest device, AutoBackend auto_backend = {});
+  // Frames on a device the caller opened and keeps (the bench's, the window's, a test's).
+  SceneRenderer(SceneData scene, const vk::Device& device, AutoBackend auto_backend = {});
+  ~SceneRenderer();
+  SceneRenderer(const SceneRenderer&) = delete;
+  SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  // One frame of `settings` from `camera`, timed as SceneSettings says. InputError for settings the
+  // scene's modes refuse; vk::NoSuitableDevice where the device cannot draw them.
+  SceneFrame render(const Camera& camera, const SceneSettings& settings);
+
+  // The same frame by its CPU double-precision reference (the image `render --reference-error`
+  // measures against): a volume's in exact order, a mixed scene's with the surfaces' direct light
+  // (shadows as `drawn` had them). Surfaces alone have the path tracer, a mode of their own:
+  // std::logic_error.
+  SceneFrame reference(const Camera& camera, const SceneSettings& settings, const SceneFrame& drawn) const;
+
+  // The instance, once a GPU frame opened it (its validation log); nullptr before and for a
+  // caller's device.
+  const vk::Instance* instance() const { return instance_.get(); }
+  // The GPU surface scene of surfaces alone, once a GPU frame uploaded it; nullptr before.
+  const surface::GpuSurfaceScene* gpu_surfaces() const { return surfaces_ ? &surfaces_->gpu_scene() : nullptr; }
+
+ private:
+  const vk::Device& device();
+  SceneFrame render_volume(const Camera& camera, const SceneSettings& settings);
+  SceneFrame render_surfaces(const Camera& camera, const SceneSettings& settings);
+  SceneFrame render_mixed(const Camera& camera, const SceneSettings& settings);
+  void gpu_identity(SceneFrame& f) const;
+
+  SceneData scene_;
+  DeviceRequest request_;
+  AutoBackend auto_backend_;
+  std::unique_ptr<vk::Instance> instance_;
+  std::string device_name_, driver_;
+  std::unique_ptr<vk::Device> owned_device_;
+  const vk::Device* device_ = nullptr;
+  std::unique_ptr<frame::FrameRenderer> volume_;
+  std::unique_ptr<surface::SurfaceRenderer> surfaces_;
+  surface::SurfaceOptions surface_options_;  // what surfaces_ was made with
+  std::unique_ptr<MixedRenderer> mixed_;
+};
+
+}  // namespace prismoid::mixed

@@ -1,0 +1,129 @@
+// The renderer facade (renderer/mixed/scene_renderer.hpp): what draws a frame follows from the scene
+// and the modes' rows, and the facade adds nothing to the frame of the renderer it hands it to.
+// Each frame is compared with the same frame drawn by that renderer directly, number for number
+// (the compute backend and the surface backends are deterministic); their accuracy against the
+// references is the other suites' business.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "mixed/square_scene.hpp"
+#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/frame/volume_modes.hpp"
+#include "renderer/mixed/mixed_frame.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
+#include "renderer/surface/surface_modes.hpp"
+#include "renderer/surface/surface_renderer.hpp"
+#include "renderer/volume/volume_backends.hpp"
+#include "scene/generators.hpp"
+#include "scene/tet_mesh.hpp"
+#include "support/gpu_fixture.hpp"
+
+namespace prismoid {
+namespace {
+
+constexpr VkExtent2D kSize{24, 20};
+const test::Square kSquare{0.2, -0.5, 0.5, -0.5, 0.5};
+
+Camera camera() {
+  Camera c;
+  c.eye = {0.3, 0.2, 4.0};
+  c.target = {0.0, 0.0, 0.0};
+  c.fovy_degrees = 40.0;
+  c.near_distance = 0.1;
+  return c;
+}
+
+TetMesh ball() { return make_ball_mesh(glm::dvec3(0.0), 1.0, 1, 2.0); }
+
+mixed::SceneSettings volume_settings(const char* mode) {
+  mixed::SceneSettings s;
+  s.size = kSize;
+  s.volume_mode = frame::find_volume_mode(mode);
+  s.volume.backend = frame::IntervalBackend::Compute;
+  s.volume.resolve.quantity = volume::Quantity::OpticalDepth;
+  s.warm_up_seconds = 0.0;
+  return s;
+}
+
+TEST(SceneRenderer, CpuModesOpenNoDevice) {
+  const TetMesh mesh = ball();
+  mixed::SceneRenderer volume({.volume = &mesh}, mixed::DeviceRequest{});
+  const mixed::SceneSettings settings = volume_settings("reference");
+  const mixed::SceneFrame f = volume.render(camera(), settings);
+  EXPECT_FALSE(f.gpu);
+  EXPECT_EQ(volume.instance(), nullptr);
+  ASSERT_TRUE(f.volume.has_value());
+  EXPECT_FALSE(f.timing.has_value());
+  const frame::OffscreenFrame direct = volume::reference_backend().render(mesh, camera(), settings.volume.resolve, kSize, false);
+  EXPECT_EQ(f.volume->quantity, direct.quantity);
+
+  const SurfaceScene scene = test::square_scene(kSquare);
+  mixed::SceneRenderer surfaces({.surfaces = &scene}, mixed::DeviceRequest{});
+  mixed::SceneSettings path;
+  path.size = kSize;
+  path.surface_mode = surface::find_surface_mode("path-reference");
+  path.path.samples_per_pixel = 1;
+  const mixed::SceneFrame p = surfaces.render(camera(), path);
+  EXPECT_FALSE(p.gpu);
+  EXPECT_EQ(surfaces.instance(), nullptr);
+  ASSERT_TRUE(p.path.has_value());
+  EXPECT_EQ(p.path->width, kSize.width);
+  EXPECT_EQ(p.path->height, kSize.height);
+  EXPECT_THROW(surfaces.reference(camera(), path, p), std::logic_error);
+}
+
+class SceneRendererGpu : public test::GpuTest {};
+
+TEST_F(SceneRendererGpu, AVolumeFrameIsTheFrameRenderersOwnTimedAsAsked) {
+  const TetMesh mesh = ball();
+  mixed::SceneRenderer facade({.volume = &mesh}, device());
+  mixed::SceneSettings settings = volume_settings("interval-sorted");
+  settings.frames = 3;
+  const mixed::SceneFrame f = facade.render(camera(), settings);
+  ASSERT_TRUE(f.gpu);
+  ASSERT_TRUE(f.volume.has_value());
+  ASSERT_TRUE(f.timing.has_value());
+  EXPECT_EQ(f.timing->frames, 3u);
+  ASSERT_EQ(f.timing->passes.size(), f.volume->passes.size());
+  for (size_t i = 0; i < f.volume->passes.size(); ++i) EXPECT_EQ(f.timing->passes[i].name, f.volume->passes[i].name);
+  EXPECT_EQ(f.device, device().capabilities().name);
+
+  frame::FrameRenderer direct(device(), mesh);
+  const frame::OffscreenFrame d = direct.render_offscreen(camera(), settings.volume, kSize);
+  EXPECT_EQ(f.volume->quantity, d.quantity);
+  // Its reference is the cpu backend's frame of the same settings.
+  const mixed::SceneFrame r = facade.reference(camera(), settings, f);
+  ASSERT_TRUE(r.volume.has_value());
+  EXPECT_EQ(r.volume->quantity, volume::reference_backend().render(mesh, camera(), settings.volume.resolve, kSize, false).quantity);
+}
+
+TEST_F(SceneRendererGpu, SurfaceAndMixedFramesAreTheirRenderersOwn) {
+  const SurfaceScene scene = test::square_scene(kSquare);
+  mixed::SceneRenderer surfaces({.surfaces = &scene}, device());
+  mixed::SceneSettings s;
+  s.size = kSize;
+  s.surface_mode = surface::find_surface_mode("forward");
+  s.shadows = false;
+  const mixed::SceneFrame f = surfaces.render(camera(), s);
+  ASSERT_TRUE(f.surfaces.has_value());
+  surface::SurfaceRenderer direct(device(), scene);
+  direct.set_shadows(false);
+  EXPECT_EQ(f.surfaces->rgba, direct.render_offscreen(camera(), "forward", kSize).rgba);
+
+  const TetMesh mesh = ball();
+  mixed::SceneRenderer both({.volume = &mesh, .surfaces = &scene}, device());
+  mixed::SceneSettings m = volume_settings("interval-sorted");
+  m.surface_mode = s.surface_mode;
+  m.shadows = false;
+  const mixed::SceneFrame g = both.render(camera(), m);
+  ASSERT_TRUE(g.mixed.has_value());
+  EXPECT_FALSE(g.volume.has_value());
+  mixed::MixedRenderer mixed_direct(device(), mesh, scene);
+  mixed_direct.surface_renderer().set_shadows(false);
+  EXPECT_EQ(g.mixed->display, mixed_direct.render(camera(), m.volume, kSize, "forward").display);
+}
+
+}  // namespace
+}  // namespace prismoid
