@@ -18,6 +18,7 @@
 
 #include "io/image_io.hpp"
 #include "io/vtk_tet_io.hpp"
+#include "mixed/square_scene.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/camera.hpp"
 #include "scene/generators.hpp"
@@ -46,14 +47,7 @@ fs::path write_square() {
 
 const char* const kCamera = " --eye 0.3,0.2,4 --target 0,0,0 --up 0,1,0 --fovy 40 --near 0.1";
 
-Camera camera() {
-  Camera c;
-  c.eye = {0.3, 0.2, 4.0};
-  c.target = {0.0, 0.0, 0.0};
-  c.fovy_degrees = 40.0;
-  c.near_distance = 0.1;
-  return c;
-}
+Camera camera() { return test::square_view(); }
 
 // Whether the ray through image point (px, py) meets the square, and at which depth along the
 // viewing axis.

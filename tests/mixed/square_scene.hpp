@@ -1,5 +1,6 @@
 #pragma once
 // The opaque surface of the mixed-scene tests: one axis-aligned square, lit by a point light.
+#include "scene/camera.hpp"
 #include "scene/surface_scene.hpp"
 
 namespace prismoid::test {
@@ -31,6 +32,17 @@ inline SurfaceScene square_scene(const Square& s) {
 inline SurfaceScene with_square(SurfaceScene scene, const Square& s) {
   scene.meshes.push_back(square_mesh(s));
   return scene;
+}
+
+// The view of the mixed scenes' tests: the eye a little off the z axis, 4 units out, looking at
+// the origin (the CLI tests' --eye 0.3,0.2,4 --target 0,0,0 --up 0,1,0 --fovy 40 --near 0.1).
+inline Camera square_view() {
+  Camera c;
+  c.eye = {0.3, 0.2, 4.0};
+  c.target = {0.0, 0.0, 0.0};
+  c.fovy_degrees = 40.0;
+  c.near_distance = 0.1;
+  return c;
 }
 
 }  // namespace prismoid::test

@@ -26,14 +26,7 @@ namespace {
 constexpr VkExtent2D kSize{24, 20};
 const test::Square kSquare{0.2, -0.5, 0.5, -0.5, 0.5};
 
-Camera camera() {
-  Camera c;
-  c.eye = {0.3, 0.2, 4.0};
-  c.target = {0.0, 0.0, 0.0};
-  c.fovy_degrees = 40.0;
-  c.near_distance = 0.1;
-  return c;
-}
+Camera camera() { return test::square_view(); }
 
 TetMesh ball() { return make_ball_mesh(glm::dvec3(0.0), 1.0, 1, 2.0); }
 
