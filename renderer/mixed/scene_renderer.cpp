@@ -70,6 +70,13 @@ void SceneRenderer::gpu_identity(SceneFrame& f) const {
   f.driver = driver_;
 }
 
+void SceneRenderer::resolve_auto(frame::FrameSettings& volume, const SceneSettings& settings, const vk::Device& device) const {
+  if (!settings.volume_backend_auto) return;
+  // Never drawn on the default backend while the caller believes it asked for the fastest.
+  if (!auto_backend_) throw std::invalid_argument("SceneRenderer: an automatic volume backend, and no AutoBackend to choose it");
+  auto_backend_(volume, device);
+}
+
 SceneFrame SceneRenderer::render(const Camera& camera, const SceneSettings& settings) {
   if (scene_.volume && scene_.surfaces) return render_mixed(camera, settings);
   return scene_.volume ? render_volume(camera, settings) : render_surfaces(camera, settings);
@@ -91,7 +98,7 @@ SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSetting
   }
   const vk::Device& gpu = device();
   gpu_identity(f);
-  if (settings.volume_backend_auto && auto_backend_) auto_backend_(f.volume_settings, gpu);
+  resolve_auto(f.volume_settings, settings, gpu);
   if (!volume_) volume_ = std::make_unique<frame::FrameRenderer>(gpu, mesh);
   // Timed frames read no image back, so the GPU stays busy (and at its clock) between them; the
   // image comes from one more frame of the same camera.
@@ -157,7 +164,7 @@ SceneFrame SceneRenderer::render_mixed(const Camera& camera, const SceneSettings
   }
   const vk::Device& gpu = device();
   gpu_identity(f);
-  if (settings.volume_backend_auto && auto_backend_) auto_backend_(f.volume_settings, gpu);
+  resolve_auto(f.volume_settings, settings, gpu);
   if (!mixed_) mixed_ = std::make_unique<MixedRenderer>(gpu, *scene_.volume, *scene_.surfaces);
   set_shadows(mixed_->surface_renderer(), settings.shadows, device_name_);
   f.mixed = mixed_->render(camera, f.volume_settings, settings.size, surface_mode);
@@ -170,8 +177,9 @@ SceneFrame SceneRenderer::reference(const Camera& camera, const SceneSettings& s
   f.device = kVolumeReference;
   f.volume_settings = drawn.volume_settings;
   if (scene_.surfaces) {
-    const bool shadows = drawn.mixed ? drawn.mixed->shadows : settings.shadows.value_or(false);
-    f.mixed = render_mixed_reference(*scene_.volume, *scene_.surfaces, camera, drawn.volume_settings.resolve, settings.size, shadows);
+    if (!drawn.mixed) throw std::logic_error("SceneRenderer::reference: `drawn` is not this scene's frame");
+    f.mixed = render_mixed_reference(*scene_.volume, *scene_.surfaces, camera, drawn.volume_settings.resolve, settings.size,
+                                     drawn.mixed->shadows);
   } else {
     f.volume = volume::reference_backend().render(*scene_.volume, camera, drawn.volume_settings.resolve, settings.size,
                                                   scene_.analytic_field);

@@ -100,8 +100,8 @@ class SceneRenderer {
 
   // The same frame by its CPU double-precision reference (the image `render --reference-error`
   // measures against): a volume's in exact order, a mixed scene's with the surfaces' direct light
-  // (shadows as `drawn` had them). Surfaces alone have the path tracer, a mode of their own:
-  // std::logic_error.
+  // (shadows as `drawn` had them). `drawn` is a frame render() returned for this scene. Surfaces
+  // alone have the path tracer, a mode of their own: std::logic_error.
   SceneFrame reference(const Camera& camera, const SceneSettings& settings, const SceneFrame& drawn) const;
 
   // The instance, once a GPU frame opened it (its validation log); nullptr before and for a
@@ -116,6 +116,9 @@ class SceneRenderer {
   SceneFrame render_surfaces(const Camera& camera, const SceneSettings& settings);
   SceneFrame render_mixed(const Camera& camera, const SceneSettings& settings);
   void gpu_identity(SceneFrame& f) const;
+  // Sets `volume`'s backend where the settings ask for the automatic one (std::invalid_argument
+  // without an AutoBackend).
+  void resolve_auto(frame::FrameSettings& volume, const SceneSettings& settings, const vk::Device& device) const;
 
   SceneData scene_;
   DeviceRequest request_;

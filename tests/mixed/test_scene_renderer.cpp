@@ -5,6 +5,7 @@
 // references is the other suites' business.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,23 @@ TEST_F(SceneRendererGpu, AVolumeFrameIsTheFrameRenderersOwnTimedAsAsked) {
   const mixed::SceneFrame r = facade.reference(camera(), settings, f);
   ASSERT_TRUE(r.volume.has_value());
   EXPECT_EQ(r.volume->quantity, volume::reference_backend().render(mesh, camera(), settings.volume.resolve, kSize, false).quantity);
+}
+
+// The automatic backend is the front end's hook's choice, and never silently the default.
+TEST_F(SceneRendererGpu, AnAutomaticBackendIsTheHooksChoice) {
+  const TetMesh mesh = ball();
+  mixed::SceneSettings settings = volume_settings("interval-sorted");
+  settings.volume.backend = frame::IntervalBackend::Mesh;
+  settings.volume_backend_auto = true;
+  mixed::SceneRenderer without({.volume = &mesh}, device());
+  EXPECT_THROW(without.render(camera(), settings), std::invalid_argument);
+  mixed::SceneRenderer with({.volume = &mesh}, device(), [](frame::FrameSettings& s, const vk::Device&) {
+    s.backend = frame::IntervalBackend::Compute;
+    s.backend_reason = "the test's choice";
+  });
+  const mixed::SceneFrame f = with.render(camera(), settings);
+  EXPECT_EQ(f.volume_settings.backend_reason, "the test's choice");
+  EXPECT_EQ(f.volume->report.backend, "compute");
 }
 
 TEST_F(SceneRendererGpu, SurfaceAndMixedFramesAreTheirRenderersOwn) {
