@@ -13,8 +13,8 @@
 #include <glm/geometric.hpp>
 
 #include "app/common/cli_args.hpp"
-#include "renderer/timing/frame_timing.hpp"
 #include "app/common/stats_json.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "renderer/timing/warm_up.hpp"
 #include "scene/bounds.hpp"
 #include "scene/camera.hpp"

@@ -167,6 +167,18 @@ TEST(CliSurface, EveryGpuModeOfTheTableRendersByItsName) {
 // The options and scene names the per-frame atlases brought (and the refinement of large
 // triangles), given carelessly: each refused with exit 2 and a message naming the option or the
 // name, and no image written.
+// Each `render ARGS` is refused (exit 2) with its message on stderr, writing no `out`.
+template <size_t N>
+void expect_each_refused(const std::pair<std::string, std::string> (&cases)[N], const fs::path& out) {
+  for (const auto& [args, message] : cases) {
+    fs::remove(out);
+    const CliRun r = run("render " + args + " --size 16x12 --output " + out.string());
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
 TEST(CliSurface, PerFrameAtlasOptionsGivenBadlyAreRefusedByName) {
   const fs::path out = work_dir() / "refused.pfm";
   const std::pair<std::string, std::string> cases[] = {
@@ -185,13 +197,7 @@ TEST(CliSurface, PerFrameAtlasOptionsGivenBadlyAreRefusedByName) {
       {"tiled:2 --mode forward", "tiled:2: a tiled scene is tiled:N:FILE"},
       {"tiled:2:no-such-file.off --mode forward", "no-such-file.off"},
   };
-  for (const auto& [args, message] : cases) {
-    fs::remove(out);
-    const CliRun r = run("render " + args + " --size 16x12 --output " + out.string());
-    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
-    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
-    EXPECT_FALSE(fs::exists(out)) << args;
-  }
+  expect_each_refused(cases, out);
 }
 
 // One surface verb parses every surface mode's options: each is refused, by name, for the modes
@@ -206,13 +212,7 @@ TEST(CliSurface, EachModesOptionsAreRefusedForTheOthersNamingAModeThatTakesThem)
       {"cornell-box --mode path-reference --no-shadows", "--no-shadows: is an option of --mode forward"},
       {"cornell-box --mode path-reference --reference-error", "--mode path-reference is the reference itself"},
   };
-  for (const auto& [args, message] : cases) {
-    fs::remove(out);
-    const CliRun r = run("render " + args + " --size 8x8 --output " + out.string());
-    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
-    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
-    EXPECT_FALSE(fs::exists(out)) << args;
-  }
+  expect_each_refused(cases, out);
 }
 
 }  // namespace

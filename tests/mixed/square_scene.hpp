@@ -34,15 +34,18 @@ inline SurfaceScene with_square(SurfaceScene scene, const Square& s) {
   return scene;
 }
 
-// The view of the mixed scenes' tests: the eye a little off the z axis, 4 units out, looking at
-// the origin (the CLI tests' --eye 0.3,0.2,4 --target 0,0,0 --up 0,1,0 --fovy 40 --near 0.1).
-inline Camera square_view() {
+// A camera at `eye` looking at the origin, +y up, near plane 0.1.
+inline Camera view_of_origin(const glm::dvec3& eye, double fovy_degrees) {
   Camera c;
-  c.eye = {0.3, 0.2, 4.0};
+  c.eye = eye;
   c.target = {0.0, 0.0, 0.0};
-  c.fovy_degrees = 40.0;
+  c.fovy_degrees = fovy_degrees;
   c.near_distance = 0.1;
   return c;
 }
+
+// The view of the mixed scenes' tests: the eye a little off the z axis, 4 units out (the CLI
+// tests' --eye 0.3,0.2,4 --target 0,0,0 --up 0,1,0 --fovy 40 --near 0.1).
+inline Camera square_view() { return view_of_origin({0.3, 0.2, 4.0}, 40.0); }
 
 }  // namespace prismoid::test

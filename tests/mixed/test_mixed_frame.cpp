@@ -136,14 +136,7 @@ class MixedFrameTest : public test::GpuTest, public test::OnBackend {
   }
 };
 
-Camera outside() {
-  Camera c;
-  c.eye = {0.9, 0.6, 4.5};
-  c.target = {0.0, 0.0, 0.0};
-  c.fovy_degrees = 45.0;
-  c.near_distance = 0.1;
-  return c;
-}
+Camera outside() { return test::view_of_origin({0.9, 0.6, 4.5}, 45.0); }
 
 // A square inside the box ends the rays that meet it; the others cross the whole box.
 TEST_P(MixedFrameTest, ASquareInsideTheVolumeEndsItsRays) {
