@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/timing/frame_timing.hpp"
 #include "renderer/metrics/image_error.hpp"
+#include "renderer/timing/frame_timing.hpp"
 
 namespace prismoid::bench {
 

@@ -7,15 +7,15 @@
 #include <map>
 
 #include "app/common/cli_args.hpp"
-#include "renderer/timing/frame_timing.hpp"
 #include "app/common/surface_args.hpp"
-#include "renderer/timing/warm_up.hpp"
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/path_tracer.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
+#include "renderer/timing/frame_timing.hpp"
+#include "renderer/timing/warm_up.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/memory.hpp"
 #include "scene/surface_generators.hpp"

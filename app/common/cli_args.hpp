@@ -12,8 +12,8 @@
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan.h>
 
-#include "renderer/vk/instance.hpp"
 #include "renderer/timing/frame_timing.hpp"
+#include "renderer/vk/instance.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/bounds.hpp"
 #include "scene/camera.hpp"

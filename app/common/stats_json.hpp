@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/timing/frame_timing.hpp"
 #include "renderer/frame/frame_plan.hpp"
+#include "renderer/timing/frame_timing.hpp"
 #include "renderer/vk/timer.hpp"
 
 namespace prismoid::mixed {
