@@ -1,12 +1,15 @@
 #include "app/cli.hpp"
 
 #include <iostream>
+#include <string>
+#include <string_view>
 
 #include "app/commands.hpp"
 #include "io/progress.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/error.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 
 namespace prismoid::app {
 
@@ -62,9 +65,18 @@ int dispatch(const std::vector<std::string>& args) {
   throw InputError(verb, "unknown verb (verbs: view, render, convert, info, devices, bench, help)");
 }
 
+// A setting as the command line spells it: its option ("--tetlet-size"), with the value after it.
+std::string cli_spelling(std::string_view key, std::string_view value) {
+  std::string s = "--";
+  s.append(key);
+  if (!value.empty()) s.append(" ").append(value);
+  return s;
+}
+
 }  // namespace
 
 int run_cli(const std::vector<std::string>& args) {
+  set_setting_spelling(&cli_spelling);  // the renderer's messages name settings as this front end's flags
   try {
     return dispatch(args);
   } catch (const InputError& e) {

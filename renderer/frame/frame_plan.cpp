@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "scene/tet_mesh.hpp"
 
 namespace prismoid::frame {
@@ -123,7 +124,7 @@ bool plan_ordering(const SceneContents& scene, const VolumeContents& volume, con
     return false;
   }
   if (settings.ordering == Ordering::MeshOrder) {
-    skip_ordering(plan, "mesh order asked for (--mode interval): colour composited unsorted, approximate");
+    skip_ordering(plan, "mesh order asked for (" + setting("mode", "interval") + "): colour composited unsorted, approximate");
     return false;
   }
   const bool reuse = !scene.camera_moved && !scene.scene_moved && scene.order_kept == settings.ordering;
@@ -191,9 +192,9 @@ FramePlan plan_frame(const SceneContents& scene, const FrameSettings& settings, 
   if (scene.volumes.size() > 1) throw std::invalid_argument("plan_frame: one volume per frame (FrameRenderer draws one mesh)");
   const volume::ResolveSettings& r = settings.resolve;
   if (r.shared_vertices && volume::order_dependent(r.quantity) && settings.ordering != Ordering::MeshOrder)
-    throw InputError("--shared-vertices", "tetlets fix the order cells are drawn in: use it with optical depth or "
-                                          "transmittance, or with --mode interval");
-  if (!passes.tetlets && r.shared_vertices) throw InputError("--shared-vertices", std::string(passes.tetlets_refused));
+    throw InputError(setting("shared-vertices"), "tetlets fix the order cells are drawn in: use it with optical depth or "
+                                          "transmittance, or with " + setting("mode", "interval"));
+  if (!passes.tetlets && r.shared_vertices) throw InputError(setting("shared-vertices"), std::string(passes.tetlets_refused));
   PlanBuilder plan;
   FramePlan result;
   if (scene.volumes.empty()) {

@@ -12,6 +12,7 @@
 #include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/volume_backends.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "scene/tet_mesh.hpp"
 
 namespace prismoid::mixed {
@@ -25,7 +26,7 @@ void set_shadows(surface::SurfaceRenderer& renderer, const std::optional<bool>& 
   if (!shadows) return;
   if (*shadows && !renderer.can_shadow())
     throw vk::NoSuitableDevice(device + " has no ray tracing (VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure): "
-                               "shadows need it; use --shadows off");
+                               "shadows need it; use " + setting("shadows", "off"));
   renderer.set_shadows(*shadows);
 }
 
@@ -132,7 +133,7 @@ SceneFrame SceneRenderer::render_surfaces(const Camera& camera, const SceneSetti
   const surface::SurfaceBackendInfo& backend = *mode.backend;
   const std::string name(mode.name);
   if (const std::string problem = backend.device_problem(gpu); !problem.empty())
-    throw vk::NoSuitableDevice(problem + ": --mode " + name + " needs " + std::string(backend.needs));
+    throw vk::NoSuitableDevice(problem + ": " + setting("mode", name) + " needs " + std::string(backend.needs));
   if (!surfaces_ || surface_options_ != settings.surface_options) {
     surfaces_ = std::make_unique<surface::SurfaceRenderer>(gpu, scene, settings.surface_options);
     surface_options_ = settings.surface_options;

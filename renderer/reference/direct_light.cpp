@@ -11,10 +11,11 @@
 
 #include "renderer/reference/area_light.hpp"
 #include "renderer/reference/shadow_rays.hpp"
-#include "shaders/shared/surface.h"
 #include "renderer/reference/surface_bsdf.hpp"
 #include "renderer/reference/tet_ray.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
+#include "shaders/shared/surface.h"
 
 namespace prismoid::reference {
 
@@ -340,7 +341,7 @@ DirectLightImage direct_light_image(const SurfaceScene& scene, const Camera& cam
 
 std::vector<glm::dvec3> supersampled_direct_light(const SurfaceScene& scene, const Camera& camera, uint32_t width,
                                                   uint32_t height, uint32_t k, const DirectLightOptions& options) {
-  if (k == 0) throw InputError("--supersample", "must be at least 1");
+  if (k == 0) throw InputError(setting("supersample"), "must be at least 1");
   std::vector<glm::dvec3> sum(size_t(width) * height, glm::dvec3(0.0));
   for (uint32_t j = 0; j < k; ++j)
     for (uint32_t i = 0; i < k; ++i) {

@@ -10,6 +10,7 @@
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/volume/segment_integral.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "scene/tet_mesh.hpp"
 
 namespace prismoid::reference {
@@ -41,7 +42,7 @@ ColorImage emission_absorption_image(const TetMesh& mesh, const volume::Transfer
                                      const std::vector<float>* depth_limit) {
   const bool linear = !mesh.point_scalars.empty();
   if (!linear && mesh.cell_scalars.empty())
-    throw InputError(mesh.name, "has no scalar field for the transfer function (choose one with --array NAME)");
+    throw InputError(mesh.name, "has no scalar field for the transfer function (choose one with " + setting("array", "NAME") + ")");
   volume::validate(tf);
   const std::vector<volume::TfSample> samples = volume::breakpoints(tf);
   const size_t pixels = size_t(width) * height;

@@ -15,6 +15,7 @@
 #include "renderer/reference/tet_ray.hpp"
 #include "renderer/reference/triangle_bvh.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 
 namespace prismoid::reference {
 
@@ -406,7 +407,7 @@ PathTracedImage path_trace(const SurfaceScene& scene, const Camera& camera, cons
   validate(scene);
   validate(camera);
   if (settings.width == 0 || settings.height == 0) throw InputError("path tracer", "the image size must be positive");
-  if (settings.samples_per_pixel == 0) throw InputError("path tracer", "--spp must be at least 1");
+  if (settings.samples_per_pixel == 0) throw InputError("path tracer", setting("spp") + " must be at least 1");
   const auto start = std::chrono::steady_clock::now();
   const PreparedScene prepared(scene);
 

@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 
 namespace prismoid::surface {
 
@@ -61,7 +62,7 @@ double option_number(const SurfaceOptions& options, const std::string& name, dou
   char* end = nullptr;
   const double d = std::strtod(v.c_str(), &end);
   if (end == v.c_str() || *end != '\0' || !std::isfinite(d) || (positive && !(d > 0.0)))
-    throw InputError("--" + name, std::string("must be a ") + (positive ? "positive " : "") + "number, got '" + v + "'");
+    throw InputError(setting(name), std::string("must be a ") + (positive ? "positive " : "") + "number, got '" + v + "'");
   return d;
 }
 
@@ -71,7 +72,7 @@ uint32_t option_uint(const SurfaceOptions& options, const std::string& name, uin
   const std::string& text = it->second;
   uint32_t v = 0;
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (ec != std::errc() || ptr != text.data() + text.size()) throw InputError("--" + name, "'" + text + "' is not a whole number");
+  if (ec != std::errc() || ptr != text.data() + text.size()) throw InputError(setting(name), "'" + text + "' is not a whole number");
   return v;
 }
 
@@ -83,7 +84,7 @@ std::string option_choice(const SurfaceOptions& options, const std::string& name
     if (c == it->second) return c;
   std::string list;
   for (size_t i = 0; i < choices.size(); ++i) list += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i];
-  throw InputError("--" + name, "must be " + list + ", got '" + it->second + "'");
+  throw InputError(setting(name), "must be " + list + ", got '" + it->second + "'");
 }
 
 }  // namespace prismoid::surface

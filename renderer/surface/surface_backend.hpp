@@ -29,7 +29,7 @@
 
 namespace prismoid::surface {
 
-// A backend's options as `render` got them: name (without "--") -> value ("" for a flag).
+// A backend's options as `render` got them: the setting's name (the option without its dashes) -> value ("" for a flag).
 using SurfaceOptions = std::map<std::string, std::string>;
 
 // One option a backend's modes take on `render`'s command line. Three names mean the same to every

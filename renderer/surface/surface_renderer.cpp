@@ -7,6 +7,7 @@
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/memory.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 
 namespace prismoid::surface {
 
@@ -35,7 +36,7 @@ std::string SurfaceRenderer::mode_problem(const std::string& mode) const {
 }
 
 const SurfaceMode& SurfaceRenderer::drawable(const std::string& mode) const {
-  if (const std::string problem = mode_problem(mode); !problem.empty()) throw InputError("--mode " + mode, problem);
+  if (const std::string problem = mode_problem(mode); !problem.empty()) throw InputError(setting("mode", mode), problem);
   return *find_surface_mode(mode);
 }
 
@@ -107,7 +108,7 @@ SurfaceRenderer::FrameCounts SurfaceRenderer::read_counts() const { return last_
 
 SurfaceRenderer::Offscreen SurfaceRenderer::render_offscreen(const Camera& camera, const std::string& mode, VkExtent2D extent,
                                                              uint32_t supersample) {
-  if (supersample == 0) throw InputError("--supersample", "at least 1 sample per pixel side");
+  if (supersample == 0) throw InputError(setting("supersample"), "at least 1 sample per pixel side");
   const SurfaceMode& m = drawable(mode);
   resize(extent);
   const uint32_t k = supersample, still = backend(m).offscreen_frames(m.gi);

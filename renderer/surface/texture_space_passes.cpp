@@ -8,6 +8,7 @@
 #include "renderer/vk/graphics_pipeline.hpp"
 #include "renderer/vk/pipeline.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
@@ -38,7 +39,7 @@ std::string texture_space_device_problem(const vk::Device& device, const std::st
 }
 
 TextureSpaceTargets create_texture_space_targets(const vk::Device& device, VkExtent2D extent) {
-  if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
+  if (extent.width == 0 || extent.height == 0) throw InputError(setting("size"), "the image size must be positive");
   TextureSpaceTargets t;
   t.extent = extent;
   t.color = vk::Image(device, extent, kTextureSpaceColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "renderer/vk/error.hpp"
+#include "scene/setting_names.hpp"
 
 namespace prismoid::vk {
 
@@ -197,7 +198,7 @@ const DeviceCapabilities& select_device(const std::vector<DeviceCapabilities>& d
   if (devices.empty()) throw NoSuitableDevice("no Vulkan device found (is mesa-vulkan-drivers installed?)");
   if (forced) {
     if (*forced >= devices.size())
-      throw NoSuitableDevice("--device " + std::to_string(*forced) + " does not exist: there are " +
+      throw NoSuitableDevice(setting("device", std::to_string(*forced)) + " does not exist: there are " +
                              std::to_string(devices.size()) + " devices (see `prismoid devices`)");
     const auto& d = devices[*forced];
     if (auto why = unsuitable_reason(d); !why.empty()) throw NoSuitableDevice("device " + std::to_string(d.index) + " (" + d.name + ") " + why);

@@ -7,6 +7,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "scene/tet_mesh.hpp"
 
 namespace prismoid::volume {
@@ -97,7 +98,7 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
       throw InputError(name, "optical depths up to " + number(sigma * mesh.diagonal) + " (extinction up to " + number(sigma / mesh.unit) +
                                  " over the data's diagonal " + number(mesh.diagonal * mesh.unit) + ") exceed " + number(margin_max) +
                                  ", float32's largest value less a 2^16 margin for the sums along a ray; scale the "
-                                 "extinction down (--density-scale) or ask for --quantity transmittance");
+                                 "extinction down (" + setting("density-scale") + ") or ask for " + setting("quantity", "transmittance"));
   }
   // A camera that sees none of the data: every corner of the bounds behind the near plane (an
   // all-background image was written without a word for `--near 100`).
@@ -113,7 +114,7 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
       check.warnings.push_back("camera: the data lie behind the eye (all of them at least " +
                                number(-farthest * mesh.unit) + " behind it along the view): the image shows none of them");
     else if (camera.near_distance >= farthest)
-      check.warnings.push_back("camera: the near plane (--near " + number(camera.near_distance * mesh.unit) +
+      check.warnings.push_back("camera: the near plane (" + setting("near", number(camera.near_distance * mesh.unit)) +
                                ") lies beyond the data's farthest depth along the view (" + number(farthest * mesh.unit) +
                                "): the image shows none of them");
   }
@@ -130,10 +131,10 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
   const double scale = std::max(1.0, 1.0 / aspect) / std::tan(glm::radians(camera.fovy_degrees) * 0.5);  // max(P00, P11)
   const double ndc = scale * distance / camera.near_distance;
   if (!(ndc < kNdcLimit))
-    throw InputError("camera", "--near " + number(camera.near_distance * mesh.unit) + " and --fovy " + number(camera.fovy_degrees) +
+    throw InputError("camera", setting("near", number(camera.near_distance * mesh.unit)) + " and " + setting("fovy", number(camera.fovy_degrees)) +
                                " project points up to " + number(distance * mesh.unit) + " away to screen coordinates up to " +
                                number(ndc) + "; the GPU's float32 projected areas need them below " + number(kNdcLimit) +
-                               " (2^60): raise --near or widen --fovy");
+                               " (2^60): raise " + setting("near") + " or widen " + setting("fovy"));
 
   // The transfer function's input, stored and mapped in float.
   if (settings.quantity == Quantity::Color || (settings.march.enabled && settings.quantity != Quantity::OpticalDepth &&
@@ -144,17 +145,17 @@ FloatCheck check_float_limits(const MeshFloatFacts& mesh, const Camera& camera, 
     const ScalarMapping m = scalar_mapping(settings.transfer);
     const double reach = std::abs(m.scale) * mesh.scalar_abs_max + std::abs(m.offset);
     if (!(reach <= margin_max))
-      throw InputError("--tf-range", "maps the data (values up to " + number(mesh.scalar_abs_max) + " in magnitude) to x up to " +
+      throw InputError(setting("tf-range"), "maps the data (values up to " + number(mesh.scalar_abs_max) + " in magnitude) to x up to " +
                                          number(reach) + ", beyond float32's range less a 2^16 margin (" + number(margin_max) + ")");
     if (std::abs(m.scale) < kFloatMinNormal && std::abs(m.scale) * mesh.scalar_abs_max >= std::ldexp(1.0, -24))
-      throw InputError("--tf-range", "is so wide (" + number(settings.transfer.range_hi - settings.transfer.range_lo) +
+      throw InputError(setting("tf-range"), "is so wide (" + number(settings.transfer.range_hi - settings.transfer.range_lo) +
                                          ") that 1 / width, " + number(m.scale) +
                                          ", is below float32's smallest normal number while it still moves the data's x by " +
                                          number(std::abs(m.scale) * mesh.scalar_abs_max));
     // x = s * scale + offset rounds by a few ulps of its terms.
     const double x_rounding = 4.0 * std::ldexp(1.0, -24) * reach;
     if (x_rounding > std::ldexp(1.0, -10))
-      check.warnings.push_back("--tf-range: the range is narrow next to the data's magnitude: float32 places each value in "
+      check.warnings.push_back(setting("tf-range") + ": the range is narrow next to the data's magnitude: float32 places each value in "
                                "the transfer function only to " + number(x_rounding) + " of the range");
   }
 

@@ -7,6 +7,7 @@
 
 #include "renderer/vk/memory.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 
 namespace prismoid::volume {
 
@@ -14,17 +15,17 @@ void validate_march(const GpuTetMesh& mesh, const ResolveSettings& settings) {
   const MarchSettings& m = settings.march;
   if (!m.enabled) {
     if (settings.quantity == Quantity::Isosurface)
-      throw InputError("--quantity isosurface", "needs marching (a --mode that marches) over an analytic field (field:NAME)");
+      throw InputError(setting("quantity", "isosurface"), "needs marching (a " + setting("mode") + " that marches) over an analytic field (field:NAME)");
     return;
   }
   validate(m.field);
-  if (!(m.step > 0.0) || !std::isfinite(m.step)) throw InputError("--march-step", "must be a positive number of world units");
+  if (!(m.step > 0.0) || !std::isfinite(m.step)) throw InputError(setting("march-step"), "must be a positive number of world units");
   if (mesh.longest_edge / m.step > double(PRISMOID_MARCH_MAX_STEPS))
-    throw InputError("--march-step", "needs more than " + std::to_string(PRISMOID_MARCH_MAX_STEPS) +
+    throw InputError(setting("march-step"), "needs more than " + std::to_string(PRISMOID_MARCH_MAX_STEPS) +
                                          " steps in the longest cell (" + std::to_string(mesh.longest_edge) + "); use at least " +
                                          std::to_string(mesh.longest_edge / PRISMOID_MARCH_MAX_STEPS));
-  if (!std::isfinite(m.isovalue)) throw InputError("--isovalue", "must be a finite number");
-  if (!(m.density_scale >= 0.0) || !std::isfinite(m.density_scale)) throw InputError("--density-scale", "must not be negative");
+  if (!std::isfinite(m.isovalue)) throw InputError(setting("isovalue"), "must be a finite number");
+  if (!(m.density_scale >= 0.0) || !std::isfinite(m.density_scale)) throw InputError(setting("density-scale"), "must not be negative");
   if (!mesh.has_scalars)
     throw InputError("the march", "the mesh must carry a scalar array (the field: datasets do)");
 }

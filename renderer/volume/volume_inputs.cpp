@@ -13,6 +13,7 @@
 #include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/interval_march.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "scene/tet_mesh.hpp"
 #include "shaders/shared/volume.h"
 
@@ -20,9 +21,9 @@ namespace prismoid::volume {
 
 void check_workgroup_settings(const ResolveSettings& settings) {
   if (std::find(kTetletSizes.begin(), kTetletSizes.end(), settings.tetlet_size) == kTetletSizes.end())
-    throw InputError("--tetlet-size", "must be 1, 4, 8 or 16 cells per mesh workgroup");
+    throw InputError(setting("tetlet-size"), "must be 1, 4, 8 or 16 cells per mesh workgroup");
   if (settings.shared_vertices && settings.tetlet_size == 1)
-    throw InputError("--shared-vertices", "groups several cells per workgroup: use --tetlet-size 4, 8 or 16");
+    throw InputError(setting("shared-vertices"), "groups several cells per workgroup: use " + setting("tetlet-size", "4, 8 or 16"));
 }
 
 namespace {
@@ -132,10 +133,10 @@ void VolumeInputs::prepare(const GpuTetMesh& mesh, const ResolveSettings& settin
     depth_limit_.write(std::as_bytes(std::span(limit)));
   }
   if (settings.quantity != Quantity::Color) return;
-  if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with --array NAME)");
+  if (!mesh.has_scalars) throw InputError("color", "the dataset has no scalar field for the transfer function (choose one with " + setting("array", "NAME") + ")");
   validate(settings.transfer);
   if (settings.preintegration_size == 1 || settings.preintegration_size > 256)
-    throw InputError("--preintegration-size", "must be 0 (exact integration) or between 2 and 256 texels per axis");
+    throw InputError(setting("preintegration-size"), "must be 0 (exact integration) or between 2 and 256 texels per axis");
 }
 
 void VolumeInputs::check_ready(const ResolveSettings& settings) const {

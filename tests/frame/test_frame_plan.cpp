@@ -247,7 +247,7 @@ TEST(FramePlan, ComputeBackendBinsSortsAndRastersTiles) {
     frame::plan_frame(scene, s);
     ADD_FAILURE() << "tetlets with the compute backend were planned";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.source(), "--shared-vertices");
+    EXPECT_EQ(e.source(), "shared-vertices");
   }
   EXPECT_STREQ(frame::interval_backend_name(frame::IntervalBackend::Compute), "compute");
   EXPECT_STREQ(frame::interval_backend_name(frame::IntervalBackend::Mesh), "mesh");

@@ -380,7 +380,7 @@ TEST_P(ComputeIntervalsTest, PairsBeyondWhatTheSortTakesAreRefusedWithTheirCount
     intervals.reserve_pairs(too_many);
     ADD_FAILURE() << "no refusal";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.source(), "--volume-backend compute");
+    EXPECT_EQ(e.source(), "volume-backend compute");
     EXPECT_NE(std::string(e.what()).find(std::to_string(too_many)), std::string::npos) << e.what();
   }
   EXPECT_EQ(intervals.bytes(), before);

@@ -57,7 +57,7 @@ TEST(FloatLimits, OpticalDepthBeyondFloatIsRefusedWithItsLimitAndTransmittanceIs
   const Camera camera = fit_camera(facts.bounds);
   for (bool gpu : {true, false})
     expect_refused([&] { check_float_limits(facts, camera, 64, 64, quantity(volume::Quantity::OpticalDepth), gpu); },
-                   {"ball", "optical depths up to 3.46e+300", "exceed 5.19e+33", "--density-scale", "--quantity transmittance"});
+                   {"ball", "optical depths up to 3.46e+300", "exceed 5.19e+33", "density-scale", "quantity transmittance"});
   EXPECT_NO_THROW(check_float_limits(facts, camera, 64, 64, quantity(volume::Quantity::Transmittance)));
   // The largest extinction whose optical depth float still holds, with the margin, over the
   // ball's diagonal (2 sqrt 3 of its bounds): just below is accepted.
@@ -84,18 +84,18 @@ TEST(FloatLimits, TransferRangeMapsThroughScaleAndOffsetAndRefusesWhatFloatCanno
   // yet still moves the data's x: both refused.
   color.transfer.range_lo = 0.0;
   color.transfer.range_hi = 1e-40;
-  expect_refused([&] { check_float_limits(facts, camera, 64, 64, color); }, {"--tf-range", "beyond float32's range"});
+  expect_refused([&] { check_float_limits(facts, camera, 64, 64, color); }, {"tf-range", "beyond float32's range"});
   mesh.point_scalars.assign(mesh.points.size(), 1e37);
   color.transfer.range_lo = -1e38;
   color.transfer.range_hi = 1e38;
-  expect_refused([&] { check_float_limits(float_facts(mesh), camera, 64, 64, color); }, {"--tf-range", "smallest normal"});
+  expect_refused([&] { check_float_limits(float_facts(mesh), camera, 64, 64, color); }, {"tf-range", "smallest normal"});
   // Far from zero and narrow: refused by nothing, but placed only to float's precision: a warning.
   mesh.point_scalars.assign(mesh.points.size(), 1e6);
   color.transfer.range_lo = 1e6;
   color.transfer.range_hi = 1e6 + 1.0;
   const auto check = check_float_limits(float_facts(mesh), camera, 64, 64, color);
   ASSERT_EQ(check.warnings.size(), 1u);
-  EXPECT_NE(check.warnings[0].find("--tf-range"), std::string::npos) << check.warnings[0];
+  EXPECT_NE(check.warnings[0].find("tf-range"), std::string::npos) << check.warnings[0];
   mesh.point_scalars.assign(mesh.points.size(), 1e39);
   expect_refused([&] { check_float_limits(float_facts(mesh), camera, 64, 64, color); }, {"scalar values up to 1e+39"});
 }
@@ -109,11 +109,11 @@ TEST(FloatLimits, CameraBeyondFloatsRangeIsRefused) {
   Camera narrow = fit_camera(facts.bounds);
   narrow.fovy_degrees = 1e-20;
   expect_refused([&] { check_float_limits(facts, narrow, 64, 64, quantity(volume::Quantity::Transmittance)); },
-                 {"--fovy 1e-20", "2^60"});
+                 {"fovy 1e-20", "2^60"});
   Camera close = fit_camera(facts.bounds);
   close.near_distance = 1e-25;
   expect_refused([&] { check_float_limits(facts, close, 64, 64, quantity(volume::Quantity::Transmittance)); },
-                 {"--near 1e-25", "raise --near"});
+                 {"near 1e-25", "raise near"});
   // fovy 1e-6 is fine: the frame is drawn relative to each cell.
   EXPECT_TRUE(check_float_limits(facts, fit_camera(facts.bounds, 1e-6), 64, 64, quantity(volume::Quantity::Transmittance))
                   .warnings.empty());

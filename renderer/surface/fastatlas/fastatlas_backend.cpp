@@ -9,6 +9,7 @@
 #include "renderer/surface/fastatlas/fastatlas_pass.hpp"
 #include "renderer/vk/device.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
@@ -19,12 +20,12 @@ FastAtlasSettings read_options(const SurfaceOptions& o) {
   FastAtlasSettings s;
   const uint32_t side = option_uint(o, "atlas", s.atlas_width);
   if (side < 64 || side > 16384 || (side & (side - 1)) != 0)
-    throw InputError("--atlas", "the atlas side must be a power of two from 64 to 16384 texels (got " + std::to_string(side) + ")");
+    throw InputError(setting("atlas"), "the atlas side must be a power of two from 64 to 16384 texels (got " + std::to_string(side) + ")");
   s.atlas_width = s.atlas_height = side;
   s.shading_scale = option_number(o, "shading-scale", 1.0, true);
-  if (s.shading_scale > 4.0) throw InputError("--shading-scale", "at most 4 (16 texels per pixel)");
+  if (s.shading_scale > 4.0) throw InputError(setting("shading-scale"), "at most 4 (16 texels per pixel)");
   s.refresh = option_uint(o, "atlas-refresh", 0);
-  if (s.refresh > 1000) throw InputError("--atlas-refresh", "at most 1000 frames between refreshes");
+  if (s.refresh > 1000) throw InputError(setting("atlas-refresh"), "at most 1000 frames between refreshes");
   return s;
 }
 

@@ -15,6 +15,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/fastatlas.h"
 #include "shaders/shared/surface.h"
 
@@ -58,13 +59,13 @@ void check_device(const vk::Device& device) {
 const FastAtlasSettings& checked(const vk::Device& device, const FastAtlasSettings& s) {
   check_device(device);
   const uint32_t w = s.atlas_width, h = s.atlas_height, most = device.capabilities().max_image_dimension_2d;
-  if (w < 64 || (w & (w - 1)) != 0) throw InputError("--atlas", "the atlas width must be a power of two of at least 64 (got " + std::to_string(w) + ")");
-  if (h < 64) throw InputError("--atlas", "the atlas height must be at least 64 texels (got " + std::to_string(h) + ")");
+  if (w < 64 || (w & (w - 1)) != 0) throw InputError(setting("atlas"), "the atlas width must be a power of two of at least 64 (got " + std::to_string(w) + ")");
+  if (h < 64) throw InputError(setting("atlas"), "the atlas height must be at least 64 texels (got " + std::to_string(h) + ")");
   if (w > most || h > most)
-    throw InputError("--atlas", "a " + std::to_string(w) + " x " + std::to_string(h) + " atlas exceeds the largest image of " +
+    throw InputError(setting("atlas"), "a " + std::to_string(w) + " x " + std::to_string(h) + " atlas exceeds the largest image of " +
                                     device.capabilities().name + " (" + std::to_string(most) + " texels a side)");
   if (!(s.shading_scale > 0.0) || !(s.shading_scale <= 4.0))
-    throw InputError("--shading-scale", "the shading scale SF must lie in (0, 4] (got " + std::to_string(s.shading_scale) + ")");
+    throw InputError(setting("shading-scale"), "the shading scale SF must lie in (0, 4] (got " + std::to_string(s.shading_scale) + ")");
   return s;
 }
 

@@ -15,6 +15,7 @@
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/graphics_pipeline.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
@@ -256,7 +257,7 @@ uint64_t ForwardPass::read_fragment_invocations() const {
 
 ForwardImage render_forward(const vk::Device& device, ForwardPass& pass, const GpuSurfaceScene& scene, const Camera& camera,
                             VkExtent2D extent, const ForwardSettings& settings) {
-  if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
+  if (extent.width == 0 || extent.height == 0) throw InputError(setting("size"), "the image size must be positive");
   ForwardTargets targets = create_forward_targets(device, extent);
   vk::GpuTimer timer(device, 2);
   timer.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, scene, targets, camera, settings, timer); });
@@ -283,7 +284,7 @@ ForwardImage render_forward_supersampled(const vk::Device& device, ForwardPass& 
 }
 
 ForwardImage average_subpixel_frames(uint32_t k, const std::function<ForwardImage(const ForwardSettings&)>& render) {
-  if (k == 0 || k > 64) throw InputError("--supersample", "must be between 1 and 64 samples per pixel side");
+  if (k == 0 || k > 64) throw InputError(setting("supersample"), "must be between 1 and 64 samples per pixel side");
   ForwardImage sum;
   std::vector<double> accumulated;
   for (uint32_t j = 0; j < k; ++j)

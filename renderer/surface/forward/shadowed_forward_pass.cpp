@@ -4,12 +4,13 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "renderer/surface/view_depth.hpp"
 #include "renderer/surface/scene_descriptors.hpp"
+#include "renderer/surface/view_depth.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/graphics_pipeline.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
@@ -195,7 +196,7 @@ uint64_t ShadowedForwardPass::read_shading_invocations() const {
 ForwardImage render_forward_shadowed(const vk::Device& device, ShadowedForwardPass& pass, const GpuSurfaceScene& scene,
                                      const rt::SceneAccel& accel, const Camera& camera, VkExtent2D extent,
                                      const ForwardSettings& settings) {
-  if (extent.width == 0 || extent.height == 0) throw InputError("--size", "the image size must be positive");
+  if (extent.width == 0 || extent.height == 0) throw InputError(setting("size"), "the image size must be positive");
   ShadowedForwardTargets targets = create_shadowed_forward_targets(device, extent);
   vk::GpuTimer timer(device, 2);
   timer.submit_and_wait([&](VkCommandBuffer cmd) { pass.record(cmd, scene, accel, targets, camera, settings, timer); });

@@ -14,6 +14,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/gi.h"
 #include "shaders/shared/htex.h"
 #include "shaders/shared/surface.h"
@@ -67,7 +68,7 @@ HtexGi::HtexGi(const vk::Device& device, const HtexPass& pass, const GpuSurfaceS
   const uint64_t texels = uint64_t(pass.settings().pool_pages) * PRISMOID_HTEX_PAGE_TEXELS;
   const uint64_t range = device.capabilities().max_storage_buffer_range;
   if (texels * sizeof(gpu::GiReservoir) > range)
-    throw InputError("--pool-pages", std::to_string(pass.settings().pool_pages) + " pages need " +
+    throw InputError(setting("pool-pages"), std::to_string(pass.settings().pool_pages) + " pages need " +
                                          std::to_string(texels * sizeof(gpu::GiReservoir)) + "-byte GI reservoir buffers, beyond the " +
                                          std::to_string(range) + "-byte storage-buffer range of " + device.capabilities().name);
 
@@ -145,7 +146,7 @@ uint64_t HtexGi::persistent_bytes() const { return persistent_texels_ * sizeof(g
 void HtexGi::record(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame, const RestirGiSettings& s,
                     vk::GpuTimer* timer) {
   if (s.spatial_neighbours > kMaxNeighbours)
-    throw InputError("--gi-neighbours", "at most " + std::to_string(kMaxNeighbours) + " spatial neighbours");
+    throw InputError(setting("gi-neighbours"), "at most " + std::to_string(kMaxNeighbours) + " spatial neighbours");
   if (!(s.m_cap >= 0.0) || !std::isfinite(s.m_cap) || !(s.radius >= 0.0) || !std::isfinite(s.radius))
     throw InputError("ReSTIR GI", "the M cap and the radius must be finite and >= 0");
   if (!(s.jacobian_limit >= 1.0)) throw InputError("ReSTIR GI", "the Jacobian limit must be at least 1");
@@ -192,7 +193,7 @@ void HtexGi::record(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent
 HtexGiImage render_htex_gi(const vk::Device& device, HtexPass& pass, HtexGi& gi, const GpuSurfaceScene& scene,
                            VkAccelerationStructureKHR tlas, const Camera& camera, VkExtent2D extent, uint32_t frames,
                            const RestirGiSettings& settings, uint32_t first_frame, bool keep_frames) {
-  if (frames == 0) throw InputError("--gi-frames", "at least one frame");
+  if (frames == 0) throw InputError(setting("gi-frames"), "at least one frame");
   HtexTargets targets = create_htex_targets(device, extent);
   vk::GpuTimer timer(device, 8);
   HtexGiImage out;

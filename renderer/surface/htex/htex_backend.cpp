@@ -8,8 +8,9 @@
 #include "renderer/surface/gi/htex_gi.hpp"
 #include "renderer/surface/htex/htex_pass.hpp"
 #include "renderer/vk/device.hpp"
-#include "shaders/shared/surface.h"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
+#include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
 
@@ -46,13 +47,13 @@ HtexOptions read_options(const SurfaceOptions& o) {
   if (o.count("texels-per-unit")) h.texels_per_unit = option_number(o, "texels-per-unit", 0.0, true);
   if (o.count("pool-pages")) {
     h.pool_pages = option_uint(o, "pool-pages", 0);
-    if (*h.pool_pages == 0) throw InputError("--pool-pages", "the pool needs at least one page");
+    if (*h.pool_pages == 0) throw InputError(setting("pool-pages"), "the pool needs at least one page");
   }
   h.gi_frames = option_uint(o, "gi-frames", 1);
-  if (h.gi_frames == 0) throw InputError("--gi-frames", "at least one frame");
+  if (h.gi_frames == 0) throw InputError(setting("gi-frames"), "at least one frame");
   if (o.count("gi-neighbours")) {
     h.gi_neighbours = option_uint(o, "gi-neighbours", 0);
-    if (*h.gi_neighbours > 16) throw InputError("--gi-neighbours", "at most 16 spatial neighbours");
+    if (*h.gi_neighbours > 16) throw InputError(setting("gi-neighbours"), "at most 16 spatial neighbours");
   }
   if (o.count("gi-fallback")) h.gi_fallback = option_choice(o, "gi-fallback", "on", {"on", "off"}) == "on";
   return h;
@@ -159,7 +160,7 @@ class HtexBackend final : public SurfaceBackend {
     if (h.bias_levels > 0) c.summary.push_back("the pool was too small: level of detail biased by " + std::to_string(h.bias_levels));
     if (h.overflow)
       c.summary.push_back("the pool is too small even at the coarsest level: " + std::to_string(h.unallocated_groups) + " groups not shaded, " +
-                          std::to_string(h.hole_pixels) + " pixels incomplete (raise --pool-pages or lower --texels-per-unit)");
+                          std::to_string(h.hole_pixels) + " pixels incomplete (raise " + setting("pool-pages") + " or lower " + setting("texels-per-unit") + ")");
     c.stats = {
         {"texels_per_unit", texels_per_unit_},
         {"atlas_width", uint64_t(layout.width())},
@@ -210,7 +211,8 @@ class HtexBackend final : public SurfaceBackend {
 
 SurfaceOptions command_options(SurfaceOptions o, frame::SurfaceGi gi) {
   if (gi == frame::SurfaceGi::None && (o.count("gi-frames") || o.count("gi-neighbours") || o.count("gi-fallback")))
-    throw InputError("--gi", "--gi-frames, --gi-neighbours and --gi-fallback need --gi biased|unbiased");
+    throw InputError(setting("gi"), setting("gi-frames") + ", " + setting("gi-neighbours") + " and " + setting("gi-fallback") + " need " +
+                                        setting("gi", "biased|unbiased"));
   // render's own defaults: a fixed density (the window's follows the scene), and a pool for
   // render's default image size.
   o.emplace("texels-per-unit", "128");

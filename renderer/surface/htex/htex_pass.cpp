@@ -7,14 +7,15 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "renderer/rt/acceleration_structure.hpp"
 #include "renderer/surface/scene_descriptors.hpp"
 #include "renderer/surface/surface_frame.hpp"
 #include "renderer/surface/texture_space_passes.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/graphics_pipeline.hpp"
-#include "renderer/rt/acceleration_structure.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/htex.h"
 #include "shaders/shared/surface.h"
 
@@ -52,13 +53,13 @@ void check_device(const vk::Device& device) {
 
 uint32_t checked_pages(const vk::Device& device, uint32_t pages) {
   const auto& caps = device.capabilities();
-  if (pages == 0) throw InputError("--pool-pages", "the pool needs at least one page");
+  if (pages == 0) throw InputError(setting("pool-pages"), "the pool needs at least one page");
   const uint64_t bytes = uint64_t(pages) * PRISMOID_HTEX_PAGE_TEXELS * 16;
   if (bytes > caps.max_storage_buffer_range)
-    throw InputError("--pool-pages", std::to_string(pages) + " pages (" + std::to_string(bytes) + " bytes) exceed the storage-buffer range of " +
+    throw InputError(setting("pool-pages"), std::to_string(pages) + " pages (" + std::to_string(bytes) + " bytes) exceed the storage-buffer range of " +
                                          caps.name + " (" + std::to_string(caps.max_storage_buffer_range) + " bytes)");
   if (uint64_t(pages) * PRISMOID_HTEX_PAGE_TEXELS > caps.max_ray_dispatch_invocations)
-    throw InputError("--pool-pages", std::to_string(pages) + " pages hold more texels than " + caps.name + " can shade in one launch");
+    throw InputError(setting("pool-pages"), std::to_string(pages) + " pages hold more texels than " + caps.name + " can shade in one launch");
   return pages;
 }
 

@@ -97,7 +97,7 @@ class HtexPass {
  public:
   // `geometry` must outlive the pass. Throws vk::NoSuitableDevice without gl_PrimitiveID in
   // fragment shaders, fragment stores, ray tracing or indirect ray tracing; InputError
-  // ("--pool-pages") for a pool that is empty or beyond the device's buffer or launch limits.
+  // (the pool-pages setting) for a pool that is empty or beyond the device's buffer or launch limits.
   HtexPass(const vk::Device& device, const HtexGeometry& geometry, const HtexSettings& settings = {});
 
   // Records the four passes. `scene`, `tlas` and `targets` must outlive the submission; the TLAS

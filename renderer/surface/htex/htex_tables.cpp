@@ -7,6 +7,7 @@
 
 #include "renderer/vk/device.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 
 namespace prismoid::surface {
 
@@ -96,7 +97,7 @@ HtexTables upload_htex_tables(const vk::Device& device, const HtexGeometry& geom
   t.meshes = vk::upload_buffer(device, meshes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   const uint64_t limit = device.capabilities().max_storage_buffer_range;
   if (uint64_t(d.shadel_region.size()) * 4 > limit || uint64_t(d.twin.size()) * 4 > limit)
-    throw InputError("htex", "the virtual atlas's tables exceed the device's storage-buffer range: lower --texels-per-unit");
+    throw InputError("htex", "the virtual atlas's tables exceed the device's storage-buffer range: lower " + setting("texels-per-unit"));
   t.twin = storage(device, std::move(d.twin), t.bytes);
   t.edge_of = storage(device, std::move(d.edge_of), t.bytes);
   t.edge_halfedge = storage(device, std::move(d.edge_halfedge), t.bytes);

@@ -6,6 +6,7 @@
 
 #include "renderer/surface/msa/msa_pass.hpp"
 #include "renderer/vk/device.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/surface.h"
 
 namespace prismoid::surface {
@@ -109,7 +110,7 @@ class MsaBackend final : public SurfaceBackend {
     c.summary.push_back("; " + std::to_string(m.seen_meshlets) + " meshlets seen, " + std::to_string(m.allocated_blocks) + " blocks allocated (" +
                         std::to_string(m.held_texels) + " texels" + factor + "); shaded " + std::to_string(m.shaded_texels) + " texels in " +
                         std::to_string(m.shaded_tiles) + " tiles; atlas memory " + std::to_string(m.atlas_bytes) + " bytes" +
-                        (m.hole_pixels ? "; " + std::to_string(m.hole_pixels) + " pixels without shading (atlas too small: raise --msa-superblocks)"
+                        (m.hole_pixels ? "; " + std::to_string(m.hole_pixels) + " pixels without shading (atlas too small: raise " + setting("msa-superblocks") + ")"
                                        : ""));
     c.stats = {
         {"meshlets", uint64_t(meshlets_->meshlets.size())},

@@ -14,6 +14,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/msa.h"
 #include "shaders/shared/surface.h"
 
@@ -43,10 +44,10 @@ void compute_barrier(VkCommandBuffer cmd) {
 const MsaSettings& checked(const vk::Device& device, const msa::MeshletSet& meshlets, const MsaSettings& s) {
   if (const std::string problem = msa_device_problem(device); !problem.empty()) throw vk::NoSuitableDevice(problem);
   const auto& caps = device.capabilities();
-  if (s.superblocks == 0) throw InputError("--msa-superblocks", "the atlas needs at least one superblock");
+  if (s.superblocks == 0) throw InputError(setting("msa-superblocks"), "the atlas needs at least one superblock");
   const uint64_t bytes = uint64_t(s.superblocks) * kSuperblockTexels * 16;
   if (bytes > caps.max_storage_buffer_range)
-    throw InputError("--msa-superblocks", std::to_string(s.superblocks) + " superblocks (" + std::to_string(bytes) +
+    throw InputError(setting("msa-superblocks"), std::to_string(s.superblocks) + " superblocks (" + std::to_string(bytes) +
                                               " bytes) exceed the storage-buffer range of " + caps.name + " (" +
                                               std::to_string(caps.max_storage_buffer_range) + " bytes)");
   if (meshlets.meshlets.size() >= (1u << 20)) throw InputError("meshlets", "more than 2^20 meshlets");

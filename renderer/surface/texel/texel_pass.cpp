@@ -12,6 +12,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/surface.h"
 #include "shaders/shared/texel.h"
 
@@ -41,10 +42,10 @@ const texel::TexelAtlas& checked_atlas(const vk::Device& device, const texel::Te
   const auto& caps = device.capabilities();
   const uint64_t bytes = atlas.texel_count() * 16;
   if (bytes > caps.max_storage_buffer_range)
-    throw InputError("--texel-density", "the texel atlas (" + std::to_string(atlas.width) + " x " + std::to_string(atlas.height) + ", " +
+    throw InputError(setting("texel-density"), "the texel atlas (" + std::to_string(atlas.width) + " x " + std::to_string(atlas.height) + ", " +
                                             std::to_string(bytes) + " bytes of results) exceeds the storage-buffer range of " + caps.name +
                                             " (" + std::to_string(caps.max_storage_buffer_range) + " bytes): lower the density");
-  if (atlas.levels > PRISMOID_TEXEL_MAX_LEVELS) throw InputError("--texel-levels", "at most 8 levels");
+  if (atlas.levels > PRISMOID_TEXEL_MAX_LEVELS) throw InputError(setting("texel-levels"), "at most 8 levels");
   return atlas;
 }
 
@@ -133,7 +134,7 @@ TexelPass::TexelPass(const vk::Device& device, const texel::TexelAtlas& atlas, c
 }
 
 void TexelPass::set_settings(const TexelSettings& settings) {
-  if (settings.max_age == 0) throw InputError("--texel-max-age", "the age threshold is at least 1 frame");
+  if (settings.max_age == 0) throw InputError(setting("texel-max-age"), "the age threshold is at least 1 frame");
   settings_ = settings;
 }
 

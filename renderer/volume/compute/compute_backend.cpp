@@ -1,4 +1,5 @@
 #include "renderer/volume/compute/compute_backend.hpp"
+#include "scene/setting_names.hpp"
 
 #include <string>
 #include <vector>
@@ -43,7 +44,7 @@ const VolumeBackendInfo& compute_backend() {
                  .tetlets = false,
                  .no_tetlets = "compute backend: cells are loaded per tile",
                  .tetlets_refused = "groups cells into mesh-shader workgroups: the compute backend loads each cell's points per tile; "
-                                    "use it with --volume-backend mesh",
+                                    "use it with the mesh backend",
                  .intervals = plan_intervals},
       .make = make,
   };

@@ -11,6 +11,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/timer.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "shaders/shared/compute_intervals.h"
 #include "shaders/shared/sort.h"
 #include "shaders/shared/volume.h"
@@ -159,19 +160,19 @@ void ComputeIntervals::check_fits(uint64_t cells, uint64_t tiles, uint64_t pairs
   const std::string what = std::to_string(cells) + " cells, " + std::to_string(tiles) + " tiles and " + std::to_string(pairs) +
                            " cell-tile pairs";
   if (cells > kMaxScanned)
-    throw InputError("--volume-backend compute", "bins at most " + std::to_string(kMaxScanned) + " cells per frame, the mesh has " +
+    throw InputError(setting("volume-backend", "compute"), "bins at most " + std::to_string(kMaxScanned) + " cells per frame, the mesh has " +
                                                      std::to_string(cells));
   if (pairs > kMaxPairs)
-    throw InputError("--volume-backend compute", "this frame needs " + what + ", more than the " + std::to_string(kMaxPairs) +
-                                                     " pairs one GPU radix sort takes; use a smaller image or --volume-backend mesh");
+    throw InputError(setting("volume-backend", "compute"), "this frame needs " + what + ", more than the " + std::to_string(kMaxPairs) +
+                                                     " pairs one GPU radix sort takes; use a smaller image or " + setting("volume-backend", "mesh"));
   // The largest single buffers: the per-cell bins and the per-pair keys, values and scratch.
   const uint64_t largest = std::max(cells * sizeof(glm::uvec4), pairs * sizeof(uint32_t));
   if (largest > caps.max_storage_buffer_range)
-    throw InputError("--volume-backend compute", "this frame needs " + what + ": a buffer of " + mib(largest) + ", and " + caps.name +
+    throw InputError(setting("volume-backend", "compute"), "this frame needs " + what + ": a buffer of " + mib(largest) + ", and " + caps.name +
                                                      " allows " + mib(caps.max_storage_buffer_range) + " per storage buffer");
   const uint64_t needed = bytes_for(cells, tiles, pairs);
   if (caps.device_local_bytes > 0 && needed + mesh_bytes_ > caps.device_local_bytes)
-    throw InputError("--volume-backend compute", "this frame needs " + mib(needed) + " of device memory for " + what +
+    throw InputError(setting("volume-backend", "compute"), "this frame needs " + mib(needed) + " of device memory for " + what +
                                                      " beside the mesh's " + mib(mesh_bytes_) + "; " + caps.name + " has " +
                                                      mib(caps.device_local_bytes));
 }
@@ -231,7 +232,7 @@ void ComputeIntervals::prepare(const GpuTetMesh& mesh, const ResolveSettings& se
   f.tiles_y = (extent.height + PRISMOID_CI_TILE - 1) / PRISMOID_CI_TILE;
   // Pixel bounds are packed in 16 bits per coordinate (PRISMOID_CI_BINDING_BINS).
   if (extent.width > 65535 || extent.height > 65535)
-    throw InputError("--volume-backend compute", "draws at most 65535 pixels per side");
+    throw InputError(setting("volume-backend", "compute"), "draws at most 65535 pixels per side");
   const uint64_t tiles = uint64_t(f.tiles_x) * f.tiles_y;
   // The tile in the high bits of the key, with room for one index past every tile (the key
   // bin_emit.comp writes for a pair it drops), so the depth never fills all 32.

@@ -11,9 +11,10 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/timer.hpp"
-#include "renderer/volume/tetlets.hpp"
 #include "renderer/volume/interval_march.hpp"
+#include "renderer/volume/tetlets.hpp"
 #include "scene/input_error.hpp"
+#include "scene/setting_names.hpp"
 #include "scene/tet_mesh.hpp"
 #include "shaders/shared/volume.h"
 
@@ -186,7 +187,7 @@ void IntervalShadingPass::bind_order(const vk::Buffer* order) {
 void IntervalShadingPass::prepare(const ResolveSettings& settings) {
   check_workgroup_settings(settings);
   if (settings.tetlet_size > max_tetlet_size(device_))
-    throw InputError("--tetlet-size", device_.capabilities().name + " fits at most " + std::to_string(max_tetlet_size(device_)) +
+    throw InputError(setting("tetlet-size"), device_.capabilities().name + " fits at most " + std::to_string(max_tetlet_size(device_)) +
                                           " near-clipped cells' proxies in one mesh workgroup");
   pipeline(settings.tetlet_size, pipeline_kind(settings), settings.shared_vertices);  // created here, outside any frame
 }
