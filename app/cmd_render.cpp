@@ -130,45 +130,15 @@ const char* const kRenderHelpAfterBackends =
     "With no FILE the embedded default dataset is rendered; asked for no --quantity and no --mode, in\n"
     "color, in exact order (interval-exact-order).\n";
 
-// Where an option's explanation starts in render's help, and the help's width.
-constexpr size_t kIndent = 23, kWidth = 100;
-
-// An option's lines of the help listing the lines of a table, each name with its summary wrapped.
-std::string table_help(std::string_view option, const std::vector<std::pair<std::string_view, std::string_view>>& rows) {
-  size_t name_width = 0;
-  for (const auto& [name, text] : rows) name_width = std::max(name_width, name.size());
-  std::ostringstream out;
-  const auto line = [&](std::string_view name, std::string_view text) {
-    // (append, not +: GCC 12 warns falsely about the + of two temporaries, -Warray-bounds)
-    out << (out.tellp() == 0 ? std::string("  ").append(option).append(kIndent - 2 - option.size(), ' ') : std::string(kIndent, ' '))
-        << name << std::string(name_width + 2 - name.size(), ' ');
-    const std::string margin(kIndent + name_width + 2, ' ');
-    size_t column = margin.size();
-    std::istringstream words{std::string(text)};
-    bool first = true;
-    for (std::string word; words >> word; first = false) {
-      if (!first && column + 1 + word.size() > kWidth) {
-        out << "\n" << margin;
-        column = margin.size();
-      } else if (!first) {
-        out << ' ';
-        ++column;
-      }
-      out << word;
-      column += word.size();
-    }
-    out << "\n";
-  };
-  for (const auto& [name, text] : rows) line(name, text);
-  return out.str();
-}
+// Where an option's explanation starts in render's help.
+constexpr size_t kIndent = 23;
 
 // The --mode lines of the help, from the volume mode table.
 std::string volume_modes_help() {
-  std::vector<std::pair<std::string_view, std::string_view>> rows;
+  std::vector<std::pair<std::string, std::string>> rows;
   for (const frame::VolumeMode& m : frame::volume_mode_table()) rows.emplace_back(m.name, m.summary);
   rows.emplace_back("SURFACE", "a surface mode (listed below)");
-  std::string help = table_help("--mode MODE", rows);
+  std::string help = help_table("--mode MODE", kIndent, rows);
   help.append(kIndent, ' ').append("(default: ").append(frame::default_volume_mode(volume::Quantity::Transmittance).name).append("; ");
   help.append(frame::default_volume_mode(volume::Quantity::Color).name).append(" for --quantity color)\n");
   return help;
@@ -176,10 +146,10 @@ std::string volume_modes_help() {
 
 // The --volume-backend lines of the help, from the volume backend table.
 std::string volume_backends_help() {
-  std::vector<std::pair<std::string_view, std::string_view>> rows;
+  std::vector<std::pair<std::string, std::string>> rows;
   for (const volume::VolumeBackendInfo* b : volume::volume_backend_table()) rows.emplace_back(b->name, b->summary);
   rows.emplace_back("auto", "the fastest GPU backend on this device, by a calibration frame kept in $XDG_CACHE_HOME/prismoid/backends.json");
-  std::string help = table_help("--volume-backend B", rows);
+  std::string help = help_table("--volume-backend B", kIndent, rows);
   help.append(kIndent, ' ').append("(default: mesh; cpu is what --mode reference draws)\n");
   return help;
 }

@@ -90,8 +90,10 @@ std::string surface_render_help() {
     for (const surface::SurfaceMode& n : surface::surface_mode_table())
       if (n.backend == m.backend) modes += (modes.empty() ? "" : ", ") + std::string(n.name);
     out << "  " << modes << " (needs " << m.backend->needs << "):\n";
-    std::istringstream lines{std::string(m.backend->options_help)};
-    for (std::string line; std::getline(lines, line);) out << "    " << line << "\n";
+    std::vector<std::pair<std::string, std::string>> rows;
+    for (const surface::SurfaceOption& o : m.backend->options)
+      rows.emplace_back(std::string("--").append(o.name).append(o.flag ? "" : " ").append(o.value), o.help);
+    out << help_table("", 4, rows);
   }
   for (const surface::SurfaceMode& m : surface::surface_mode_table())
     if (!m.gpu()) out << "  " << m.name << " (on the CPU):\n    " << kPathTracerOptionsHelp;

@@ -176,4 +176,39 @@ void print_sm_clock(std::ostream& out, const timing::FrameTiming& timing) {
       << " MHz (min / median / max of " << c.samples << (c.samples == 1 ? " sample" : " samples") << ", nvidia-smi)\n";
 }
 
+std::string help_table(std::string_view lead, size_t indent, const std::vector<std::pair<std::string, std::string>>& rows,
+                       size_t width) {
+  // The texts start after the longest name, but no further than kLongestName in: a longer name
+  // has its text start on the next line.
+  constexpr size_t kLongestName = 28;
+  size_t name_width = 0;
+  for (const auto& [name, text] : rows)
+    if (name.size() <= kLongestName) name_width = std::max(name_width, name.size());
+  std::ostringstream out;
+  const std::string margin(indent + name_width + 2, ' ');
+  for (const auto& [name, text] : rows) {
+    // (append, not +: GCC 12 warns falsely about the + of two temporaries, -Warray-bounds)
+    out << (out.tellp() == 0 ? std::string("  ").append(lead).append(indent - 2 - lead.size(), ' ') : std::string(indent, ' '))
+        << name;
+    if (name.size() > name_width) out << "\n" << margin;
+    else out << std::string(name_width + 2 - name.size(), ' ');
+    size_t column = margin.size();
+    std::istringstream words(text);
+    bool first = true;
+    for (std::string word; words >> word; first = false) {
+      if (!first && column + 1 + word.size() > width) {
+        out << "\n" << margin;
+        column = margin.size();
+      } else if (!first) {
+        out << ' ';
+        ++column;
+      }
+      out << word;
+      column += word.size();
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
 }  // namespace prismoid::app

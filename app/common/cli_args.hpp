@@ -7,6 +7,8 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -62,6 +64,12 @@ double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& pa
 
 // "  SM clock: MIN / MEDIAN / MAX MHz (N samples)" where the clock was sampled; nothing otherwise.
 void print_sm_clock(std::ostream& out, const timing::FrameTiming& timing);
+
+// Help lines listing a table: each row's name padded to the longest (of at most 28 characters; a
+// longer one has its text on the next line), its text wrapped at `width` under itself. The first line starts two spaces in with `lead` (an option, or empty), padded to
+// `indent`; the other rows start at `indent`.
+std::string help_table(std::string_view lead, size_t indent, const std::vector<std::pair<std::string, std::string>>& rows,
+                       size_t width = 100);
 
 class OutputFiles;
 // What every render verb reads and writes, declared before its work (app/common/output_files.hpp):

@@ -35,10 +35,18 @@ using SurfaceOptions = std::map<std::string, std::string>;
 // One option a backend's modes take on `render`'s command line. Three names mean the same to every
 // backend that takes them and are read by the command itself: `shadows` (on|off; every backend
 // takes it), `supersample` (K x K sub-pixel positions averaged) and `frames` (timed frames, median).
+// One option of a backend's modes: the setting's name (setting_names.hpp; the CLI's --name), the
+// form of its value, and what it does with its default, for each front end's help.
 struct SurfaceOption {
   std::string_view name;
-  bool flag = false;  // --name alone; else --name VALUE
+  bool flag = false;       // given alone; else with a value
+  std::string_view value;  // the value's form ("on|off", "N"); empty for a flag
+  std::string_view help;   // what it does, and its default
 };
+
+// Every GPU surface backend takes it: whether the lights' shadows are traced.
+inline constexpr SurfaceOption kShadowsOption{
+    "shadows", false, "on|off", "ray-traced shadows; on by default where the device traces rays and a light casts them"};
 
 // What the planner reads of a scene (no GPU: `info --plan` plans with it too): its triangles,
 // lights, emissive triangles (those of emissive materials with a non-zero area, as upload()
@@ -155,8 +163,7 @@ struct SurfaceBackendInfo {
   std::string_view name;          // its folder under renderer/surface/
   std::string_view needs;         // what it needs from the device, in words (help, `devices`)
   frame::SurfacePasses passes;    // what it records, by role (the planner's input)
-  std::vector<SurfaceOption> options;  // its modes' options on `render`
-  std::string_view options_help;  // render --help's lines for them
+  std::vector<SurfaceOption> options;  // its modes' options on `render`, with their help
   uint32_t tuning = 0;            // the TuningKnobs it honours
   // Empty when `device` can run it, else why not.
   std::string (*device_problem)(const vk::Device& device) = nullptr;

@@ -3,12 +3,14 @@
 // plan with its reasons, and render's help lists the table.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "io/image_io.hpp"
+#include "renderer/surface/surface_backend.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "support/cli_run.hpp"
 
@@ -27,6 +29,18 @@ TEST(CliSurface, RenderHelpListsEverySurfaceModeOfTheTable) {
   ASSERT_EQ(r.code, 0) << r.err;
   for (const surface::SurfaceMode& m : surface::surface_mode_table())
     EXPECT_NE(r.out.find("  " + std::string(m.name) + ": " + std::string(m.summary) + "\n"), std::string::npos) << m.name;
+  // Each backend's options, from its table line: the option with its value's form, and its help
+  // (wrapped: its first words).
+  for (const surface::SurfaceMode& m : surface::surface_mode_table())
+    if (m.gpu())
+      for (const surface::SurfaceOption& o : m.backend->options) {
+        const std::string help(o.help);
+        const std::string option = "    --" + std::string(o.name) + (o.flag ? "" : " " + std::string(o.value));
+        const size_t at = r.out.find(option);
+        ASSERT_NE(at, std::string::npos) << o.name;
+        EXPECT_TRUE(std::isspace(static_cast<unsigned char>(r.out[at + option.size()]))) << o.name;
+        EXPECT_NE(r.out.find(help.substr(0, help.find(' ', 24))), std::string::npos) << o.name << "'s help";
+      }
   EXPECT_EQ(run("help render").out, r.out);
 }
 

@@ -161,12 +161,13 @@ const SurfaceBackendInfo& fastatlas_backend() {
               .gi = {},
               .display = {"lookup", "per pixel, its chart's map into the atlas and the hard-edge filter over four taps; the sky elsewhere", ""},
           },
-      .options = {{"atlas", false}, {"shading-scale", false}, {"atlas-refresh", false}, {"shadows", false}},
-      .options_help =
-          "--shadows on|off; --atlas N (the atlas side in texels, a power of two; default 4096), --shading-scale SF\n"
-          "(texels per pixel side at the largest candidate scale: 0.5 shades a quarter; default 1),\n"
-          "--atlas-refresh N (temporal reuse while the camera moves: shade everything every N-th frame and\n"
-          "take the last frame's shading where it holds the same surface point in between; default 0: off)",
+      .options = {{"atlas", false, "N", "the atlas side in texels, a power of two (default 4096)"},
+                  {"shading-scale", false, "SF",
+                   "texels per pixel side at the largest candidate scale: 0.5 shades a quarter (default 1)"},
+                  {"atlas-refresh", false, "N",
+                   "temporal reuse while the camera moves: shade everything every N-th frame and take the last "
+                   "frame's shading where it holds the same surface point in between (default 0: off)"},
+                  kShadowsOption},
       .tuning = kTuneLodBias,
       .device_problem = fastatlas_device_problem,
       .command_options = [](SurfaceOptions given, frame::SurfaceGi) {

@@ -98,10 +98,9 @@ const SurfaceBackendInfo& forward_backend() {
               .gi = {},
               .display = {"", "forward shading writes the image itself", ""},
           },
-      .options = {{"shadows", false}, {"supersample", false}, {"frames", false}},
-      .options_help =
-          "--shadows on|off (ray-traced shadows; on by default where the device traces rays and a light casts shadows);\n"
-          "--supersample K averages K x K sub-pixel positions; --frames N",
+      .options = {kShadowsOption,
+                  {"supersample", false, "K", "the mean of K x K sub-pixel positions (default 1)"},
+                  {"frames", false, "N", "timed frames, after 2 s of warm-up where N > 1 (default 1)"}},
       .device_problem = device_problem,
       .command_options = [](SurfaceOptions given, frame::SurfaceGi) { return given; },
       .make = [](SharedSurfaceScene& scene, const SurfaceOptions&) -> std::unique_ptr<SurfaceBackend> {

@@ -247,13 +247,14 @@ const SurfaceBackendInfo& htex_backend() {
                      {"gi spatial", "reuse from neighbours walked over the surface; the indirect radiance per texel", ""}},
               .display = {"gather", "per pixel, its footprint's texels through the page table, blended across edges; the sky elsewhere", ""},
           },
-      .options = {{"texels-per-unit", false}, {"pool-pages", false}, {"gi", false}, {"gi-frames", false}, {"gi-neighbours", false},
-                  {"gi-fallback", false}, {"shadows", false}},
-      .options_help =
-          "--shadows on|off; --texels-per-unit D (default 128; the window: 2048 along the scene's diagonal),\n"
-          "--pool-pages N (64 KiB each, default 1024; 64 with GI); --gi off|biased|unbiased|path-traced:\n"
-          "one-bounce indirect light (the mode of this backend with that light), the image the mean of\n"
-          "--gi-frames N (default 8) frames; --gi-neighbours K (0..16, default 4), --gi-fallback on|off",
+      .options = {{"texels-per-unit", false, "D", "texel density (default 128; the window: 2048 along the scene's diagonal)"},
+                  {"pool-pages", false, "N", "the texel pool's pages, 64 KiB each (default 1024; 64 with GI)"},
+                  {"gi", false, "off|biased|unbiased|path-traced",
+                   "one-bounce indirect light: the mode of this backend with that light"},
+                  {"gi-frames", false, "N", "with GI: the image is the mean of N frames of the still camera (default 8)"},
+                  {"gi-neighbours", false, "K", "with GI: spatial neighbours reused, 0..16 (default 4)"},
+                  {"gi-fallback", false, "on|off", "with GI: the coarse layer after disocclusion (default on)"},
+                  kShadowsOption},
       .tuning = kTuneLodBias,
       .device_problem = htex_device_problem,
       .command_options = command_options,

@@ -168,13 +168,13 @@ const SurfaceBackendInfo& msa_backend() {
               .gi = {},
               .display = {"display", "per pixel, its chart point through its meshlet's block, bilinear from the atlas; the sky elsewhere", ""},
           },
-      .options = {{"meshlets", false}, {"msa-charts", false}, {"msa-superblocks", false}, {"shading-budget", false}, {"shadows", false}},
-      .options_help =
-          "--shadows on|off; --meshlets normal-cone|meshoptimizer (default normal-cone), --msa-charts\n"
-          "projection|conformal|perspective|orthographic (the meshlets' charts: static orthogonal projection,\n"
-          "default, or least-squares conformal maps, the paper's LSCM; or made every frame from the camera:\n"
-          "perspective, MSA-P, or orthographic, MSA-O), --msa-superblocks N (256x256 texels each, default 64),\n"
-          "--shading-budget TEXELS (block texels per frame; default none)",
+      .options = {{"meshlets", false, "normal-cone|meshoptimizer", "how triangles are grouped into meshlets (default normal-cone)"},
+                  {"msa-charts", false, "projection|conformal|perspective|orthographic",
+                   "the meshlets' charts: static orthogonal projection (default) or least-squares conformal maps (the "
+                   "paper's LSCM); or made every frame from the camera: perspective (MSA-P) or orthographic (MSA-O)"},
+                  {"msa-superblocks", false, "N", "the atlas's superblocks, 256x256 texels each (default 64)"},
+                  {"shading-budget", false, "TEXELS", "block texels shaded per frame (default: no budget)"},
+                  kShadowsOption},
       .tuning = kTuneBlockBudget | kTuneAmortize | kTuneCharts,
       .device_problem = msa_device_problem,
       .command_options = [](SurfaceOptions given, frame::SurfaceGi) {

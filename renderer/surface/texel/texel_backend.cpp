@@ -116,11 +116,11 @@ const SurfaceBackendInfo& texel_backend() {
               .gi = {},
               .display = {"gather", "per pixel, its four taps blended bilinearly from the atlas; the sky elsewhere", ""},
           },
-      .options = {{"texel-density", false}, {"texel-levels", false}, {"mip-bias", false}, {"shadows", false}},
-      .options_help =
-          "--shadows on|off; --texel-density D (level-0 texels per unit; default: about 4M texels in all, fewer\n"
-          "where the device's buffers are smaller), --texel-levels N (default 4), --mip-bias B (shading\n"
-          "rate: +1 shades a quarter)",
+      .options = {{"texel-density", false, "D",
+                   "level-0 texels per unit (default: about 4M texels in all, fewer where the device's buffers are smaller)"},
+                  {"texel-levels", false, "N", "mip levels (default 4)"},
+                  {"mip-bias", false, "B", "shading rate: +1 shades a quarter (default 0)"},
+                  kShadowsOption},
       .tuning = kTuneLodBias,
       .device_problem = texel_device_problem,
       .command_options = [](SurfaceOptions given, frame::SurfaceGi) {
