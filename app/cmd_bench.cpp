@@ -23,6 +23,7 @@
 #include "app/bench/x_display.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/common/backend_cache.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/dataset_loader.hpp"
 #include "app/common/output_files.hpp"
@@ -30,6 +31,7 @@
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/timing/frame_timing.hpp"
 #include "renderer/timing/warm_up.hpp"
@@ -466,19 +468,19 @@ int cmd_bench(const std::vector<std::string>& args) {
       ref = references.emplace(ref_key, std::make_pair(std::move(image), ms_since(start))).first;
     }
 
-    frame::FrameRenderer renderer(device, choice.mesh);
-    timing::warm_up([&] { return vk::total_gpu_ms(renderer.render_timed(camera, choice.settings, extent).passes); }, preset.warm_up_seconds);
-    std::vector<double> cpu;
-    // Timed frames read no image back (the GPU stays at its clock between them); the image
-    // whose error is measured comes from one more frame of the same camera.
-    const timing::FrameTiming timing = timing::time_frames(frames, [&] {
-      renderer.forget_history();  // each timed frame costs what a moving camera's does: no order reused
-      const frame::OffscreenFrame timed = renderer.render_timed(camera, choice.settings, extent);
-      cpu.push_back(vk::total_gpu_ms(timed.report.cpu_passes));
-      return timed.passes;
-    });
-    renderer.forget_history();
-    const frame::OffscreenFrame result = renderer.render_offscreen(camera, choice.settings, extent);
+    // Through the renderer facade, as `render` draws: the timed frames (each a moving camera's,
+    // no image read back), then the image whose error is measured, one more frame of the same camera.
+    mixed::SceneRenderer renderer({.volume = &choice.mesh, .analytic_field = field_of(one).has_value()}, device, resolve_auto_backend);
+    mixed::SceneSettings scene_settings;
+    scene_settings.size = extent;
+    scene_settings.volume_mode = choice.mode;
+    scene_settings.volume = choice.settings;
+    scene_settings.volume_backend_auto = choice.backend_auto;
+    scene_settings.frames = frames;
+    scene_settings.warm_up_seconds = preset.warm_up_seconds;
+    const mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
+    const frame::OffscreenFrame& result = *drawn.volume;
+    const timing::FrameTiming& timing = *drawn.timing;
 
     bench::BenchRow m;
     m.dataset = choice.mesh.name;
@@ -491,7 +493,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     m.width = extent.width;
     m.height = extent.height;
     bench::set_times(m, timing);
-    m.cpu_ms = timing::median_of(cpu);
+    m.cpu_ms = timing::median_of(drawn.frame_cpu_ms);
     m.mesh_bytes = result.report.mesh_bytes;
     // The image is one more frame's: every frame draws the same cells from the same camera.
     m.error = frame::frame_error(result, ref->second.first, choice.quantity);

@@ -30,9 +30,12 @@ void set_shadows(surface::SurfaceRenderer& renderer, const std::optional<bool>& 
   renderer.set_shadows(*shadows);
 }
 
-// `frames` timed calls of `frame` (each returning its passes), after the warm-up where frames > 1.
+// `frames` timed calls of `frame` (each returning its passes), after the warm-up SceneSettings says.
 timing::FrameTiming timed(const SceneSettings& settings, const std::function<std::vector<vk::PassTiming>()>& frame) {
-  if (settings.frames > 1) timing::warm_up([&] { return vk::total_gpu_ms(frame()); }, settings.warm_up_seconds);
+  const std::optional<double> warm_up =
+      settings.warm_up_seconds ? settings.warm_up_seconds
+                               : settings.frames > 1 ? std::optional<double>(timing::kTimedWarmUpSeconds) : std::nullopt;
+  if (warm_up) timing::warm_up([&] { return vk::total_gpu_ms(frame()); }, *warm_up);
   return timing::time_frames(settings.frames, frame);
 }
 
@@ -79,6 +82,7 @@ void SceneRenderer::resolve_auto(frame::FrameSettings& volume, const SceneSettin
 }
 
 SceneFrame SceneRenderer::render(const Camera& camera, const SceneSettings& settings) {
+  if (settings.frames == 0) throw InputError(setting("frames"), "at least one timed frame");
   if (scene_.volume && scene_.surfaces) return render_mixed(camera, settings);
   return scene_.volume ? render_volume(camera, settings) : render_surfaces(camera, settings);
 }
@@ -103,10 +107,14 @@ SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSetting
   if (!volume_) volume_ = std::make_unique<frame::FrameRenderer>(gpu, mesh);
   // Timed frames read no image back, so the GPU stays busy (and at its clock) between them; the
   // image comes from one more frame of the same camera.
+  std::vector<double> cpu_ms;  // every frame's, the warm-up's first
   f.timing = timed(settings, [&] {
     volume_->forget_history();  // each timed frame costs what a moving camera's does: no order reused
-    return volume_->render_timed(camera, f.volume_settings, settings.size).passes;
+    const frame::OffscreenFrame timed_frame = volume_->render_timed(camera, f.volume_settings, settings.size);
+    cpu_ms.push_back(vk::total_gpu_ms(timed_frame.report.cpu_passes));
+    return timed_frame.passes;
   });
+  f.frame_cpu_ms.assign(cpu_ms.end() - settings.frames, cpu_ms.end());
   volume_->forget_history();
   f.volume = volume_->render_offscreen(camera, f.volume_settings, settings.size);
   f.volume->passes = f.timing->medians();

@@ -63,9 +63,10 @@ struct SceneSettings {
   reference::PathTracerSettings path;  // surfaces alone, by the CPU path tracer (its size is `size`)
   // GPU frames of a volume or of surfaces alone are timed: `frames` of them, each costing what a
   // moving camera's does (no order or shading kept from the one before), after at least
-  // `warm_up_seconds` of untimed ones where frames > 1 (timing::warm_up says why).
+  // `warm_up_seconds` of untimed ones (timing::warm_up says why). None given: kTimedWarmUpSeconds
+  // where frames > 1, no warm-up for one frame.
   uint32_t frames = 1;
-  double warm_up_seconds = timing::kTimedWarmUpSeconds;
+  std::optional<double> warm_up_seconds;
 };
 
 // One frame: what drew it and what it drew. Exactly one of volume, surfaces, path and mixed holds
@@ -75,6 +76,7 @@ struct SceneFrame {
   bool gpu = false;
   frame::FrameSettings volume_settings;       // as drawn: an `auto` backend resolved, with its reason
   std::optional<timing::FrameTiming> timing;  // timed GPU frames: each pass's spread (the images' passes hold the medians)
+  std::vector<double> frame_cpu_ms;           // timed volume frames: each one's CPU passes, summed
   std::optional<frame::OffscreenFrame> volume;                   // a volume alone
   std::optional<surface::SurfaceRenderer::Offscreen> surfaces;   // surfaces alone, on the GPU
   std::optional<reference::PathTracedImage> path;                // surfaces alone, by the path tracer

@@ -18,6 +18,7 @@
 #include "renderer/surface/surface_renderer.hpp"
 #include "renderer/volume/volume_backends.hpp"
 #include "scene/generators.hpp"
+#include "scene/input_error.hpp"
 #include "scene/tet_mesh.hpp"
 #include "support/gpu_fixture.hpp"
 
@@ -80,9 +81,13 @@ TEST_F(SceneRendererGpu, AVolumeFrameIsTheFrameRenderersOwnTimedAsAsked) {
   ASSERT_TRUE(f.volume.has_value());
   ASSERT_TRUE(f.timing.has_value());
   EXPECT_EQ(f.timing->frames, 3u);
+  EXPECT_EQ(f.frame_cpu_ms.size(), 3u);  // the timed frames' CPU time, the warm-up's left out
   ASSERT_EQ(f.timing->passes.size(), f.volume->passes.size());
   for (size_t i = 0; i < f.volume->passes.size(); ++i) EXPECT_EQ(f.timing->passes[i].name, f.volume->passes[i].name);
   EXPECT_EQ(f.device, device().capabilities().name);
+  mixed::SceneSettings none = settings;
+  none.frames = 0;
+  EXPECT_THROW(facade.render(camera(), none), InputError);
 
   frame::FrameRenderer direct(device(), mesh);
   const frame::OffscreenFrame d = direct.render_offscreen(camera(), settings.volume, kSize);
