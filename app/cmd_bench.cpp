@@ -18,6 +18,7 @@
 #include "app/bench/bench_cases.hpp"
 #include "app/bench/bench_plot.hpp"
 #include "app/bench/bench_table.hpp"
+#include "app/bench/mixed_bench.hpp"
 #include "app/bench/surface_bench.hpp"
 #include "app/bench/vtk_peers.hpp"
 #include "app/bench/x_display.hpp"
@@ -62,7 +63,9 @@ const char* const kBenchHelp =
     "  --warm-up SECONDS    frames drawn before each row's timed ones, for at least this long (default\n"
     "                       2, --quick 0: one frame); lets the GPU leave its idle clock\n"
     "  --sweeps LIST        comma-separated subset of: modes, tetlet-size, preintegration, image-size,\n"
-    "                       march-step, cells, surfaces (default: all)\n"
+    "                       march-step, cells, surfaces, mixed (default: all); mixed: the first dataset\n"
+    "                       cut by an opaque square through its centre, in each GPU surface mode without\n"
+    "                       indirect light on each volume backend, against the mixed scene's reference\n"
     "  --surfaces LIST      the surfaces sweep's scenes: cornell-box, furnace:A or surface files\n"
     "                       (default cornell-box); every surface mode the device draws, against the\n"
     "                       CPU reference of what the mode computes, 4x4 supersampled\n"
@@ -371,11 +374,11 @@ int cmd_bench(const std::vector<std::string>& args) {
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
   preset.warm_up_seconds = a.has("warm-up") ? parse_double("warm-up", a.values.at("warm-up")) : preset.quick ? 0.0 : timing::kTimedWarmUpSeconds;
   if (!(preset.warm_up_seconds >= 0.0 && preset.warm_up_seconds <= 600.0)) throw InputError("--warm-up", "seconds must lie in [0, 600]");
-  const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells", "surfaces"};
+  const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells", "surfaces", "mixed"};
   const std::vector<std::string> sweeps = a.has("sweeps") ? split_list("sweeps", a.values.at("sweeps")) : all_sweeps;
   for (const auto& s : sweeps)
     if (std::find(all_sweeps.begin(), all_sweeps.end(), s) == all_sweeps.end())
-      throw InputError("--sweeps", "unknown sweep '" + s + "' (modes, tetlet-size, preintegration, image-size, march-step, cells, surfaces)");
+      throw InputError("--sweeps", "unknown sweep '" + s + "' (modes, tetlet-size, preintegration, image-size, march-step, cells, surfaces, mixed)");
   bench::SurfaceBenchOptions so = surface_options(a);  // checked now, used by the surfaces sweep
   // Declared before the work: a folder made here goes again if the bench fails (or is stopped).
   const std::filesystem::path out_dir = a.values.at("out");
@@ -554,6 +557,26 @@ int cmd_bench(const std::vector<std::string>& args) {
         rows.push_back(std::move(p));
       }
     rows.push_back(std::move(m));
+  }
+  if (std::find(sweeps.begin(), sweeps.end(), "mixed") != sweeps.end()) {
+    // The first dataset, in colour where it has a scalar array (exact order), else transmittance.
+    ParsedArgs one;
+    if (!datasets.front().empty()) one.files.push_back(datasets.front());
+    for (const auto& o : passed_through)
+      if (a.has(o)) one.values[o] = a.values.at(o);
+    one.values["quantity"] = "color";
+    one.values["mode"] = std::string(frame::find_volume_mode(frame::Ordering::Exact, false)->name);
+    std::optional<VolumeChoice> chosen;
+    try {
+      chosen = volume_choice(one, std::ref(meshes));
+    } catch (const InputError&) {  // no scalar array: no colour
+      one.values["quantity"] = "transmittance";
+      one.values.erase("mode");
+      chosen = volume_choice(one, std::ref(meshes));
+    }
+    const Camera camera = camera_from(one, bounds_of(chosen->mesh));
+    for (auto& row : bench::bench_mixed(device, *chosen, camera, {preset.size.width, preset.size.height, frames, preset.warm_up_seconds}))
+      rows.push_back(std::move(row));
   }
   if (std::find(sweeps.begin(), sweeps.end(), "surfaces") != sweeps.end()) {
     so.size = preset.size;

@@ -45,7 +45,8 @@ struct BenchRow {
 // median, and the SM clock where it was sampled.
 void set_times(BenchRow& row, const timing::FrameTiming& timing);
 
-// Marks the rows no other row of the same dataset, quantity and image size beats: at least as
+// Marks the rows no other row of the same dataset, quantity and image size (and, for the mixed
+// sweep's rows, of that sweep) beats: at least as
 // fast and at least as accurate (RMSE), and better in one. Errors of different quantities or
 // sizes are not comparable, so they are never weighed against each other. Non-finite errors are
 // never optimal.

@@ -176,7 +176,17 @@ SceneFrame SceneRenderer::render_mixed(const Camera& camera, const SceneSettings
   resolve_auto(f.volume_settings, settings, gpu);
   if (!mixed_) mixed_ = std::make_unique<MixedRenderer>(gpu, *scene_.volume, *scene_.surfaces);
   set_shadows(mixed_->surface_renderer(), settings.shadows, device_name_);
-  f.mixed = mixed_->render(camera, f.volume_settings, settings.size, surface_mode);
+  // Each timed frame is the whole mixed frame, read back (the volume's rays end at the surfaces'
+  // depth read back from the GPU): the image is the last timed frame's.
+  MixedFrame last;
+  f.timing = timed(settings, [&] {
+    mixed_->surface_renderer().forget_shading();  // each timed frame costs what a moving camera's does
+    mixed_->volume_renderer().forget_history();
+    last = mixed_->render(camera, f.volume_settings, settings.size, surface_mode);
+    return last.passes;
+  });
+  last.passes = f.timing->medians();
+  f.mixed = std::move(last);
   return f;
 }
 

@@ -61,7 +61,7 @@ struct SceneSettings {
   std::optional<bool> shadows;
   uint32_t supersample = 1;            // surfaces alone, on the GPU: the mean of k x k sub-pixel positions
   reference::PathTracerSettings path;  // surfaces alone, by the CPU path tracer (its size is `size`)
-  // GPU frames of a volume or of surfaces alone are timed: `frames` of them, each costing what a
+  // GPU frames are timed: `frames` of them, each costing what a
   // moving camera's does (no order or shading kept from the one before), after at least
   // `warm_up_seconds` of untimed ones (timing::warm_up says why). None given: kTimedWarmUpSeconds
   // where frames > 1, no warm-up for one frame.
@@ -75,7 +75,7 @@ struct SceneFrame {
   std::string device, driver;  // the GPU's name and driver, or which CPU reference drew it
   bool gpu = false;
   frame::FrameSettings volume_settings;       // as drawn: an `auto` backend resolved, with its reason
-  std::optional<timing::FrameTiming> timing;  // timed GPU frames: each pass's spread (the images' passes hold the medians)
+  std::optional<timing::FrameTiming> timing;  // GPU frames: each pass's spread over the timed frames (the images' passes hold the medians)
   std::vector<double> frame_cpu_ms;           // timed volume frames: each one's CPU passes, summed
   std::optional<frame::OffscreenFrame> volume;                   // a volume alone
   std::optional<surface::SurfaceRenderer::Offscreen> surfaces;   // surfaces alone, on the GPU
