@@ -127,6 +127,18 @@ double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The mixed sweep's volume: `dataset` with the options passed through to each dataset, in colour
+// in exact order (the caller falls back to transmittance where the data has no scalar array).
+ParsedArgs mixed_volume_args(const ParsedArgs& a, const std::string& dataset, const std::vector<std::string>& passed_through) {
+  ParsedArgs one;
+  if (!dataset.empty()) one.files.push_back(dataset);
+  for (const auto& o : passed_through)
+    if (a.has(o)) one.values[o] = a.values.at(o);
+  one.values["quantity"] = "color";
+  one.values["mode"] = std::string(frame::find_volume_mode(frame::Ordering::Exact, false)->name);
+  return one;
+}
+
 // Loads each dataset once per way of loading it (as extinction or as the transfer function's
 // scalar; a .vdb as voxels or as marched regions) and hands out copies.
 class MeshCache {
@@ -559,13 +571,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     rows.push_back(std::move(m));
   }
   if (std::find(sweeps.begin(), sweeps.end(), "mixed") != sweeps.end()) {
-    // The first dataset, in colour where it has a scalar array (exact order), else transmittance.
-    ParsedArgs one;
-    if (!datasets.front().empty()) one.files.push_back(datasets.front());
-    for (const auto& o : passed_through)
-      if (a.has(o)) one.values[o] = a.values.at(o);
-    one.values["quantity"] = "color";
-    one.values["mode"] = std::string(frame::find_volume_mode(frame::Ordering::Exact, false)->name);
+    ParsedArgs one = mixed_volume_args(a, datasets.front(), passed_through);
     std::optional<VolumeChoice> chosen;
     try {
       chosen = volume_choice(one, std::ref(meshes));
@@ -574,8 +580,8 @@ int cmd_bench(const std::vector<std::string>& args) {
       one.values.erase("mode");
       chosen = volume_choice(one, std::ref(meshes));
     }
-    const Camera camera = camera_from(one, bounds_of(chosen->mesh));
-    for (auto& row : bench::bench_mixed(device, *chosen, camera, {preset.size.width, preset.size.height, frames, preset.warm_up_seconds}))
+    for (auto& row : bench::bench_mixed(device, *chosen, camera_from(one, bounds_of(chosen->mesh)),
+                                        {preset.size.width, preset.size.height, frames, preset.warm_up_seconds}))
       rows.push_back(std::move(row));
   }
   if (std::find(sweeps.begin(), sweeps.end(), "surfaces") != sweeps.end()) {
