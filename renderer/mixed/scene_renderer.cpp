@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "renderer/mixed/mixed_reference.hpp"
+#include "renderer/timing/warm_up.hpp"
 #include "renderer/surface/surface_backend.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"

@@ -21,7 +21,6 @@
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
 #include "renderer/timing/frame_timing.hpp"
-#include "renderer/timing/warm_up.hpp"
 #include "scene/camera.hpp"
 #include "scene/surface_scene.hpp"
 #include "scene/tet_mesh_fwd.hpp"
@@ -61,10 +60,10 @@ struct SceneSettings {
   std::optional<bool> shadows;
   uint32_t supersample = 1;            // surfaces alone, on the GPU: the mean of k x k sub-pixel positions
   reference::PathTracerSettings path;  // surfaces alone, by the CPU path tracer (its size is `size`)
-  // GPU frames are timed: `frames` of them, each costing what a
-  // moving camera's does (no order or shading kept from the one before), after at least
-  // `warm_up_seconds` of untimed ones (timing::warm_up says why). None given: kTimedWarmUpSeconds
-  // where frames > 1, no warm-up for one frame.
+  // GPU frames are timed: `frames` of them, each costing what a moving camera's does (no order or
+  // shading kept from the one before), after at least `warm_up_seconds` of untimed ones
+  // (timing::warm_up says why). None given: timing::kTimedWarmUpSeconds where frames > 1, no
+  // warm-up for one frame.
   uint32_t frames = 1;
   std::optional<double> warm_up_seconds;
 };
