@@ -83,7 +83,7 @@ void SceneRenderer::resolve_auto(frame::FrameSettings& volume, const SceneSettin
 }
 
 SceneFrame SceneRenderer::render(const Camera& camera, const SceneSettings& settings) {
-  if (settings.frames == 0) throw InputError(setting("frames"), "at least one timed frame");
+  if (!settings.interactive && settings.frames == 0) throw InputError(setting("frames"), "at least one timed frame");
   if (scene_.volume && scene_.surfaces) return render_mixed(camera, settings);
   return scene_.volume ? render_volume(camera, settings) : render_surfaces(camera, settings);
 }
@@ -106,6 +106,10 @@ SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSetting
   gpu_identity(f);
   resolve_auto(f.volume_settings, settings, gpu);
   if (!volume_) volume_ = std::make_unique<frame::FrameRenderer>(gpu, mesh);
+  if (settings.interactive) {
+    f.volume = volume_->render_offscreen(camera, f.volume_settings, settings.size);
+    return f;
+  }
   // Timed frames read no image back, so the GPU stays busy (and at its clock) between them; the
   // image comes from one more frame of the same camera.
   std::vector<double> cpu_ms;  // every frame's, the warm-up's first
@@ -148,6 +152,10 @@ SceneFrame SceneRenderer::render_surfaces(const Camera& camera, const SceneSetti
     surface_options_ = settings.surface_options;
   }
   set_shadows(*surfaces_, settings.shadows, device_name_);
+  if (settings.interactive) {
+    f.surfaces = surfaces_->render_offscreen(camera, name, settings.size, settings.supersample);
+    return f;
+  }
   // Each timed frame is read back (a GI mode's image is the mean of its still frames): the image
   // is the last timed frame's.
   surface::SurfaceRenderer::Offscreen image;
@@ -177,6 +185,10 @@ SceneFrame SceneRenderer::render_mixed(const Camera& camera, const SceneSettings
   resolve_auto(f.volume_settings, settings, gpu);
   if (!mixed_) mixed_ = std::make_unique<MixedRenderer>(gpu, *scene_.volume, *scene_.surfaces);
   set_shadows(mixed_->surface_renderer(), settings.shadows, device_name_);
+  if (settings.interactive) {
+    f.mixed = mixed_->render(camera, f.volume_settings, settings.size, surface_mode);
+    return f;
+  }
   // Each timed frame is the whole mixed frame, read back (the volume's rays end at the surfaces'
   // depth read back from the GPU): the image is the last timed frame's.
   MixedFrame last;

@@ -66,6 +66,10 @@ struct SceneSettings {
   // warm-up for one frame.
   uint32_t frames = 1;
   std::optional<double> warm_up_seconds;
+  // An interactive frame (the ParaView plugin's, the window's): drawn once, timed only by its own
+  // passes' timestamps, and reusing what the renderers kept from the frame before where the planner
+  // allows it (a still camera's order, a still view's shading). `frames` and the warm-up are unused.
+  bool interactive = false;
 };
 
 // One frame: what drew it and what it drew. Exactly one of volume, surfaces, path and mixed holds
@@ -74,7 +78,7 @@ struct SceneFrame {
   std::string device, driver;  // the GPU's name and driver, or which CPU reference drew it
   bool gpu = false;
   frame::FrameSettings volume_settings;       // as drawn: an `auto` backend resolved, with its reason
-  std::optional<timing::FrameTiming> timing;  // GPU frames: each pass's spread over the timed frames (the images' passes hold the medians)
+  std::optional<timing::FrameTiming> timing;  // timed GPU frames: each pass's spread over them (the images' passes hold the medians)
   std::vector<double> frame_cpu_ms;           // timed volume frames: each one's CPU passes, summed
   std::optional<frame::OffscreenFrame> volume;                   // a volume alone
   std::optional<surface::SurfaceRenderer::Offscreen> surfaces;   // surfaces alone, on the GPU

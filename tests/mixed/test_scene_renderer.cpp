@@ -98,6 +98,36 @@ TEST_F(SceneRendererGpu, AVolumeFrameIsTheFrameRenderersOwnTimedAsAsked) {
   EXPECT_EQ(r.volume->quantity, volume::reference_backend().render(mesh, camera(), settings.volume.resolve, kSize, false).quantity);
 }
 
+// An interactive frame is drawn once and keeps what a still camera lets the next frame reuse: the
+// second frame of a still camera skips the exact order and draws the same image; a timed frame
+// forgets it (each costs what a moving camera's does).
+TEST_F(SceneRendererGpu, AnInteractiveFrameReusesWhatAStillCameraKeeps) {
+  TetMesh mesh = ball();
+  for (const glm::dvec3& p : mesh.points) mesh.point_scalars.push_back(0.5 + 0.5 * p.x);  // colour through the transfer function
+  mixed::SceneRenderer facade({.volume = &mesh}, device());
+  mixed::SceneSettings settings = volume_settings("interval-exact-order");
+  settings.volume.backend = frame::IntervalBackend::Mesh;
+  settings.volume.ordering = frame::Ordering::Exact;
+  settings.volume.resolve.quantity = volume::Quantity::Color;  // the order matters only for colour
+  settings.interactive = true;
+  settings.frames = 0;  // unused by an interactive frame
+  const auto ran = [](const frame::OffscreenFrame& f, const char* pass) { return f.report.plan.has(pass); };
+  const mixed::SceneFrame first = facade.render(camera(), settings);
+  ASSERT_TRUE(first.volume.has_value());
+  EXPECT_FALSE(first.timing.has_value());
+  EXPECT_TRUE(ran(*first.volume, "exact-order"));
+  const mixed::SceneFrame still = facade.render(camera(), settings);
+  EXPECT_FALSE(ran(*still.volume, "exact-order"));
+  EXPECT_TRUE(still.volume->report.plan.reuses_order);
+  EXPECT_EQ(still.volume->emission, first.volume->emission);
+  settings.interactive = false;
+  settings.frames = 1;
+  const mixed::SceneFrame timed = facade.render(camera(), settings);
+  ASSERT_TRUE(timed.timing.has_value());
+  EXPECT_TRUE(ran(*timed.volume, "exact-order"));
+  EXPECT_EQ(timed.volume->emission, first.volume->emission);
+}
+
 // The automatic backend is the front end's hook's choice, and never silently the default.
 TEST_F(SceneRendererGpu, AnAutomaticBackendIsTheHooksChoice) {
   const TetMesh mesh = ball();

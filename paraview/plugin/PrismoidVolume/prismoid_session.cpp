@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "renderer/frame/volume_modes.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/vk/capabilities.hpp"
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/instance.hpp"
@@ -13,13 +15,14 @@ namespace prismoid::paraview {
 
 struct Session::Impl {
   // Made on the first frame, not when ParaView loads the plugin: a rank without a Vulkan
-  // device can load it and fail only when asked to draw.
+  // device can load it and fail only when asked to draw. Kept across meshes (the facade is
+  // made again for each mesh, on this device).
   std::optional<vk::Instance> instance;
   std::vector<vk::DeviceCapabilities> devices;
   std::optional<vk::Device> device;
   std::string key;
-  std::unique_ptr<TetMesh> mesh;  // the renderer keeps what it uploaded; this is kept for the CPU passes
-  std::unique_ptr<frame::FrameRenderer> renderer;
+  std::unique_ptr<TetMesh> mesh;  // the facade keeps a pointer to it
+  std::unique_ptr<mixed::SceneRenderer> renderer;
 
   void ensure_device() {
     if (device) return;
@@ -59,8 +62,14 @@ bool Session::set_mesh(const std::string& key, TetMesh mesh) {
 frame::OffscreenFrame Session::render(const Camera& camera, const frame::FrameSettings& settings, uint32_t width, uint32_t height) {
   if (!impl_->mesh) throw std::logic_error("prismoid::paraview::Session: render before set_mesh");
   impl_->ensure_device();
-  if (!impl_->renderer) impl_->renderer = std::make_unique<frame::FrameRenderer>(*impl_->device, *impl_->mesh);
-  return impl_->renderer->render_offscreen(camera, settings, {width, height});
+  if (!impl_->renderer) impl_->renderer = std::make_unique<mixed::SceneRenderer>(mixed::SceneData{.volume = impl_->mesh.get()}, *impl_->device);
+  mixed::SceneSettings scene;
+  scene.size = {width, height};
+  scene.volume_mode = frame::find_volume_mode(settings.ordering, false);
+  if (!scene.volume_mode) throw std::logic_error("prismoid::paraview::Session: no GPU volume mode draws in that order");
+  scene.volume = settings;
+  scene.interactive = true;
+  return std::move(*impl_->renderer->render(camera, scene).volume);
 }
 
 std::string Session::device_name() const { return impl_->device ? impl_->device->capabilities().name : std::string(); }

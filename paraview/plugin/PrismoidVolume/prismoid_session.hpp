@@ -1,13 +1,14 @@
 #pragma once
 // The plugin's VTK-free half: one Vulkan device per process (made on the first frame) and the
-// volume renderer of the mesh last drawn. It includes nothing of VTK, so that the boundary
+// renderer facade (mixed::SceneRenderer, as every front end draws) over the mesh last drawn. It includes nothing of VTK, so that the boundary
 // between ParaView's VTK and Prismoid's core stays in one place (vtk_to_prismoid.hpp is the
 // other side).
 #include <cstdint>
 #include <memory>
 #include <string>
 
-#include "renderer/frame/frame_renderer.hpp"
+#include "renderer/frame/frame_report.hpp"
+#include "renderer/frame/frame_plan.hpp"
 #include "scene/camera.hpp"
 #include "scene/tet_mesh.hpp"
 
@@ -28,7 +29,8 @@ class Session {
   bool set_mesh(const std::string& key, TetMesh mesh);
   bool has_mesh(const std::string& key) const;
 
-  // One frame of the mesh, read back (row 0 at the top). Throws vk::NoSuitableDevice when no
+  // One interactive frame of the mesh (a still camera reuses the last frame's order), read back
+  // (row 0 at the top), drawn by the GPU mode of settings.ordering. Throws vk::NoSuitableDevice when no
   // Vulkan device can render it, InputError for settings the mesh or device refuses.
   frame::OffscreenFrame render(const Camera& camera, const frame::FrameSettings& settings, uint32_t width, uint32_t height);
   // The device's name (after the first frame; empty before).

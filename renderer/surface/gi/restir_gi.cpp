@@ -107,11 +107,10 @@ RestirGi::RestirGi(const vk::Device& device, std::unique_ptr<RestirGiPipeline> o
   direct_ = vk::Buffer(device, VkDeviceSize(count_) * 16, kReservoirUsage, vk::MemoryUse::DeviceLocal);
   history_ = vk::Buffer(device, VkDeviceSize(count_) * sizeof(uint32_t), kStorage, vk::MemoryUse::HostVisible);
   history_valid_.assign(count_, 0u);
-  std::vector<uint32_t> table(4 + std::max<size_t>(set.neighbours.size(), 1), kNoNeighbour);
-  table[0] = set.table_width;
-  table[1] = set.max_radius;
-  table[2] = table[3] = 0;
-  std::copy(set.neighbours.begin(), set.neighbours.end(), table.begin() + 4);
+  // A header of four words, then the neighbours (at least one entry: an empty buffer is invalid).
+  std::vector<uint32_t> table = {set.table_width, set.max_radius, 0u, 0u};
+  table.insert(table.end(), set.neighbours.begin(), set.neighbours.end());
+  if (set.neighbours.empty()) table.push_back(kNoNeighbour);
   neighbours_ = vk::upload_buffer(device, bytes_of(table), kStorage);
   frame_uniforms_ = vk::Buffer(device, sizeof(gpu::SurfaceFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::HostVisible);
   const gpu::SurfaceFrame frame = gi_frame(scene);
