@@ -1,12 +1,7 @@
 // `prismoid render`: one image headless, on the GPU or the CPU reference, with its timings.
-#include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <filesystem>
 #include <iostream>
-#include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -17,15 +12,14 @@
 #include "app/common/backend_cache.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/frame_image.hpp"
+#include "app/common/frame_stats_writer.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_accuracy.hpp"
-#include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "io/image_io.hpp"
 #include "renderer/frame/volume_modes.hpp"
 #include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/surface/surface_modes.hpp"
-#include "renderer/timing/frame_timing.hpp"
 #include "renderer/vk/instance.hpp"
 #include "renderer/volume/volume_backends.hpp"
 #include "scene/input_error.hpp"
@@ -196,24 +190,19 @@ int cmd_render(const std::vector<std::string>& args) {
     throw InputError("--reference-error", "--mode " + std::string(mode.name) + " is the reference itself");
   const volume::Quantity quantity = choice.quantity;
   const bool color = quantity == volume::Quantity::Color;
-  frame::FrameSettings settings = choice.settings;
-  if (a.has("depth-limit")) settings.resolve.depth_limit = read_depth_limit(a.values.at("depth-limit"), size);
   const bool field = field_of(a).has_value();  // an analytic field: its own CPU reference
   const Camera camera = camera_from(a, bounds_of(mesh));
   mixed::SceneSettings scene_settings;
   scene_settings.size = size;
   scene_settings.volume_mode = &mode;
-  scene_settings.volume = settings;
+  scene_settings.volume = choice.settings;
+  if (a.has("depth-limit")) scene_settings.volume.resolve.depth_limit = read_depth_limit(a.values.at("depth-limit"), size);
   scene_settings.volume_backend_auto = choice.backend_auto;
   scene_settings.frames = frames;
   mixed::SceneRenderer renderer({.volume = &mesh, .analytic_field = field},
                                 {.validation = a.flags.count("validate") > 0, .index = device_index}, resolve_auto_backend);
   const mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
   const frame::OffscreenFrame& result = *drawn.volume;
-  const std::optional<timing::FrameTiming>& timing = drawn.timing;
-  settings = drawn.volume_settings;
-  const std::string& device_name = drawn.device;
-  const std::string& driver = drawn.driver;
   const vk::Instance* instance = renderer.instance();
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
   // What the image's accuracy is: the same frame on the CPU, in double precision and exact order.
@@ -229,110 +218,13 @@ int cmd_render(const std::vector<std::string>& args) {
   files.write(output, [&](const std::string& file) { io::write_image(file, image); });
   for (const std::string& w : result.report.warnings) std::cerr << "prismoid: warning: " << w << "\n";
 
-  const bool cpu = !drawn.gpu;
   // What the render says is printed once its files are in place: a write that fails after this
   // point (the stats, the rename) must not follow a "wrote".
-  std::ostringstream said;
-  said << "wrote " << output << " (" << size.width << "x" << size.height << ", " << mesh.name << ", "
-       << mesh.tets.size() << " cells) on " << device_name << "\n";
-  said << "  ordering: " << result.report.ordering << (result.report.order_exact ? " [exact]" : " [approximate]") << "\n";
-  const frame::FrameReport& report = result.report;
-  const double cells = static_cast<double>(std::max<size_t>(mesh.tets.size(), 1));
-  const double pixels = static_cast<double>(size.width) * size.height;
-  if (!cpu) {
-    said << "  backend: " << report.backend << (settings.backend_reason.empty() ? "" : " (" + settings.backend_reason + ")");
-    if (report.backend_bytes > 0)  // the compute backend's tile lists and keys (the mesh backend has none)
-      said << "; its memory " << report.backend_bytes << " bytes (" << json_number(static_cast<double>(report.backend_bytes) / cells)
-           << " per cell, " << json_number(static_cast<double>(report.backend_bytes) / pixels) << " per pixel)";
-    said << "\n";
-    if (report.counts_known)
-      said << "  pairs: " << report.pairs << " (tile, cell); pixels composited out of exact order: " << report.inexact_pixels
-           << "; tiles rastered in chunks: " << report.split_tiles << " (" << report.chunks << " chunks, " << report.redone_tiles
-           << " rastered again whole for colour order); cells binned by a workgroup: "
-           << report.big_cells << "\n";
-  }
-  double total = 0.0;
-  for (size_t i = 0; i < result.passes.size(); ++i) {
-    const vk::PassTiming& p = result.passes[i];
-    said << "  " << p.name << ": " << (std::isfinite(p.gpu_ms) ? json_number(p.gpu_ms) + " ms" : "no timestamps") << (cpu ? " CPU" : " GPU");
-    if (timing && frames > 1 && std::isfinite(p.gpu_ms))
-      said << " (best " << json_number(timing->passes[i].ms.best) << ", worst " << json_number(timing->passes[i].ms.worst) << ")";
-    said << "\n";
-    total += p.gpu_ms;
-  }
-  said << "  total: " << json_number(total) << (cpu ? " ms CPU" : " ms GPU");
-  if (timing && frames > 1)
-    said << " (medians of " << frames << " frames; a whole frame: best " << json_number(timing->total_ms.best) << ", median "
-         << json_number(timing->total_ms.median) << ", worst " << json_number(timing->total_ms.worst) << ")";
-  said << "\n";
-  if (timing) print_sm_clock(said, *timing);
-  if (accuracy) print_accuracy(said, *accuracy, color, "double precision, exact per-pixel order");
-  for (const auto& p : result.report.cpu_passes) said << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
-  if (result.report.counted) {
-    said << "  drawn: " << result.report.fragments << " fragments";
-    if (result.report.primitives > 0) said << ", " << result.report.primitives << " proxy triangles";
-    said << "\n";
-  }
-
-  if (a.has("stats")) {
-    StatsJson js;
-    js["device"] = device_name;
-    js["driver"] = driver;
-    js["dataset"] = mesh.name;
-    js["cells"] = mesh.tets.size();
-    js["mode"] = std::string(mode.name);
-    js["quantity"] = quantity_name(quantity);
-    js["width"] = size.width;
-    js["height"] = size.height;
-    js["ordering"] = result.report.ordering;
-    js["order_exact"] = result.report.order_exact;
-    js["gpu_mesh_bytes"] = result.report.mesh_bytes;
-    if (!cpu) {
-      js["backend"] = report.backend;
-      js["backend_reason"] = settings.backend_reason;
-      js["backend_bytes"] = report.backend_bytes;
-      js["backend_bytes_per_cell"] = static_cast<double>(report.backend_bytes) / cells;
-      js["backend_bytes_per_pixel"] = static_cast<double>(report.backend_bytes) / pixels;
-      if (report.counts_known) {
-        js["pairs"] = report.pairs;
-        js["inexact_pixels"] = report.inexact_pixels;
-        js["split_tiles"] = report.split_tiles;
-        js["chunks"] = report.chunks;
-        js["redone_tiles"] = report.redone_tiles;
-        js["big_cells"] = report.big_cells;
-      }
-    }
-    if (result.report.counted) {  // as the driver counts them (lavapipe counts no clipper input for mesh shaders)
-      js["fragments"] = result.report.fragments;
-      if (result.report.primitives > 0) js["proxy_triangles"] = result.report.primitives;
-    }
-    js["tetlet_size"] = settings.resolve.tetlet_size;
-    js["shared_vertices"] = settings.resolve.shared_vertices;
-    if (result.report.tetlet_points_per_cell > 0.0) js["tetlet_points_per_cell"] = result.report.tetlet_points_per_cell;
-    if (color) {
-      js["transfer_function"] = settings.resolve.transfer.name;
-      js["tf_range"] = {settings.resolve.transfer.range_lo, settings.resolve.transfer.range_hi};
-      js["preintegration_size"] = settings.resolve.preintegration_size;
-    }
-    if (field) {
-      js["field"] = settings.resolve.march.field.name;
-      js["march_step"] = settings.resolve.march.step;
-      if (quantity == volume::Quantity::Isosurface) js["isovalue"] = settings.resolve.march.isovalue;
-    }
-    js["warnings"] = result.report.warnings;
-    js["frames"] = frames;
-    js["passes"] = timing ? passes_json(*timing) : passes_json(result.passes);
-    if (timing) add_sm_clock(js, *timing);
-    js["cpu_passes"] = cpu_passes_json(result.report.cpu_passes);
-    add_plan(js, result.report.plan);
-    js["gpu_ms_total"] = total;
-    if (timing) js["frame_ms"] = {{"best", timing->total_ms.best}, {"median", timing->total_ms.median}, {"worst", timing->total_ms.worst}};
-    js["validation_messages"] = validation_messages;
-    if (accuracy) add_accuracy(js, *accuracy, color);
-    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
-  }
+  const FrameOutput said{.image = output, .validation_messages = validation_messages, .accuracy = accuracy ? &*accuracy : nullptr};
+  if (a.has("stats"))
+    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, frame_json(drawn.stats, said)); });
   files.commit();
-  std::cout << said.str();
+  std::cout << frame_text(drawn.stats, said);
   return instance ? validation_exit(*instance) : kOk;
 }
 

@@ -4,9 +4,7 @@
 // transmittance) up to the surfaces, or for colour the composite's RGB.
 #include <chrono>
 #include <iostream>
-#include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -15,13 +13,12 @@
 #include "app/common/backend_cache.hpp"
 #include "app/common/cli_args.hpp"
 #include "app/common/frame_image.hpp"
+#include "app/common/frame_stats_writer.hpp"
 #include "app/common/mixed_args.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_accuracy.hpp"
-#include "app/common/stats_json.hpp"
 #include "app/common/volume_options.hpp"
 #include "io/image_io.hpp"
-#include "renderer/mixed/mixed_frame.hpp"
 #include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/vk/instance.hpp"
@@ -68,9 +65,6 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
                                 {.validation = a.flags.count("validate") > 0, .index = parse_device(a)}, resolve_auto_backend);
   const mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
   const mixed::MixedFrame& f = *drawn.mixed;
-  const bool cpu = !drawn.gpu;
-  const std::string& device_name = drawn.device;
-  const std::string& driver = drawn.driver;
   const vk::Instance* instance = renderer.instance();
   const size_t validation_messages = instance ? instance->validation_log().count() : 0;
 
@@ -93,50 +87,12 @@ int cmd_render_mixed(const std::vector<std::string>& args) {
   files.write(output, [&](const std::string& file) { io::write_image(file, image); });
   for (const std::string& w : f.volume.report.warnings) std::cerr << "prismoid: warning: " << w << "\n";
 
-  size_t triangles = 0;
-  for (const SceneMesh& m : lit.meshes) triangles += m.triangles.size();
-  std::ostringstream said;
-  said << "wrote " << output << " (" << size.width << "x" << size.height << ", " << choice.mesh.name << ", " << choice.mesh.tets.size()
-       << " cells, with " << lit.name << ", " << triangles << " triangles) on " << device_name << "\n";
-  said << "  volume: --mode " << choice.mode->name;
-  if (!cpu) said << ", backend " << f.volume.report.backend;
-  said << ", ordering " << f.volume.report.ordering << (f.volume.report.order_exact ? " [exact]" : " [approximate]")
-       << "; surfaces: " << (cpu ? "direct light (forward's reference)" : "--surface-mode " + scene.surface_mode)
-       << (f.shadows ? " with shadows" : " without shadows") << ", opaque, ending the volume's rays\n";
-  const double total = print_pass_times(said, f.passes);
-  if (!f.passes.empty()) said << "  total: " << json_number(total) << " ms GPU\n";
-  for (const vk::PassTiming& p : f.cpu_passes) said << "  " << p.name << ": " << json_number(p.gpu_ms) << " ms CPU\n";
-  if (accuracy)
-    print_accuracy(said, *accuracy, color,
-                   std::string("double precision, exact per-pixel order, the surfaces' direct light") + (f.shadows ? " with shadows" : ""));
-  if (a.has("stats")) {
-    StatsJson js;
-    js["device"] = device_name;
-    js["driver"] = driver;
-    js["dataset"] = choice.mesh.name;
-    js["cells"] = choice.mesh.tets.size();
-    js["surfaces"] = lit.name;
-    js["triangles"] = triangles;
-    js["mode"] = std::string(choice.mode->name);
-    js["surface_mode"] = f.surface_mode;
-    js["shadows"] = f.shadows;
-    js["quantity"] = quantity_name(quantity);
-    js["width"] = size.width;
-    js["height"] = size.height;
-    if (!cpu) js["backend"] = f.volume.report.backend;
-    js["ordering"] = f.volume.report.ordering;
-    js["order_exact"] = f.volume.report.order_exact;
-    js["passes"] = passes_json(f.passes);
-    js["cpu_passes"] = cpu_passes_json(f.cpu_passes);
-    add_plan(js, f.plan);
-    js["gpu_ms_total"] = total;
-    js["warnings"] = f.volume.report.warnings;
-    js["validation_messages"] = validation_messages;
-    if (accuracy) add_accuracy(js, *accuracy, color);
-    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
-  }
+  // Printed once the files are in place (cmd_render.cpp says why).
+  const FrameOutput said{.image = output, .validation_messages = validation_messages, .accuracy = accuracy ? &*accuracy : nullptr};
+  if (a.has("stats"))
+    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, frame_json(drawn.stats, said)); });
   files.commit();
-  std::cout << said.str();
+  std::cout << frame_text(drawn.stats, said);
   return instance ? validation_exit(*instance) : kOk;
 }
 

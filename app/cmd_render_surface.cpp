@@ -7,20 +7,18 @@
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
-#include <variant>
 
 #include "app/cli.hpp"
 #include "app/cmd_render_path.hpp"
 #include "app/commands.hpp"
 #include "app/common/cli_args.hpp"
+#include "app/common/frame_stats_writer.hpp"
 #include "app/common/output_files.hpp"
-#include "app/common/stats_json.hpp"
 #include "app/common/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
-#include "renderer/timing/frame_timing.hpp"
 #include "renderer/vk/instance.hpp"
 #include "scene/input_error.hpp"
 #include "scene/surface_generators.hpp"
@@ -178,7 +176,8 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   scene_settings.supersample = k;
   scene_settings.frames = frames;
   scene_settings.path = path_tracer_settings(a);
-  mixed::SceneRenderer renderer({.surfaces = &lit}, {.validation = a.flags.count("validate") > 0, .index = parse_device(a)});
+  const bool default_lighting = lit.directional_lights.size() != scene.directional_lights.size();
+  mixed::SceneRenderer renderer({.surfaces = &lit, .default_lighting = default_lighting}, {.validation = a.flags.count("validate") > 0, .index = parse_device(a)});
   mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
   if (drawn.path) {
     std::ostringstream said;  // printed once the files are in place (cmd_render.cpp says why)
@@ -188,7 +187,6 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
     return kOk;
   }
   const surface::SurfaceRenderer::Offscreen& image = *drawn.surfaces;
-  const timing::FrameTiming& timing = *drawn.timing;
   io::FloatImage out;
   out.width = image.width;
   out.height = image.height;
@@ -196,56 +194,14 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   for (size_t i = 0; i < image.rgba.size(); i += 4) out.pixels.insert(out.pixels.end(), {image.rgba[i], image.rgba[i + 1], image.rgba[i + 2]});
   files.write(output, [&](const std::string& file) { io::write_image(file, out); });
 
-  const surface::GpuSurfaceScene& gpu = *renderer.gpu_surfaces();
-  const surface::SurfaceRenderer::FrameCounts& c = image.counts;
-  const bool shadows = image.plan.find(frame::PassId::ShadowRays) != nullptr;
-  const bool default_lighting = lit.directional_lights.size() != scene.directional_lights.size();
-  size_t covered = 0;
-  for (size_t i = 3; i < image.rgba.size(); i += 4) covered += image.rgba[i] == 1.0f;
-  std::ostringstream said;  // printed once the files are in place (cmd_render.cpp says why)
-  said << "wrote " << output << " (" << size.width << "x" << size.height << ", " << scene.name << ", " << gpu.triangle_count
-       << " triangles, " << gpu.emitter_count << " emissive" << (c.space.empty() ? "" : ", " + c.space)
-       << (k > 1 ? ", " + std::to_string(k) + "x" + std::to_string(k) + " supersampled" : "") << ") on " << drawn.device << "\n";
-  const double total = print_pass_times(said, image.passes);
-  said << "  total: " << json_number(total) << " ms GPU";
-  if (frames > 1)
-    said << " (medians of " << frames << " frames; a whole frame: best " << json_number(timing.total_ms.best) << ", median "
-         << json_number(timing.total_ms.median) << ", worst " << json_number(timing.total_ms.worst) << ")";
-  said << "\n";
-  print_sm_clock(said, timing);
-  said << "  covered: " << covered << " pixels" << (c.shaded_field.empty() ? "" : ", " + std::to_string(c.shaded) + " shading invocations")
-       << (c.summary.empty() ? "" : c.summary.front()) << "\n";
-  for (size_t i = 1; i < c.summary.size(); ++i) said << "  " << c.summary[i] << "\n";
-  if (default_lighting) said << "  no lights in the scene: default key light (it casts shadows) and sky\n";
-
-  if (a.has("stats")) {
-    StatsJson js;
-    js["device"] = drawn.device;
-    js["driver"] = drawn.driver;
-    js["dataset"] = scene.name;
-    js["mode"] = std::string(chosen.name);  // as given (--gi may have picked another mode of its backend: "gi" says which light)
-    js["quantity"] = "color";
-    js["width"] = size.width;
-    js["height"] = size.height;
-    if (takes(*mode.backend, "supersample")) js["supersample"] = k;
-    js["triangles"] = gpu.triangle_count;
-    js["emitters"] = gpu.emitter_count;
-    js["gpu_scene_bytes"] = gpu.bytes;
-    js["covered_pixels"] = covered;
-    js["default_lighting"] = default_lighting;
-    js["shadows"] = shadows;
-    if (!c.shaded_field.empty()) js[c.shaded_field] = c.shaded;
-    if (takes(*mode.backend, "frames")) js["frames"] = frames;
-    for (const auto& [key, value] : c.stats) std::visit([&, &key = key](const auto& v) { js[key] = v; }, value);
-    add_plan(js, image.plan);
-    js["passes"] = passes_json(timing);
-    add_sm_clock(js, timing);
-    js["gpu_ms_total"] = total;
-    js["validation_messages"] = renderer.instance()->validation_log().count();
-    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
-  }
+  // Printed once the files are in place (cmd_render.cpp says why). "mode" is the mode as given
+  // (--gi may have picked another of its backend: the backend's "gi" says which light).
+  drawn.stats.surfaces->mode = chosen.name;
+  const FrameOutput said{.image = output, .validation_messages = renderer.instance()->validation_log().count()};
+  if (a.has("stats"))
+    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, frame_json(drawn.stats, said)); });
   files.commit();
-  std::cout << said.str();
+  std::cout << frame_text(drawn.stats, said);
   return validation_exit(*renderer.instance());
 }
 

@@ -84,8 +84,70 @@ void SceneRenderer::resolve_auto(frame::FrameSettings& volume, const SceneSettin
 
 SceneFrame SceneRenderer::render(const Camera& camera, const SceneSettings& settings) {
   if (!settings.interactive && settings.frames == 0) throw InputError(setting("frames"), "at least one timed frame");
-  if (scene_.volume && scene_.surfaces) return render_mixed(camera, settings);
-  return scene_.volume ? render_volume(camera, settings) : render_surfaces(camera, settings);
+  SceneFrame f = scene_.volume && scene_.surfaces ? render_mixed(camera, settings)
+                 : scene_.volume                  ? render_volume(camera, settings)
+                                                  : render_surfaces(camera, settings);
+  fill_stats(f, settings);
+  return f;
+}
+
+void SceneRenderer::fill_stats(SceneFrame& f, const SceneSettings& settings) const {
+  FrameStats& s = f.stats;
+  s.device = f.device;
+  s.driver = f.driver;
+  s.gpu = f.gpu;
+  s.width = settings.size.width;
+  s.height = settings.size.height;
+  s.frames = settings.interactive ? 1 : settings.frames;
+  s.timing = f.timing;
+  const auto volume_stats = [&](const frame::FrameReport& report) {
+    return VolumeStats{.dataset = scene_.volume->name,
+                       .cells = scene_.volume->tets.size(),
+                       .mode = std::string(settings.volume_mode->name),
+                       .settings = f.volume_settings,
+                       .report = report,
+                       .analytic_field = scene_.analytic_field};
+  };
+  if (f.volume) {
+    s.volume = volume_stats(f.volume->report);
+    s.passes = f.volume->passes;
+    s.cpu_passes = f.volume->report.cpu_passes;
+    s.plan = f.volume->report.plan;
+    s.warnings = f.volume->report.warnings;
+  } else if (f.mixed) {
+    s.volume = volume_stats(f.mixed->volume.report);
+    size_t triangles = 0;
+    for (const SceneMesh& m : scene_.surfaces->meshes) triangles += m.triangles.size();
+    s.mixed = MixedSurfaceStats{.scene = scene_.surfaces->name, .triangles = triangles, .mode = f.mixed->surface_mode, .shadows = f.mixed->shadows};
+    s.passes = f.mixed->passes;
+    s.cpu_passes = f.mixed->cpu_passes;
+    s.mixed_plan = f.mixed->plan;
+    s.warnings = f.mixed->volume.report.warnings;
+  } else if (f.surfaces) {
+    const surface::SurfaceRenderer::Offscreen& image = *f.surfaces;
+    const surface::GpuSurfaceScene& gpu = surfaces_->gpu_scene();
+    const surface::SurfaceBackendInfo& backend = *settings.surface_mode->backend;
+    const auto takes = [&](std::string_view option) {
+      for (const surface::SurfaceOption& o : backend.options)
+        if (o.name == option) return true;
+      return false;
+    };
+    SurfaceStats surfaces{.scene = scene_.surfaces->name,
+                          .mode = std::string(settings.surface_mode->name),
+                          .triangles = gpu.triangle_count,
+                          .emitters = gpu.emitter_count,
+                          .gpu_scene_bytes = gpu.bytes,
+                          .shadows = image.plan.find(frame::PassId::ShadowRays) != nullptr,
+                          .default_lighting = scene_.default_lighting,
+                          .supersample = settings.supersample,
+                          .takes_supersample = takes("supersample"),
+                          .takes_frames = takes("frames"),
+                          .counts = image.counts};
+    for (size_t i = 3; i < image.rgba.size(); i += 4) surfaces.covered_pixels += image.rgba[i] == 1.0f;
+    s.surfaces = std::move(surfaces);
+    s.passes = image.passes;
+    s.plan = image.plan;
+  }
 }
 
 SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSettings& settings) {

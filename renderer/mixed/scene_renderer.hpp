@@ -16,6 +16,7 @@
 
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/frame/volume_modes.hpp"
+#include "renderer/mixed/frame_stats.hpp"
 #include "renderer/mixed/mixed_frame.hpp"
 #include "renderer/reference/path_tracer.hpp"
 #include "renderer/surface/surface_modes.hpp"
@@ -44,6 +45,7 @@ struct SceneData {
   const TetMesh* volume = nullptr;
   bool analytic_field = false;             // the volume samples an analytic field: its CPU reference marches the field
   const SurfaceScene* surfaces = nullptr;  // with its lights already (with_default_lighting)
+  bool default_lighting = false;           // those lights are the default ones (the scene had none): said in the stats
 };
 
 struct SceneSettings {
@@ -84,6 +86,7 @@ struct SceneFrame {
   std::optional<surface::SurfaceRenderer::Offscreen> surfaces;   // surfaces alone, on the GPU
   std::optional<reference::PathTracedImage> path;                // surfaces alone, by the path tracer
   std::optional<MixedFrame> mixed;                               // a volume inside its surfaces
+  FrameStats stats;  // render()'s frames: every counter, setting and time above, typed (frame_stats.hpp)
 };
 
 // Chooses the backend of `--volume-backend auto` on a device (the CLI keeps its calibrations in a
@@ -121,6 +124,8 @@ class SceneRenderer {
   SceneFrame render_surfaces(const Camera& camera, const SceneSettings& settings);
   SceneFrame render_mixed(const Camera& camera, const SceneSettings& settings);
   void gpu_identity(SceneFrame& f) const;
+  // f.stats from the frame's images and the renderers that drew it.
+  void fill_stats(SceneFrame& f, const SceneSettings& settings) const;
   // Sets `volume`'s backend where the settings ask for the automatic one (std::invalid_argument
   // without an AutoBackend).
   void resolve_auto(frame::FrameSettings& volume, const SceneSettings& settings, const vk::Device& device) const;

@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "app/common/cli_args.hpp"
+#include "app/common/frame_stats_writer.hpp"
 #include "app/common/stats_json.hpp"
 #include "renderer/timing/frame_timing.hpp"
 #include "renderer/timing/warm_up.hpp"
@@ -303,6 +304,109 @@ TEST(StatsJson, ThePlanAsEveryVerbWritesIt) {
             "    {\"pass\": \"exact-order\", \"reason\": \"the GPU sort orders\"}\n"
             "  ]\n"
             "}\n");
+}
+
+// A compute-backend volume frame's stats as the facade fills them (numbers chosen, no GPU).
+mixed::FrameStats volume_frame() {
+  mixed::FrameStats s;
+  s.device = "a GPU";
+  s.driver = "its driver";
+  s.gpu = true;
+  s.width = 40;
+  s.height = 25;
+  mixed::VolumeStats v;
+  v.dataset = "ball";
+  v.cells = 500;
+  v.mode = "interval-sorted";
+  v.settings.resolve.quantity = volume::Quantity::OpticalDepth;
+  v.settings.backend_reason = "the calibration's numbers";
+  v.report.backend = "compute";
+  v.report.backend_bytes = 2000;
+  v.report.ordering = "per-pixel";
+  v.report.order_exact = true;
+  v.report.counts_known = true;
+  v.report.pairs = 1234;
+  v.report.inexact_pixels = 5;
+  s.volume = v;
+  s.passes = {{"tile-raster", 2.0}, {"resolve", 0.5}};
+  return s;
+}
+
+// One writer per form: a volume's keys carry the same values alone and inside surfaces, each
+// counter is written once (one "pairs" key, one "pairs:" line), and the values are the struct's.
+TEST(FrameStatsWriter, AVolumesStatsReadTheSameAloneAndInsideSurfaces) {
+  const mixed::FrameStats alone = volume_frame();
+  mixed::FrameStats inside = alone;
+  inside.mixed = mixed::MixedSurfaceStats{.scene = "square", .triangles = 2, .mode = "forward", .shadows = true};
+  const StatsJson a = frame_json(alone, {.image = "a.pfm"});
+  const StatsJson b = frame_json(inside, {.image = "b.pfm", .validation_messages = 3});
+  EXPECT_EQ(a["pairs"], 1234u);
+  EXPECT_EQ(a["backend"], "compute");
+  EXPECT_EQ(a["backend_reason"], "the calibration's numbers");
+  EXPECT_DOUBLE_EQ(a["backend_bytes_per_cell"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(a["backend_bytes_per_pixel"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(a["gpu_ms_total"].get<double>(), 2.5);
+  EXPECT_EQ(a["quantity"], "optical-depth");
+  EXPECT_FALSE(a.contains("surfaces"));
+  for (const char* key : {"ordering", "order_exact", "backend", "backend_reason", "backend_bytes", "pairs", "inexact_pixels", "tetlet_size",
+                          "passes", "gpu_ms_total", "cells", "mode", "quantity"})
+    EXPECT_EQ(a[key], b[key]) << key;
+  EXPECT_EQ(b["surfaces"], "square");
+  EXPECT_EQ(b["surface_mode"], "forward");
+  EXPECT_EQ(b["shadows"], true);
+  EXPECT_EQ(b["validation_messages"], 3u);
+
+  const auto count = [](const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  const std::string ta = frame_text(alone, {.image = "a.pfm"}), tb = frame_text(inside, {.image = "b.pfm"});
+  EXPECT_EQ(ta.rfind("wrote a.pfm (40x25, ball, 500 cells) on a GPU\n", 0), 0u) << ta;
+  EXPECT_EQ(tb.rfind("wrote b.pfm (40x25, ball, 500 cells, with square, 2 triangles) on a GPU\n", 0), 0u) << tb;
+  for (const std::string& t : {ta, tb}) {
+    EXPECT_EQ(count(t, "  pairs: 1234 (tile, cell); pixels composited out of exact order: 5;"), 1u) << t;
+    EXPECT_EQ(count(t, "  tile-raster: 2 ms GPU\n"), 1u) << t;
+    EXPECT_EQ(count(t, "  total: 2.5 ms GPU\n"), 1u) << t;
+  }
+  EXPECT_NE(ta.find("  backend: compute (the calibration's numbers); its memory 2000 bytes (4 per cell, 2 per pixel)\n"), std::string::npos) << ta;
+  EXPECT_NE(tb.find("  volume: --mode interval-sorted, backend compute, ordering per-pixel [exact]; surfaces: --surface-mode forward with shadows"),
+            std::string::npos) << tb;
+}
+
+// Surfaces alone: the backend's own counters beside the frame's, the default lighting said.
+TEST(FrameStatsWriter, SurfaceStatsCarryTheBackendsCountersAndTheLighting) {
+  mixed::FrameStats s;
+  s.device = "a GPU";
+  s.gpu = true;
+  s.width = 16;
+  s.height = 12;
+  s.frames = 3;
+  mixed::SurfaceStats f;
+  f.scene = "cube";
+  f.mode = "htex";
+  f.triangles = 12;
+  f.covered_pixels = 100;
+  f.default_lighting = true;
+  f.takes_frames = true;
+  f.counts.shaded = 77;
+  f.counts.shaded_field = "shaded_texels";
+  f.counts.stats = {{"pool_pages", uint64_t(64)}, {"stretch_l2", 1.25}};
+  s.surfaces = f;
+  s.passes = {{"shading", 1.0}};
+  const StatsJson js = frame_json(s, {.image = "c.png"});
+  EXPECT_EQ(js["dataset"], "cube");
+  EXPECT_EQ(js["mode"], "htex");
+  EXPECT_EQ(js["shaded_texels"], 77u);
+  EXPECT_EQ(js["pool_pages"], 64u);
+  EXPECT_DOUBLE_EQ(js["stretch_l2"].get<double>(), 1.25);
+  EXPECT_EQ(js["frames"], 3u);
+  EXPECT_EQ(js["default_lighting"], true);
+  EXPECT_FALSE(js.contains("supersample"));  // the backend takes none
+  EXPECT_FALSE(js.contains("cpu_passes"));
+  const std::string t = frame_text(s, {.image = "c.png"});
+  EXPECT_NE(t.find("  covered: 100 pixels, 77 shading invocations\n"), std::string::npos) << t;
+  EXPECT_NE(t.find("default key light (it casts shadows) and sky"), std::string::npos) << t;
 }
 
 }  // namespace

@@ -85,6 +85,15 @@ TEST_F(SceneRendererGpu, AVolumeFrameIsTheFrameRenderersOwnTimedAsAsked) {
   ASSERT_EQ(f.timing->passes.size(), f.volume->passes.size());
   for (size_t i = 0; i < f.volume->passes.size(); ++i) EXPECT_EQ(f.timing->passes[i].name, f.volume->passes[i].name);
   EXPECT_EQ(f.device, device().capabilities().name);
+  // Its typed stats are the frame's own.
+  ASSERT_TRUE(f.stats.volume.has_value());
+  EXPECT_EQ(f.stats.frames, 3u);
+  EXPECT_EQ(f.stats.volume->cells, mesh.tets.size());
+  EXPECT_EQ(f.stats.volume->report.pairs, f.volume->report.pairs);
+  EXPECT_EQ(f.stats.volume->report.backend, "compute");
+  EXPECT_EQ(f.stats.passes.size(), f.volume->passes.size());
+  EXPECT_EQ(f.stats.plan->gpu_pass_names(), f.volume->report.plan.gpu_pass_names());
+  EXPECT_FALSE(f.stats.surfaces.has_value());
   mixed::SceneSettings none = settings;
   none.frames = 0;
   EXPECT_THROW(facade.render(camera(), none), InputError);
@@ -157,6 +166,13 @@ TEST_F(SceneRendererGpu, SurfaceAndMixedFramesAreTheirRenderersOwn) {
   surface::SurfaceRenderer direct(device(), scene);
   direct.set_shadows(false);
   EXPECT_EQ(f.surfaces->rgba, direct.render_offscreen(camera(), "forward", kSize).rgba);
+  ASSERT_TRUE(f.stats.surfaces.has_value());
+  uint64_t covered = 0;
+  for (size_t i = 3; i < f.surfaces->rgba.size(); i += 4) covered += f.surfaces->rgba[i] == 1.0f;
+  EXPECT_GT(covered, 0u);
+  EXPECT_EQ(f.stats.surfaces->covered_pixels, covered);
+  EXPECT_EQ(f.stats.surfaces->triangles, scene.meshes.front().triangles.size());
+  EXPECT_FALSE(f.stats.surfaces->shadows);
 
   const TetMesh mesh = ball();
   mixed::SceneRenderer both({.volume = &mesh, .surfaces = &scene}, device());
@@ -169,6 +185,10 @@ TEST_F(SceneRendererGpu, SurfaceAndMixedFramesAreTheirRenderersOwn) {
   mixed::MixedRenderer mixed_direct(device(), mesh, scene);
   mixed_direct.surface_renderer().set_shadows(false);
   EXPECT_EQ(g.mixed->display, mixed_direct.render(camera(), m.volume, kSize, "forward").display);
+  ASSERT_TRUE(g.stats.volume.has_value() && g.stats.mixed.has_value());
+  EXPECT_EQ(g.stats.mixed->mode, "forward");
+  EXPECT_TRUE(g.stats.mixed_plan.has_value());
+  EXPECT_EQ(g.stats.cpu_passes.size(), g.mixed->cpu_passes.size());
 }
 
 }  // namespace
