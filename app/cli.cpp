@@ -43,7 +43,7 @@ int dispatch(const std::vector<std::string>& args) {
   if (verb == "--help" || verb == "-h") { std::cout << kUsage; return kOk; }
   if (verb == "help") {
     if (args.size() > 1 && args[1] == "render") std::cout << render_help();
-    else if (args.size() > 1 && args[1] == "view") std::cout << kViewHelp;
+    else if (args.size() > 1 && args[1] == "view") std::cout << view_help();
     else if (args.size() > 1 && args[1] == "devices") std::cout << kDevicesHelp;
     else if (args.size() > 1 && args[1] == "convert") std::cout << kConvertHelp;
     else if (args.size() > 1 && args[1] == "info") std::cout << kInfoHelp;

@@ -13,6 +13,7 @@
 #include "app/common/mixed_args.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/terminal_progress.hpp"
+#include "app/common/volume_option_table.hpp"
 #include "app/common/volume_options.hpp"
 #include "app/dataset_report.hpp"
 #include "io/dataset_info.hpp"
@@ -139,7 +140,9 @@ int cmd_info(const std::vector<std::string>& args) {
   std::vector<std::string> value_options = with_camera({"size", "depth-limit"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
   value_options.insert(value_options.end(), kMixedSceneOptions.begin(), kMixedSceneOptions.end());
-  ParsedArgs a = parse(args, 1, value_options, {"help", "plan", "shared-vertices", "fill-holes"});
+  std::vector<std::string> flags = {"help", "plan"};
+  for (const std::string& f : volume_flag_options()) flags.push_back(f);
+  ParsedArgs a = parse(args, 1, value_options, flags);
   if (a.flags.count("help")) { std::cout << kInfoHelp; return kOk; }
   if (a.flags.count("plan")) return info_plan(a);
   if (!a.values.empty() || a.flags.size() > 0)

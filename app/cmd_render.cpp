@@ -15,6 +15,7 @@
 #include "app/common/frame_stats_writer.hpp"
 #include "app/common/output_files.hpp"
 #include "app/common/reference_accuracy.hpp"
+#include "app/common/volume_option_table.hpp"
 #include "app/common/volume_options.hpp"
 #include "io/image_io.hpp"
 #include "renderer/frame/volume_modes.hpp"
@@ -39,13 +40,8 @@ const char* const kRenderHelpHead =
     "  --stats PATH.json    write a JSON file with the device, the passes that ran and their GPU times,\n"
     "                       and the frame plan: each planned pass with its reason, each skipped one with why\n";
 
-// After the modes.
-const char* const kRenderHelpTail =
-    "  --quantity Q         optical-depth | transmittance | color | isosurface (default transmittance)\n"
-    "                       color: emission-absorption of a scalar field through a transfer function\n"
-    "                       isosurface: the nearest point where the field reaches --isovalue, shaded\n"
-    "                       with a headlight (the modes that sample the field, field: datasets); the\n"
-    "                       .pfm quantity is the distance from the eye to it (0: no hit)\n"
+// After --quantity.
+const char* const kRenderHelpView =
     "  --size WxH           image size in pixels (default 800x600)\n"
     "  --eye x,y,z --target x,y,z --up x,y,z --fovy DEG --near N\n"
     "                       camera (default: framing the data from +z, fovy 40; a placed eye without\n"
@@ -55,43 +51,22 @@ const char* const kRenderHelpTail =
     "                       inside the volume. Not with marching or isosurfaces\n";
 
 // After --volume-backend's lines.
-const char* const kRenderHelpAfterBackends =
+const char* const kRenderHelpDevice =
     "  --device N           use Vulkan device N (see `prismoid devices`)\n"
-    "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n"
-    "  --tetlet-size N      cells per mesh workgroup: 1 (the paper's one cell per workgroup), 4, 8 or 16\n"
-    "                       (default 16)\n"
-    "  --shared-vertices    tetlets: group neighbouring cells so a workgroup loads their shared points\n"
-    "                       once (order-independent quantities, or a mode in mesh order)\n"
+    "  --validate           enable the Khronos validation layer; exit 4 if it reports anything\n";
+
+// After the mesh backend's options.
+const char* const kRenderHelpTiming =
     "  --frames N           render N timed frames after 2 s of warm-up frames (the GPU leaves its idle\n"
     "                       clock); times are the median, with the best and worst beside them, and the\n"
     "                       SM clock meanwhile where nvidia-smi is on PATH (default 1, no warm-up)\n"
     "  --reference-error    (volume modes) also compute the CPU double-precision reference of the same\n"
     "                       frame and print how far the image is from it (RMSE and largest difference\n"
     "                       of the display colour for color, of the quantity otherwise; FLIP for\n"
-    "                       color) and what it cost; --stats gets them as \"reference_error\"\n"
-    "\n"
-    "  --array NAME         array giving the extinction, or for color the transfer function's scalar\n"
-    "                       (vectors by magnitude): a cell array is constant per cell, a point array\n"
-    "                       linear in each cell; default sigma = 1 (the default dataset: its density)\n"
-    "  --component C        of a vector --array: 0, 1, 2... or x, y, z (default: magnitude)\n"
-    "  --density-scale S    multiplies the extinction (default 1); for color, the extinction at opacity 1\n"
-    "                       (default 35 / the diagonal of the data's bounds: the same look in any units)\n"
-    "\n"
-    "  marching modes only:\n"
-    "  --march-step S       longest step in world units: each interval is marched in equal steps of at\n"
-    "                       most S (midpoint rule) (default: 1/100 of the bounds' diagonal)\n"
-    "  --isovalue V         the isosurface's level (--quantity isosurface only; default 0.5)\n"
-    "\n"
-    "  color only:\n"
-    "  --tf PRESET|FILE     transfer function: viridis, cool-to-warm, grayscale, black-body, or a ParaView\n"
-    "                       colour-map JSON file (opacity from its \"Points\", else a ramp); default:\n"
-    "                       viridis, opacity 0 up to the field's median (0.2-0.8 of the range), then\n"
-    "                       rising to 1\n"
-    "  --tf-range LO,HI     scalar values mapped to the ends of the transfer function (default: data range)\n"
-    "  --preintegration-size N   0: integrate each segment exactly in the shader (default); N in 2..256:\n"
-    "                       look segments up in an N^3 pre-integrated table (faster, approximate)\n"
-    "  --background R,G,B   linear colour behind the volume (default 0.01,0.01,0.015)\n"
-    "\n"
+    "                       color) and what it cost; --stats gets them as \"reference_error\"\n";
+
+// The datasets, around the options that load them.
+const char* const kRenderHelpFiles =
     "FILE: an unstructured grid (.vtu, legacy .vtk, multiblock .vtm, parallel .pvtu; cells other than\n"
     "tetrahedra are split into conforming tetrahedra, with a note), or field:NAME[:N], an analytic field\n"
     "in world coordinates bounded by the box [-1,1]^3 split into N^3 cubes of 6 tetrahedra (default\n"
@@ -103,22 +78,17 @@ const char* const kRenderHelpAfterBackends =
     "of [-1,1]^3 (default 32) and renders the samples' trilinear interpolant as voxel data is: marched\n"
     "inside the blocks of 8^3 samples that hold a value above 1/1000 of the largest, each block 6\n"
     "tetrahedra. FILE may also be a closed triangle surface\n"
-    "(.vtp .stl .obj .ply .off), filled with tetrahedra by TetGen (extinction 1 per cell):\n"
-    "  --tetgen-quality Q       radius-edge bound, TetGen -q (default 1.414; smaller: rounder, more cells)\n"
-    "  --tetgen-max-volume V    largest cell volume, TetGen -a (default: none)\n"
-    "  --tetgen-cells N         about N tetrahedra (within 15%): TetGen -a chosen for it, 1-3 runs\n"
-    "  --fill-holes             close an open surface first (VTK's vtkFillHolesFilter)\n"
-    "  --remesh H               replace the surface by its OpenVDB level set's zero crossing at voxel\n"
-    "                           size H (closed, no self-intersections; detail below H is lost)\n"
+    "(.vtp .stl .obj .ply .off), filled with tetrahedra by TetGen (extinction 1 per cell):\n";
+const char* const kRenderHelpImages =
     "or an image volume (.vti .mhd .mha, .inr/.inr.gz as in CGAL's data): each cell between 8 voxel\n"
-    "centres becomes 6 tetrahedra, voxel values are point values (--array picks the .vti/.mhd array);\n"
-    "  --subsample K            keep 1 voxel in K per axis (images over 50 million cells need it)\n"
+    "centres becomes 6 tetrahedra, voxel values are point values (--array picks the .vti/.mhd array);\n";
+const char* const kRenderHelpVdb =
     "or an OpenVDB file (.vdb): a float grid's voxels the same way, cells around its active voxels\n"
     "(a level set's inside is filled: extinction 0 outside, rising to 1 across the inner band);\n"
     "with a marching --mode the grid is marched instead inside its active regions (leaf nodes\n"
     "and tiles, 6 tetrahedra each; a level set: its whole box), and the CPU reference marches its\n"
-    "trilinear field;\n"
-    "  --grid NAME              the float grid to open (default: the file's first; --subsample applies)\n"
+    "trilinear field;\n";
+const char* const kRenderHelpBall =
     "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
     "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"
     "With no FILE the embedded default dataset is rendered; asked for no --quantity and no --mode, in\n"
@@ -160,12 +130,28 @@ const char* const kRenderMixedHelp =
     "(color: the composite's RGB). `prismoid info VOLUME SURFACE... --plan` explains the frame.\n";
 
 std::string render_help() {
-  return kRenderHelpHead + volume_modes_help() + kRenderHelpTail + volume_backends_help() + kRenderHelpAfterBackends +
-         surface_render_help() + kRenderMixedHelp;
+  using G = VolumeOptionGroup;
+  // The dataset options' help starts further in, under the prose that introduces them.
+  constexpr size_t kFileIndent = 27;
+  // (append, not +: GCC 12 warns falsely about + of strings here, -Warray-bounds)
+  std::string help = kRenderHelpHead;
+  help.append(volume_modes_help()).append(volume_options_help(G::Quantity, kIndent)).append(kRenderHelpView);
+  help.append(volume_backends_help()).append(kRenderHelpDevice).append(volume_options_help(G::Mesh, kIndent)).append(kRenderHelpTiming);
+  help.append("\n").append(volume_options_help(G::Data, kIndent));
+  help.append("\n  marching modes only:\n").append(volume_options_help(G::March, kIndent));
+  help.append("\n  color only:\n").append(volume_options_help(G::Color, kIndent));
+  help.append("\n").append(kRenderHelpFiles).append(volume_options_help(G::Tetgen, kFileIndent)).append(kRenderHelpImages);
+  help.append(volume_options_help(G::Image, kFileIndent)).append(kRenderHelpVdb).append(volume_options_help(G::Vdb, kFileIndent));
+  help.append(kRenderHelpBall).append(surface_render_help()).append(kRenderMixedHelp);
+  return help;
 }
 
 
-const std::vector<std::string> kRenderFlags = {"validate", "help", "shared-vertices", "fill-holes", "reference-error"};
+const std::vector<std::string> kRenderFlags = [] {
+  std::vector<std::string> flags = {"validate", "help", "reference-error"};
+  for (const std::string& f : volume_flag_options()) flags.push_back(f);
+  return flags;
+}();
 
 int cmd_render(const std::vector<std::string>& args) {
   if (mixed_scene_named(args)) return cmd_render_mixed(args);

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <map>
 #include <iostream>
+#include <sstream>
+#include <string>
 
 #include <glm/common.hpp>
 
@@ -12,6 +14,7 @@
 #include "app/common/dataset_loader.hpp"
 #include "app/common/surface_args.hpp"
 #include "app/common/terminal_progress.hpp"
+#include "app/common/volume_option_table.hpp"
 #include "app/common/volume_options.hpp"
 #include "app/viewer/recent_files.hpp"
 #include "app/viewer/surface_viewer.hpp"
@@ -54,7 +57,9 @@ Bounds union_bounds(const std::vector<Dataset>& datasets) {
 
 bool window_available() { return display_available(); }
 
-const char* const kViewHelp =
+namespace {
+
+const char* const kViewHelpHead =
     "usage: prismoid view [FILE...] [options]\n"
     "\n"
     "Surface scenes (cornell-box, furnace:A, or a surface FILE with a surface --mode, as listed by\n"
@@ -66,10 +71,10 @@ const char* const kViewHelp =
     "panel's Data section). More can be opened from the window: the path box, the recent files,\n"
     "or by dropping files onto it; they load in the background with a progress bar and Cancel.\n"
     "\n"
-    "  --size WxH           initial window size (default 1280x800)\n"
-    "  --mode, --quantity, --array, --density-scale, --tf, --tf-range, --preintegration-size,\n"
-    "  --background, --tetlet-size, --shared-vertices, --march-step, --isovalue\n"
-    "                       what to show and how, as for render (the GPU modes: not the CPU reference)\n"
+    "  --size WxH           initial window size (default 1280x800)\n";
+
+// Options after the volume options.
+const char* const kViewHelpTail =
     "  --eye/--target/--up/--fovy/--near   initial camera, as for render\n"
     "  --frames N           close after N frames (for scripted runs)\n"
     "  --script FILE        drive the window from a command file (see docs/user-guide.md)\n"
@@ -82,6 +87,36 @@ const char* const kViewHelp =
     "Mouse: left drag rotates, shift+left or middle drag pans, right drag or wheel zooms.\n"
     "Keys: R fit, X/Y/Z (shift: negative) axis views, F fly (WASD/QE move, drag looks), C copy the\n"
     "camera as render options, P screenshot, H hide the panels, Esc close.\n";
+
+// "  --a, --b, ..." wrapped at 100 columns, two spaces in.
+std::string wrapped_list(const std::string& list) {
+  std::string out = "  ";
+  size_t column = 2;
+  std::istringstream words(list);
+  for (std::string word; words >> word;) {
+    if (column > 2 && column + 1 + word.size() > 100) {
+      out += "\n  ";
+      column = 2;
+    } else if (column > 2) {
+      out += ' ';
+      ++column;
+    }
+    out += word;
+    column += word.size();
+  }
+  return out + "\n";
+}
+
+}  // namespace
+
+std::string view_help() {
+  using G = VolumeOptionGroup;
+  // The volume options from the option table: what render takes, but the CPU reference's mode.
+  return kViewHelpHead + wrapped_list("--mode, " + volume_option_list({G::Quantity, G::Data, G::Mesh, G::March, G::Color})) +
+         "                       what to show and how, as for render (the GPU modes: not the CPU reference)\n" +
+         wrapped_list(volume_option_list({G::Tetgen, G::Image, G::Vdb})) +
+         "                       how a FILE loads, as for render\n" + kViewHelpTail;
+}
 
 namespace {
 
@@ -176,8 +211,10 @@ int view_surface(const ParsedArgs& a) {
 int cmd_view(const std::vector<std::string>& args) {
   std::vector<std::string> value_options = with_camera({"size", "frames", "device", "script", "max-triangle-pixels"});
   value_options.insert(value_options.end(), kVolumeOptions.begin(), kVolumeOptions.end());
-  ParsedArgs a = parse(args, 1, value_options, {"validate", "help", "shared-vertices", "fill-holes", "no-ui"});
-  if (a.flags.count("help")) { std::cout << kViewHelp; return kOk; }
+  std::vector<std::string> flags = {"validate", "help", "no-ui"};
+  for (const std::string& f : volume_flag_options()) flags.push_back(f);
+  ParsedArgs a = parse(args, 1, value_options, flags);
+  if (a.flags.count("help")) { std::cout << view_help(); return kOk; }
   if (wants_surface_window(a)) return view_surface(a);
   if (a.has("max-triangle-pixels")) throw InputError("--max-triangle-pixels", "splits a surface scene's triangles; these FILEs open as volumes");
   ParsedArgs first = a;  // the first dataset decides the settings (the transfer function's range among them)

@@ -45,7 +45,7 @@ struct ParsedArgs;
 // surface --mode the surface frame's (app/cmd_plan.cpp).
 int info_plan(const ParsedArgs& a);
 
-extern const char* const kViewHelp;
+std::string view_help();
 extern const char* const kConvertHelp;
 extern const char* const kInfoHelp;
 extern const char* const kDevicesHelp;

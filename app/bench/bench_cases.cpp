@@ -1,5 +1,6 @@
 #include "app/bench/bench_cases.hpp"
 
+#include "app/common/volume_option_table.hpp"
 #include "renderer/frame/volume_modes.hpp"
 
 namespace prismoid::bench {
@@ -41,11 +42,12 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
     // composites in each pixel's own depth order whatever the mode's cell order.
     for (const char* quantity : {"optical-depth", "transmittance"}) add(cases, d, "modes", quantity, mesh_order, compute(), s);
     add(cases, d, "modes", "color", exact, compute(), s);
-    // Tetlet size (cells per mesh-shader workgroup; 16 is the default measured above).
-    for (const char* t : p.quick ? std::vector<const char*>{"1"} : std::vector<const char*>{"1", "4", "8"})
+    // Tetlet size (cells per mesh-shader workgroup; 16 is the default measured above), at the
+    // option table's values.
+    for (const std::string& t : app::volume_option_sweep("tetlet-size", p.quick))
       add(cases, d, "tetlet-size", "optical-depth", mesh_order, {{"tetlet-size", t}}, s);
     // Pre-integration table size (0, the default above, integrates each segment exactly).
-    for (const char* n : p.quick ? std::vector<const char*>{"16"} : std::vector<const char*>{"16", "64", "256"})
+    for (const std::string& n : app::volume_option_sweep("preintegration-size", p.quick))
       add(cases, d, "preintegration", "color", sorted, {{"preintegration-size", n}}, s);
   }
   // Image size, on the first dataset: half and twice the preset's size beside the size itself.

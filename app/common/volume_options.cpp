@@ -9,6 +9,7 @@
 
 #include "app/common/dataset_loader.hpp"
 #include "app/common/terminal_progress.hpp"
+#include "app/common/volume_option_table.hpp"
 #include "io/image_io.hpp"
 #include "io/transfer_function_io.hpp"
 #include "io/vdb_io.hpp"
@@ -112,11 +113,8 @@ volume::TransferFunction transfer_from(const ParsedArgs& a, const TetMesh& mesh)
   return tf;
 }
 
-// The options render and view share: the data, what to show and how.
-const std::vector<std::string> kVolumeOptions = {"mode", "quantity", "tf", "tf-range", "preintegration-size", "background",
-                                                 "array", "density-scale", "tetlet-size", "march-step", "isovalue",
-                                                 "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "remesh", "subsample", "component",
-                                                 "grid", "volume-backend"};
+// The options render and view share, from the option table: the data, what to show and how.
+const std::vector<std::string> kVolumeOptions = volume_value_options();
 
 // Parses the volume options, loads the data and builds the frame settings; InputError names
 // the option or file at fault.

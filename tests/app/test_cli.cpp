@@ -20,6 +20,7 @@
 
 #include "app/bench/bench_table.hpp"
 #include "app/common/grid_dataset.hpp"
+#include "app/common/volume_option_table.hpp"
 #include "io/image_io.hpp"
 #include "io/surface_io.hpp"
 #include "io/vdb_io.hpp"
@@ -111,6 +112,40 @@ TEST(Cli, VolumeModesComeFromTheirTable) {
                              "interval-march-exact-order\n"),
             std::string::npos)
       << devices.out;
+}
+
+// The volume option table is what the command line knows: render's help lists each option with
+// its value's form and help, view's names each one, and render, view and info take every one
+// (an option missing from a verb's parse would be refused as unknown, exit 2, before any work).
+TEST(Cli, VolumeOptionsComeFromTheirTable) {
+  const CliRun help = run("render --help");
+  ASSERT_EQ(help.code, 0) << help.err;
+  const CliRun view = run("view --help");
+  ASSERT_EQ(view.code, 0) << view.err;
+  for (const app::VolumeOption& o : app::volume_option_table()) {
+    const std::string flag = "--" + std::string(o.name);
+    EXPECT_NE(view.out.find(flag), std::string::npos) << flag << " missing from view's help:\n" << view.out;
+    if (o.group == app::VolumeOptionGroup::Mode) continue;  // listed from the mode and backend tables
+    const std::string line = "  " + flag + (o.flag() ? "" : " " + std::string(o.value)) + "  ";
+    const size_t at = help.out.find(line);
+    ASSERT_NE(at, std::string::npos) << line << " missing from:\n" << help.out;
+    const std::string text(o.help);
+    EXPECT_NE(help.out.find(text.substr(0, text.find(' ', 16)), at), std::string::npos) << flag << "'s help";
+  }
+  // Every verb parses every option: a bad value is refused by name (exit 2), never as an unknown option.
+  for (const char* verb : {"render", "view", "info"})
+    for (const app::VolumeOption& o : app::volume_option_table()) {
+      const std::string flag = "--" + std::string(o.name);
+      const CliRun r = run(std::string(verb) + " no-such-file.vtu " + flag + (o.flag() ? "" : " x") +
+                           (std::string(verb) == "render" ? " --output o.png" : ""));
+      EXPECT_EQ(r.err.find("unknown option"), std::string::npos) << verb << " " << flag << ": " << r.err;
+      EXPECT_NE(r.code, 0) << verb << " " << flag;
+    }
+  // The bench sweeps values the option takes.
+  for (const std::string& t : app::volume_option_sweep("tetlet-size", false))
+    EXPECT_NE(std::find(volume::kTetletSizes.begin(), volume::kTetletSizes.end(), std::stoul(t)), volume::kTetletSizes.end()) << t;
+  EXPECT_EQ(app::volume_option_sweep("tetlet-size", true).size(), 1u);
+  EXPECT_TRUE(app::volume_option_sweep("array", false).empty());
 }
 
 // --volume-backend offers the volume backend table: the help lists each backend with its summary,
