@@ -10,14 +10,13 @@
 #include "app/common/surface_args.hpp"
 #include "renderer/metrics/flip.hpp"
 #include "renderer/metrics/image_error.hpp"
+#include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/reference/direct_light.hpp"
 #include "renderer/reference/path_tracer.hpp"
 #include "renderer/surface/surface_modes.hpp"
 #include "renderer/surface/surface_renderer.hpp"
 #include "renderer/timing/frame_timing.hpp"
-#include "renderer/timing/warm_up.hpp"
 #include "renderer/vk/device.hpp"
-#include "renderer/vk/memory.hpp"
 #include "scene/surface_generators.hpp"
 #include "scene/surface_refine.hpp"
 
@@ -29,22 +28,6 @@ SurfaceScene load_scene(const std::string& name) {
   app::ParsedArgs one;
   one.files.push_back(name);
   return app::surface_scene_from(one, "bench");
-}
-
-// One frame drawn and timed; its image stays on the GPU (renderer.display()).
-std::vector<vk::PassTiming> draw(const vk::Device& device, surface::SurfaceRenderer& renderer, const Camera& camera, const std::string& mode,
-                                 VkExtent2D extent) {
-  renderer.resize(extent);
-  vk::GpuTimer timer(device, 16);
-  timer.submit_and_wait([&](VkCommandBuffer cmd) { renderer.record(cmd, camera, mode, timer); });
-  return timer.read();
-}
-
-// The last drawn frame's image, RGBA.
-std::vector<float> read_display(const vk::Device& device, const surface::SurfaceRenderer& renderer, VkExtent2D extent) {
-  std::vector<float> rgba(size_t(extent.width) * extent.height * 4);
-  vk::read_image(device, renderer.display(), sizeof(float) * 4, std::as_writable_bytes(std::span(rgba)));
-  return rgba;
 }
 
 // What the window and a PNG show of a linear radiance image: each colour channel clamped to
@@ -154,7 +137,9 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     const SurfaceScene scene = with_default_lighting(raw, raw.camera);
     const Camera& camera = scene.camera;
     std::map<std::string, ReferenceImage> references;
-    surface::SurfaceRenderer main_renderer(device, scene);
+    // Every row's frames through the renderer facade, on the bench's device.
+    mixed::SceneRenderer renderer({.surfaces = &scene}, device);
+    const surface::SurfaceRenderer& main_renderer = renderer.surface_renderer();
     std::vector<bool> shadow_settings;
     if (options.shadows_off || !main_renderer.can_shadow()) shadow_settings.push_back(false);
     if (options.shadows_on && main_renderer.can_shadow()) shadow_settings.push_back(true);
@@ -192,16 +177,6 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
             if (texture_space && sf < 1.0) runs.push_back({mode, 0u, false, false, 0u, charts, sf, atlas});
         }
     }
-    // FastAtlas at other atlas sides or with temporal reuse: a renderer each (a backend's options
-    // are fixed at its making).
-    std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<surface::SurfaceRenderer>> atlas_renderers;
-    for (const Run& run : runs)
-      if ((run.atlas != 0 || run.refresh != 0) && !atlas_renderers.count({run.atlas, run.refresh})) {
-        surface::SurfaceOptions o;
-        if (run.atlas != 0) o["atlas"] = std::to_string(run.atlas);
-        if (run.refresh != 0) o["atlas-refresh"] = std::to_string(run.refresh);
-        atlas_renderers[{run.atlas, run.refresh}] = std::make_unique<surface::SurfaceRenderer>(device, scene, o);
-      }
     // Rows at the modes' own rate first: the SF rows of block-budget modes size their budgets from them.
     std::stable_sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.sf > b.sf; });
     std::map<std::string, uint64_t> unbiased_shaded;  // mode/shadows -> shaded samples at the mode's own rate
@@ -209,10 +184,8 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
     for (const bool shadows : shadow_settings)
     for (const Run& run : runs) {
       const std::string& mode = run.mode;
-      surface::SurfaceRenderer& renderer = run.atlas != 0 || run.refresh != 0 ? *atlas_renderers.at({run.atlas, run.refresh}) : main_renderer;
       uint32_t budget = run.budget;
       if (budget == SurfaceBenchOptions::kBudgetCoveredPixels) budget = std::max(1u, covered_pixels);
-      renderer.set_shadows(shadows);
       const std::string rate_key = mode + (shadows ? "/on" : "/off") + (run.atlas ? "/" + std::to_string(run.atlas) : "") + "/" +
                                    msa::parametrization_name(run.charts);
       float lod_bias = 0.0f;
@@ -223,9 +196,6 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
         if (!block_budget) lod_bias = float(-std::log2(run.sf));
         else if (unbiased_shaded.count(rate_key)) budget = std::max(1u, uint32_t(double(unbiased_shaded.at(rate_key)) * run.sf * run.sf));
       }
-      renderer.set_shading_rate(lod_bias, block_budget ? budget : 0u);
-      renderer.set_msa_amortization(run.amortize);
-      renderer.set_msa_charts(run.charts);
       // The CPU reference of what the mode computes, once per shadow setting.
       if (gi_mode(mode) && !shadows) continue;  // GI's bounce rays see occlusion: only with shadows
       const std::string ref_key = gi_mode(mode) ? "path" : shadows ? "shadows" : "none";
@@ -235,38 +205,35 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       const ReferenceImage& ref = references.at(ref_key);
       const std::vector<float>& reference = ref.rgba;
       const double reference_ms = ref.ms;
-      timing::warm_up([&] { return vk::total_gpu_ms(draw(device, renderer, camera, mode, extent)); }, options.warm_up_seconds);
-      if (covered_pixels == 0) {
-        const std::vector<float> first = read_display(device, renderer, extent);
-        for (size_t p = 3; p < first.size(); p += 4) covered_pixels += first[p] == 1.0f;
-      }
-      // GI modes: the reservoirs accumulate over a still camera's frames, as in the window; the
-      // row measures the frame after options.gi_frames of them.
-      if (gi_mode(mode)) {
-        renderer.reset_gi();
-        for (uint32_t i = 0; i + options.frames < options.gi_frames; ++i) draw(device, renderer, camera, mode, extent);
-      }
-      // Moving rows: `frames` warm-up frames of the orbit first, then the measured ones, the last
-      // at the scene's camera. Amortization counts from the orbit's first frame (the warm-up
-      // frames above are forgotten), so with n dividing 2 * frames the measured last frame is the
-      // stalest of its cycle: its error is the amortization's worst.
-      if (run.moving) renderer.set_msa_amortization(run.amortize);
+      // The row's frames: warm-up, a GI mode's gathering frames of the still camera (the row
+      // measures the frame after options.gi_frames of them, as in the window), a moving row's
+      // `frames` frames of the orbit (amortization counts from its first, so with n dividing
+      // 2 * frames the measured last frame, at the scene's camera, is the stalest of its cycle:
+      // its error is the amortization's worst), then the timed frames, the image the last one's.
+      mixed::SceneSettings settings;
+      settings.size = extent;
+      settings.surface_mode = &mode_of(mode);
+      if (run.atlas != 0) settings.surface_options["atlas"] = std::to_string(run.atlas);
+      if (run.refresh != 0) settings.surface_options["atlas-refresh"] = std::to_string(run.refresh);
+      settings.shadows = shadows;
+      settings.frames = options.frames;
+      settings.warm_up_seconds = options.warm_up_seconds;
+      mixed::SurfaceSequence sequence{.lod_bias = lod_bias,
+                                      .block_budget = block_budget ? budget : 0u,
+                                      .amortize = run.amortize,
+                                      .charts = run.charts,
+                                      .keep_shading = run.still,
+                                      .gi_frames = options.gi_frames};
       const uint32_t orbit_frames = 2 * options.frames;
-      auto orbit_camera = [&](uint32_t i) { return orbited(camera, double(orbit_frames - 1 - i) * options.motion_degrees); };
       if (run.moving)
-        for (uint32_t i = 0; i < options.frames; ++i) draw(device, renderer, orbit_camera(i), mode, extent);
-      // The timed frames follow each other with no read-back; the image is the last one's.
+        sequence.camera_path = [&](uint32_t i) { return orbited(camera, double(orbit_frames - 1 - i) * options.motion_degrees); };
+      settings.sequence = sequence;
+      const mixed::SceneFrame drawn = renderer.render(camera, settings);
+      const mixed::SurfaceStats& stats = *drawn.stats.surfaces;
+      if (covered_pixels == 0) covered_pixels = uint32_t(stats.covered_pixels);
+      const std::vector<float>& image = drawn.surfaces->rgba;
       uint64_t shaded_sum = 0;
-      uint32_t frame_index = 0;
-      const timing::FrameTiming timing = timing::time_frames(options.frames, [&] {
-        if (!gi_mode(mode) && !run.still && !run.moving) renderer.forget_shading();  // each frame costs what a moving camera's does
-        const std::vector<vk::PassTiming> passes =
-            draw(device, renderer, run.moving ? orbit_camera(options.frames + frame_index) : camera, mode, extent);
-        ++frame_index;
-        shaded_sum += renderer.read_counts().shaded;
-        return passes;
-      });
-      const std::vector<float> image = read_display(device, renderer, extent);
+      for (const uint64_t n : drawn.frame_shaded) shaded_sum += n;
       BenchRow m;
       m.dataset = scene.name;
       for (const SceneMesh& mesh : scene.meshes) m.cells += mesh.triangles.size();
@@ -285,13 +252,13 @@ std::vector<BenchRow> bench_surfaces(const vk::Device& device, const SurfaceBenc
       if (run.sf < 1.0) m.settings += " sf=" + app::json_number(run.sf);
       if (budget > 0 && run.sf == 1.0)
         m.settings += " budget=" + std::to_string(budget) + (block_budget ? "" : " lod-bias=" + std::to_string(lod_bias));
-      if (gi_mode(mode)) m.settings += " frames=" + std::to_string(renderer.gi_frames());
+      if (gi_mode(mode)) m.settings += " frames=" + std::to_string(stats.gi_frames);
       m.ordering = "-";
       m.width = extent.width;
       m.height = extent.height;
-      set_times(m, timing);
-      m.mesh_bytes = renderer.gpu_scene().bytes;
-      const surface::SurfaceRenderer::FrameCounts counts = renderer.read_counts();
+      set_times(m, *drawn.timing);
+      m.mesh_bytes = stats.gpu_scene_bytes;
+      const surface::SurfaceRenderer::FrameCounts& counts = drawn.surfaces->counts;
       m.shaded = (shaded_sum + options.frames / 2) / options.frames;  // the mean over the measured frames
       if (budget == 0 && run.sf == 1.0 && !run.still && !run.moving && run.refresh == 0)
         unbiased_shaded[rate_key] = counts.shaded;

@@ -40,6 +40,7 @@ struct SurfaceStats {
   uint32_t supersample = 1;
   bool takes_supersample = false, takes_frames = false;  // the mode's backend has those options
   surface::BackendCounts counts;  // the backend's own counters and settings
+  uint32_t gi_frames = 0;         // a GI mode's frames gathered by its reservoirs
 };
 
 // The surfaces beside a volume (a mixed frame).

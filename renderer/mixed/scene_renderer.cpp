@@ -10,6 +10,7 @@
 #include "renderer/vk/device.hpp"
 #include "renderer/vk/error.hpp"
 #include "renderer/vk/instance.hpp"
+#include "renderer/vk/memory.hpp"
 #include "renderer/volume/float_limits.hpp"
 #include "renderer/volume/volume_backends.hpp"
 #include "scene/input_error.hpp"
@@ -142,7 +143,8 @@ void SceneRenderer::fill_stats(SceneFrame& f, const SceneSettings& settings) con
                           .supersample = settings.supersample,
                           .takes_supersample = takes("supersample"),
                           .takes_frames = takes("frames"),
-                          .counts = image.counts};
+                          .counts = image.counts,
+                          .gi_frames = surfaces_->gi_frames()};
     for (size_t i = 3; i < image.rgba.size(); i += 4) surfaces.covered_pixels += image.rgba[i] == 1.0f;
     s.surfaces = std::move(surfaces);
     s.passes = image.passes;
@@ -191,10 +193,10 @@ SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSetting
 SceneFrame SceneRenderer::render_surfaces(const Camera& camera, const SceneSettings& settings) {
   if (!settings.surface_mode) throw std::invalid_argument("SceneRenderer: a surface frame without a surface mode");
   const surface::SurfaceMode& mode = *settings.surface_mode;
-  const SurfaceScene& scene = *scene_.surfaces;
   SceneFrame f;
   f.volume_settings = settings.volume;
   if (!mode.gpu()) {
+    const SurfaceScene& scene = *scene_.surfaces;
     f.device = "CPU path tracer (double precision)";
     validate_float_range(scene);  // double arithmetic, but the image is float32
     reference::PathTracerSettings path = settings.path;
@@ -209,11 +211,12 @@ SceneFrame SceneRenderer::render_surfaces(const Camera& camera, const SceneSetti
   const std::string name(mode.name);
   if (const std::string problem = backend.device_problem(gpu); !problem.empty())
     throw vk::NoSuitableDevice(problem + ": " + setting("mode", name) + " needs " + std::string(backend.needs));
-  if (!surfaces_ || surface_options_ != settings.surface_options) {
-    surfaces_ = std::make_unique<surface::SurfaceRenderer>(gpu, scene, settings.surface_options);
-    surface_options_ = settings.surface_options;
-  }
+  surfaces_ = &surfaces_for(settings.surface_options);
   set_shadows(*surfaces_, settings.shadows, device_name_);
+  if (settings.sequence) {
+    render_surface_sequence(f, camera, settings);
+    return f;
+  }
   if (settings.interactive) {
     f.surfaces = surfaces_->render_offscreen(camera, name, settings.size, settings.supersample);
     return f;
@@ -229,6 +232,61 @@ SceneFrame SceneRenderer::render_surfaces(const Camera& camera, const SceneSetti
   image.passes = f.timing->medians();
   f.surfaces = std::move(image);
   return f;
+}
+
+surface::SurfaceRenderer& SceneRenderer::surfaces_for(const surface::SurfaceOptions& options) {
+  std::unique_ptr<surface::SurfaceRenderer>& r = surface_renderers_[options];
+  if (!r) r = std::make_unique<surface::SurfaceRenderer>(device(), *scene_.surfaces, options);
+  return *r;
+}
+
+const surface::SurfaceRenderer& SceneRenderer::surface_renderer(const surface::SurfaceOptions& options) {
+  if (!scene_.surfaces || scene_.volume) throw std::logic_error("SceneRenderer::surface_renderer: a scene of surfaces alone has one");
+  return surfaces_for(options);
+}
+
+void SceneRenderer::render_surface_sequence(SceneFrame& f, const Camera& camera, const SceneSettings& settings) {
+  const SurfaceSequence& q = *settings.sequence;
+  surface::SurfaceRenderer& r = *surfaces_;
+  const std::string mode(settings.surface_mode->name);
+  const bool gi = settings.surface_mode->gi != frame::SurfaceGi::None;
+  r.set_shading_rate(q.lod_bias, q.block_budget);
+  r.set_msa_amortization(q.amortize);
+  r.set_msa_charts(q.charts);
+  r.resize(settings.size);
+  const vk::Device& gpu = device();
+  // One frame drawn and timed; its image stays on the GPU.
+  const auto draw = [&](const Camera& c) {
+    vk::GpuTimer timer(gpu, 16);
+    timer.submit_and_wait([&](VkCommandBuffer cmd) { r.record(cmd, c, mode, timer); });
+    return timer.read();
+  };
+  timing::warm_up([&] { return vk::total_gpu_ms(draw(camera)); }, settings.warm_up_seconds.value_or(timing::kTimedWarmUpSeconds));
+  if (gi) {  // the reservoirs gather over the still camera's frames, as in the window
+    r.reset_gi();
+    for (uint32_t i = 0; i + settings.frames < q.gi_frames; ++i) draw(camera);
+  }
+  if (q.camera_path) {
+    r.set_msa_amortization(q.amortize);  // counted from the path's first frame: the warm-up's are forgotten
+    for (uint32_t i = 0; i < settings.frames; ++i) draw(q.camera_path(i));
+  }
+  uint32_t index = 0;
+  f.timing = timing::time_frames(settings.frames, [&] {
+    if (!gi && !q.keep_shading && !q.camera_path) r.forget_shading();  // each frame costs what a moving camera's does
+    const std::vector<vk::PassTiming> passes = draw(q.camera_path ? q.camera_path(settings.frames + index) : camera);
+    ++index;
+    f.frame_shaded.push_back(r.read_counts().shaded);
+    return passes;
+  });
+  surface::SurfaceRenderer::Offscreen image;
+  image.width = settings.size.width;
+  image.height = settings.size.height;
+  image.rgba.resize(size_t(image.width) * image.height * 4);
+  vk::read_image(gpu, r.display(), sizeof(float) * 4, std::as_writable_bytes(std::span(image.rgba)));
+  image.passes = f.timing->medians();
+  image.counts = r.read_counts();
+  image.plan = r.last_plan();
+  f.surfaces = std::move(image);
 }
 
 SceneFrame SceneRenderer::render_mixed(const Camera& camera, const SceneSettings& settings) {

@@ -7,6 +7,7 @@
 // one, and the renderers made for the scene are kept for the frames after (a scene that persists,
 // as the window will want).
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -48,6 +49,26 @@ struct SceneData {
   bool default_lighting = false;           // those lights are the default ones (the scene had none): said in the stats
 };
 
+// A sequence of surface frames as the bench times them (surfaces alone, on the GPU): the shading
+// rate and tuning the texture-space backends take, the camera's motion, and how a GI mode gathers.
+// Its frames are timed without reading an image back (the GPU stays busy and at its clock); the
+// image is read once, after the last timed frame.
+struct SurfaceSequence {
+  float lod_bias = 0.0f;        // surface::SurfaceRenderer::set_shading_rate
+  uint32_t block_budget = 0;
+  uint32_t amortize = 0;        // set_msa_amortization; counted from the camera path's first frame
+  msa::Parametrization charts = msa::Parametrization::Projection;  // set_msa_charts
+  // A moving camera: frame i's camera; `frames` untimed frames along it, then the timed ones,
+  // the last at index 2 * frames - 1. None: the camera render() is given.
+  std::function<Camera(uint32_t frame)> camera_path;
+  // Frames of a still camera reuse its shading (none forgotten between them). Without it, and
+  // without a camera path or indirect light, each timed frame shades afresh (a moving camera's cost).
+  bool keep_shading = false;
+  // A GI mode's reservoirs start afresh after the warm-up and gather over this many frames of the
+  // still camera, the timed frames last (at least `frames`).
+  uint32_t gi_frames = 0;
+};
+
 struct SceneSettings {
   VkExtent2D size{800, 600};
   // The volume's mode (a row of frame::volume_mode_table()) and its frame's settings.
@@ -72,6 +93,9 @@ struct SceneSettings {
   // passes' timestamps, and reusing what the renderers kept from the frame before where the planner
   // allows it (a still camera's order, a still view's shading). `frames` and the warm-up are unused.
   bool interactive = false;
+  // Surfaces alone on the GPU: frames timed as a sequence of the bench's (none: each timed frame
+  // read back, shading afresh, as `render --frames` times them).
+  std::optional<SurfaceSequence> sequence;
 };
 
 // One frame: what drew it and what it drew. Exactly one of volume, surfaces, path and mixed holds
@@ -82,6 +106,7 @@ struct SceneFrame {
   frame::FrameSettings volume_settings;       // as drawn: an `auto` backend resolved, with its reason
   std::optional<timing::FrameTiming> timing;  // timed GPU frames: each pass's spread over them (the images' passes hold the medians)
   std::vector<double> frame_cpu_ms;           // timed volume frames: each one's CPU passes, summed
+  std::vector<uint64_t> frame_shaded;         // timed surface sequences: each frame's shading invocations
   std::optional<frame::OffscreenFrame> volume;                   // a volume alone
   std::optional<surface::SurfaceRenderer::Offscreen> surfaces;   // surfaces alone, on the GPU
   std::optional<reference::PathTracedImage> path;                // surfaces alone, by the path tracer
@@ -117,11 +142,17 @@ class SceneRenderer {
   const vk::Instance* instance() const { return instance_.get(); }
   // The GPU surface scene of surfaces alone, once a GPU frame uploaded it; nullptr before.
   const surface::GpuSurfaceScene* gpu_surfaces() const { return surfaces_ ? &surfaces_->gpu_scene() : nullptr; }
+  // The surface renderer of surfaces alone with these backend options (made, and the device
+  // opened, on the first call): what it draws (modes(), can_shadow()) before any frame. Each set of
+  // options keeps a renderer of its own (a backend's options are fixed at its making).
+  const surface::SurfaceRenderer& surface_renderer(const surface::SurfaceOptions& options = {});
 
  private:
   const vk::Device& device();
   SceneFrame render_volume(const Camera& camera, const SceneSettings& settings);
   SceneFrame render_surfaces(const Camera& camera, const SceneSettings& settings);
+  void render_surface_sequence(SceneFrame& f, const Camera& camera, const SceneSettings& settings);
+  surface::SurfaceRenderer& surfaces_for(const surface::SurfaceOptions& options);
   SceneFrame render_mixed(const Camera& camera, const SceneSettings& settings);
   void gpu_identity(SceneFrame& f) const;
   // f.stats from the frame's images and the renderers that drew it.
@@ -138,8 +169,8 @@ class SceneRenderer {
   std::unique_ptr<vk::Device> owned_device_;
   const vk::Device* device_ = nullptr;
   std::unique_ptr<frame::FrameRenderer> volume_;
-  std::unique_ptr<surface::SurfaceRenderer> surfaces_;
-  surface::SurfaceOptions surface_options_;  // what surfaces_ was made with
+  std::map<surface::SurfaceOptions, std::unique_ptr<surface::SurfaceRenderer>> surface_renderers_;
+  surface::SurfaceRenderer* surfaces_ = nullptr;  // the last frame's
   std::unique_ptr<MixedRenderer> mixed_;
 };
 

@@ -191,5 +191,40 @@ TEST_F(SceneRendererGpu, SurfaceAndMixedFramesAreTheirRenderersOwn) {
   EXPECT_EQ(g.stats.cpu_passes.size(), g.mixed->cpu_passes.size());
 }
 
+// The bench's sequences: timed frames read nothing back and the image is the last timed frame's,
+// at the camera path's last camera where the camera moves; every timed frame's shading is counted.
+TEST_F(SceneRendererGpu, ASurfaceSequenceEndsAtItsLastCamera) {
+  const SurfaceScene scene = test::square_scene(kSquare);
+  mixed::SceneRenderer facade({.surfaces = &scene}, device());
+  EXPECT_FALSE(facade.surface_renderer().modes().empty());
+  mixed::SceneSettings s;
+  s.size = kSize;
+  s.surface_mode = surface::find_surface_mode("forward");
+  s.shadows = false;
+  s.frames = 2;
+  s.warm_up_seconds = 0.0;
+  const Camera start = camera();
+  Camera last = start;
+  last.eye += glm::dvec3(0.3, 0.1, 0.0);
+  // Four cameras: two untimed, two timed; the last is `last`.
+  s.sequence = mixed::SurfaceSequence{.camera_path = [&](uint32_t i) { return i == 3 ? last : start; }};
+  const mixed::SceneFrame f = facade.render(start, s);
+  ASSERT_TRUE(f.surfaces.has_value());
+  ASSERT_TRUE(f.timing.has_value());
+  EXPECT_EQ(f.timing->frames, 2u);
+  ASSERT_EQ(f.frame_shaded.size(), 2u);
+  EXPECT_GT(f.frame_shaded.back(), 0u);
+  surface::SurfaceRenderer direct(device(), scene);
+  direct.set_shadows(false);
+  const surface::SurfaceRenderer::Offscreen moved = direct.render_offscreen(last, "forward", kSize);
+  EXPECT_EQ(f.surfaces->rgba, moved.rgba);
+  EXPECT_NE(moved.rgba, direct.render_offscreen(start, "forward", kSize).rgba);  // the path's end is what shows
+  EXPECT_EQ(f.stats.surfaces->covered_pixels, [&] {
+    uint64_t n = 0;
+    for (size_t i = 3; i < moved.rgba.size(); i += 4) n += moved.rgba[i] == 1.0f;
+    return n;
+  }());
+}
+
 }  // namespace
 }  // namespace prismoid
