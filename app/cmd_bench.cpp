@@ -361,6 +361,95 @@ bench::SurfaceBenchOptions surface_options(const ParsedArgs& a) {
   return so;
 }
 
+// One volume case's row: drawn through the renderer facade as `render` draws (the timed frames,
+// each a moving camera's, no image read back; then the image whose error is measured, one more
+// frame of the same camera), measured against `ref` (the reference image and its CPU time).
+bench::BenchRow volume_row(const vk::Device& device, const bench::BenchCase& c, const VolumeChoice& choice, bool analytic_field,
+                           const Camera& camera, const std::pair<frame::OffscreenFrame, double>& ref, uint32_t frames,
+                           double warm_up_seconds) {
+  const VkExtent2D extent{c.size.width, c.size.height};
+  mixed::SceneRenderer renderer({.volume = &choice.mesh, .analytic_field = analytic_field}, device, resolve_auto_backend);
+  mixed::SceneSettings scene_settings;
+  scene_settings.size = extent;
+  scene_settings.volume_mode = choice.mode;
+  scene_settings.volume = choice.settings;
+  scene_settings.volume_backend_auto = choice.backend_auto;
+  scene_settings.frames = frames;
+  scene_settings.warm_up_seconds = warm_up_seconds;
+  const mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
+  const frame::OffscreenFrame& result = *drawn.volume;
+  const timing::FrameTiming& timing = *drawn.timing;
+
+  bench::BenchRow m;
+  m.dataset = choice.mesh.name;
+  m.cells = choice.mesh.tets.size();
+  m.sweep = c.sweep;
+  m.quantity = c.quantity;
+  m.mode = c.mode;
+  m.settings = bench::settings_label(c);
+  m.ordering = result.report.ordering;
+  m.width = extent.width;
+  m.height = extent.height;
+  bench::set_times(m, timing);
+  m.cpu_ms = timing::median_of(drawn.frame_cpu_ms);
+  m.mesh_bytes = result.report.mesh_bytes;
+  // The image is one more frame's: every frame draws the same cells from the same camera.
+  m.error = frame::frame_error(result, ref.first, choice.quantity);
+  m.ssim = ssim_of(result, ref.first, choice.quantity);
+  m.reference_ms = ref.second;
+  m.peak = frame::error_peak(ref.first, choice.quantity);
+  if (choice.quantity == volume::Quantity::Color)
+    m.flip = reference::flip(result.display, ref.first.display, extent.width, extent.height, 4).mean;
+  std::cout << m.dataset << " " << m.sweep << " " << m.quantity << " " << m.mode << " " << m.settings << " " << m.width << "x"
+            << m.height << ": " << json_number(m.ms_median) << " ms GPU, RMSE " << json_number(m.error.rmse) << std::endl;
+  return m;
+}
+
+// VTK's mappers' rows beside the volume row `m` (same mesh, camera and transfer function),
+// measured against the same reference; a mapper that fails is left out with a note.
+void add_peer_rows(std::vector<bench::BenchRow>& rows, bench::ReportContext& context, const bench::BenchRow& m, const VolumeChoice& choice,
+                   const Camera& camera, const frame::OffscreenFrame& r, uint32_t frames) {
+  const volume::ResolveSettings& resolve = choice.settings.resolve;
+  for (const bench::Peer peer : bench::kPeers) {
+    bench::BenchRow p = m;
+    p.mode = std::string(bench::peer_name(peer));
+    p.settings = "default";
+    p.ordering = "VTK's own";
+    p.timer = "wall";
+    p.cpu_ms = 0;
+    p.passes.clear();
+    p.mesh_bytes = 0;
+    p.flip = std::numeric_limits<double>::quiet_NaN();
+    p.sm_mhz_min = p.sm_mhz_median = p.sm_mhz_max = std::numeric_limits<double>::quiet_NaN();  // the GPU row's, not VTK's
+    try {
+      const bench::PeerFrame f = bench::render_peer(peer, choice.mesh, camera, resolve, m.width, m.height, frames);
+      const timing::Spread wall = timing::spread_of(f.frame_ms);
+      p.ms_median = wall.median;
+      p.ms_min = wall.best;
+      p.ms_max = wall.worst;
+      if (choice.quantity == volume::Quantity::Color) {
+        p.error = reference::image_error(f.display, r.display, 1.0, 4, 3);
+        p.ssim = reference::ssim(f.display, r.display, r.width, r.height, 1.0, 4, 3);
+        p.flip = reference::flip(f.display, r.display, r.width, r.height, 4).mean;
+      } else {
+        const std::vector<float> t = transmittance_of_display(f.display, resolve);
+        p.error = reference::image_error(t, r.quantity, 1.0, 1, 1);
+        p.ssim = reference::ssim(t, r.quantity, r.width, r.height, 1.0, 1, 1);
+      }
+      if (context.notes.end() == std::find_if(context.notes.begin(), context.notes.end(), [](const std::string& n) { return n.rfind("VTK", 0) == 0; }))
+        context.notes.push_back("VTK's mappers drew with OpenGL on " + f.gl_renderer +
+                                "; their transmittance is read back from the 8-bit display (medium colour over the background)");
+    } catch (const std::exception& e) {
+      std::cerr << "prismoid: bench: " << p.mode << " on " << p.dataset << ": " << e.what() << "\n";
+      context.notes.push_back(p.mode + " on " + p.dataset + " failed: " + e.what());
+      continue;
+    }
+    std::cout << p.dataset << " " << p.quantity << " " << p.mode << ": " << json_number(p.ms_median) << " ms wall, RMSE "
+              << json_number(p.error.rmse) << std::endl;
+    rows.push_back(std::move(p));
+  }
+}
+
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& args) {
@@ -483,42 +572,7 @@ int cmd_bench(const std::vector<std::string>& args) {
       ref = references.emplace(ref_key, std::make_pair(std::move(image), ms_since(start))).first;
     }
 
-    // Through the renderer facade, as `render` draws: the timed frames (each a moving camera's,
-    // no image read back), then the image whose error is measured, one more frame of the same camera.
-    mixed::SceneRenderer renderer({.volume = &choice.mesh, .analytic_field = field_of(one).has_value()}, device, resolve_auto_backend);
-    mixed::SceneSettings scene_settings;
-    scene_settings.size = extent;
-    scene_settings.volume_mode = choice.mode;
-    scene_settings.volume = choice.settings;
-    scene_settings.volume_backend_auto = choice.backend_auto;
-    scene_settings.frames = frames;
-    scene_settings.warm_up_seconds = preset.warm_up_seconds;
-    const mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
-    const frame::OffscreenFrame& result = *drawn.volume;
-    const timing::FrameTiming& timing = *drawn.timing;
-
-    bench::BenchRow m;
-    m.dataset = choice.mesh.name;
-    m.cells = choice.mesh.tets.size();
-    m.sweep = c.sweep;
-    m.quantity = c.quantity;
-    m.mode = c.mode;
-    m.settings = bench::settings_label(c);
-    m.ordering = result.report.ordering;
-    m.width = extent.width;
-    m.height = extent.height;
-    bench::set_times(m, timing);
-    m.cpu_ms = timing::median_of(drawn.frame_cpu_ms);
-    m.mesh_bytes = result.report.mesh_bytes;
-    // The image is one more frame's: every frame draws the same cells from the same camera.
-    m.error = frame::frame_error(result, ref->second.first, choice.quantity);
-    m.ssim = ssim_of(result, ref->second.first, choice.quantity);
-    m.reference_ms = ref->second.second;
-    m.peak = frame::error_peak(ref->second.first, choice.quantity);
-    if (choice.quantity == volume::Quantity::Color)
-      m.flip = reference::flip(result.display, ref->second.first.display, extent.width, extent.height, 4).mean;
-    std::cout << m.dataset << " " << m.sweep << " " << m.quantity << " " << m.mode << " " << m.settings << " " << m.width << "x"
-              << m.height << ": " << json_number(m.ms_median) << " ms GPU, RMSE " << json_number(m.error.rmse) << std::endl;
+    const bench::BenchRow m = volume_row(device, c, choice, field_of(one).has_value(), camera, ref->second, frames, preset.warm_up_seconds);
 
     // VTK's mappers on the same mesh, camera and transfer function: once per dataset the user
     // named, beside the exact-order colour, or beside transmittance where the data has no colour.
@@ -528,47 +582,8 @@ int cmd_bench(const std::vector<std::string>& args) {
     // stands beside the same peers.)
     const bool peer_case = c.sweep == "modes" && user_file && choice.settings.backend == frame::IntervalBackend::Mesh &&
                            ((c.quantity == "color" && exact_order) || (c.quantity == "transmittance" && !scalars));
-    if (peer_case && want_peers && x)
-      for (const bench::Peer peer : bench::kPeers) {
-        bench::BenchRow p = m;
-        p.mode = std::string(bench::peer_name(peer));
-        p.settings = "default";
-        p.ordering = "VTK's own";
-        p.timer = "wall";
-        p.cpu_ms = 0;
-        p.passes.clear();
-        p.mesh_bytes = 0;
-        p.flip = std::numeric_limits<double>::quiet_NaN();
-        p.sm_mhz_min = p.sm_mhz_median = p.sm_mhz_max = std::numeric_limits<double>::quiet_NaN();  // the GPU row's, not VTK's
-        try {
-          const bench::PeerFrame f = bench::render_peer(peer, choice.mesh, camera, resolve, extent.width, extent.height, frames);
-          const timing::Spread wall = timing::spread_of(f.frame_ms);
-          p.ms_median = wall.median;
-          p.ms_min = wall.best;
-          p.ms_max = wall.worst;
-          const frame::OffscreenFrame& r = ref->second.first;
-          if (choice.quantity == volume::Quantity::Color) {
-            p.error = reference::image_error(f.display, r.display, 1.0, 4, 3);
-            p.ssim = reference::ssim(f.display, r.display, r.width, r.height, 1.0, 4, 3);
-            p.flip = reference::flip(f.display, r.display, r.width, r.height, 4).mean;
-          } else {
-            const std::vector<float> t = transmittance_of_display(f.display, resolve);
-            p.error = reference::image_error(t, r.quantity, 1.0, 1, 1);
-            p.ssim = reference::ssim(t, r.quantity, r.width, r.height, 1.0, 1, 1);
-          }
-          if (context.notes.end() == std::find_if(context.notes.begin(), context.notes.end(), [](const std::string& n) { return n.rfind("VTK", 0) == 0; }))
-            context.notes.push_back("VTK's mappers drew with OpenGL on " + f.gl_renderer +
-                                    "; their transmittance is read back from the 8-bit display (medium colour over the background)");
-        } catch (const std::exception& e) {
-          std::cerr << "prismoid: bench: " << p.mode << " on " << p.dataset << ": " << e.what() << "\n";
-          context.notes.push_back(p.mode + " on " + p.dataset + " failed: " + e.what());
-          continue;
-        }
-        std::cout << p.dataset << " " << p.quantity << " " << p.mode << ": " << json_number(p.ms_median) << " ms wall, RMSE "
-                  << json_number(p.error.rmse) << std::endl;
-        rows.push_back(std::move(p));
-      }
-    rows.push_back(std::move(m));
+    if (peer_case && want_peers && x) add_peer_rows(rows, context, m, choice, camera, ref->second.first, frames);
+    rows.push_back(m);
   }
   if (std::find(sweeps.begin(), sweeps.end(), "mixed") != sweeps.end()) {
     ParsedArgs one = mixed_volume_args(a, datasets.front(), passed_through);
