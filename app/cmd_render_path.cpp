@@ -3,18 +3,15 @@
 // PFM (or display sRGB to PNG), the per-pixel variance where asked.
 #include "app/cmd_render_path.hpp"
 
-#include <iostream>
 #include <sstream>
 
 #include "app/cli.hpp"
 #include "app/common/cli_args.hpp"
+#include "app/common/frame_stats_writer.hpp"
 #include "app/common/output_files.hpp"
-#include "app/common/stats_json.hpp"
-#include "app/common/surface_args.hpp"
 #include "io/image_io.hpp"
 #include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/reference/path_tracer.hpp"
-#include "renderer/surface/surface_modes.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -47,41 +44,16 @@ reference::PathTracerSettings path_tracer_settings(const ParsedArgs& a) {
   return settings;
 }
 
-void report_path_traced(const ParsedArgs& a, OutputFiles& files, const PathTracedRun& run, std::ostream& said) {
-  const SurfaceScene& scene = run.scene;
-  const SurfaceScene& lit = run.lit;
-  const mixed::SceneFrame& drawn = run.drawn;
-  const reference::PathTracerSettings& settings = run.settings;
+void report_path_traced(const ParsedArgs& a, OutputFiles& files, const mixed::SceneFrame& drawn, std::ostream& said) {
   const reference::PathTracedImage& image = *drawn.path;
   const std::string& output = a.values.at("output");
   files.write(output, [&](const std::string& file) { io::write_image(file, rgb_image(image, image.mean)); });
   if (a.has("variance"))
     files.write(a.values.at("variance"), [&](const std::string& file) { io::write_pfm(file, rgb_image(image, image.variance)); });
-  const auto& c = image.counts;
-  said << "wrote " << output << " (" << image.width << "x" << image.height << ", " << scene.name << ", " << settings.samples_per_pixel
-       << " samples per pixel, at most " << settings.max_bounces << " bounces) on the CPU path tracer in "
-       << json_number(image.seconds) << " s\n"
-       << "  " << c.rays << " rays; guards: " << c.zero_pdf << " zero-pdf samples, " << c.non_finite << " non-finite samples, "
-       << c.backfacing_normals << " back-facing shading normals, " << c.degenerate_triangles << " degenerate triangles skipped\n";
-  if (lit.directional_lights.size() != scene.directional_lights.size()) said << "  no lights in the scene: default key light (it casts shadows) and sky\n";
-  if (a.has("stats")) {
-    StatsJson js;
-    js["device"] = drawn.device;
-    js["dataset"] = scene.name;
-    js["mode"] = std::string(run.mode.name);
-    js["width"] = image.width;
-    js["height"] = image.height;
-    js["samples_per_pixel"] = settings.samples_per_pixel;
-    js["max_bounces"] = settings.max_bounces;
-    js["seed"] = settings.seed;
-    js["seconds"] = image.seconds;
-    js["rays"] = c.rays;
-    js["zero_pdf"] = c.zero_pdf;
-    js["non_finite"] = c.non_finite;
-    js["backfacing_normals"] = c.backfacing_normals;
-    js["degenerate_triangles"] = c.degenerate_triangles;
-    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, js); });
-  }
+  const FrameOutput out{.image = output};
+  if (a.has("stats"))
+    files.write(a.values.at("stats"), [&](const std::string& file) { write_stats(file, frame_json(drawn.stats, out)); });
+  said << frame_text(drawn.stats, out);
 }
 
 }  // namespace prismoid::app

@@ -8,8 +8,6 @@
 #include "app/common/cli_args.hpp"
 #include "renderer/mixed/scene_renderer.hpp"
 #include "renderer/reference/path_tracer.hpp"
-#include "renderer/surface/surface_modes.hpp"
-#include "scene/surface_scene.hpp"
 
 namespace prismoid::app {
 
@@ -23,14 +21,8 @@ extern const char* const kPathTracerOptionsHelp;
 // --spp, --max-bounces and --seed (InputError naming the option for a value out of range).
 reference::PathTracerSettings path_tracer_settings(const ParsedArgs& a);
 
-struct PathTracedRun {
-  const surface::SurfaceMode& mode;
-  const reference::PathTracerSettings& settings;
-  const SurfaceScene& scene;  // as loaded
-  const SurfaceScene& lit;    // as drawn (default lights where it had none)
-  const mixed::SceneFrame& drawn;
-};
-// Writes the image and --variance into `files`, the --stats file, and says what was drawn.
-void report_path_traced(const ParsedArgs& a, OutputFiles& files, const PathTracedRun& run, std::ostream& said);
+// Writes the image and --variance of a path-traced frame into `files`, the --stats file, and says
+// what was drawn (the frame's stats, through app/common/frame_stats_writer).
+void report_path_traced(const ParsedArgs& a, OutputFiles& files, const mixed::SceneFrame& drawn, std::ostream& said);
 
 }  // namespace prismoid::app

@@ -181,7 +181,7 @@ int cmd_render_surface(const std::vector<std::string>& args, const surface::Surf
   mixed::SceneFrame drawn = renderer.render(camera, scene_settings);
   if (drawn.path) {
     std::ostringstream said;  // printed once the files are in place (cmd_render.cpp says why)
-    report_path_traced(a, files, {mode, scene_settings.path, scene, lit, drawn}, said);
+    report_path_traced(a, files, drawn, said);
     files.commit();
     std::cout << said.str();
     return kOk;

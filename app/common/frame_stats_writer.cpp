@@ -138,8 +138,47 @@ void surfaces_json(StatsJson& js, const mixed::SurfaceStats& f) {
 
 }  // namespace
 
+namespace {
+
+void path_text(std::ostream& out, const FrameStats& s, const FrameOutput& output) {
+  const mixed::PathStats& p = *s.path;
+  const reference::PathTracerCounts& c = p.counts;
+  out << "wrote " << output.image << " (" << s.width << "x" << s.height << ", " << p.scene << ", " << p.settings.samples_per_pixel
+      << " samples per pixel, at most " << p.settings.max_bounces << " bounces) on the CPU path tracer in " << json_number(p.seconds)
+      << " s\n"
+      << "  " << c.rays << " rays; guards: " << c.zero_pdf << " zero-pdf samples, " << c.non_finite << " non-finite samples, "
+      << c.backfacing_normals << " back-facing shading normals, " << c.degenerate_triangles << " degenerate triangles skipped\n";
+  if (p.default_lighting) out << "  no lights in the scene: default key light (it casts shadows) and sky\n";
+}
+
+StatsJson path_json(const FrameStats& s) {
+  const mixed::PathStats& p = *s.path;
+  StatsJson js;
+  js["device"] = s.device;
+  js["dataset"] = p.scene;
+  js["mode"] = p.mode;
+  js["width"] = s.width;
+  js["height"] = s.height;
+  js["samples_per_pixel"] = p.settings.samples_per_pixel;
+  js["max_bounces"] = p.settings.max_bounces;
+  js["seed"] = p.settings.seed;
+  js["seconds"] = p.seconds;
+  js["rays"] = p.counts.rays;
+  js["zero_pdf"] = p.counts.zero_pdf;
+  js["non_finite"] = p.counts.non_finite;
+  js["backfacing_normals"] = p.counts.backfacing_normals;
+  js["degenerate_triangles"] = p.counts.degenerate_triangles;
+  return js;
+}
+
+}  // namespace
+
 std::string frame_text(const FrameStats& s, const FrameOutput& output) {
   std::ostringstream out;
+  if (s.path) {
+    path_text(out, s, output);
+    return out.str();
+  }
   out << "wrote " << output.image << " (" << s.width << "x" << s.height << ", " << contents_text(s) << ") on " << s.device << "\n";
   if (s.volume && s.mixed) {
     const frame::FrameReport& r = s.volume->report;
@@ -168,6 +207,7 @@ std::string frame_text(const FrameStats& s, const FrameOutput& output) {
 }
 
 StatsJson frame_json(const FrameStats& s, const FrameOutput& output) {
+  if (s.path) return path_json(s);
   StatsJson js;
   js["device"] = s.device;
   js["driver"] = s.driver;

@@ -12,6 +12,7 @@
 #include "renderer/frame/frame_plan.hpp"
 #include "renderer/frame/frame_report.hpp"
 #include "renderer/mixed/mixed_frame.hpp"
+#include "renderer/reference/path_tracer.hpp"
 #include "renderer/surface/surface_backend.hpp"
 #include "renderer/timing/frame_timing.hpp"
 #include "renderer/vk/timer.hpp"
@@ -51,15 +52,27 @@ struct MixedSurfaceStats {
   bool shadows = false;
 };
 
+// Surfaces alone, path traced on the CPU.
+struct PathStats {
+  std::string scene;
+  std::string mode;
+  reference::PathTracerSettings settings;  // its samples per pixel, bounces and seed
+  reference::PathTracerCounts counts;      // rays, and what its guards caught
+  double seconds = 0.0;                    // the render's wall-clock time
+  bool default_lighting = false;
+};
+
 struct FrameStats {
   std::string device, driver;  // the GPU's name and driver, or which CPU reference drew it
   bool gpu = false;
   uint32_t width = 0, height = 0;
   uint32_t frames = 1;  // frames timed (an interactive frame: 1)
-  // What was drawn: a volume, surfaces alone, or a volume inside surfaces (volume and mixed).
+  // What was drawn: a volume, surfaces alone (on the GPU, or path traced), or a volume inside
+  // surfaces (volume and mixed).
   std::optional<VolumeStats> volume;
   std::optional<SurfaceStats> surfaces;
   std::optional<MixedSurfaceStats> mixed;
+  std::optional<PathStats> path;
   // Time: the frame's GPU passes (the medians where frames were timed; a CPU volume reference's
   // stages, in CPU milliseconds), its CPU passes, and the spread over the timed frames.
   std::vector<vk::PassTiming> passes;

@@ -124,6 +124,16 @@ void SceneRenderer::fill_stats(SceneFrame& f, const SceneSettings& settings) con
     s.cpu_passes = f.mixed->cpu_passes;
     s.mixed_plan = f.mixed->plan;
     s.warnings = f.mixed->volume.report.warnings;
+  } else if (f.path) {
+    reference::PathTracerSettings path = settings.path;
+    path.width = settings.size.width;
+    path.height = settings.size.height;
+    s.path = PathStats{.scene = scene_.surfaces->name,
+                       .mode = std::string(settings.surface_mode->name),
+                       .settings = path,
+                       .counts = f.path->counts,
+                       .seconds = f.path->seconds,
+                       .default_lighting = scene_.default_lighting};
   } else if (f.surfaces) {
     const surface::SurfaceRenderer::Offscreen& image = *f.surfaces;
     const surface::GpuSurfaceScene& gpu = surfaces_->gpu_scene();

@@ -409,5 +409,29 @@ TEST(FrameStatsWriter, SurfaceStatsCarryTheBackendsCountersAndTheLighting) {
   EXPECT_NE(t.find("default key light (it casts shadows) and sky"), std::string::npos) << t;
 }
 
+// A path-traced frame: the path tracer's settings and guards, and nothing of a GPU frame's.
+TEST(FrameStatsWriter, PathTracedStatsAreThePathTracersOwn) {
+  mixed::FrameStats s;
+  s.device = "CPU path tracer (double precision)";
+  s.width = 8;
+  s.height = 4;
+  mixed::PathStats p;
+  p.scene = "cornell-box";
+  p.mode = "path-reference";
+  p.settings.samples_per_pixel = 16;
+  p.settings.max_bounces = 3;
+  p.counts.rays = 999;
+  p.counts.non_finite = 2;
+  s.path = p;
+  const StatsJson js = frame_json(s, {.image = "p.pfm"});
+  EXPECT_EQ(js["samples_per_pixel"], 16u);
+  EXPECT_EQ(js["rays"], 999u);
+  EXPECT_EQ(js["non_finite"], 2u);
+  EXPECT_FALSE(js.contains("passes"));
+  const std::string t = frame_text(s, {.image = "p.pfm"});
+  EXPECT_EQ(t.rfind("wrote p.pfm (8x4, cornell-box, 16 samples per pixel, at most 3 bounces) on the CPU path tracer in ", 0), 0u) << t;
+  EXPECT_NE(t.find("  999 rays; guards: 0 zero-pdf samples, 2 non-finite samples"), std::string::npos) << t;
+}
+
 }  // namespace
 }  // namespace prismoid::app
