@@ -122,7 +122,7 @@ void draw_compare_overlay(const CompareStatus& status, const ViewState& state, c
   ImGui::End();
   if (state.compare == CompareMode::Split) {
     const float quarter = viewport->WorkSize.x / 4.0f;
-    label_at(viewport->WorkPos.x + quarter, bottom, mode_label("A", state.mode, state.settings.resolve.quantity, gpu_total(stats.gpu_passes)));
+    label_at(viewport->WorkPos.x + quarter, bottom, mode_label("A", state.mode, state.settings.resolve.quantity, gpu_total(stats.frame.passes)));
     label_at(viewport->WorkPos.x + 3.0f * quarter, bottom, mode_label("B", status.b_mode, status.b_quantity, gpu_total(status.b_passes)));
   } else if (status.computing) {
     char note[96];

@@ -19,7 +19,7 @@ void draw_hud(const FrameStats& stats, const ViewState& state) {
     ImGui::End();
     return;
   }
-  ImGui::Text("%s", stats.device_name.c_str());
+  ImGui::Text("%s", stats.frame.device.c_str());
   ImGui::Text("%s, %s", state.mode.c_str(), quantity_name(state.settings.resolve.quantity));
   ImGui::Text("frame (CPU) %.2f ms", stats.cpu_frame_ms);
   if (stats.resolution_level > 3)
@@ -30,14 +30,15 @@ void draw_hud(const FrameStats& stats, const ViewState& state) {
   else
     ImGui::Text("full resolution");
   double gpu_total = 0.0;
-  for (const auto& p : stats.gpu_passes) {
+  for (const auto& p : stats.frame.passes) {
     if (std::isfinite(p.gpu_ms)) gpu_total += p.gpu_ms;
     ImGui::Text("  %s %.3f ms", p.name.c_str(), p.gpu_ms);
   }
   ImGui::Text("GPU total %.3f ms", gpu_total);
   ImGui::Text("cells drawn %llu", static_cast<unsigned long long>(stats.cells));
-  if (stats.counted) ImGui::Text("fragments shaded %llu", static_cast<unsigned long long>(stats.fragments));
-  ImGui::Text("mesh on GPU %.1f MiB", double(stats.report.mesh_bytes) / (1024.0 * 1024.0));
+  const frame::FrameReport& report = stats.report();
+  if (report.counted) ImGui::Text("fragments shaded %llu", static_cast<unsigned long long>(report.fragments));
+  ImGui::Text("mesh on GPU %.1f MiB", double(report.mesh_bytes) / (1024.0 * 1024.0));
   ImGui::End();
 }
 

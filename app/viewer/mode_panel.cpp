@@ -41,7 +41,8 @@ const char* string_name(const std::string& s) { return s.c_str(); }
 const char* quantity_label(const volume::Quantity& q) { return quantity_name(q); }
 
 void draw_frame_plan_rows(const FrameStats& stats) {
-  ImGui::TextWrapped("ordering: %s", stats.report.ordering.c_str());
+  const frame::FrameReport& report = stats.report();
+  ImGui::TextWrapped("ordering: %s", report.ordering.c_str());
   auto dim = [](const std::string& text) {
     ImGui::Indent();
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
@@ -52,12 +53,12 @@ void draw_frame_plan_rows(const FrameStats& stats) {
   auto row = [&](const std::string& name, double ms, const char* where) {
     if (std::isfinite(ms)) ImGui::Text("%s%s  %.3f ms", name.c_str(), where, ms);
     else ImGui::Text("%s%s", name.c_str(), where);
-    const std::string why = pass_reason(name, stats.report.plan);
+    const std::string why = pass_reason(name, report.plan);
     if (!why.empty()) dim(why);
   };
-  for (const auto& p : stats.report.cpu_passes) row(p.name, p.gpu_ms, " (CPU)");
-  for (const auto& p : stats.gpu_passes) row(p.name, p.gpu_ms, "");
-  for (const auto& p : stats.report.plan.skipped) dim(p.name + ": skipped, " + p.reason);
+  for (const auto& p : report.cpu_passes) row(p.name, p.gpu_ms, " (CPU)");
+  for (const auto& p : stats.frame.passes) row(p.name, p.gpu_ms, "");
+  for (const auto& p : report.plan.skipped) dim(p.name + ": skipped, " + p.reason);
 }
 
 }  // namespace

@@ -12,20 +12,34 @@
 #include "app/viewer/open_panel.hpp"
 #include "app/viewer/view_state.hpp"
 #include "renderer/frame/frame_renderer.hpp"
+#include "renderer/mixed/frame_stats.hpp"
 #include "renderer/vk/timer.hpp"
 
 namespace prismoid::app {
 
-// What the HUD and the frame plan show about the last frame that finished.
+// What the HUD and the frame plan show about the last frame that finished: its typed stats, the
+// struct `render` reports a frame from (renderer/mixed/frame_stats.hpp: the device, the GPU passes,
+// the volume's report with its plan, CPU passes, ordering and draw counts), and what only the
+// window knows.
 struct FrameStats {
-  std::string device_name;
-  std::vector<vk::PassTiming> gpu_passes;  // the last finished frame's passes
-  frame::FrameReport report;               // what prepare() did for it
+  mixed::FrameStats frame = [] {
+    mixed::FrameStats f;
+    f.gpu = true;
+    f.volume.emplace();
+    return f;
+  }();
+  const frame::FrameReport& report() const { return frame.volume->report; }
+  frame::FrameReport& report() { return frame.volume->report; }
+  // The report prepare() gave the next frame, keeping the draw counts of the last finished one.
+  void prepared(frame::FrameReport next) {
+    const frame::FrameReport& last = report();
+    next.counted = last.counted;
+    next.fragments = last.fragments;
+    next.primitives = last.primitives;
+    report() = std::move(next);
+  }
   double cpu_frame_ms = 0.0;               // wall time between the last two frames
   uint64_t cells = 0;                      // cells drawn (every cell of the dataset)
-  bool counted = false;                    // fragments counted (pipeline statistics)
-  uint64_t fragments = 0;
-  uint64_t primitives = 0;
   // The volume's resolution this frame: 1/2^resolution_level of the window per side, coarser
   // only while the camera moves (moving), to hold target_ms (app/viewer/interactive_scale.hpp).
   uint32_t resolution_level = 0;

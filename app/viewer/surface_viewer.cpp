@@ -374,10 +374,10 @@ ViewerReport run_surface_viewer(const SurfaceScene& scene, const ViewerOptions& 
   WindowParts parts{window, device, swapchain, ui, capture};
   run_window_loop(parts, content, options, report);
 
-  report.last_frame.device_name = caps.name;
-  report.last_frame.gpu_passes = s.passes;
-  report.last_frame.counted = true;
-  report.last_frame.fragments = s.counts.shaded;
+  report.last_frame.frame.device = caps.name;
+  report.last_frame.frame.passes = s.passes;
+  report.last_frame.report().counted = true;
+  report.last_frame.report().fragments = s.counts.shaded;
   report.camera = s.camera.camera();
   report.mode = s.mode;
   report.msa_amortization = s.renderer.msa_amortization();

@@ -75,9 +75,9 @@ class VolumeWindow final : public WindowContent {
   void pointer_held(bool held) override { pointer_held_ = held; }
   void on_drop(const std::vector<std::string>& paths) override { open_datasets(s_, paths, s_.panel.data.array); }
   void frame_finished(std::vector<vk::PassTiming> passes, bool last) override {
-    s_.stats.gpu_passes = std::move(passes);
+    s_.stats.frame.passes = std::move(passes);
     finished_ms_ = 0.0;
-    for (const vk::PassTiming& p : s_.stats.gpu_passes)
+    for (const vk::PassTiming& p : s_.stats.frame.passes)
       if (std::isfinite(p.gpu_ms)) finished_ms_ += p.gpu_ms;
     finished_level_ = in_flight_level_;
     // Each frame's wall time from its recording to its end, against its motion and resolution
@@ -88,16 +88,17 @@ class VolumeWindow final : public WindowContent {
     after_motion_ = after_motion_ || drawn_moving_;
     if (!last)
       if (const auto counts = s_.renderer.draw_counts()) {
-        s_.stats.counted = true;
-        s_.stats.fragments = counts->fragments;
-        s_.stats.primitives = counts->primitives;
+        frame::FrameReport& report = s_.stats.report();
+        report.counted = true;
+        report.fragments = counts->fragments;
+        report.primitives = counts->primitives;
       }
     compare_.frame_finished();
   }
   std::string timings_line() const override {
     std::ostringstream title;
-    title << "Prismoid - " << s_.stats.device_name << " -";
-    for (const auto& t : s_.stats.gpu_passes) title << " " << t.name << " " << t.gpu_ms << " ms";
+    title << "Prismoid - " << s_.stats.frame.device << " -";
+    for (const auto& t : s_.stats.frame.passes) title << " " << t.name << " " << t.gpu_ms << " ms";
     return title.str();
   }
   void draw_ui() override {
@@ -132,12 +133,12 @@ class VolumeWindow final : public WindowContent {
     frame::FrameRenderer& drawing = active();
     drawing.resize(extent);
     try {
-      s_.stats.report = drawing.prepare(s_.camera.camera(), s_.state.settings);
+      s_.stats.prepared(drawing.prepare(s_.camera.camera(), s_.state.settings));
       s_.last_good = s_.state.settings;
     } catch (const InputError& e) {  // a setting this data or device refuses: say so, keep the last good one
       s_.message(e.what());
       s_.state.settings = s_.last_good;
-      s_.stats.report = drawing.prepare(s_.camera.camera(), s_.state.settings);
+      s_.stats.prepared(drawing.prepare(s_.camera.camera(), s_.state.settings));
     }
     compare_.update(s_);
     s_.renderer.resize(extent);  // the difference view's GPU frame may have left the reference's size
@@ -306,7 +307,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   ViewerSession s{std::move(state), settings, window, device, swapchain, renderer,
                   options.camera ? CameraController(bounds, *options.camera) : CameraController(bounds), {}, {}, report};
   CompareView compare(device);
-  s.stats.device_name = caps.name;
+  s.stats.frame.device = caps.name;
   s.stats.cells = s.state.drawn().mesh->tets.size();
   s.loading.defaults = options.open_defaults;
   s.loading.recent_file = options.recent_file;

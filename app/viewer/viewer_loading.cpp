@@ -118,7 +118,7 @@ void sync_renderer(ViewerSession& s) {
   s.camera.set_flying(flying);
   if (std::exchange(l.fit_camera, false)) s.camera.reset(s.aspect());  // a dataset was added: show all of the scene
   s.stats.cells = mesh->tets.size();
-  s.stats.counted = false;
+  s.stats.report().counted = false;
 }
 
 void apply_data_requests(ViewerSession& s, const DataRequests& r) {

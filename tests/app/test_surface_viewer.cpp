@@ -158,8 +158,8 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
     EXPECT_LE(conformal_worst, 1e-6);
   }
   // The panel's count of what the last frame shaded.
-  EXPECT_TRUE(report.last_frame.counted);
-  EXPECT_GT(report.last_frame.fragments, 0u);
+  EXPECT_TRUE(report.last_frame.report().counted);
+  EXPECT_GT(report.last_frame.report().fragments, 0u);
 
   // The screenshot is that image encoded to 8-bit sRGB by the swapchain's blit, the PNG by the
   // writer: each rounds once, so they are at most 2 levels apart.
@@ -188,7 +188,7 @@ TEST(SurfaceViewer, DrawsTheForwardImageSwitchesModesAndMovesTheCamera) {
   EXPECT_NEAR(glm::distance(parsed.eye, report.camera.eye), 0.0, 1e-9);
   // Every pass the last (Htex + ReSTIR GI) frame ran has a time.
   std::vector<std::string> names;
-  for (const auto& p : report.last_frame.gpu_passes) names.push_back(p.name);
+  for (const auto& p : report.last_frame.frame.passes) names.push_back(p.name);
   for (const char* pass_name : {"pre-z + marking", "allocation", "shading", "gi initial+temporal", "gi spatial", "gather", "present-blit", "ui"})
     EXPECT_NE(std::find(names.begin(), names.end(), pass_name), names.end()) << pass_name;
 }

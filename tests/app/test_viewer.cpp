@@ -20,6 +20,7 @@
 #include <chrono>
 
 #include "app/cli.hpp"
+#include "app/common/frame_stats_writer.hpp"
 #include "app/viewer/camera_controller.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/interactive_scale.hpp"
@@ -157,7 +158,7 @@ TEST(Viewer, ColourInEachOrderingPresentsWithoutValidationMessages) {
     EXPECT_EQ(report.validation_messages, 0u);
     // The last frame's camera was still, so it drew with the order an earlier frame made.
     const std::string expected = ordering == frame::Ordering::Exact ? "upload-order" : "sort";
-    const frame::FramePlan& plan = report.last_frame.report.plan;
+    const frame::FramePlan& plan = report.last_frame.report().plan;
     EXPECT_TRUE(plan.reuses_order);
     EXPECT_TRUE(std::any_of(plan.skipped.begin(), plan.skipped.end(), [&](const frame::SkippedPass& p) {
       return p.name == expected && p.reason.rfind("order reused: camera still", 0) == 0;
@@ -166,7 +167,7 @@ TEST(Viewer, ColourInEachOrderingPresentsWithoutValidationMessages) {
 }
 
 bool has_pass(const app::ViewerReport& r, const std::string& name) {
-  const auto& p = r.last_frame.gpu_passes;
+  const auto& p = r.last_frame.frame.passes;
   return std::any_of(p.begin(), p.end(), [&](const vk::PassTiming& t) { return t.name == name; });
 }
 
@@ -246,12 +247,17 @@ TEST(Viewer, ScriptedSessionChangesWhatIsDrawnAndReportsIt) {
   EXPECT_EQ(report.quantity, volume::Quantity::Color);
   for (const char* pass : {"interval-shading (emission)", "resolve", "present-blit", "ui"}) EXPECT_TRUE(has_pass(report, pass)) << pass;
   // Sorted, or (a still camera at the end) drawn with the last sorted order.
-  EXPECT_TRUE(has_pass(report, "sort") || report.last_frame.report.plan.reuses_order);
+  EXPECT_TRUE(has_pass(report, "sort") || report.last_frame.report().plan.reuses_order);
   EXPECT_EQ(report.last_frame.cells, mesh.tets.size());
-  EXPECT_GT(report.last_frame.report.mesh_bytes, mesh.tets.size() * 16);
-  if (report.last_frame.counted) {
-    EXPECT_GT(report.last_frame.fragments, 0u);
+  EXPECT_GT(report.last_frame.report().mesh_bytes, mesh.tets.size() * 16);
+  if (report.last_frame.report().counted) {
+    EXPECT_GT(report.last_frame.report().fragments, 0u);
   }
+  // The panel's numbers are the typed stats `render` writes: the same writer reads them.
+  const app::StatsJson js = app::frame_json(report.last_frame.frame, {});
+  EXPECT_EQ(js["ordering"], report.last_frame.report().ordering);
+  EXPECT_EQ(js["gpu_mesh_bytes"], report.last_frame.report().mesh_bytes);
+  EXPECT_EQ(js["passes"].size(), report.last_frame.frame.passes.size());
   EXPECT_TRUE(fs::exists(dir / "tf.json"));
 }
 
@@ -555,7 +561,7 @@ TEST(Viewer, SplitViewShowsModeAOnTheLeftAndModeBOnTheRight) {
   const auto& bp = report.compare_passes;
   EXPECT_TRUE(std::any_of(bp.begin(), bp.end(), [](const vk::PassTiming& t) { return t.name == "interval-shading"; }));
   // A (sorted colour) sorts, unless its camera was still and the planner reused the order.
-  EXPECT_TRUE(has_pass(report, "sort") || report.last_frame.report.plan.reuses_order);
+  EXPECT_TRUE(has_pass(report, "sort") || report.last_frame.report().plan.reuses_order);
 }
 
 // The camera as `render` options, split into words for run_cli.
