@@ -19,6 +19,7 @@
 #include "io/dataset_info.hpp"
 #include "io/image_volume_io.hpp"
 #include "io/surface_io.hpp"
+#include "io/time_series.hpp"
 #include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
@@ -170,6 +171,16 @@ int cmd_info(const std::vector<std::string>& args) {
   }
   if (io::is_vdb_path(file)) {
     std::cout << format_vdb_info(io::inspect_vdb(file));
+    return kOk;
+  }
+  if (io::is_time_series_path(file)) {  // the steps and their times, then the first step's mesh
+    const io::TimeSeries series = io::read_time_series(file);
+    std::cout << file << " (time series, " << series.steps.size() << (series.steps.size() == 1 ? " step" : " steps")
+              << "; render --time-step N or --time T draws one)\n";
+    for (size_t i = 0; i < series.steps.size(); ++i)
+      std::cout << "  step " << i << ": t = " << json_number(series.steps[i].time) << ", " << series.steps[i].file << "\n";
+    const std::string& first = series.steps.front().file;
+    std::cout << "step 0: " << format_dataset_info(first, io::describe_dataset(first));
     return kOk;
   }
   if (io::is_surface_path(file)) {

@@ -88,6 +88,9 @@ const char* const kRenderHelpVdb =
     "with a marching --mode the grid is marched instead inside its active regions (leaf nodes\n"
     "and tiles, 6 tetrahedra each; a level set: its whole box), and the CPU reference marches its\n"
     "trilinear field;\n";
+const char* const kRenderHelpSeries =
+    "or a time series (.pvd, a ParaView data collection: one mesh file per time step, beside it), of\n"
+    "which one step is drawn;\n";
 const char* const kRenderHelpBall =
     "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
     "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"
@@ -142,6 +145,7 @@ std::string render_help() {
   help.append("\n  color only:\n").append(volume_options_help(G::Color, kIndent));
   help.append("\n").append(kRenderHelpFiles).append(volume_options_help(G::Tetgen, kFileIndent)).append(kRenderHelpImages);
   help.append(volume_options_help(G::Image, kFileIndent)).append(kRenderHelpVdb).append(volume_options_help(G::Vdb, kFileIndent));
+  help.append(kRenderHelpSeries).append(volume_options_help(G::Time, kFileIndent));
   help.append(kRenderHelpBall).append(surface_render_help()).append(kRenderMixedHelp);
   return help;
 }

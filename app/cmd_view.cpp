@@ -114,7 +114,7 @@ std::string view_help() {
   // The volume options from the option table: what render takes, but the CPU reference's mode.
   return kViewHelpHead + wrapped_list("--mode, " + volume_option_list({G::Quantity, G::Data, G::Mesh, G::March, G::Color})) +
          "                       what to show and how, as for render (the GPU modes: not the CPU reference)\n" +
-         wrapped_list(volume_option_list({G::Tetgen, G::Image, G::Vdb})) +
+         wrapped_list(volume_option_list({G::Tetgen, G::Image, G::Vdb, G::Time})) +
          "                       how a FILE loads, as for render\n" + kViewHelpTail;
 }
 

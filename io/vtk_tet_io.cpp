@@ -170,7 +170,7 @@ const ChildWork<ReadRequest, ReadResult> kReadTetMesh("read-tet-mesh", [](const 
 TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options, MeshConversion* conversion) {
   detail::require_regular_file(path);
   if (!is_tet_mesh_path(path))
-    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (Prismoid reads meshes .vtu .vtk .vtm .pvtu, images .vti .mhd .mha .inr, surfaces .vtp .stl .obj .ply .off)");
+    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (Prismoid reads meshes .vtu .vtk .vtm .pvtu, time series .pvd, images .vti .mhd .mha .inr, surfaces .vtp .stl .obj .ply .off)");
   // VTK's readers run in a child process (io/isolated_read.hpp): a file that crashes them or
   // makes them allocate without end is an InputError here.
   ReadResult result = kReadTetMesh(read_job(path), options.progress, {path, options});

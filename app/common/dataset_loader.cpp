@@ -8,6 +8,7 @@
 
 #include "app/common/grid_dataset.hpp"
 #include "io/image_volume_io.hpp"
+#include "io/time_series.hpp"
 #include "io/vdb_io.hpp"
 #include "renderer/frame/volume_modes.hpp"
 #include "scene/generators.hpp"
@@ -138,6 +139,22 @@ TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress) { 
   return mesh;
 }
 
+// One step of a time series (.pvd): its mesh read as any mesh file is, named by the series, the
+// step and its time.
+TetMesh load_time_step(const LoadRequest& r, const io::Progress& progress) {
+  const io::TimeSeries series = io::read_time_series(r.path);
+  const size_t i = io::pick_time_step(series, r.path, r.time_step, r.time);
+  const io::TimeStep& step = series.steps[i];
+  if (!r.time_step && !r.time && series.steps.size() > 1)
+    std::cerr << "prismoid: note: " << r.path << ": a time series of " << series.steps.size() << " steps; drawing step 0 (t = "
+              << json_number(step.time) << "): --time-step N or --time T picks another (`prismoid info` lists them)\n";
+  LoadRequest one = r;
+  one.path = step.file;
+  TetMesh mesh = load_unstructured(one, progress);
+  mesh.name = r.path + " step " + std::to_string(i) + " (t = " + json_number(step.time) + ")";
+  return mesh;
+}
+
 }  // namespace
 
 std::optional<volume::AnalyticField> field_of_request(const LoadRequest& r) {
@@ -206,6 +223,11 @@ LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool
     r.subsample = parse_uint("subsample", a.values.at("subsample"));
     if (*r.subsample == 0) throw InputError("--subsample", "must be at least 1");
   }
+  const bool is_series = !path.empty() && io::is_time_series_path(path);
+  for (const char* option : {"time-step", "time"})
+    if (a.has(option) && !is_series) throw InputError(std::string("--") + option, "picks a step of a time series (.pvd)");
+  if (a.has("time-step")) r.time_step = parse_uint("time-step", a.values.at("time-step"));
+  if (a.has("time")) r.time = parse_double("time", a.values.at("time"));
   return r;
 }
 
@@ -221,6 +243,7 @@ TetMesh load_dataset(const LoadRequest& r, const io::Progress& progress) {
   if (io::is_surface_path(r.path)) return load_surface(r, progress);
   if (io::is_vdb_path(r.path)) return load_vdb(r, progress);
   if (io::is_image_volume_path(r.path)) return load_image(r, progress);
+  if (io::is_time_series_path(r.path)) return load_time_step(r, progress);
   // A built-in surface scene's name given to a volume mode (`view cornell-box --mode interval`
   // said "cornell-box: file does not exist"); a file of that name still opens.
   if (is_named_surface_scene(r.path) && !std::filesystem::exists(r.path))

@@ -18,7 +18,7 @@
 namespace prismoid::app {
 
 struct LoadRequest {
-  // A file (.vtu .vtk .vtm .pvtu, image volume, surface), a field:NAME[:N], grid:NAME[:N] or
+  // A file (.vtu .vtk .vtm .pvtu, a time series .pvd, image volume, surface), a field:NAME[:N], grid:NAME[:N] or
   // ball[:S] spec, or empty: the embedded default dataset.
   std::string path;
   std::string array;                 // empty: none chosen
@@ -34,6 +34,10 @@ struct LoadRequest {
   // they march) rather than as voxel tetrahedra. Reads through a cache that belongs to the main
   // thread: the viewer's loader never sets it.
   bool vdb_marched = false;
+  // A time series (.pvd) only: the step drawn, by index or by time (io::pick_time_step; neither:
+  // the first).
+  std::optional<uint32_t> time_step;
+  std::optional<double> time;
 };
 
 // The request the dataset options describe for `path`; InputError names an option that is

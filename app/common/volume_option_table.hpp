@@ -23,6 +23,7 @@ enum class VolumeOptionGroup {
   Tetgen,   // a closed surface filled with tetrahedra
   Image,    // image volumes
   Vdb,      // OpenVDB grids
+  Time,     // time series
 };
 
 struct VolumeOption {

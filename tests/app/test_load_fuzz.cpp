@@ -255,6 +255,10 @@ std::vector<fs::path> write_seeds() {
     vdb.voxel_size = 0.25;
     io::write_vdb_from_surface(add("cube.vdb"), cube, vdb);
   }
+  // A time series: ParaView's collection of two steps, the meshes written above beside it.
+  std::ofstream(add("series.pvd")) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n"
+                                      "    <DataSet timestep=\"0\" part=\"0\" file=\"ball-0.vtu\"/>\n"
+                                      "    <DataSet timestep=\"1.25\" part=\"0\" file=\"ball-1.vtu\"/>\n  </Collection>\n</VTKFile>\n";
   return seeds;
 }
 
@@ -414,7 +418,7 @@ uint64_t peak_kib(int who) {
 TEST(LoadFuzz, EveryMutationOfEveryFormatLoadsOrIsAnInputErrorNamingTheFile) {
   ::setenv("XDG_CACHE_HOME", (scratch() / "cache").c_str(), 1);  // TetGen's results stay here
   const std::vector<fs::path> seeds = write_seeds();
-  ASSERT_EQ(seeds.size(), 19u);  // 14 extensions, several in ASCII and binary
+  ASSERT_EQ(seeds.size(), 20u);  // 15 extensions, several in ASCII and binary
   DeadlockWatch deadlocks;
   const auto start = Clock::now();
   size_t runs = 0, loads = 0, refusals = 0;
