@@ -156,6 +156,16 @@ int cmd_info(const std::vector<std::string>& args) {
     std::cout << "  bounds: [" << b.min.x << ", " << b.max.x << "] x [" << b.min.y << ", " << b.max.y << "] x [" << b.min.z
               << ", " << b.max.z << "]\n";
   };
+  if (io::is_time_series_path(file)) {  // the steps and their times, then the first step's mesh
+    const io::TimeSeries series = io::read_time_series(file);
+    std::cout << file << " (time series, " << series.steps.size() << (series.steps.size() == 1 ? " step" : " steps")
+              << "; render --time-step N or --time T draws one)\n";
+    for (size_t i = 0; i < series.steps.size(); ++i)
+      std::cout << "  step " << i << ": t = " << json_number(series.steps[i].time) << ", " << series.steps[i].file << "\n";
+    const std::string& first = series.steps.front().file;
+    std::cout << "step 0: " << format_dataset_info(first, io::describe_dataset(first));
+    return kOk;
+  }
   if (io::is_image_volume_path(file)) {
     io::ImageReadOptions options;
     options.role = io::ArrayRole::Scalars;
@@ -171,16 +181,6 @@ int cmd_info(const std::vector<std::string>& args) {
   }
   if (io::is_vdb_path(file)) {
     std::cout << format_vdb_info(io::inspect_vdb(file));
-    return kOk;
-  }
-  if (io::is_time_series_path(file)) {  // the steps and their times, then the first step's mesh
-    const io::TimeSeries series = io::read_time_series(file);
-    std::cout << file << " (time series, " << series.steps.size() << (series.steps.size() == 1 ? " step" : " steps")
-              << "; render --time-step N or --time T draws one)\n";
-    for (size_t i = 0; i < series.steps.size(); ++i)
-      std::cout << "  step " << i << ": t = " << json_number(series.steps[i].time) << ", " << series.steps[i].file << "\n";
-    const std::string& first = series.steps.front().file;
-    std::cout << "step 0: " << format_dataset_info(first, io::describe_dataset(first));
     return kOk;
   }
   if (io::is_surface_path(file)) {

@@ -89,8 +89,10 @@ const char* const kRenderHelpVdb =
     "and tiles, 6 tetrahedra each; a level set: its whole box), and the CPU reference marches its\n"
     "trilinear field;\n";
 const char* const kRenderHelpSeries =
-    "or a time series (.pvd, a ParaView data collection: one mesh file per time step, beside it), of\n"
-    "which one step is drawn;\n";
+    "or a time series, of which one step is drawn: a .pvd (a ParaView data collection: one mesh file\n"
+    "per time step, beside it) or a numbered series, its file name with a * for the number (quoted:\n"
+    "'flow_*.vtu', the files flow_000.vtu, flow_001.vtu... in the order of their numbers, at times\n"
+    "0, 1, 2...);\n";
 const char* const kRenderHelpBall =
     "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
     "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"

@@ -1,5 +1,7 @@
 #include "io/time_series.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -88,9 +90,67 @@ const ChildWork<CollectionRequest, ParsedCollection> kReadCollection("read-time-
 
 }  // namespace
 
-bool is_time_series_path(const std::string& path) { return detail::lower_extension(path) == ".pvd"; }
+bool is_file_series_pattern(const std::string& path) { return fs::path(path).filename().string().find('*') != std::string::npos; }
+
+bool is_time_series_path(const std::string& path) { return detail::lower_extension(path) == ".pvd" || is_file_series_pattern(path); }
+
+namespace {
+
+// A numbered series: the files of the pattern's folder whose names are the pattern with a run of
+// digits for its *, in the order of their numbers (as ParaView groups flow_000.vtu ... flow_099.vtu).
+TimeSeries read_file_series(const std::string& pattern) {
+  const fs::path p(pattern);
+  const std::string name = p.filename().string();
+  const size_t star = name.find('*');
+  if (name.find('*', star + 1) != std::string::npos || p.parent_path().string().find('*') != std::string::npos)
+    throw InputError(pattern, "a numbered series has one * in its file name, for the step's number (flow_*.vtu)");
+  const std::string prefix = name.substr(0, star), suffix = name.substr(star + 1);
+  if (!is_tet_mesh_path(prefix + "0" + suffix)) throw InputError(pattern, "the steps of a numbered series are mesh files (.vtu .vtk .vtm .pvtu)");
+  const fs::path folder = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) throw InputError(pattern, "its folder " + folder.string() + " does not exist");
+  struct Numbered {
+    std::string digits;  // without leading zeros ("" for 0)
+    fs::path file;
+  };
+  std::vector<Numbered> found;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string f = it->path().filename().string();
+    if (f.size() <= prefix.size() + suffix.size() || f.compare(0, prefix.size(), prefix) != 0 ||
+        f.compare(f.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string digits = f.substr(prefix.size(), f.size() - prefix.size() - suffix.size());
+    if (!std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); })) continue;
+    found.push_back({digits.substr(std::min(digits.find_first_not_of('0'), digits.size())), it->path()});
+  }
+  if (ec) throw InputError(pattern, "its folder cannot be listed: " + ec.message());
+  if (found.empty()) throw InputError(pattern, "no file of its folder matches (the * stands for the step's number)");
+  // By number: fewer digits first, then digit by digit; one number twice, by name (the listing's
+  // order is the file system's).
+  std::sort(found.begin(), found.end(), [](const Numbered& a, const Numbered& b) {
+    if (a.digits.size() != b.digits.size()) return a.digits.size() < b.digits.size();
+    return a.digits != b.digits ? a.digits < b.digits : a.file.filename() < b.file.filename();
+  });
+  TimeSeries series;
+  for (size_t i = 0; i < found.size(); ++i) {
+    if (i > 0 && found[i].digits == found[i - 1].digits)
+      throw InputError(pattern, found[i - 1].file.filename().string() + " and " + found[i].file.filename().string() + " are both step number " +
+                                    (found[i].digits.empty() ? "0" : found[i].digits));
+    try {
+      detail::require_regular_file(found[i].file.string());
+    } catch (const InputError& e) {
+      throw InputError(pattern, e.what());
+    }
+    // A numbered series carries no times: ParaView's file series reader gives each its index.
+    series.steps.push_back({double(i), found[i].file.string()});
+  }
+  return series;
+}
+
+}  // namespace
 
 TimeSeries read_time_series(const std::string& path) {
+  if (is_file_series_pattern(path)) return read_file_series(path);
   detail::require_regular_file(path);
   if (!is_time_series_path(path)) throw InputError(path, "is not a time series (.pvd)");
   const ParsedCollection parsed = kReadCollection(read_job(path), {}, {path});

@@ -1,6 +1,7 @@
 #pragma once
-// Time series (issue "Simulations as they come"): a ParaView data collection (.pvd) whose data
-// sets are one mesh per time step, as ParaView and VTK's writers make them:
+// Time series (issue "Simulations as they come"): a numbered series of mesh files (flow_*.vtu), or
+// a ParaView data collection (.pvd) whose data sets are one mesh per time step, as ParaView and
+// VTK's writers make them:
 //   <VTKFile type="Collection"><Collection>
 //     <DataSet timestep="0.5" part="0" file="flow_000.vtu"/> ...
 // The collection is read in a reader child (io/isolated_read.hpp) by VTK's XML parser, and every
@@ -28,10 +29,14 @@ struct TimeSeries {
   std::vector<TimeStep> steps;  // in time order
 };
 
-// Whether `path` names a time series (.pvd).
+// Whether `path` names a time series: a .pvd, or a numbered series (a file name with one *, such
+// as flow_*.vtu: the files of that folder with a number for the *, in the order of their numbers,
+// each at the time of its index, as ParaView's file series reader gives them).
 bool is_time_series_path(const std::string& path);
+bool is_file_series_pattern(const std::string& path);
 
-// The steps of a .pvd. InputError naming the collection for: XML that does not parse, a root that
+// The steps of a numbered series (InputError naming the pattern: more than one *, not mesh files,
+// no file matching, two files of one number) or of a .pvd. InputError naming the collection for: XML that does not parse, a root that
 // is not a VTKFile of type Collection, no DataSet, a DataSet without a file or a timestep, a
 // timestep that is not a finite number, times that do not increase, several parts at one time,
 // and a step's file that is missing, not a regular file, another collection (.pvd), not a mesh

@@ -240,10 +240,10 @@ TetMesh load_dataset(const LoadRequest& r, const io::Progress& progress) {
   if (r.path.empty()) return load_default(r);
   if (const auto field = field_of_request(r)) return load_field(r, *field);
   if (is_ball_spec(r.path)) return load_ball(r);
+  if (io::is_time_series_path(r.path)) return load_time_step(r, progress);
   if (io::is_surface_path(r.path)) return load_surface(r, progress);
   if (io::is_vdb_path(r.path)) return load_vdb(r, progress);
   if (io::is_image_volume_path(r.path)) return load_image(r, progress);
-  if (io::is_time_series_path(r.path)) return load_time_step(r, progress);
   // A built-in surface scene's name given to a volume mode (`view cornell-box --mode interval`
   // said "cornell-box: file does not exist"); a file of that name still opens.
   if (is_named_surface_scene(r.path) && !std::filesystem::exists(r.path))

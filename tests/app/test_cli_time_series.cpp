@@ -156,5 +156,46 @@ TEST(CliTimeSeries, BadCollectionsAndStepsAreRefusedByName) {
   refused((dir / "steps" / "box_0.vtu").string() + " --time-step 0", "--time-step: picks a step of a time series (.pvd)");
 }
 
+// A numbered series (flow_*.vtu, as ParaView groups such files): the files in the order of their
+// numbers, not of their names (flow_9 before flow_10), each at the time of its index; the bad
+// patterns are refused naming the pattern.
+TEST(CliTimeSeries, ANumberedSeriesIsItsFilesInTheOrderOfTheirNumbers) {
+  const fs::path dir = work_dir() / "numbered";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // Steps 9, 10 and 100: by name 10 < 100 < 9; by number 9 < 10 < 100.
+  const std::vector<std::string> names = {"flow_10.vtu", "flow_100.vtu", "flow_9.vtu"};
+  const std::vector<double> sigma = {1.0, 2.0, 0.5};  // flow_10, flow_100, flow_9
+  for (size_t i = 0; i < names.size(); ++i) io::write_tet_mesh_vtu((dir / names[i]).string(), box(sigma[i]));
+  std::ofstream(dir / "flow_notes.txt") << "not a step";
+  io::write_tet_mesh_vtu((dir / "flow_x.vtu").string(), box(9.0));  // not a number: not a step
+  const std::string pattern = (dir / "flow_*.vtu").string();
+  const CliRun info = run("info '" + pattern + "'");
+  ASSERT_EQ(info.code, 0) << info.err;
+  for (const std::string& line : std::vector<std::string>{"(time series, 3 steps;", "step 0: t = 0, " + (dir / "flow_9.vtu").string(),
+                                 "step 1: t = 1, " + (dir / "flow_10.vtu").string(), "step 2: t = 2, " + (dir / "flow_100.vtu").string()})
+    EXPECT_NE(info.out.find(line), std::string::npos) << line << " in\n" << info.out;
+  const std::vector<double> expected = {0.5, 1.0, 2.0};  // in number order
+  for (size_t i = 0; i < expected.size(); ++i) {
+    const fs::path pfm = dir / ("s" + std::to_string(i) + ".pfm");
+    const CliRun r = run("render '" + pattern + "' --time-step " + std::to_string(i) + kView + " --output " + pfm.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const io::FloatImage img = io::read_pfm(pfm.string());
+    EXPECT_NEAR(img.pixels[(kSide / 2) * kSide + kSide / 2], 2.0 * expected[i], 1e-5 * 2.0 * expected[i]) << "step " << i;
+  }
+  const fs::path png = dir / "o.png";
+  const auto refused = [&](const std::string& path, const std::string& says) {
+    const CliRun r = run("render '" + path + "' --size 8x8 --output " + png.string());
+    EXPECT_EQ(r.code, 2) << path << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << path << ": " << r.err;
+  };
+  refused((dir / "nothing_*.vtu").string(), "no file of its folder matches");
+  refused((dir / "flow_*_*.vtu").string(), "one * in its file name");
+  refused((dir / "flow_*.stl").string(), "are mesh files");
+  refused((dir / "missing" / "flow_*.vtu").string(), "does not exist");
+  io::write_tet_mesh_vtu((dir / "flow_09.vtu").string(), box(1.0));
+  refused(pattern, "flow_09.vtu and flow_9.vtu are both step number 9");
+}
+
 }  // namespace
 }  // namespace prismoid
