@@ -62,8 +62,8 @@ const char* const kBenchHelp =
     "                       and the SM clock meanwhile where nvidia-smi is on PATH\n"
     "  --warm-up SECONDS    frames drawn before each row's timed ones, for at least this long (default\n"
     "                       2, --quick 0: one frame); lets the GPU leave its idle clock\n"
-    "  --sweeps LIST        comma-separated subset of: modes, tetlet-size, preintegration, image-size,\n"
-    "                       march-step, cells, surfaces, mixed (default: all); mixed: the first dataset\n"
+    "  --sweeps LIST        comma-separated subset of: modes, tetlet-size, preintegration, time,\n"
+    "                       image-size, march-step, cells, surfaces, mixed (default: all); mixed: the first dataset\n"
     "                       cut by an opaque square through its centre, in each GPU surface mode without\n"
     "                       indirect light on each volume backend, against the mixed scene's reference\n"
     "  --surfaces LIST      the surfaces sweep's scenes: cornell-box, furnace:A or surface files\n"
@@ -109,7 +109,8 @@ const char* const kBenchHelp =
     "\n"
     "Sweeps, per FILE: modes (optical depth and transmittance in mesh order; color with every GPU\n"
     "mode that does not march: mesh order, GPU-sorted, exact order), tetlet-size (1, 4, 8 beside the\n"
-    "default 16), preintegration (table sizes 16, 64, 256 beside exact segments); on the first FILE:\n"
+    "default 16), preintegration (table sizes 16, 64, 256 beside exact segments), time (a time series'\n"
+    "every step: transmittance in mesh order, colour in exact order); on the first FILE:\n"
     "image-size (half and twice --size); on field:marschner-lobb: march-step (the GPU-sorted march at\n"
     "1/25 to 1/400 of the diagonal, beside its tetrahedra) and cells (N^3 cubes). Errors: RMSE, largest absolute error,\n"
     "PSNR and SSIM of the quantity (peak: the reference's largest optical depth, or 1 for\n"
@@ -141,10 +142,19 @@ ParsedArgs mixed_volume_args(const ParsedArgs& a, const std::string& dataset, co
 
 // Loads each dataset once per way of loading it (as extinction or as the transfer function's
 // scalar; a .vdb as voxels or as marched regions) and hands out copies.
+// The time step a case draws of a time series ("" for other datasets): meshes and references
+// are kept per step.
+std::string step_of(const ParsedArgs& a) {
+  std::string step;
+  for (const char* option : {"time-step", "time"})
+    if (a.has(option)) step.append("|").append(option).append("=").append(a.values.at(option));
+  return step;
+}
+
 class MeshCache {
  public:
   TetMesh operator()(const ParsedArgs& a, bool scalar_field) {
-    std::string key = (a.files.empty() ? std::string() : a.files.front()) + (scalar_field ? "|scalar" : "|extinction");
+    std::string key = (a.files.empty() ? std::string() : a.files.front()) + (scalar_field ? "|scalar" : "|extinction") + step_of(a);
     if (samples_field(a)) key += "|march";
     auto it = meshes_.find(key);
     if (it == meshes_.end()) it = meshes_.emplace(key, load_scene(a, scalar_field)).first;
@@ -475,11 +485,11 @@ int cmd_bench(const std::vector<std::string>& args) {
   if (frames == 0 || frames > 10000) throw InputError("--frames", "must be between 1 and 10000");
   preset.warm_up_seconds = a.has("warm-up") ? parse_double("warm-up", a.values.at("warm-up")) : preset.quick ? 0.0 : timing::kTimedWarmUpSeconds;
   if (!(preset.warm_up_seconds >= 0.0 && preset.warm_up_seconds <= 600.0)) throw InputError("--warm-up", "seconds must lie in [0, 600]");
-  const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "image-size", "march-step", "cells", "surfaces", "mixed"};
+  const std::vector<std::string> all_sweeps = {"modes", "tetlet-size", "preintegration", "time", "image-size", "march-step", "cells", "surfaces", "mixed"};
   const std::vector<std::string> sweeps = a.has("sweeps") ? split_list("sweeps", a.values.at("sweeps")) : all_sweeps;
   for (const auto& s : sweeps)
     if (std::find(all_sweeps.begin(), all_sweeps.end(), s) == all_sweeps.end())
-      throw InputError("--sweeps", "unknown sweep '" + s + "' (modes, tetlet-size, preintegration, image-size, march-step, cells, surfaces, mixed)");
+      throw InputError("--sweeps", "unknown sweep '" + s + "' (modes, tetlet-size, preintegration, time, image-size, march-step, cells, surfaces, mixed)");
   bench::SurfaceBenchOptions so = surface_options(a);  // checked now, used by the surfaces sweep
   // Declared before the work: a folder made here goes again if the bench fails (or is stopped).
   const std::filesystem::path out_dir = a.values.at("out");
@@ -564,7 +574,8 @@ int cmd_bench(const std::vector<std::string>& args) {
     const volume::ResolveSettings& resolve = choice.settings.resolve;
     const VkExtent2D extent{c.size.width, c.size.height};
 
-    const std::string ref_key = c.dataset + "|" + c.quantity + "|" + std::to_string(extent.width) + "x" + std::to_string(extent.height);
+    const std::string ref_key =
+        c.dataset + step_of(one) + "|" + c.quantity + "|" + std::to_string(extent.width) + "x" + std::to_string(extent.height);
     auto ref = references.find(ref_key);
     if (ref == references.end()) {
       const auto start = std::chrono::steady_clock::now();

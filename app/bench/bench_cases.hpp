@@ -1,6 +1,7 @@
 #pragma once
 // What `prismoid bench` measures: the list of cases (dataset x sweep x quantity x mode x setting x
-// image size), built from the preset before anything is loaded. Plain data, no Vulkan.
+// image size), built from the preset before anything is loaded (a time series' index of steps
+// aside). Plain data, no Vulkan.
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -16,7 +17,7 @@ struct ImageSize {
 struct BenchCase {
   std::string dataset;  // as `prismoid render` names it ("" is the embedded default)
   std::string sweep;    // which question the case answers: modes, tetlet-size, preintegration,
-                        // march-step, image-size, cells
+                        // march-step, image-size, cells, time
   std::string quantity, mode;
   std::vector<std::pair<std::string, std::string>> options;  // volume options beyond --quantity/--mode
   ImageSize size;
@@ -36,7 +37,8 @@ constexpr uint64_t field_cells(uint32_t n) { return 6ull * n * n * n; }
 inline constexpr const char* kSweepField = "field:marschner-lobb";
 
 // Every case the preset asks for, datasets in the order given, then the field sweeps.
-// Colour cases of datasets without scalars are skipped later, when the data says so.
+// Colour cases of datasets without scalars are skipped later, when the data says so. InputError
+// for a time series whose steps cannot be listed.
 std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, const BenchPreset& preset);
 
 // "key=value key=value", or "default".

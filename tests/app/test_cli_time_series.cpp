@@ -3,6 +3,7 @@
 // collections are refused naming the file and the problem.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -195,6 +196,50 @@ TEST(CliTimeSeries, ANumberedSeriesIsItsFilesInTheOrderOfTheirNumbers) {
   refused((dir / "missing" / "flow_*.vtu").string(), "does not exist");
   io::write_tet_mesh_vtu((dir / "flow_09.vtu").string(), box(1.0));
   refused(pattern, "flow_09.vtu and flow_9.vtu are both step number 9");
+}
+
+// The bench's time sweep: a row per step and quantity, each measured against that step's own
+// reference (its error as small as any GPU row's: the boxes' constant extinction is exact).
+TEST(CliTimeSeries, TheBenchTimesEveryStep) {
+  const fs::path dir = work_dir() / "bench_series";
+  const fs::path pvd = write_series(dir);
+  const fs::path out = dir / "bench";
+  const CliRun r = run("bench " + pvd.string() + " --quick --sweeps time --no-plots --no-peers --array extinction --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream csv(out / "bench.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  std::vector<std::string> rows;
+  while (std::getline(csv, line)) rows.push_back(line);
+  // Each step's transmittance and colour (the extinction array is the colour's scalar too), each
+  // row that step's mesh, measured against that step's reference.
+  ASSERT_EQ(rows.size(), 2 * kSigma.size()) << r.out;
+  for (size_t i = 0; i < kSigma.size(); ++i)
+    for (const char* quantity : {"transmittance", "color"}) {
+      const std::string& row = rows[2 * i + (std::string(quantity) == "color" ? 1 : 0)];
+      EXPECT_NE(row.find("step " + std::to_string(i) + " (t = "), std::string::npos) << row;
+      EXPECT_NE(row.find(std::string(",time,") + quantity + ","), std::string::npos) << row;
+      EXPECT_NE(row.find("time-step=" + std::to_string(i)), std::string::npos) << row;
+    }
+  // Each row's error is small against its own step's reference (against another step's,
+  // transmittance would be off by e^(-2 sigma) differences of tenths).
+  std::istringstream head(header);
+  std::vector<std::string> columns;
+  for (std::string c; std::getline(head, c, ',');) columns.push_back(c);
+  const size_t rmse_at = size_t(std::find(columns.begin(), columns.end(), "rmse") - columns.begin());
+  ASSERT_LT(rmse_at, columns.size());
+  for (const std::string& row : rows) {
+    // The dataset's name is quoted (it holds commas and spaces): count columns after it.
+    const std::string rest = row.substr(row.find("\",") + 2);
+    std::istringstream cells(rest);
+    std::vector<std::string> values;
+    for (std::string v; std::getline(cells, v, ',');) values.push_back(v);
+    ASSERT_GT(values.size(), rmse_at - 1) << row;
+    EXPECT_LT(std::stod(values[rmse_at - 1]), 1e-4) << row;
+  }
+  const CliRun bad = run("bench " + (dir / "steps" / "nothing.pvd").string() + " --quick --sweeps time --out " + (dir / "b2").string());
+  EXPECT_EQ(bad.code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("nothing.pvd: file does not exist"), std::string::npos) << bad.err;
 }
 
 }  // namespace
