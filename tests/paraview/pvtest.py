@@ -119,7 +119,8 @@ class Scene:
         self.render_array = array  # what `prismoid render` colours by (a component's own array for a vector)
         unit_distance *= scale
         self.unit_distance = unit_distance
-        self.reader = XMLUnstructuredGridReader(FileName=[vtu])
+        # A time series (.pvd) through ParaView's own collection reader, at its first step.
+        self.reader = PVDReader(FileName=vtu) if vtu.endswith(".pvd") else XMLUnstructuredGridReader(FileName=[vtu])
         self.reader.UpdatePipeline()
         self.range = self.reader.PointData[array].GetRange()
         self.view = CreateView("RenderView")
