@@ -142,7 +142,7 @@ TimeSeries read_file_series(const std::string& pattern) {
       throw InputError(pattern, e.what());
     }
     // A numbered series carries no times: ParaView's file series reader gives each its index.
-    series.steps.push_back({double(i), found[i].file.string()});
+    series.steps.push_back({double(i), (p.parent_path() / found[i].file.filename()).string()});  // as the pattern names its folder
   }
   return series;
 }
