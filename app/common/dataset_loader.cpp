@@ -120,7 +120,8 @@ TetMesh load_image(const LoadRequest& r, const io::Progress& progress) {  // eac
   return load_grid(r, progress, image, [](const std::string& path, const io::ImageReadOptions& o) { return io::read_image_volume(path, o); });
 }
 
-TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress) {  // .vtu .vtk .vtm .pvtu through VTK
+// .vtu .vtk .vtm .pvtu through VTK; `conversion` (where given) receives what reading it did.
+TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress, io::MeshConversion* conversion_out = nullptr) {
   io::TetReadOptions reading;
   reading.array = r.array;
   reading.component = r.component.value_or(-1);
@@ -136,6 +137,7 @@ TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress) { 
     std::cerr << "prismoid: note: " + r.path + ": the scalar field is " + conversion.chosen_why + ", '" + conversion.chosen_array +
                      "' (--array NAME picks another)\n";
   report_load_time(r.path, mesh, start);
+  if (conversion_out) *conversion_out = conversion;
   return mesh;
 }
 
@@ -150,7 +152,21 @@ TetMesh load_time_step(const LoadRequest& r, const io::Progress& progress) {
               << json_number(step.time) << "): --time-step N or --time T picks another (`prismoid info` lists them)\n";
   LoadRequest one = r;
   one.path = step.file;
-  TetMesh mesh = load_unstructured(one, progress);
+  io::MeshConversion conversion;
+  TetMesh mesh = load_unstructured(one, progress, &conversion);
+  // The steps of a series colour by one quantity: an array chosen by rule (no --array) must be the
+  // one step 0 is coloured by, or a step would be silently coloured by another. Step 0 is read
+  // again for its choice; --array spares that read (each step must then hold the array).
+  if (i > 0 && r.array.empty() && r.role == io::ArrayRole::Scalars) {
+    io::TetReadOptions reading;
+    reading.role = io::ArrayRole::Scalars;
+    io::MeshConversion first;
+    io::read_tet_mesh(series.steps.front().file, reading, &first);
+    const auto named = [](const std::string& a) { return a.empty() ? std::string("no array") : "'" + a + "'"; };
+    if (first.chosen_array != conversion.chosen_array)
+      throw InputError(r.path, "step " + std::to_string(i) + " would be coloured by " + named(conversion.chosen_array) + " and step 0 by " +
+                                   named(first.chosen_array) + ": the steps' arrays differ; name the array with --array");
+  }
   mesh.name = r.path + " step " + std::to_string(i) + " (t = " + json_number(step.time) + ")";
   return mesh;
 }

@@ -242,5 +242,43 @@ TEST(CliTimeSeries, TheBenchTimesEveryStep) {
   EXPECT_NE(bad.err.find("nothing.pvd: file does not exist"), std::string::npos) << bad.err;
 }
 
+// One tetrahedron as VTK XML (ASCII), with one point array of that name.
+void write_tet_with_array(const fs::path& path, const std::string& array) {
+  std::ofstream(path) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n<UnstructuredGrid>\n"
+                         "<Piece NumberOfPoints=\"4\" NumberOfCells=\"1\">\n"
+                         "<PointData><DataArray type=\"Float64\" Name=\"" << array << "\" format=\"ascii\">0 1 2 3</DataArray></PointData>\n"
+                         "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>\n"
+                         "<Cells><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2 3</DataArray>\n"
+                         "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">4</DataArray>\n"
+                         "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10</DataArray></Cells>\n"
+                         "</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
+// Steps whose arrays differ: colour by a chosen array would colour step 1 by another quantity
+// than step 0, so it is refused naming both; named with --array, a step without it is refused by
+// the reader, naming the step's file; steps with the same array draw.
+TEST(CliTimeSeries, StepsWhoseColourArraysDifferAreRefused) {
+  const fs::path dir = work_dir() / "arrays";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_tet_with_array(dir / "s_0.vtu", "pressure");
+  write_tet_with_array(dir / "s_1.vtu", "temperature");
+  write_tet_with_array(dir / "t_0.vtu", "pressure");
+  write_tet_with_array(dir / "t_1.vtu", "pressure");
+  const fs::path png = dir / "o.png";
+  const std::string view = " --quantity color --size 8x8 --eye 2,2,2 --target 0,0,0 --output " + png.string();
+  CliRun r = run("render '" + (dir / "s_*.vtu").string() + "' --time-step 1" + view);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("step 1 would be coloured by 'temperature' and step 0 by 'pressure': the steps' arrays differ"), std::string::npos)
+      << r.err;
+  r = run("render '" + (dir / "s_*.vtu").string() + "' --time-step 1 --array pressure" + view);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("s_1.vtu: has no array 'pressure'"), std::string::npos) << r.err;
+  r = run("render '" + (dir / "s_*.vtu").string() + "' --time-step 0" + view);  // step 0 itself draws
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = run("render '" + (dir / "t_*.vtu").string() + "' --time-step 1" + view);
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
 }  // namespace
 }  // namespace prismoid
