@@ -3,7 +3,6 @@
 #include <chrono>
 #include <map>
 #include <iostream>
-#include <sstream>
 #include <string>
 
 #include <glm/common.hpp>
@@ -88,33 +87,14 @@ const char* const kViewHelpTail =
     "Keys: R fit, X/Y/Z (shift: negative) axis views, F fly (WASD/QE move, drag looks), C copy the\n"
     "camera as render options, P screenshot, H hide the panels, Esc close.\n";
 
-// "  --a, --b, ..." wrapped at 100 columns, two spaces in.
-std::string wrapped_list(const std::string& list) {
-  std::string out = "  ";
-  size_t column = 2;
-  std::istringstream words(list);
-  for (std::string word; words >> word;) {
-    if (column > 2 && column + 1 + word.size() > 100) {
-      out += "\n  ";
-      column = 2;
-    } else if (column > 2) {
-      out += ' ';
-      ++column;
-    }
-    out += word;
-    column += word.size();
-  }
-  return out + "\n";
-}
-
 }  // namespace
 
 std::string view_help() {
   using G = VolumeOptionGroup;
   // The volume options from the option table: what render takes, but the CPU reference's mode.
-  return kViewHelpHead + wrapped_list("--mode, " + volume_option_list({G::Quantity, G::Data, G::Mesh, G::March, G::Color})) +
+  return kViewHelpHead + wrap_words("  ", "--mode, " + volume_option_list({G::Quantity, G::Data, G::Mesh, G::March, G::Color}), 2) +
          "                       what to show and how, as for render (the GPU modes: not the CPU reference)\n" +
-         wrapped_list(volume_option_list({G::Tetgen, G::Image, G::Vdb, G::Time})) +
+         wrap_words("  ", volume_option_list({G::Tetgen, G::Image, G::Vdb, G::Time}), 2) +
          "                       how a FILE loads, as for render\n" + kViewHelpTail;
 }
 

@@ -184,31 +184,36 @@ std::string help_table(std::string_view lead, size_t indent, const std::vector<s
   size_t name_width = 0;
   for (const auto& [name, text] : rows)
     if (name.size() <= kLongestName) name_width = std::max(name_width, name.size());
-  std::ostringstream out;
-  const std::string margin(indent + name_width + 2, ' ');
+  std::string out;
+  const size_t margin = indent + name_width + 2;
   for (const auto& [name, text] : rows) {
     // (append, not +: GCC 12 warns falsely about the + of two temporaries, -Warray-bounds)
-    out << (out.tellp() == 0 ? std::string("  ").append(lead).append(indent - 2 - lead.size(), ' ') : std::string(indent, ' '))
-        << name;
-    if (name.size() > name_width) out << "\n" << margin;
-    else out << std::string(name_width + 2 - name.size(), ' ');
-    size_t column = margin.size();
-    std::istringstream words(text);
-    bool first = true;
-    for (std::string word; words >> word; first = false) {
-      if (!first && column + 1 + word.size() > width) {
-        out << "\n" << margin;
-        column = margin.size();
-      } else if (!first) {
-        out << ' ';
-        ++column;
-      }
-      out << word;
-      column += word.size();
-    }
-    out << "\n";
+    std::string line = out.empty() ? std::string("  ").append(lead).append(indent - 2 - lead.size(), ' ') : std::string(indent, ' ');
+    line.append(name);
+    if (name.size() > name_width) line.append("\n").append(margin, ' ');
+    else line.append(name_width + 2 - name.size(), ' ');
+    out.append(wrap_words(std::move(line), text, margin, width));
   }
-  return out.str();
+  return out;
+}
+
+std::string wrap_words(std::string line, std::string_view text, size_t indent, size_t width) {
+  const size_t last_break = line.rfind('\n');
+  size_t column = last_break == std::string::npos ? line.size() : line.size() - last_break - 1;
+  std::istringstream words{std::string(text)};
+  bool first = true;
+  for (std::string word; words >> word; first = false) {
+    if (!first && column + 1 + word.size() > width) {
+      line.append("\n").append(indent, ' ');
+      column = indent;
+    } else if (!first) {
+      line += ' ';
+      ++column;
+    }
+    line += word;
+    column += word.size();
+  }
+  return line + "\n";
 }
 
 }  // namespace prismoid::app

@@ -65,6 +65,11 @@ double print_pass_times(std::ostream& out, const std::vector<vk::PassTiming>& pa
 // "  SM clock: MIN / MEDIAN / MAX MHz (N samples)" where the clock was sampled; nothing otherwise.
 void print_sm_clock(std::ostream& out, const timing::FrameTiming& timing);
 
+// `line` (a help line so far, its text to start where it ends) followed by `text`'s words,
+// wrapped at `width` columns, each further line `indent` spaces in; ends in a newline. The one
+// word-wrapping of every help text.
+std::string wrap_words(std::string line, std::string_view text, size_t indent, size_t width = 100);
+
 // Help lines listing a table: each row's name padded to the longest (of at most 28 characters; a
 // longer one has its text on the next line), its text wrapped at `width` under itself. The first line starts two spaces in with `lead` (an option, or empty), padded to
 // `indent`; the other rows start at `indent`.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
+#include "app/common/cli_args.hpp"
+
 namespace prismoid::app {
 
 namespace {
@@ -97,21 +99,7 @@ std::string volume_options_help(VolumeOptionGroup group, size_t text_column) {
     if (!o.flag()) line.append(" ").append(o.value);
     // A name that reaches the text's column has its text two spaces after it.
     line.append(line.size() + 2 <= text_column ? text_column - line.size() : 2, ' ');
-    size_t column = line.size();
-    std::istringstream words{std::string(o.help)};
-    bool first = true;
-    for (std::string word; words >> word; first = false) {
-      if (!first && column + 1 + word.size() > kWidth) {
-        line.append("\n").append(text_column, ' ');
-        column = text_column;
-      } else if (!first) {
-        line += ' ';
-        ++column;
-      }
-      line += word;
-      column += word.size();
-    }
-    out << line << "\n";
+    out << wrap_words(std::move(line), o.help, text_column, kWidth);
   }
   return out.str();
 }
