@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "io/file_write.hpp"
+#include "io/time_series.hpp"
 #include "scene/input_error.hpp"
 
 namespace prismoid::app {
@@ -142,11 +143,11 @@ bool same_file(const std::string& a, const std::string& b) {
   return fs::equivalent(a, b, ec) && !ec;  // both exist and are one file (hard links too)
 }
 
-// The files a .pvtu (Source="..."), .vtm (file="...") or .mhd (ElementDataFile = ...) names
+// The files a .pvtu (Source="..."), .vtm or .pvd (file="...") or .mhd (ElementDataFile = ...) names
 // beside it, so that an output cannot replace a piece the command reads through them.
 std::vector<std::string> referenced_files(const std::string& path) {
   const std::string ext = lower_extension(path);
-  if (ext != ".pvtu" && ext != ".vtm" && ext != ".mhd") return {};
+  if (ext != ".pvtu" && ext != ".vtm" && ext != ".mhd" && ext != ".pvd") return {};
   std::ifstream in(path, std::ios::binary);
   std::string text(size_t(1) << 20, '\0');  // the references sit in the header
   in.read(text.data(), std::streamsize(text.size()));
@@ -243,8 +244,18 @@ void OutputFiles::check_not_input(const Output& out, const Input& in) const {
 
 void OutputFiles::input(const std::string& path) {
   std::error_code ec;
+  if (!path.empty() && io::is_file_series_pattern(path)) {  // a numbered series: each of its steps is read
+    try {
+      for (const io::TimeStep& step : io::read_time_series(path).steps) input(step.file);
+    } catch (const InputError&) {  // a series that cannot be listed is refused when it is loaded
+    }
+    return;
+  }
   if (path.empty() || !fs::exists(path, ec)) return;
   Input in{path, resolved_path(path)};
+  // Once each: a collection may name itself or a file already read (it would recurse without end).
+  for (const Input& known : inputs_)
+    if (same_file(known.resolved, in.resolved)) return;
   for (const Output& out : outputs_) check_not_input(out, in);
   inputs_.push_back(in);
   for (const std::string& file : referenced_files(path)) input(file);

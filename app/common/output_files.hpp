@@ -34,7 +34,8 @@ class OutputFiles {
   OutputFiles& operator=(const OutputFiles&) = delete;
 
   // A file the command reads; paths that name no file (field:NAME, presets, the default
-  // dataset) are ignored. A .pvtu, .vtm or .mhd also reads the files it names. InputError when
+  // dataset) are ignored. A .pvtu, .vtm, .mhd or .pvd also reads the files it names, a numbered
+  // series ('flow_*.vtu') its steps. InputError when
   // an output already declared is this file.
   void input(const std::string& path);
   // Declares output `path`, written for `option` (named in messages: "--stats", "convert"),

@@ -155,6 +155,16 @@ TEST(CliTimeSeries, BadCollectionsAndStepsAreRefusedByName) {
   refused(good.string() + " --time -1", "--time: -1 lies outside");
   refused(good.string() + " --time-step 1 --time 0.5", "both pick a step");
   refused((dir / "steps" / "box_0.vtu").string() + " --time-step 0", "--time-step: picks a step of a time series (.pvd)");
+  // No output may replace a step the command reads through the series: refused before any work,
+  // the step keeping its bytes.
+  const fs::path step0 = dir / "steps" / "box_0.vtu";
+  const auto size_before = fs::file_size(step0);
+  for (const std::string& series : {good.string(), "'" + (dir / "steps" / "box_*.vtu").string() + "'"}) {
+    const CliRun r = run("convert " + series + " " + step0.string());
+    EXPECT_EQ(r.code, 2) << series << ": " << r.err;
+    EXPECT_NE(r.err.find("would write over a file this command reads"), std::string::npos) << series << ": " << r.err;
+    EXPECT_EQ(fs::file_size(step0), size_before);
+  }
 }
 
 // A numbered series (flow_*.vtu, as ParaView groups such files): the files in the order of their
