@@ -19,6 +19,7 @@
 #include "io/dataset_info.hpp"
 #include "io/image_volume_io.hpp"
 #include "io/surface_io.hpp"
+#include "io/exodus_io.hpp"
 #include "io/time_series.hpp"
 #include "io/vdb_io.hpp"
 #include "io/vtk_tet_io.hpp"
@@ -29,11 +30,13 @@ namespace prismoid::app {
 const char* const kConvertHelp =
     "usage: prismoid convert [IN] OUT.vtu [--array NAME --density-scale S]\n"
     "                        [--tetgen-quality Q --tetgen-max-volume V --tetgen-cells N --fill-holes --remesh H]\n"
+    "                        [--blocks LIST] [--time-step N | --time T]\n"
     "       prismoid convert IN OUT.vdb [--vdb fog|levelset] [--voxel-size H] [--fill-holes]\n"
     "\n"
     "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
     "input has one, the point array 'scalars'. IN is a .vtu/.vtk/.vtm/.pvtu file (other cells are\n"
-    "split into tetrahedra, pieces merged: see `prismoid info IN`), an image volume (.vti .mhd .mha\n"
+    "split into tetrahedra, pieces merged: see `prismoid info IN`), an Exodus II file or a time series\n"
+    "(--blocks, --time-step and --time pick as render's do), an image volume (.vti .mhd .mha\n"
     ".inr), a field:NAME[:N] dataset, or a closed surface (.vtp .stl .obj .ply .off) tetrahedralized\n"
     "by TetGen (see `render --help`); without IN, the embedded default dataset is written (its point\n"
     "array 'scalars' holds the field sampled at the points) into a new OUT: an existing file alone\n"
@@ -90,7 +93,7 @@ int convert_to_vdb(ParsedArgs& a, const std::string& out, OutputFiles& files) {
 
 int cmd_convert(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "grid", "vdb",
-                                 "voxel-size", "remesh"},
+                                 "voxel-size", "remesh", "blocks", "time-step", "time"},
                        {"help", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");
@@ -124,7 +127,9 @@ const char* const kInfoHelp =
     "Describes a mesh file (.vtu, .vtk, .vtm, .pvtu) without rendering: its cells by type, points,\n"
     "point and cell arrays with their ranges (vectors by magnitude), bounds, and what reading it\n"
     "produces: the tetrahedra that other cells split into, zero-volume and inverted tetrahedra,\n"
-    "and the GPU memory of the mesh buffers. An image volume (.vti .mhd .mha .inr): its voxels, value\n"
+    "and the GPU memory of the mesh buffers. An Exodus II file (.exo .e .ex2 .exii .g .gen): its\n"
+    "element blocks, variables, time steps and sets, then the above for its blocks with 3D cells at\n"
+    "its first step. A time series: its steps and times, then the above for its first. An image volume (.vti .mhd .mha .inr): its voxels, value\n"
     "range, bounds and the tetrahedra it becomes. A surface (.vtp .stl .obj .ply .off): its triangles,\n"
     "bounds, and whether it is closed (where it is not), which TetGen needs. An OpenVDB file (.vdb):\n"
     "each grid's type, class, voxel size, active voxels, index and world boxes, value range, leaf\n"
@@ -164,6 +169,27 @@ int cmd_info(const std::vector<std::string>& args) {
       std::cout << "  step " << i << ": t = " << json_number(series.steps[i].time) << ", " << series.steps[i].file << "\n";
     const std::string& first = series.steps.front().file;
     std::cout << "step 0: " << format_dataset_info(first, io::describe_dataset(first));
+    return kOk;
+  }
+  if (io::is_exodus_path(file)) {  // blocks, variables and steps, then what the default choice draws
+    const io::ExodusInfo info = io::read_exodus_info(file);
+    std::cout << file << " (Exodus II: " << info.blocks.size() << (info.blocks.size() == 1 ? " element block, " : " element blocks, ")
+              << info.times.size() << (info.times.size() == 1 ? " time step" : " time steps")
+              << "; render --blocks LIST picks blocks, --time-step N or --time T a step)\n";
+    for (const io::ExodusBlock& b : info.blocks)
+      std::cout << "  block " << io::block_label(b) << ": " << b.cells << " " << (b.cell_type.empty() ? "cells" : b.cell_type)
+                << (b.solid ? "" : " (no 3D cells: not drawn)") << "\n";
+    auto names = [](const std::vector<std::string>& list) {
+      std::string text;
+      for (const std::string& n : list) text.append(text.empty() ? "" : ", ").append(n);
+      return text.empty() ? std::string("none") : text;
+    };
+    std::cout << "  nodal variables (point arrays): " << names(info.nodal_variables) << "\n  element variables (cell arrays): "
+              << names(info.element_variables) << "\n";
+    if (info.node_sets + info.side_sets > 0)
+      std::cout << "  node sets: " << info.node_sets << ", side sets: " << info.side_sets << " (not drawn)\n";
+    for (size_t i = 0; i < info.times.size(); ++i) std::cout << "  step " << i << ": t = " << json_number(info.times[i]) << "\n";
+    std::cout << (info.times.empty() ? "" : "step 0, ") << "the blocks with 3D cells: " << format_dataset_info(file, io::describe_dataset(file));
     return kOk;
   }
   if (io::is_image_volume_path(file)) {

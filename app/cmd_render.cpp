@@ -88,11 +88,16 @@ const char* const kRenderHelpVdb =
     "with a marching --mode the grid is marched instead inside its active regions (leaf nodes\n"
     "and tiles, 6 tetrahedra each; a level set: its whole box), and the CPU reference marches its\n"
     "trilinear field;\n";
+const char* const kRenderHelpExodus =
+    "or an Exodus II file (.exo .e .ex2 .exii .g .gen, read by VTK's Exodus reader as ParaView reads it):\n"
+    "its element blocks that hold 3D cells, merged with their shared nodes, nodal variables as point\n"
+    "arrays and element variables as cell arrays, displacements applied; side sets, node sets, and\n"
+    "blocks without 3D cells are not drawn (a note names them);\n";
 const char* const kRenderHelpSeries =
     "or a time series, of which one step is drawn: a .pvd (a ParaView data collection: one mesh file\n"
     "per time step, beside it) or a numbered series, its file name with a * for the number (quoted:\n"
     "'flow_*.vtu', the files flow_000.vtu, flow_001.vtu... in the order of their numbers, at times\n"
-    "0, 1, 2...);\n";
+    "0, 1, 2...); a series' or an Exodus file's step:\n";
 const char* const kRenderHelpBall =
     "ball[:S] is a unit ball of constant extinction (an icosphere subdivided S times, default 3, one\n"
     "tetrahedron per boundary triangle): its optical depth is sigma times the chord, in closed form.\n"
@@ -147,6 +152,7 @@ std::string render_help() {
   help.append("\n  color only:\n").append(volume_options_help(G::Color, kIndent));
   help.append("\n").append(kRenderHelpFiles).append(volume_options_help(G::Tetgen, kFileIndent)).append(kRenderHelpImages);
   help.append(volume_options_help(G::Image, kFileIndent)).append(kRenderHelpVdb).append(volume_options_help(G::Vdb, kFileIndent));
+  help.append(kRenderHelpExodus).append(volume_options_help(G::Exodus, kFileIndent));
   help.append(kRenderHelpSeries).append(volume_options_help(G::Time, kFileIndent));
   help.append(kRenderHelpBall).append(surface_render_help()).append(kRenderMixedHelp);
   return help;

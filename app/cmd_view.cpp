@@ -94,7 +94,7 @@ std::string view_help() {
   // The volume options from the option table: what render takes, but the CPU reference's mode.
   return kViewHelpHead + wrap_words("  ", "--mode, " + volume_option_list({G::Quantity, G::Data, G::Mesh, G::March, G::Color}), 2) +
          "                       what to show and how, as for render (the GPU modes: not the CPU reference)\n" +
-         wrap_words("  ", volume_option_list({G::Tetgen, G::Image, G::Vdb, G::Time}), 2) +
+         wrap_words("  ", volume_option_list({G::Tetgen, G::Image, G::Vdb, G::Exodus, G::Time}), 2) +
          "                       how a FILE loads, as for render\n" + kViewHelpTail;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -380,6 +381,132 @@ void check_metaimage(const std::string& path, uint64_t file_bytes, const ReadAt&
   if (compressed) check_inflated(path, read_at, at, file_bytes, voxels * std::max<Amount>(channels, 1) * Amount(type_bytes));
 }
 
+// ---- netCDF classic (Exodus II): each variable's values at its offset, within the file -------
+// The header (NetCDF Classic and 64-bit Offset Format, and CDF-5) lists dimensions and variables
+// with their offsets; a file cut short still opens, and netCDF then reads the missing values as
+// fill values (a truncated Exodus file's time values all read 0). Big-endian throughout.
+
+class NetcdfHeader {
+ public:
+  NetcdfHeader(std::string bytes, int version) : bytes_(std::move(bytes)), wide_(version == 5) {}
+  bool ok() const { return ok_; }
+  uint64_t word(size_t size) {
+    if (!ok_ || at_ + size > bytes_.size()) return fail();
+    uint64_t v = 0;
+    for (size_t i = 0; i < size; ++i) v = (v << 8) | uint8_t(bytes_[at_ + i]);
+    at_ += size;
+    return v;
+  }
+  uint64_t tag() { return word(4); }
+  uint64_t count() { return word(wide_ ? 8 : 4); }  // nelems, dimension lengths, vsize
+  std::string name() {
+    const uint64_t n = count();
+    if (!ok_ || n > bytes_.size() - at_) return fail(), std::string();
+    std::string text = bytes_.substr(at_, size_t(n));
+    at_ += padded(size_t(n));
+    return text;
+  }
+  void skip(Amount bytes) {
+    if (!ok_ || bytes > Amount(bytes_.size() - at_)) return void(fail());
+    at_ += padded(size_t(bytes));
+  }
+  static size_t padded(size_t n) { return (n + 3) / 4 * 4; }
+
+ private:
+  uint64_t fail() {
+    ok_ = false;
+    return 0;
+  }
+  std::string bytes_;
+  size_t at_ = 4;
+  bool wide_;
+  bool ok_ = true;
+};
+
+size_t netcdf_type_bytes(uint64_t type) {
+  switch (type) {
+    case 1: case 2: case 7: return 1;  // byte, char, ubyte
+    case 3: case 8: return 2;          // short, ushort
+    case 4: case 5: case 9: return 4;  // int, float, uint
+    case 6: case 10: case 11: return 8;  // double, int64, uint64
+    default: return 0;
+  }
+}
+
+void skip_attributes(NetcdfHeader& h) {
+  const uint64_t tag = h.tag();
+  const uint64_t n = h.count();
+  if (tag == 0) return;  // ABSENT
+  for (uint64_t i = 0; i < n && h.ok(); ++i) {
+    h.name();
+    const size_t bytes = netcdf_type_bytes(h.tag());
+    h.skip(Amount(h.count()) * Amount(bytes));
+  }
+}
+
+void check_netcdf(const std::string& path, uint64_t file_bytes, const ReadAt& read_at) {
+  std::string head = read_at(0, size_t(std::min<uint64_t>(file_bytes, kHeadBytes)));
+  if (head.size() < 8 || head.compare(0, 3, "CDF") != 0) return;  // HDF5-based netCDF-4, or not netCDF: the reader says
+  const int version = head[3];
+  if (version != 1 && version != 2 && version != 5) return;
+  NetcdfHeader h(std::move(head), version);
+  const uint64_t records = h.word(version == 5 ? 8 : 4);
+  const bool streaming = records == (version == 5 ? ~uint64_t(0) : 0xFFFFFFFFu);
+  std::vector<uint64_t> dims;
+  h.tag();  // NC_DIMENSION, or zero with no dimensions
+  const uint64_t dim_count = h.count();
+  for (uint64_t i = 0; i < dim_count && h.ok() && i < kHeadBytes; ++i) {
+    h.name();
+    dims.push_back(h.count());
+  }
+  skip_attributes(h);  // the global attributes
+  struct Var {
+    std::string name;
+    Amount values = 1;  // per record for a record variable
+    bool record = false;
+    size_t type_bytes = 0;
+    uint64_t begin = 0;
+  };
+  std::vector<Var> vars;
+  h.tag();  // NC_VARIABLE
+  const uint64_t var_count = h.count();
+  for (uint64_t i = 0; i < var_count && h.ok() && i < kHeadBytes; ++i) {
+    Var v;
+    v.name = h.name();
+    const uint64_t rank = h.count();
+    for (uint64_t d = 0; d < rank && h.ok() && d < kHeadBytes; ++d) {
+      const uint64_t id = h.count();
+      if (h.ok() && id >= dims.size()) return;  // a corrupt header: netCDF refuses it
+      if (!h.ok()) break;
+      if (d == 0 && dims[id] == 0) v.record = true;
+      else v.values *= Amount(dims[id]);
+    }
+    skip_attributes(h);
+    v.type_bytes = netcdf_type_bytes(h.tag());
+    h.count();  // vsize: netCDF caps it for large variables, so the size is computed from the dimensions
+    v.begin = h.word(version == 1 ? 4 : 8);
+    if (h.ok() && v.type_bytes == 0) return;  // an unknown type: netCDF refuses it
+    vars.push_back(v);
+  }
+  if (!h.ok()) {
+    if (file_bytes < kHeadBytes) throw InputError(path, "holds a netCDF header that ends before its variables are listed: the file is truncated or corrupt");
+    return;  // a header longer than we read: left to the reader
+  }
+  const size_t record_vars = size_t(std::count_if(vars.begin(), vars.end(), [](const Var& v) { return v.record; }));
+  Amount record_bytes = 0;  // one record: each record variable's values padded to 4 bytes, unless there is one
+  for (const Var& v : vars)
+    if (v.record) record_bytes += record_vars == 1 ? v.values * Amount(v.type_bytes) : std::ceil(v.values * Amount(v.type_bytes) / 4) * 4;
+  for (const Var& v : vars) {
+    const Amount bytes = v.values * Amount(v.type_bytes);
+    if (v.record && (streaming || records == 0)) continue;
+    const Amount end = Amount(v.begin) + (v.record ? Amount(records - 1) * record_bytes + bytes : bytes);
+    if (end > Amount(file_bytes))
+      refuse(path, "the netCDF variable '" + v.name + "' (" + count_text(v.values) + " values" +
+                       (v.record ? " in each of " + std::to_string(records) + " records" : std::string()) + ")",
+             end, Amount(file_bytes));
+  }
+}
+
 }  // namespace
 
 void check_declared_sizes(const std::string& path, const std::string& ext, uint64_t file_bytes, const ReadAt& read_at) {
@@ -387,6 +514,7 @@ void check_declared_sizes(const std::string& path, const std::string& ext, uint6
   else if (ext == ".vtu" || ext == ".vtp" || ext == ".vti") check_xml(path, file_bytes, read_at);
   else if (ext == ".vtk") check_legacy(path, file_bytes, read_at);
   else if (ext == ".mha" || ext == ".mhd") check_metaimage(path, file_bytes, read_at);
+  else if (ext == ".exo" || ext == ".e" || ext == ".ex2" || ext == ".exii" || ext == ".g" || ext == ".gen") check_netcdf(path, file_bytes, read_at);
 }
 
 void check_declared_sizes(const std::string& path) {

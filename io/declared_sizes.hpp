@@ -17,8 +17,9 @@ namespace prismoid::io::detail {
 // Checks the declared counts of a .ply (element counts), VTK XML .vtu .vtp .vti (every data
 // array's tuples and components, from NumberOfPoints, NumberOfCells, NumberOfPolys, Extent,
 // NumberOfTuples, NumberOfComponents), legacy .vtk (POINTS, CELLS, CELL_TYPES) or MetaImage
-// .mha/.mhd (NDims, and DimSize times the element size of data in the file itself) file; other
-// kinds pass. InputError(path, ...) names the count and the bytes there are.
+// .mha/.mhd (NDims, and DimSize times the element size of data in the file itself) or netCDF
+// classic Exodus II (.exo .e .ex2 .exii .g .gen: every variable's offset and size, records
+// included) file; other kinds pass. InputError(path, ...) names the count and the bytes there are.
 void check_declared_sizes(const std::string& path);
 
 // The same on bytes: `read_at(offset, count)` returns up to `count` of the file's bytes from

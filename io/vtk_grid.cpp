@@ -19,6 +19,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "io/declared_sizes.hpp"
+#include "io/exodus_io.hpp"
 #include "io/path_util.hpp"
 #include "io/vtk_progress.hpp"
 #include "scene/input_error.hpp"
@@ -26,17 +27,6 @@
 namespace prismoid::io::detail {
 
 namespace {
-
-// VTK reports read failures as error events, not return codes: this collects the first
-// message of an algorithm (and of the readers it runs for the pieces) so it can name the problem.
-class ErrorCatcher : public vtkCommand {
- public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override {
-    if (message.empty() && data) message = static_cast<const char*>(data);
-  }
-  std::string message;
-};
 
 // Messages from VTK objects without an observer: kept from the console while io reads, and the
 // first error kept. VTK's readers report some failures only this way: errors of objects without
@@ -55,11 +45,6 @@ class SilentOutput : public vtkOutputWindow {
     if (first_error.empty() && text) first_error = text;
   }
 };
-
-[[noreturn]] void fail_read(const std::string& path, const std::string& what, const ErrorCatcher& errors) {
-  const std::string detail = vtk_problem(errors.message.empty() ? reported_vtk_error() : errors.message);
-  throw InputError(path, what + (detail.empty() ? "" : " (VTK: " + detail + ")"));
-}
 
 template <typename Reader>
 vtkSmartPointer<Reader> run_xml_reader(const std::string& path, const char* kind, const Progress& progress, const ProgressSpan& span) {
@@ -88,25 +73,6 @@ vtkSmartPointer<vtkUnstructuredGrid> read_legacy(const std::string& path, const 
   return reader->GetOutput();
 }
 
-// One grid of several with coincident points merged: neighbouring pieces then share point ids.
-GridSource merge(const std::string& path, const std::vector<vtkUnstructuredGrid*>& pieces, const Progress& progress,
-                 const ProgressSpan& span) {
-  if (pieces.empty()) throw InputError(path, "has no unstructured grid blocks (empty mesh)");
-  vtkNew<vtkAppendFilter> append;
-  append->MergePointsOn();
-  vtkIdType points_in = 0;
-  for (vtkUnstructuredGrid* piece : pieces) {
-    append->AddInputData(piece);
-    points_in += piece->GetNumberOfPoints();
-  }
-  update_with_progress(append, progress, span, path);
-  GridSource source;
-  source.grid = append->GetOutput();
-  source.pieces = pieces.size();
-  source.merged_points = size_t(points_in - source.grid->GetNumberOfPoints());
-  return source;
-}
-
 GridSource read_multiblock(const std::string& path, const Progress& progress, double read_end) {
   auto reader = run_xml_reader<vtkXMLMultiBlockDataReader>(path, "multiblock (.vtm)", progress, {0.0, 0.8 * read_end, "reading blocks"});
   auto* blocks = vtkMultiBlockDataSet::SafeDownCast(reader->GetOutputDataObject(0));
@@ -128,7 +94,7 @@ GridSource read_multiblock(const std::string& path, const Progress& progress, do
     }
     grids.push_back(grid);
   }
-  return merge(path, grids, progress, {0.8 * read_end, read_end, "merging blocks"});
+  return merge_pieces(path, grids, progress, {0.8 * read_end, read_end, "merging blocks"});
 }
 
 // The file's first bytes say what it is; a mismatch with the extension is named before a reader
@@ -158,6 +124,30 @@ void check_content(const std::string& path, const std::string& ext) {
 }
 
 }  // namespace
+
+void fail_read(const std::string& path, const std::string& what, const ErrorCatcher& errors) {
+  const std::string detail = vtk_problem(errors.message.empty() ? reported_vtk_error() : errors.message);
+  throw InputError(path, what + (detail.empty() ? "" : " (VTK: " + detail + ")"));
+}
+
+// One grid of several with coincident points merged: neighbouring pieces then share point ids.
+GridSource merge_pieces(const std::string& path, const std::vector<vtkUnstructuredGrid*>& pieces, const Progress& progress,
+                        const ProgressSpan& span) {
+  if (pieces.empty()) throw InputError(path, "has no unstructured grid blocks (empty mesh)");
+  vtkNew<vtkAppendFilter> append;
+  append->MergePointsOn();
+  vtkIdType points_in = 0;
+  for (vtkUnstructuredGrid* piece : pieces) {
+    append->AddInputData(piece);
+    points_in += piece->GetNumberOfPoints();
+  }
+  update_with_progress(append, progress, span, path);
+  GridSource source;
+  source.grid = append->GetOutput();
+  source.pieces = pieces.size();
+  source.merged_points = size_t(points_in - source.grid->GetNumberOfPoints());
+  return source;
+}
 
 std::string vtk_problem(std::string text) {
   // "ERROR: In FILE, line N\nvtkClass (0x...): the problem" or "Generic Warning: In FILE, line
@@ -191,8 +181,9 @@ QuietVtk::~QuietVtk() {
   vtkObject::SetGlobalWarningDisplay(display_);
 }
 
-GridSource read_unstructured_grid(const std::string& path, const Progress& progress, double read_end) {
+GridSource read_unstructured_grid(const std::string& path, const Progress& progress, double read_end, const GridChoice& choice) {
   const std::string ext = lower_extension(path);
+  if (is_exodus_path(path)) return read_exodus_grid(path, choice, progress, read_end);
   check_content(path, ext);
   check_declared_sizes(path);
   if (ext == ".vtm") return read_multiblock(path, progress, read_end);
@@ -217,7 +208,7 @@ GridSource read_unstructured_grid(const std::string& path, const Progress& progr
     }
     std::vector<vtkUnstructuredGrid*> raw;
     for (auto& p : pieces) raw.push_back(p);
-    return merge(path, raw, progress, {0.8 * read_end, read_end, "merging pieces"});
+    return merge_pieces(path, raw, progress, {0.8 * read_end, read_end, "merging pieces"});
   }
   GridSource source;
   const ProgressSpan reading{0.0, read_end, "reading"};

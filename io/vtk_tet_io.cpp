@@ -17,6 +17,7 @@
 #include <vtkPoints.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include "io/exodus_io.hpp"
 #include "io/file_write.hpp"
 #include "io/path_util.hpp"
 #include "io/vtk_grid.hpp"
@@ -118,6 +119,7 @@ std::string conversion_note(const MeshConversion& c) {
     parts.push_back("split " + in + " into " + std::to_string(c.tets_out) + " tetrahedra");
   }
   if (c.dropped > 0) parts.push_back("dropped " + std::to_string(c.dropped) + " cells without volume (2D/1D/vertex)");
+  for (const std::string& what : c.ignored) parts.push_back("not drawn: " + what);
   if (c.zero_volume > 0) parts.push_back(std::to_string(c.zero_volume) + " zero-volume tetrahedra (kept; they contribute nothing)");
   if (c.inverted > 0) parts.push_back(std::to_string(c.inverted) + " inverted tetrahedra (negative orientation; rendered as they are)");
   std::string note;
@@ -127,7 +129,7 @@ std::string conversion_note(const MeshConversion& c) {
 
 bool is_tet_mesh_path(const std::string& path) {
   const std::string ext = detail::lower_extension(path);
-  return ext == ".vtu" || ext == ".vtk" || ext == ".vtm" || ext == ".pvtu";
+  return ext == ".vtu" || ext == ".vtk" || ext == ".vtm" || ext == ".pvtu" || is_exodus_path(path);
 }
 
 namespace {
@@ -154,6 +156,8 @@ void fields(S& s, M& r) {
   s(r.options.component);
   s(r.options.role);
   s(r.options.density_scale);
+  s(r.options.blocks);
+  s(r.options.time_step);
 }
 
 const ChildWork<ReadRequest, ReadResult> kReadTetMesh("read-tet-mesh", [](const ReadRequest& request, const Progress& progress) {
@@ -161,7 +165,7 @@ const ChildWork<ReadRequest, ReadResult> kReadTetMesh("read-tet-mesh", [](const 
   TetReadOptions reading = request.options;
   reading.progress = progress;
   ReadResult r;
-  r.mesh = detail::tet_mesh_from_grid(detail::read_unstructured_grid(request.path, progress, 0.7), request.path, reading, &r.conversion);
+  r.mesh = detail::tet_mesh_from_grid(detail::read_unstructured_grid(request.path, progress, 0.7, {request.options.blocks, request.options.time_step}), request.path, reading, &r.conversion);
   return r;
 });
 
@@ -170,7 +174,7 @@ const ChildWork<ReadRequest, ReadResult> kReadTetMesh("read-tet-mesh", [](const 
 TetMesh read_tet_mesh(const std::string& path, const TetReadOptions& options, MeshConversion* conversion) {
   detail::require_regular_file(path);
   if (!is_tet_mesh_path(path))
-    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (Prismoid reads meshes .vtu .vtk .vtm .pvtu, time series .pvd, images .vti .mhd .mha .inr, surfaces .vtp .stl .obj .ply .off)");
+    throw InputError(path, "unknown dataset type '" + detail::lower_extension(path) + "' (Prismoid reads meshes .vtu .vtk .vtm .pvtu, Exodus II .exo .e .ex2, time series .pvd, images .vti .mhd .mha .inr, surfaces .vtp .stl .obj .ply .off)");
   // VTK's readers run in a child process (io/isolated_read.hpp): a file that crashes them or
   // makes them allocate without end is an InputError here.
   ReadResult result = kReadTetMesh(read_job(path), options.progress, {path, options});
@@ -185,6 +189,7 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
   MeshConversion report;
   report.pieces = source.pieces;
   report.merged_points = source.merged_points;
+  report.ignored = source.ignored;
   vtkSmartPointer<vtkUnstructuredGrid> grid = source.grid;
   if (grid->GetNumberOfCells() == 0) throw InputError(path, "has no cells (empty mesh)");
   for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {  // before any filter computes with them

@@ -1,10 +1,12 @@
 #pragma once
 // Tetrahedral meshes from VTK unstructured grids (.vtu, legacy .vtk, multiblock .vtm, parallel
-// .pvtu), through VTK's own readers and filters. VTK types stay inside io/: callers get a plain
+// .pvtu) and Exodus II files (io/exodus_io.hpp), through VTK's own readers and filters. VTK types stay inside io/: callers get a plain
 // TetMesh and, if they ask, a report of what reading did to the file's cells.
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "io/progress.hpp"
 #include "scene/tet_mesh_fwd.hpp"
@@ -25,6 +27,10 @@ struct TetReadOptions {
   int component = -1;  // of a vector array; -1: its magnitude
   ArrayRole role = ArrayRole::Extinction;
   double density_scale = 1.0;  // multiplies the array's values (Extinction role only)
+  // Exodus II only: the element blocks drawn, each by its id or its name (empty: every block
+  // that holds 3D cells), and the file's time step (an index, 0 the first).
+  std::vector<std::string> blocks;
+  uint32_t time_step = 0;
   // Called while VTK reads and splits cells (fractions rise to 1); returning false cancels:
   // read_tet_mesh then throws Cancelled.
   Progress progress;
@@ -52,6 +58,8 @@ struct MeshConversion {
   // only cell array, an array named "extinction" (what Prismoid writes) aside. Empty: none.
   std::string chosen_array;
   std::string chosen_why;    // e.g. "the only point array"
+  // What the file holds that is not drawn, one phrase each, e.g. "block 30 (vtkQuad): no 3D cells".
+  std::vector<std::string> ignored;
   bool split() const;        // whether any cell was not a tetrahedron
 };
 

@@ -8,6 +8,7 @@
 
 #include "app/common/grid_dataset.hpp"
 #include "io/image_volume_io.hpp"
+#include "io/exodus_io.hpp"
 #include "io/time_series.hpp"
 #include "io/vdb_io.hpp"
 #include "renderer/frame/volume_modes.hpp"
@@ -120,9 +121,13 @@ TetMesh load_image(const LoadRequest& r, const io::Progress& progress) {  // eac
   return load_grid(r, progress, image, [](const std::string& path, const io::ImageReadOptions& o) { return io::read_image_volume(path, o); });
 }
 
-// .vtu .vtk .vtm .pvtu through VTK; `conversion` (where given) receives what reading it did.
-TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress, io::MeshConversion* conversion_out = nullptr) {
+// .vtu .vtk .vtm .pvtu and Exodus II through VTK; `conversion` (where given) receives what reading
+// it did. `time_step`: an Exodus file's.
+TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress, io::MeshConversion* conversion_out = nullptr,
+                          uint32_t time_step = 0) {
   io::TetReadOptions reading;
+  reading.blocks = r.blocks;
+  reading.time_step = time_step;
   reading.array = r.array;
   reading.component = r.component.value_or(-1);
   reading.role = r.role;
@@ -168,6 +173,39 @@ TetMesh load_time_step(const LoadRequest& r, const io::Progress& progress) {
                                    named(first.chosen_array) + ": the steps' arrays differ; name the array with --array");
   }
   mesh.name = r.path + " step " + std::to_string(i) + " (t = " + json_number(step.time) + ")";
+  return mesh;
+}
+
+// --blocks' comma-separated ids or names (spaces around each dropped; none may be empty).
+std::vector<std::string> block_list(const std::string& text) {
+  std::vector<std::string> blocks;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = std::min(text.find(',', start), text.size());
+    std::string token = text.substr(start, comma - start);
+    token.erase(0, token.find_first_not_of(' '));
+    token.erase(token.find_last_not_of(' ') + 1);
+    if (token.empty()) throw InputError("--blocks", "'" + text + "' holds an empty block name; give ids or names separated by commas");
+    blocks.push_back(token);
+    if (comma == text.size()) return blocks;
+    start = comma + 1;
+  }
+}
+
+// An Exodus II file: its step picked as a time series' is (the file's time values), its blocks as
+// asked. Exodus variables are the file's, the same at every step: no step is coloured by another.
+TetMesh load_exodus(const LoadRequest& r, const io::Progress& progress) {
+  const io::ExodusInfo info = io::read_exodus_info(r.path, /*cells=*/false);
+  io::TimeSeries steps;
+  for (double t : info.times) steps.steps.push_back({t, r.path});
+  if (steps.steps.empty() && (r.time_step || r.time))
+    throw InputError(r.time_step ? "--time-step" : "--time", r.path + " holds no time steps (one state, drawn as it is)");
+  const size_t i = steps.steps.empty() ? 0 : io::pick_time_step(steps, r.path, r.time_step, r.time);
+  if (!r.time_step && !r.time && steps.steps.size() > 1)
+    std::cerr << "prismoid: note: " << r.path << ": " << steps.steps.size() << " time steps; drawing step 0 (t = " << json_number(info.times[0])
+              << "): --time-step N or --time T picks another (`prismoid info` lists them)\n";
+  TetMesh mesh = load_unstructured(r, progress, nullptr, uint32_t(i));
+  if (!steps.steps.empty()) mesh.name = r.path + " step " + std::to_string(i) + " (t = " + json_number(info.times[i]) + ")";
   return mesh;
 }
 
@@ -239,9 +277,13 @@ LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool
     r.subsample = parse_uint("subsample", a.values.at("subsample"));
     if (*r.subsample == 0) throw InputError("--subsample", "must be at least 1");
   }
+  const bool is_exodus = !path.empty() && io::is_exodus_path(path);
   const bool is_series = !path.empty() && io::is_time_series_path(path);
   for (const char* option : {"time-step", "time"})
-    if (a.has(option) && !is_series) throw InputError(std::string("--") + option, "picks a step of a time series (.pvd)");
+    if (a.has(option) && !is_series && !is_exodus)
+      throw InputError(std::string("--") + option, "picks a step of a time series (.pvd, 'name_*.vtu') or an Exodus II file");
+  if (a.has("blocks") && !is_exodus) throw InputError("--blocks", "picks element blocks of an Exodus II file (.exo .e .ex2 .exii .g .gen)");
+  if (a.has("blocks")) r.blocks = block_list(a.values.at("blocks"));
   if (a.has("time-step")) r.time_step = parse_uint("time-step", a.values.at("time-step"));
   if (a.has("time")) r.time = parse_double("time", a.values.at("time"));
   return r;
@@ -257,6 +299,7 @@ TetMesh load_dataset(const LoadRequest& r, const io::Progress& progress) {
   if (const auto field = field_of_request(r)) return load_field(r, *field);
   if (is_ball_spec(r.path)) return load_ball(r);
   if (io::is_time_series_path(r.path)) return load_time_step(r, progress);
+  if (io::is_exodus_path(r.path)) return load_exodus(r, progress);
   if (io::is_surface_path(r.path)) return load_surface(r, progress);
   if (io::is_vdb_path(r.path)) return load_vdb(r, progress);
   if (io::is_image_volume_path(r.path)) return load_image(r, progress);

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/common/cli_args.hpp"
 #include "io/progress.hpp"
@@ -34,10 +35,11 @@ struct LoadRequest {
   // they march) rather than as voxel tetrahedra. Reads through a cache that belongs to the main
   // thread: the viewer's loader never sets it.
   bool vdb_marched = false;
-  // A time series (.pvd) only: the step drawn, by index or by time (io::pick_time_step; neither:
-  // the first).
+  // A time series (.pvd, numbered files) or an Exodus II file only: the step drawn, by index or by
+  // time (io::pick_time_step; neither: the first).
   std::optional<uint32_t> time_step;
   std::optional<double> time;
+  std::vector<std::string> blocks;  // Exodus II only: the element blocks drawn, by id or name (empty: those with 3D cells)
 };
 
 // The request the dataset options describe for `path`; InputError names an option that is

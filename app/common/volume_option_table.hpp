@@ -23,7 +23,8 @@ enum class VolumeOptionGroup {
   Tetgen,   // a closed surface filled with tetrahedra
   Image,    // image volumes
   Vdb,      // OpenVDB grids
-  Time,     // time series
+  Exodus,   // Exodus II files
+  Time,     // time series and Exodus II steps
 };
 
 struct VolumeOption {

@@ -154,7 +154,7 @@ TEST(CliTimeSeries, BadCollectionsAndStepsAreRefusedByName) {
   refused(good.string() + " --time 5", "--time: 5 lies outside");
   refused(good.string() + " --time -1", "--time: -1 lies outside");
   refused(good.string() + " --time-step 1 --time 0.5", "both pick a step");
-  refused((dir / "steps" / "box_0.vtu").string() + " --time-step 0", "--time-step: picks a step of a time series (.pvd)");
+  refused((dir / "steps" / "box_0.vtu").string() + " --time-step 0", "--time-step: picks a step of a time series (.pvd, 'name_*.vtu') or an Exodus II file");
   // No output may replace a step the command reads through the series: refused before any work,
   // the step keeping its bytes.
   const fs::path step0 = dir / "steps" / "box_0.vtu";

@@ -58,6 +58,7 @@
 #include "io/vdb_io.hpp"
 #include "scene/generators.hpp"
 #include "scene/input_error.hpp"
+#include "support/exodus_file.hpp"
 #include "support/processes.hpp"
 
 namespace prismoid {
@@ -259,6 +260,16 @@ std::vector<fs::path> write_seeds() {
   std::ofstream(add("series.pvd")) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n"
                                       "    <DataSet timestep=\"0\" part=\"0\" file=\"ball-0.vtu\"/>\n"
                                       "    <DataSet timestep=\"1.25\" part=\"0\" file=\"ball-1.vtu\"/>\n  </Collection>\n</VTKFile>\n";
+  {
+    // Exodus II (netCDF classic): the unit ball's tetrahedra in one block, an element variable over
+    // two steps, with the library VTK's reader uses.
+    const TetMesh ball = make_ball_mesh(glm::dvec3(0.0), 1.0, 1, 1.0);
+    test::ExodusFileSpec spec = test::exodus_of(ball);
+    spec.element_variables = {"density"};
+    spec.times = {0.0, 0.5};
+    spec.blocks[0].values = {{ball.cell_extinction}, {ball.cell_extinction}};
+    test::write_exodus(add("ball.exo"), spec);
+  }
   return seeds;
 }
 
@@ -418,7 +429,7 @@ uint64_t peak_kib(int who) {
 TEST(LoadFuzz, EveryMutationOfEveryFormatLoadsOrIsAnInputErrorNamingTheFile) {
   ::setenv("XDG_CACHE_HOME", (scratch() / "cache").c_str(), 1);  // TetGen's results stay here
   const std::vector<fs::path> seeds = write_seeds();
-  ASSERT_EQ(seeds.size(), 20u);  // 15 extensions, several in ASCII and binary
+  ASSERT_EQ(seeds.size(), 21u);  // 16 extensions, several in ASCII and binary
   DeadlockWatch deadlocks;
   const auto start = Clock::now();
   size_t runs = 0, loads = 0, refusals = 0;
