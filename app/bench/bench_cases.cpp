@@ -1,6 +1,7 @@
 #include "app/bench/bench_cases.hpp"
 
 #include "app/common/volume_option_table.hpp"
+#include "io/exodus_io.hpp"
 #include "io/time_series.hpp"
 #include "renderer/frame/volume_modes.hpp"
 
@@ -50,13 +51,15 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
     // Pre-integration table size (0, the default above, integrates each segment exactly).
     for (const std::string& n : app::volume_option_sweep("preintegration-size", p.quick))
       add(cases, d, "preintegration", "color", sorted, {{"preintegration-size", n}}, s);
-    // A time series' steps, each a case: its transmittance in mesh order and its colour in exact
-    // order, so that cost and accuracy are followed over the simulation's time.
-    if (io::is_time_series_path(d))
-      for (size_t i = 0; i < io::read_time_series(d).steps.size(); ++i) {
-        add(cases, d, "time", "transmittance", mesh_order, {{"time-step", std::to_string(i)}}, s);
-        add(cases, d, "time", "color", exact, {{"time-step", std::to_string(i)}}, s);
-      }
+    // A time series' or an Exodus file's steps, each a case: its transmittance in mesh order and
+    // its colour in exact order, so that cost and accuracy are followed over the simulation's time.
+    const size_t steps = io::is_time_series_path(d) ? io::read_time_series(d).steps.size()
+                         : io::is_exodus_path(d)    ? io::read_exodus_info(d, /*cells=*/false).times.size()
+                                                    : 0;
+    for (size_t i = 0; i < steps; ++i) {
+      add(cases, d, "time", "transmittance", mesh_order, {{"time-step", std::to_string(i)}}, s);
+      add(cases, d, "time", "color", exact, {{"time-step", std::to_string(i)}}, s);
+    }
   }
   // Image size, on the first dataset: half and twice the preset's size beside the size itself.
   if (!p.quick && !datasets.empty())

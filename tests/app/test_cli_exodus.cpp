@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -85,18 +86,26 @@ TEST(CliExodus, TheSameMeshAsVtuAndAsExodusRendersTheSameImage) {
   for (size_t p = 0; p < ref.size(); ++p) EXPECT_NEAR(images[0].pixels[p], images[1].pixels[p], 1e-6 * (1.0 + ref[p])) << "pixel " << p;
 }
 
-// Three steps of the box, each of one constant extinction (an element variable): `info` lists
-// the steps, and each step drawn gives 2 sigma of its own step along the axis.
-TEST(CliExodus, EachStepGivesItsOwnClosedFormOpticalDepth) {
-  const fs::path dir = fresh_dir("exodus_steps");
-  const std::vector<double> sigma = {0.5, 1.0, 2.0}, times = {0.0, 0.5, 1.5};
-  const TetMesh mesh = make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 2, [](const glm::dvec3&) { return 1.0; });
+// Three steps of the box, each of one constant extinction (an element variable).
+const std::vector<double> kSigma = {0.5, 1.0, 2.0}, kTimes = {0.0, 0.5, 1.5};
+TetMesh steps_box() { return make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 2, [](const glm::dvec3&) { return 1.0; }); }
+fs::path write_steps(const fs::path& dir) {
+  const TetMesh mesh = steps_box();
   ExodusFileSpec spec = test::exodus_of(mesh, 7);
   spec.element_variables = {"extinction"};
-  spec.times = times;
-  for (double s : sigma) spec.blocks[0].values.push_back({std::vector<double>(mesh.tets.size(), s)});
+  spec.times = kTimes;
+  for (double s : kSigma) spec.blocks[0].values.push_back({std::vector<double>(mesh.tets.size(), s)});
   const fs::path exo = dir / "steps.e";
   test::write_exodus(exo, spec);
+  return exo;
+}
+
+// `info` lists the steps, and each step drawn gives 2 sigma of its own step along the axis.
+TEST(CliExodus, EachStepGivesItsOwnClosedFormOpticalDepth) {
+  const fs::path dir = fresh_dir("exodus_steps");
+  const fs::path exo = write_steps(dir);
+  const std::vector<double>& sigma = kSigma;
+  const TetMesh mesh = steps_box();
 
   const CliRun info = run("info " + exo.string());
   ASSERT_EQ(info.code, 0) << info.err;
@@ -118,6 +127,36 @@ TEST(CliExodus, EachStepGivesItsOwnClosedFormOpticalDepth) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("3 time steps; drawing step 0 (t = 0)"), std::string::npos) << r.err;
   EXPECT_NEAR(centre(io::read_pfm(at.string())), 2.0 * sigma[0], 1e-5 * 2.0 * sigma[0]);
+}
+
+// The bench's time sweep over an Exodus file's steps: each step's transmittance and colour,
+// each held to its own step's reference (against another step's, transmittance would be off by
+// tenths).
+TEST(CliExodus, TheBenchTimesEveryStep) {
+  const fs::path dir = fresh_dir("exodus_bench");
+  const fs::path exo = write_steps(dir);
+  const CliRun r = run("bench " + exo.string() + " --quick --sweeps time --no-plots --no-peers --array extinction --out " + (dir / "b").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream csv(dir / "b" / "bench.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  std::vector<std::string> columns, rows;
+  std::istringstream head(header);
+  for (std::string c; std::getline(head, c, ',');) columns.push_back(c);
+  while (std::getline(csv, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 2 * kSigma.size()) << r.out;
+  const size_t rmse_at = size_t(std::find(columns.begin(), columns.end(), "rmse") - columns.begin());
+  ASSERT_LT(rmse_at, columns.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_NE(rows[i].find("step " + std::to_string(i / 2) + " (t = "), std::string::npos) << rows[i];
+    EXPECT_NE(rows[i].find(i % 2 ? ",time,color," : ",time,transmittance,"), std::string::npos) << rows[i];
+    // The dataset's name is quoted (it holds commas and spaces): count columns after it.
+    std::istringstream cells(rows[i].substr(rows[i].find("\",") + 2));
+    std::vector<std::string> values;
+    for (std::string v; std::getline(cells, v, ',');) values.push_back(v);
+    ASSERT_GT(values.size(), rmse_at - 1) << rows[i];
+    EXPECT_LT(std::stod(values[rmse_at - 1]), 1e-4) << rows[i];
+  }
 }
 
 // A hexahedron (block 10 'fluid') and a tetrahedron (block 20) sharing a face's three nodes, a
