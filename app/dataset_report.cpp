@@ -33,6 +33,10 @@ std::string format_dataset_info(const std::string& path, const io::DatasetInfo& 
   if (info.conversion.pieces > 1)
     s << " (" << info.conversion.pieces << " pieces merged, " << info.conversion.merged_points << " shared points stored once)";
   s << "\n";
+  if (!info.blocks.empty()) {
+    s << "  blocks (render --blocks LIST picks them by index or name):\n";
+    for (const std::string& b : info.blocks) s << "    " << b << "\n";
+  }
   s << "  bounds: [" << info.bounds.min.x << ", " << info.bounds.max.x << "] x [" << info.bounds.min.y << ", " << info.bounds.max.y
     << "] x [" << info.bounds.min.z << ", " << info.bounds.max.z << "]\n";
   for (const bool per_point : {true, false}) {

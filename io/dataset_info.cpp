@@ -50,6 +50,7 @@ void fields(S& s, M& info) {
   s(info.conversion);
   s(info.mesh_points);
   s(info.volume);
+  s(info.blocks);
 }
 
 namespace {
@@ -67,6 +68,7 @@ const ChildWork<std::string, DatasetInfo> kDescribe("describe-dataset", [](const
   info.bounds = bounds_of(mesh);
   info.mesh_points = mesh.points.size();
   info.volume = tet_quality(mesh).total_volume;
+  info.blocks = source.blocks;
   return info;
 });
 

@@ -26,6 +26,7 @@ struct DatasetInfo {
   MeshConversion conversion;  // what read_tet_mesh produces from it
   size_t mesh_points = 0;     // points of the tetrahedral mesh (all the file's points are kept)
   double volume = 0.0;        // sum of |tetrahedron volume| after conversion
+  std::vector<std::string> blocks;  // a .vtm's blocks, one line each ("block 1 'density': vtkImageData (not drawn)")
 };
 
 // Reads the file as read_tet_mesh does (same errors) and summarizes it.

@@ -73,28 +73,65 @@ vtkSmartPointer<vtkUnstructuredGrid> read_legacy(const std::string& path, const 
   return reader->GetOutput();
 }
 
-GridSource read_multiblock(const std::string& path, const Progress& progress, double read_end) {
+// A .vtm's leaves in the order VTK's tree iterator visits them (their index), each named by its
+// metadata where it has a name; the chosen ones (choice.blocks: by index or name; none: all) that
+// are unstructured grids are merged. A leaf of another kind is named in a note, or refused when
+// chosen by name.
+GridSource read_multiblock(const std::string& path, const GridChoice& choice, const Progress& progress, double read_end) {
   auto reader = run_xml_reader<vtkXMLMultiBlockDataReader>(path, "multiblock (.vtm)", progress, {0.0, 0.8 * read_end, "reading blocks"});
-  auto* blocks = vtkMultiBlockDataSet::SafeDownCast(reader->GetOutputDataObject(0));
-  if (!blocks) throw InputError(path, "VTK did not read a multiblock data set");
-  std::vector<vtkUnstructuredGrid*> grids;
+  auto* tree = vtkMultiBlockDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+  if (!tree) throw InputError(path, "VTK did not read a multiblock data set");
+  struct Leaf {
+    vtkDataObject* data = nullptr;
+    std::string label;  // "1 'density'" or "1"
+    std::string name;
+  };
+  std::vector<Leaf> leaves;
   vtkSmartPointer<vtkDataObjectTreeIterator> it;
-  it.TakeReference(blocks->NewTreeIterator());
+  it.TakeReference(tree->NewTreeIterator());
   it->VisitOnlyLeavesOn();
-  size_t index = 0;
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem(), ++index) {
-    vtkDataObject* leaf = it->GetCurrentDataObject();
-    auto* grid = vtkUnstructuredGrid::SafeDownCast(leaf);
-    if (!grid) {
-      const char* name = it->GetCurrentMetaData() && it->GetCurrentMetaData()->Has(vtkCompositeDataSet::NAME())
-                             ? it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME())
-                             : nullptr;
-      throw InputError(path, "block " + std::to_string(index) + (name ? " '" + std::string(name) + "'" : std::string()) +
-                                 " is a " + leaf->GetClassName() + ", not an unstructured grid (only unstructured blocks are read)");
-    }
-    grids.push_back(grid);
+  it->SkipEmptyNodesOff();
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem()) {
+    Leaf leaf;
+    leaf.data = it->GetCurrentDataObject();
+    vtkInformation* meta = it->HasCurrentMetaData() ? it->GetCurrentMetaData() : nullptr;
+    if (meta && meta->Has(vtkCompositeDataSet::NAME())) leaf.name = meta->Get(vtkCompositeDataSet::NAME());
+    leaf.label = std::to_string(leaves.size()) + (leaf.name.empty() ? std::string() : " '" + leaf.name + "'");
+    leaves.push_back(leaf);
   }
-  return merge_pieces(path, grids, progress, {0.8 * read_end, read_end, "merging blocks"});
+  const auto kind = [](const Leaf& leaf) { return std::string(leaf.data ? leaf.data->GetClassName() : "empty block"); };
+  std::vector<bool> chosen(leaves.size(), choice.blocks.empty());
+  for (const std::string& token : choice.blocks) {
+    size_t found = leaves.size();
+    for (size_t i = 0; i < leaves.size() && found == leaves.size(); ++i)
+      if (token == std::to_string(i) || (!leaves[i].name.empty() && token == leaves[i].name)) found = i;
+    if (found == leaves.size()) {
+      std::string list;
+      for (const Leaf& leaf : leaves) list.append(list.empty() ? "" : ", ").append(leaf.label).append(" (").append(kind(leaf)).append(")");
+      throw InputError("--blocks", "'" + token + "' names no block of " + path + " (its blocks, by index and name: " + (list.empty() ? "none" : list) + ")");
+    }
+    chosen[found] = true;
+  }
+  GridSource source;
+  std::vector<vtkUnstructuredGrid*> grids;
+  for (size_t i = 0; i < leaves.size(); ++i) {
+    if (!chosen[i]) continue;
+    if (auto* grid = vtkUnstructuredGrid::SafeDownCast(leaves[i].data)) {
+      grids.push_back(grid);
+      source.blocks.push_back("block " + leaves[i].label + ": " + std::to_string(grid->GetNumberOfCells()) + " cells");
+      continue;
+    }
+    const std::string why = leaves[i].data ? "is a " + kind(leaves[i]) + ", not an unstructured grid (only unstructured blocks are read)" : "is empty";
+    if (!choice.blocks.empty()) throw InputError(path, "block " + leaves[i].label + " " + why);
+    source.ignored.push_back("block " + leaves[i].label + " (" + why + ")");
+    source.blocks.push_back("block " + leaves[i].label + ": " + kind(leaves[i]) + " (not drawn)");
+  }
+  if (grids.empty())
+    throw InputError(path, "has no unstructured grid blocks (empty mesh" + (source.ignored.empty() ? std::string(")") : "; not drawn: " + source.ignored.front() + ")"));
+  GridSource merged = merge_pieces(path, grids, progress, {0.8 * read_end, read_end, "merging blocks"});
+  merged.ignored = source.ignored;
+  merged.blocks = source.blocks;
+  return merged;
 }
 
 // The file's first bytes say what it is; a mismatch with the extension is named before a reader
@@ -186,7 +223,7 @@ GridSource read_unstructured_grid(const std::string& path, const Progress& progr
   if (is_exodus_path(path)) return read_exodus_grid(path, choice, progress, read_end);
   check_content(path, ext);
   check_declared_sizes(path);
-  if (ext == ".vtm") return read_multiblock(path, progress, read_end);
+  if (ext == ".vtm") return read_multiblock(path, choice, progress, read_end);
   if (ext == ".pvtu") {
     // Read piece by piece: the reader's whole output is one grid, whose shared points
     // vtkAppendFilter would pass through unmerged.

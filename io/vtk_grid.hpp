@@ -56,10 +56,11 @@ struct GridSource {
   size_t pieces = 1;           // blocks of a .vtm or pieces of a .pvtu, merged into `grid`
   size_t merged_points = 0;    // coincident points shared between pieces, merged into one
   std::vector<std::string> ignored;  // what the file holds that is not drawn (MeshConversion::ignored)
+  std::vector<std::string> blocks;   // a .vtm's blocks, one line each, e.g. "block 1 'density': vtkImageData (not drawn)"
 };
 
-// Which part of a file with several: the blocks and the time step of an Exodus II file
-// (TetReadOptions::blocks and ::time_step).
+// Which part of a file with several: the blocks of a .vtm or an Exodus II file and the time step
+// of an Exodus II file (TetReadOptions::blocks and ::time_step).
 struct GridChoice {
   std::vector<std::string> blocks;
   uint32_t time_step = 0;
@@ -72,7 +73,7 @@ GridSource merge_pieces(const std::string& path, const std::vector<vtkUnstructur
 // An Exodus II file's chosen element blocks at one time step, merged (io/exodus_io.cpp).
 GridSource read_exodus_grid(const std::string& path, const GridChoice& choice, const Progress& progress, double read_end);
 
-// .vtu, legacy .vtk, Exodus II, .vtm (every leaf must be an unstructured grid) or .pvtu. Pieces are
+// .vtu, legacy .vtk, Exodus II, .vtm (its unstructured grid blocks; others are noted) or .pvtu. Pieces are
 // appended with coincident points merged, so cells of neighbouring pieces share point ids
 // (the ordered triangulation below is conforming only across faces with shared ids).
 // InputError naming the file and the problem. `progress` sees fractions 0 to `read_end` while VTK

@@ -132,6 +132,8 @@ bool is_tet_mesh_path(const std::string& path) {
   return ext == ".vtu" || ext == ".vtk" || ext == ".vtm" || ext == ".pvtu" || is_exodus_path(path);
 }
 
+bool is_multiblock_path(const std::string& path) { return detail::lower_extension(path) == ".vtm"; }
+
 namespace {
 
 struct ReadResult {

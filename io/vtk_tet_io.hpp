@@ -27,8 +27,9 @@ struct TetReadOptions {
   int component = -1;  // of a vector array; -1: its magnitude
   ArrayRole role = ArrayRole::Extinction;
   double density_scale = 1.0;  // multiplies the array's values (Extinction role only)
-  // Exodus II only: the element blocks drawn, each by its id or its name (empty: every block
-  // that holds 3D cells), and the file's time step (an index, 0 the first).
+  // The blocks drawn: an Exodus II file's element blocks, each by its id or its name (empty:
+  // every block that holds 3D cells); a .vtm's blocks, each by its index or its name (empty:
+  // every unstructured grid block). An Exodus II file's time step (an index, 0 the first).
   std::vector<std::string> blocks;
   uint32_t time_step = 0;
   // Called while VTK reads and splits cells (fractions rise to 1); returning false cancels:
@@ -81,5 +82,7 @@ void write_tet_mesh_vtu(const std::string& path, const TetMesh& mesh);
 
 // Whether `path` has an extension read_tet_mesh understands.
 bool is_tet_mesh_path(const std::string& path);
+// Whether `path` names a multiblock .vtm (its blocks are chosen with TetReadOptions::blocks).
+bool is_multiblock_path(const std::string& path);
 
 }  // namespace prismoid::io

@@ -282,7 +282,8 @@ LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool
   for (const char* option : {"time-step", "time"})
     if (a.has(option) && !is_series && !is_exodus)
       throw InputError(std::string("--") + option, "picks a step of a time series (.pvd, 'name_*.vtu') or an Exodus II file");
-  if (a.has("blocks") && !is_exodus) throw InputError("--blocks", "picks element blocks of an Exodus II file (.exo .e .ex2 .exii .g .gen)");
+  if (a.has("blocks") && !is_exodus && !(!path.empty() && io::is_multiblock_path(path)))
+    throw InputError("--blocks", "picks blocks of a multiblock .vtm or an Exodus II file (.exo .e .ex2 .exii .g .gen)");
   if (a.has("blocks")) r.blocks = block_list(a.values.at("blocks"));
   if (a.has("time-step")) r.time_step = parse_uint("time-step", a.values.at("time-step"));
   if (a.has("time")) r.time = parse_double("time", a.values.at("time"));

@@ -39,7 +39,7 @@ struct LoadRequest {
   // time (io::pick_time_step; neither: the first).
   std::optional<uint32_t> time_step;
   std::optional<double> time;
-  std::vector<std::string> blocks;  // Exodus II only: the element blocks drawn, by id or name (empty: those with 3D cells)
+  std::vector<std::string> blocks;  // .vtm and Exodus II only: the blocks drawn (io::TetReadOptions::blocks)
 };
 
 // The request the dataset options describe for `path`; InputError names an option that is

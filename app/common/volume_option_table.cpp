@@ -66,8 +66,8 @@ const std::vector<VolumeOption>& volume_option_table() {
       {"subsample", "K", "keep 1 voxel in K per axis (images over 50 million cells need it)", G::Image},
       {"grid", "NAME", "the float grid to open (default: the file's first; --subsample applies)", G::Vdb},
       {"blocks", "LIST",
-       "the element blocks to draw, each by its id or its name, comma-separated (default: every block that holds 3D cells; "
-       "`prismoid info` lists them)",
+       "the blocks to draw, comma-separated: an Exodus II file's element blocks by id or name (default: those that hold 3D "
+       "cells), a .vtm's blocks by index or name (default: its unstructured grids); `prismoid info` lists them",
        G::Exodus},
       {"time-step", "N", "the step to draw, 0 the first (default 0; `prismoid info` lists the steps and their times)", G::Time},
       {"time", "T", "the step at time T: the last at or before it (as ParaView snaps a time to a step)", G::Time},

@@ -13,6 +13,7 @@
 #include <vtkMultiBlockDataSet.h>
 #include <vtkXMLMultiBlockDataWriter.h>
 
+#include "io/dataset_info.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
 #include "scene/tet_quality.hpp"
@@ -103,11 +104,54 @@ TEST(VtkPieces, MultiblockWithAnImageBlockNamesIt) {
   writer->SetFileName(path.c_str());
   writer->SetInputData(blocks);
   ASSERT_EQ(writer->Write(), 1);
+  // Drawn without it, and a note names it and why.
+  io::MeshConversion report;
+  const TetMesh mesh = io::read_tet_mesh(path, {}, &report);
+  EXPECT_EQ(mesh.points.size(), size_t(boxes.a->GetNumberOfPoints()));
+  EXPECT_NE(io::conversion_note(report).find("not drawn: block 1 'density' (is a vtkImageData, not an unstructured grid"), std::string::npos)
+      << io::conversion_note(report);
+  // `info` lists both.
+  const io::DatasetInfo info = io::describe_dataset(path);
+  EXPECT_EQ(info.blocks, (std::vector<std::string>{"block 0: " + std::to_string(boxes.a->GetNumberOfCells()) + " cells",
+                                                   "block 1 'density': vtkImageData (not drawn)"}));
+  // Chosen by name: refused, saying why.
+  for (const std::string& block : {"density", "1"})
+    try {
+      io::read_tet_mesh(path, {.blocks = {block}});
+      ADD_FAILURE() << "an image block is not an unstructured grid";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("block 1 'density' is a vtkImageData, not an unstructured grid"), std::string::npos) << e.what();
+    }
+}
+
+// Blocks picked by index or name: the chosen ones only, merged; a name that is no block is
+// refused listing the blocks there are.
+TEST(VtkPieces, MultiblockBlocksAreChosenByIndexOrName) {
+  TwoBoxes boxes;
+  vtkNew<vtkMultiBlockDataSet> blocks;
+  blocks->SetNumberOfBlocks(2);
+  blocks->SetBlock(0, boxes.a);
+  blocks->SetBlock(1, boxes.b);
+  blocks->GetMetaData(0u)->Set(vtkCompositeDataSet::NAME(), "left");
+  blocks->GetMetaData(1u)->Set(vtkCompositeDataSet::NAME(), "right");
+  const std::string path = (scratch() / "named.vtm").string();
+  vtkNew<vtkXMLMultiBlockDataWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(blocks);
+  ASSERT_EQ(writer->Write(), 1);
+  const TetMesh left = io::read_tet_mesh(path, {.blocks = {"left"}});
+  EXPECT_EQ(left.points.size(), size_t(boxes.a->GetNumberOfPoints()));
+  const TetMesh right = io::read_tet_mesh(path, {.blocks = {"1"}});
+  EXPECT_EQ(right.points.size(), size_t(boxes.b->GetNumberOfPoints()));
+  io::MeshConversion report;
+  const TetMesh both = io::read_tet_mesh(path, {.array = "cell_id", .role = io::ArrayRole::Scalars, .blocks = {"right", "0"}}, &report);
+  expect_merged(both, report, boxes);
   try {
-    io::read_tet_mesh(path);
-    ADD_FAILURE() << "an image block is not an unstructured grid";
+    io::read_tet_mesh(path, {.blocks = {"middle"}});
+    ADD_FAILURE() << "no block is named middle";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("block 1 'density' is a vtkImageData, not an unstructured grid"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'middle' names no block of " + path + " (its blocks, by index and name: 0 'left' (vtkUnstructuredGrid), 1 'right' (vtkUnstructuredGrid))"),
+              std::string::npos) << e.what();
   }
 }
 
