@@ -281,7 +281,7 @@ TEST(CliExodus, BadFilesAndChoicesAreRefusedByName) {
   }
   const fs::path vtu = dir / "box.vtu";
   io::write_tet_mesh_vtu(vtu.string(), varying_box());
-  refused(vtu.string() + " --blocks 1", "--blocks: picks element blocks of an Exodus II file");
+  refused(vtu.string() + " --blocks 1", "--blocks: picks blocks of a multiblock .vtm or an Exodus II file");
 }
 
 }  // namespace
