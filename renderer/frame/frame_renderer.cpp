@@ -49,6 +49,21 @@ FrameRenderer::FrameRenderer(const vk::Device& device, const TetMesh& world, con
   point_scalars_ = !local.point_scalars.empty();
 }
 
+bool FrameRenderer::update_fields(const TetMesh& world) {
+  // The same conversion as the constructor's: equal world points give equal local points.
+  const TetMesh local = in_units(world, units_);
+  if (local.tets != geometry_->tets || local.points != geometry_->points) return false;
+  validate(local);
+  device_.wait_idle();  // no frame may still read the old fields
+  volume::upload_fields(device_, mesh_, local);
+  float_facts_ = volume::float_facts(local);
+  float_facts_.unit = units_.unit;
+  geometry_->name = local.name;
+  point_extinction_ = local.linear_extinction();
+  point_scalars_ = !local.point_scalars.empty();
+  return true;
+}
+
 volume::GpuVolumeBackend& FrameRenderer::backend_for(const FrameSettings& settings) {
   const std::string name = interval_backend_name(settings.backend);
   const auto found = backends_.find(name);

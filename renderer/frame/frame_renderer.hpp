@@ -39,6 +39,13 @@ class FrameRenderer {
 
   // (Re)creates the targets when the size changes.
   void resize(VkExtent2D extent);
+
+  // A time step of a static mesh: where `mesh`'s points and cells are those this renderer draws
+  // (compared, never assumed), only its fields (extinction, scalars) are uploaded, and what depends
+  // on the geometry alone is kept: the buffers of points and cells, the mesh backend's adjacency,
+  // tetlets and a still camera's visibility order. Returns false, changing nothing, where the
+  // geometry differs (the caller then makes a renderer of the new mesh). Waits for the device.
+  bool update_fields(const TetMesh& mesh);
   VkExtent2D extent() const { return targets_.extent; }
 
   // What this renderer's scene contains for a frame with these settings from this camera,

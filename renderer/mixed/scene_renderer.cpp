@@ -162,6 +162,15 @@ void SceneRenderer::fill_stats(SceneFrame& f, const SceneSettings& settings) con
   }
 }
 
+void SceneRenderer::set_volume(const TetMesh& volume) {
+  if (!scene_.volume) throw std::logic_error("SceneRenderer::set_volume: the scene has no volume to replace");
+  scene_.volume = &volume;
+  if (volume_ && !volume_->update_fields(volume)) volume_.reset();
+  else if (volume_) ++uploads_.fields;
+  if (mixed_ && !mixed_->volume_renderer().update_fields(volume)) mixed_.reset();
+  else if (mixed_) ++uploads_.fields;
+}
+
 SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSettings& settings) {
   if (!settings.volume_mode) throw std::invalid_argument("SceneRenderer: a volume frame without a volume mode");
   const TetMesh& mesh = *scene_.volume;
@@ -179,7 +188,10 @@ SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSetting
   const vk::Device& gpu = device();
   gpu_identity(f);
   resolve_auto(f.volume_settings, settings, gpu);
-  if (!volume_) volume_ = std::make_unique<frame::FrameRenderer>(gpu, mesh);
+  if (!volume_) {
+    volume_ = std::make_unique<frame::FrameRenderer>(gpu, mesh);
+    ++uploads_.meshes;
+  }
   if (settings.interactive) {
     f.volume = volume_->render_offscreen(camera, f.volume_settings, settings.size);
     return f;
@@ -313,7 +325,10 @@ SceneFrame SceneRenderer::render_mixed(const Camera& camera, const SceneSettings
   const vk::Device& gpu = device();
   gpu_identity(f);
   resolve_auto(f.volume_settings, settings, gpu);
-  if (!mixed_) mixed_ = std::make_unique<MixedRenderer>(gpu, *scene_.volume, *scene_.surfaces);
+  if (!mixed_) {
+    mixed_ = std::make_unique<MixedRenderer>(gpu, *scene_.volume, *scene_.surfaces);
+    ++uploads_.meshes;
+  }
   set_shadows(mixed_->surface_renderer(), settings.shadows, device_name_);
   if (settings.interactive) {
     f.mixed = mixed_->render(camera, f.volume_settings, settings.size, surface_mode);

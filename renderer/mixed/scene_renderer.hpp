@@ -118,6 +118,13 @@ struct SceneFrame {
 // cache file): sets settings.backend and settings.backend_reason.
 using AutoBackend = std::function<void(frame::FrameSettings& settings, const vk::Device& device)>;
 
+// What the renderer has sent to the GPU for the scene's volume: whole meshes (points, cells and
+// fields) and fields alone (time steps of a static mesh, SceneRenderer::set_volume).
+struct VolumeUploads {
+  uint32_t meshes = 0;
+  uint32_t fields = 0;
+};
+
 class SceneRenderer {
  public:
   SceneRenderer(SceneData scene, DeviceRequest device, AutoBackend auto_backend = {});
@@ -136,6 +143,13 @@ class SceneRenderer {
   // (shadows as `drawn` had them). `drawn` is a frame render() returned for this scene. Surfaces
   // alone have the path tracer, a mode of their own: std::logic_error.
   SceneFrame reference(const Camera& camera, const SceneSettings& settings, const SceneFrame& drawn) const;
+
+  // The volume the next frames draw instead (a scene with a volume only): a time step. Where its
+  // points and cells are those of the volume drawn so far (compared, never assumed), only its
+  // fields go to the GPU and what depends on the geometry alone is kept (frame::FrameRenderer::
+  // update_fields); otherwise the next GPU frame uploads it whole. No frame may be in flight.
+  void set_volume(const TetMesh& volume);
+  VolumeUploads volume_uploads() const { return uploads_; }
 
   // The instance, once a GPU frame opened it (its validation log); nullptr before and for a
   // caller's device.
@@ -172,6 +186,7 @@ class SceneRenderer {
   std::map<surface::SurfaceOptions, std::unique_ptr<surface::SurfaceRenderer>> surface_renderers_;
   surface::SurfaceRenderer* surfaces_ = nullptr;  // the last frame's
   std::unique_ptr<MixedRenderer> mixed_;
+  VolumeUploads uploads_;
 };
 
 }  // namespace prismoid::mixed

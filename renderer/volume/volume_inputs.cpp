@@ -51,6 +51,34 @@ double table_length(const GpuTetMesh& mesh) { return mesh.longest_edge > 0.0 ? m
 
 }  // namespace
 
+void upload_fields(const vk::Device& device, GpuTetMesh& gpu, const TetMesh& mesh) {
+  auto capped = [&](const std::vector<double>& v) {
+    std::vector<float> out(v.size());
+    for (size_t i = 0; i < v.size(); ++i) out[i] = float(std::min(v[i], gpu.extinction_cap));
+    if (out.empty()) out.push_back(0.0f);
+    return out;
+  };
+  // Storage buffers cannot be empty: absent arrays get one unused value.
+  auto floats = [](const std::vector<double>& v) {
+    return v.empty() ? std::vector<float>{0.0f} : std::vector<float>(v.begin(), v.end());
+  };
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  gpu.cell_sigma = vk::upload_buffer(device, bytes_of(capped(mesh.cell_extinction)), usage);
+  gpu.linear = mesh.linear_extinction();
+  gpu.point_sigma = vk::upload_buffer(device, bytes_of(capped(mesh.point_extinction)), usage);
+  gpu.scalar_per_point = !mesh.point_scalars.empty();
+  gpu.has_scalars = gpu.scalar_per_point || !mesh.cell_scalars.empty();
+  gpu.cell_scalar = vk::upload_buffer(device, bytes_of(floats(mesh.cell_scalars)), usage);
+  gpu.point_scalar = vk::upload_buffer(device, bytes_of(floats(mesh.point_scalars)), usage);
+  const auto& field = gpu.scalar_per_point ? mesh.point_scalars : mesh.cell_scalars;
+  gpu.scalar_min = gpu.scalar_max = 0.0;
+  if (!field.empty()) {
+    const auto [lo, hi] = std::minmax_element(field.begin(), field.end());
+    gpu.scalar_min = *lo;
+    gpu.scalar_max = *hi;
+  }
+}
+
 GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   validate(mesh);
   GpuTetMesh gpu;
@@ -58,12 +86,6 @@ GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   gpu.origin = bounds.center();
   gpu.extinction_cap = extinction_cap(glm::length(bounds.max - bounds.min));
   gpu.radius = 0.5 * glm::length(bounds.max - bounds.min);
-  auto capped = [&](const std::vector<double>& v) {
-    std::vector<float> out(v.size());
-    for (size_t i = 0; i < v.size(); ++i) out[i] = float(std::min(v[i], gpu.extinction_cap));
-    if (out.empty()) out.push_back(0.0f);
-    return out;
-  };
   gpu.tet_count = static_cast<uint32_t>(mesh.tets.size());
   std::vector<glm::vec4> positions;
   positions.reserve(mesh.points.size());
@@ -71,27 +93,10 @@ GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh) {
   std::vector<glm::uvec4> tets;
   tets.reserve(mesh.tets.size());
   for (const auto& t : mesh.tets) tets.emplace_back(t[0], t[1], t[2], t[3]);
-  const std::vector<float> sigma = capped(mesh.cell_extinction);
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   gpu.positions = vk::upload_buffer(device, bytes_of(positions), usage);
   gpu.tets = vk::upload_buffer(device, bytes_of(tets), usage);
-  gpu.cell_sigma = vk::upload_buffer(device, bytes_of(sigma), usage);
-  gpu.linear = mesh.linear_extinction();
-  // Storage buffers cannot be empty: absent arrays get one unused value.
-  auto floats = [](const std::vector<double>& v) {
-    return v.empty() ? std::vector<float>{0.0f} : std::vector<float>(v.begin(), v.end());
-  };
-  gpu.point_sigma = vk::upload_buffer(device, bytes_of(capped(mesh.point_extinction)), usage);
-  gpu.scalar_per_point = !mesh.point_scalars.empty();
-  gpu.has_scalars = gpu.scalar_per_point || !mesh.cell_scalars.empty();
-  gpu.cell_scalar = vk::upload_buffer(device, bytes_of(floats(mesh.cell_scalars)), usage);
-  gpu.point_scalar = vk::upload_buffer(device, bytes_of(floats(mesh.point_scalars)), usage);
-  const auto& field = gpu.scalar_per_point ? mesh.point_scalars : mesh.cell_scalars;
-  if (!field.empty()) {
-    const auto [lo, hi] = std::minmax_element(field.begin(), field.end());
-    gpu.scalar_min = *lo;
-    gpu.scalar_max = *hi;
-  }
+  upload_fields(device, gpu, mesh);
   for (const auto& t : mesh.tets)
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j)

@@ -49,6 +49,12 @@ struct GpuTetMesh {
   double scalar_min = 0.0, scalar_max = 0.0;  // the scalar field's range (0, 0 when absent)
 };
 GpuTetMesh upload(const vk::Device& device, const TetMesh& mesh);
+// Replaces the field buffers (extinction and scalars, per cell and per point) and what is known
+// of them with `mesh`'s, whose points and cells must be those `gpu` was uploaded from (a time
+// step of a static mesh): positions, cells, the origin and the extinction cap, which depend on
+// the geometry alone, stay. The buffers are new (new serials: the backends rebind them); no frame
+// reading the old ones may be in flight.
+void upload_fields(const vk::Device& device, GpuTetMesh& gpu, const TetMesh& mesh);
 
 // Images one frame writes: accumulated optical depth, the quantity, the display colour.
 struct VolumeTargets {
