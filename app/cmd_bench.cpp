@@ -415,6 +415,105 @@ bench::BenchRow volume_row(const vk::Device& device, const bench::BenchCase& c, 
   return m;
 }
 
+// By dataset, step, quantity and size: a reference image and its CPU time.
+using References = std::map<std::string, std::pair<frame::OffscreenFrame, double>>;
+
+const std::pair<frame::OffscreenFrame, double>& reference_for(References& references, const ParsedArgs& one, const std::string& quantity,
+                                                              const VolumeChoice& choice, const Camera& camera, VkExtent2D extent) {
+  const std::string key = (one.files.empty() ? std::string() : one.files.front()) + step_of(one) + "|" + quantity + "|" +
+                          std::to_string(extent.width) + "x" + std::to_string(extent.height);
+  auto ref = references.find(key);
+  if (ref == references.end()) {
+    const auto start = std::chrono::steady_clock::now();
+    frame::OffscreenFrame image = frame::reference_of(choice.mesh, camera, choice.settings.resolve, extent, field_of(one).has_value());
+    ref = references.emplace(key, std::make_pair(std::move(image), ms_since(start))).first;
+  }
+  return ref->second;
+}
+
+// A `time` case of step switches (bench::kStepSwitch): a viewer at a still camera moving through
+// every step, one interactive frame each (as the window and the plugin draw them), timed on the
+// wall clock from the step's mesh in memory to its image read back. `fields_only`: after the
+// first step only the fields go to the GPU (SceneRenderer::set_volume: a static mesh's order is
+// kept); else each step is uploaded whole. The first round through the steps warms up; the
+// switches of the `frames` rounds after it are timed (the first step of each round, which has no
+// step before it, is not). The error is the worst step's, against that step's reference.
+std::optional<bench::BenchRow> step_switch_row(const vk::Device& device, const bench::BenchCase& c, const ParsedArgs& one, bool fields_only,
+                                               MeshCache& meshes, References& references, uint32_t frames) {
+  const size_t n = bench::time_steps_of(c.dataset);
+  std::vector<VolumeChoice> steps;
+  std::vector<ParsedArgs> step_args;
+  for (size_t i = 0; i < n; ++i) {
+    ParsedArgs si = one;
+    si.values["time-step"] = std::to_string(i);
+    try {
+      steps.push_back(volume_choice(si, std::ref(meshes)));
+    } catch (const InputError& e) {
+      if (c.quantity != "color") throw;
+      std::cerr << "prismoid: bench: skipping the step switches of " << c.dataset << ": " << e.what() << "\n";
+      return std::nullopt;
+    }
+    step_args.push_back(si);
+  }
+  const Camera camera = camera_from(one, bounds_of(steps.front().mesh));
+  const VkExtent2D extent{c.size.width, c.size.height};
+  std::vector<double> ms;
+  std::vector<frame::OffscreenFrame> images(n);
+  mixed::VolumeUploads uploads;
+  for (uint32_t round = 0; round <= frames; ++round) {
+    std::unique_ptr<mixed::SceneRenderer> kept;  // fields_only: the one renderer of the round
+    for (size_t i = 0; i < n; ++i) {
+      mixed::SceneSettings settings;
+      settings.size = extent;
+      settings.volume_mode = steps[i].mode;
+      settings.volume = steps[i].settings;
+      settings.interactive = true;
+      const auto start = std::chrono::steady_clock::now();
+      std::unique_ptr<mixed::SceneRenderer> fresh;
+      if (kept) kept->set_volume(steps[i].mesh);
+      else fresh = std::make_unique<mixed::SceneRenderer>(mixed::SceneData{.volume = &steps[i].mesh}, device);
+      mixed::SceneRenderer& renderer = kept ? *kept : *fresh;
+      mixed::SceneFrame f = renderer.render(camera, settings);
+      if (round > 0 && i > 0) ms.push_back(ms_since(start));
+      images[i] = std::move(*f.volume);
+      uploads = renderer.volume_uploads();
+      if (fields_only && !kept) kept = std::move(fresh);
+    }
+  }
+  bench::BenchRow m;
+  m.dataset = c.dataset + " (" + std::to_string(n) + " steps)";
+  m.cells = steps.front().mesh.tets.size();
+  m.sweep = c.sweep;
+  m.quantity = c.quantity;
+  m.mode = c.mode;
+  m.settings = bench::settings_label(c);
+  m.ordering = images.back().report.ordering;
+  m.timer = "wall";
+  m.width = extent.width;
+  m.height = extent.height;
+  m.frames = uint32_t(ms.size());
+  m.ms_median = timing::median_of(ms);
+  m.ms_min = *std::min_element(ms.begin(), ms.end());
+  m.ms_max = *std::max_element(ms.begin(), ms.end());
+  m.mesh_bytes = images.back().report.mesh_bytes;
+  for (size_t i = 0; i < n; ++i) {
+    const auto& ref = reference_for(references, step_args[i], c.quantity, steps[i], camera, extent);
+    const reference::ImageError error = frame::frame_error(images[i], ref.first, steps[i].quantity);
+    if (i > 0 && !(error.rmse > m.error.rmse)) continue;
+    m.error = error;
+    m.ssim = ssim_of(images[i], ref.first, steps[i].quantity);
+    m.reference_ms = ref.second;
+    m.peak = frame::error_peak(ref.first, steps[i].quantity);
+    if (steps[i].quantity == volume::Quantity::Color)
+      m.flip = reference::flip(images[i].display, ref.first.display, extent.width, extent.height, 4).mean;
+  }
+  std::cout << m.dataset << " " << m.sweep << " " << m.settings << " " << m.width << "x" << m.height << ": "
+            << json_number(m.ms_median) << " ms a step switch (wall; the last round's uploads: " << uploads.meshes
+            << (uploads.meshes == 1 ? " mesh, " : " meshes, ") << uploads.fields << " field sets), worst RMSE "
+            << json_number(m.error.rmse) << std::endl;
+  return m;
+}
+
 // VTK's mappers' rows beside the volume row `m` (same mesh, camera and transfer function),
 // measured against the same reference; a mapper that fails is left out with a note.
 void add_peer_rows(std::vector<bench::BenchRow>& rows, bench::ReportContext& context, const bench::BenchRow& m, const VolumeChoice& choice,
@@ -537,8 +636,7 @@ int cmd_bench(const std::vector<std::string>& args) {
   if (!x_problem.empty()) context.notes.push_back("VTK's mappers and the plots were left out: no X display (" + x_problem + ")");
 
   MeshCache meshes;
-  // By dataset, quantity and size: the reference image and its CPU time.
-  std::map<std::string, std::pair<frame::OffscreenFrame, double>> references;
+  References references;
   std::string loaded_dataset;
   std::vector<bench::BenchRow> rows;
   for (const bench::BenchCase& c : cases) {
@@ -555,6 +653,12 @@ int cmd_bench(const std::vector<std::string>& args) {
     one.values["quantity"] = c.quantity;
     one.values["mode"] = c.mode;
     for (const auto& [k, v] : c.options) one.values[k] = v;
+    if (const auto how = one.values.find(bench::kStepSwitch); how != one.values.end()) {
+      const bool fields_only = how->second == "fields";
+      one.values.erase(how);
+      if (auto row = step_switch_row(device, c, one, fields_only, meshes, references, frames)) rows.push_back(std::move(*row));
+      continue;
+    }
     if (auto step = one.values.find("march-step"); step != one.values.end() && step->second.rfind("diagonal/", 0) == 0) {
       const Bounds b = bounds_of(meshes(one, c.quantity == "color"));  // "diagonal/N": N steps across the box
       step->second = json_number(glm::length(b.max - b.min) / std::stod(step->second.substr(9)));
@@ -571,19 +675,9 @@ int cmd_bench(const std::vector<std::string>& args) {
     }
     const VolumeChoice& choice = *chosen;
     const Camera camera = camera_from(one, bounds_of(choice.mesh));
-    const volume::ResolveSettings& resolve = choice.settings.resolve;
     const VkExtent2D extent{c.size.width, c.size.height};
-
-    const std::string ref_key =
-        c.dataset + step_of(one) + "|" + c.quantity + "|" + std::to_string(extent.width) + "x" + std::to_string(extent.height);
-    auto ref = references.find(ref_key);
-    if (ref == references.end()) {
-      const auto start = std::chrono::steady_clock::now();
-      frame::OffscreenFrame image = frame::reference_of(choice.mesh, camera, resolve, extent, field_of(one).has_value());
-      ref = references.emplace(ref_key, std::make_pair(std::move(image), ms_since(start))).first;
-    }
-
-    const bench::BenchRow m = volume_row(device, c, choice, field_of(one).has_value(), camera, ref->second, frames, preset.warm_up_seconds);
+    const auto& ref = reference_for(references, one, c.quantity, choice, camera, extent);
+    const bench::BenchRow m = volume_row(device, c, choice, field_of(one).has_value(), camera, ref, frames, preset.warm_up_seconds);
 
     // VTK's mappers on the same mesh, camera and transfer function: once per dataset the user
     // named, beside the exact-order colour, or beside transmittance where the data has no colour.
@@ -593,7 +687,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     // stands beside the same peers.)
     const bool peer_case = c.sweep == "modes" && user_file && choice.settings.backend == frame::IntervalBackend::Mesh &&
                            ((c.quantity == "color" && exact_order) || (c.quantity == "transmittance" && !scalars));
-    if (peer_case && want_peers && x) add_peer_rows(rows, context, m, choice, camera, ref->second.first, frames);
+    if (peer_case && want_peers && x) add_peer_rows(rows, context, m, choice, camera, ref.first, frames);
     rows.push_back(m);
   }
   if (std::find(sweeps.begin(), sweeps.end(), "mixed") != sweeps.end()) {

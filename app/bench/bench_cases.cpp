@@ -24,6 +24,12 @@ Options compute() { return {{"volume-backend", "compute"}}; }
 
 }  // namespace
 
+size_t time_steps_of(const std::string& dataset) {
+  if (io::is_time_series_path(dataset)) return io::read_time_series(dataset).steps.size();
+  if (io::is_exodus_path(dataset)) return io::read_exodus_info(dataset, /*cells=*/false).times.size();
+  return 0;
+}
+
 std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, const BenchPreset& p) {
   std::vector<BenchCase> cases;
   const ImageSize s = p.size;
@@ -53,13 +59,20 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
       add(cases, d, "preintegration", "color", sorted, {{"preintegration-size", n}}, s);
     // A time series' or an Exodus file's steps, each a case: its transmittance in mesh order and
     // its colour in exact order, so that cost and accuracy are followed over the simulation's time.
-    const size_t steps = io::is_time_series_path(d) ? io::read_time_series(d).steps.size()
-                         : io::is_exodus_path(d)    ? io::read_exodus_info(d, /*cells=*/false).times.size()
-                                                    : 0;
+    const size_t steps = time_steps_of(d);
     for (size_t i = 0; i < steps; ++i) {
       add(cases, d, "time", "transmittance", mesh_order, {{"time-step", std::to_string(i)}}, s);
       add(cases, d, "time", "color", exact, {{"time-step", std::to_string(i)}}, s);
     }
+    // What moving to the next step costs a viewer at a still camera, on both backends: each step
+    // uploaded whole, or a static mesh's fields alone (its order kept).
+    if (steps > 1)
+      for (const Options& backend : {Options{}, compute()})
+        for (const char* how : {"whole", "fields"}) {
+          Options options = backend;
+          options.emplace_back(kStepSwitch, how);
+          add(cases, d, "time", "color", exact, options, s);
+        }
   }
   // Image size, on the first dataset: half and twice the preset's size beside the size itself.
   if (!p.quick && !datasets.empty())

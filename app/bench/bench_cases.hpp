@@ -44,5 +44,12 @@ std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, con
 // "key=value key=value", or "default".
 std::string settings_label(const BenchCase& c);
 
+// The time steps of a time series (.pvd, 'name_*.vtu') or an Exodus II file; 0 for other datasets.
+size_t time_steps_of(const std::string& dataset);
+
+// The option of a `time` case that times switching steps rather than a frame (step_switch in the
+// bench): "whole" uploads each step's mesh afresh, "fields" only its fields (a static mesh).
+constexpr const char* kStepSwitch = "step-switch";
+
 
 }  // namespace prismoid::bench

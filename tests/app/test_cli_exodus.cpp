@@ -129,9 +129,9 @@ TEST(CliExodus, EachStepGivesItsOwnClosedFormOpticalDepth) {
   EXPECT_NEAR(centre(io::read_pfm(at.string())), 2.0 * sigma[0], 1e-5 * 2.0 * sigma[0]);
 }
 
-// The bench's time sweep over an Exodus file's steps: each step's transmittance and colour,
-// each held to its own step's reference (against another step's, transmittance would be off by
-// tenths).
+// The bench's time sweep over an Exodus file's steps: each step's transmittance and colour, and
+// the step switches (each step whole, or its fields alone), each held to its own step's reference
+// (against another step's, transmittance would be off by tenths).
 TEST(CliExodus, TheBenchTimesEveryStep) {
   const fs::path dir = fresh_dir("exodus_bench");
   const fs::path exo = write_steps(dir);
@@ -144,12 +144,16 @@ TEST(CliExodus, TheBenchTimesEveryStep) {
   std::istringstream head(header);
   for (std::string c; std::getline(head, c, ',');) columns.push_back(c);
   while (std::getline(csv, line)) rows.push_back(line);
-  ASSERT_EQ(rows.size(), 2 * kSigma.size()) << r.out;
+  ASSERT_EQ(rows.size(), 2 * kSigma.size() + 4) << r.out;  // and the step switches: whole or fields, two backends
   const size_t rmse_at = size_t(std::find(columns.begin(), columns.end(), "rmse") - columns.begin());
   ASSERT_LT(rmse_at, columns.size());
   for (size_t i = 0; i < rows.size(); ++i) {
-    EXPECT_NE(rows[i].find("step " + std::to_string(i / 2) + " (t = "), std::string::npos) << rows[i];
-    EXPECT_NE(rows[i].find(i % 2 ? ",time,color," : ",time,transmittance,"), std::string::npos) << rows[i];
+    if (i < 2 * kSigma.size()) {
+      EXPECT_NE(rows[i].find("step " + std::to_string(i / 2) + " (t = "), std::string::npos) << rows[i];
+      EXPECT_NE(rows[i].find(i % 2 ? ",time,color," : ",time,transmittance,"), std::string::npos) << rows[i];
+    } else {
+      EXPECT_NE(rows[i].find(std::string("step-switch=") + (i % 2 ? "fields" : "whole")), std::string::npos) << rows[i];
+    }
     // The dataset's name is quoted (it holds commas and spaces): count columns after it.
     std::istringstream cells(rows[i].substr(rows[i].find("\",") + 2));
     std::vector<std::string> values;

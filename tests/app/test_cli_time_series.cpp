@@ -222,8 +222,14 @@ TEST(CliTimeSeries, TheBenchTimesEveryStep) {
   std::vector<std::string> rows;
   while (std::getline(csv, line)) rows.push_back(line);
   // Each step's transmittance and colour (the extinction array is the colour's scalar too), each
-  // row that step's mesh, measured against that step's reference.
-  ASSERT_EQ(rows.size(), 2 * kSigma.size()) << r.out;
+  // row that step's mesh, measured against that step's reference; then the step switches, each
+  // step uploaded whole or its fields alone, on both backends.
+  ASSERT_EQ(rows.size(), 2 * kSigma.size() + 4) << r.out;
+  for (size_t i = 0; i < 4; ++i) {
+    const std::string& row = rows[2 * kSigma.size() + i];
+    EXPECT_NE(row.find(std::string("step-switch=") + (i % 2 ? "fields" : "whole")), std::string::npos) << row;
+    EXPECT_NE(row.find(",wall,"), std::string::npos) << row;
+  }
   for (size_t i = 0; i < kSigma.size(); ++i)
     for (const char* quantity : {"transmittance", "color"}) {
       const std::string& row = rows[2 * i + (std::string(quantity) == "color" ? 1 : 0)];
