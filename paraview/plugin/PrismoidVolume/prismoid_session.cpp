@@ -53,8 +53,11 @@ bool Session::has_mesh(const std::string& key) const { return impl_->mesh && imp
 bool Session::set_mesh(const std::string& key, TetMesh mesh) {
   if (has_mesh(key)) return false;
   validate(mesh);
-  impl_->renderer.reset();
-  impl_->mesh = std::make_unique<TetMesh>(std::move(mesh));
+  auto next = std::make_unique<TetMesh>(std::move(mesh));
+  // A time step of a static mesh (ParaView's time moved): the renderer sends its fields alone;
+  // another mesh is uploaded whole by the next frame (SceneRenderer::set_volume compares them).
+  if (impl_->renderer) impl_->renderer->set_volume(*next);
+  impl_->mesh = std::move(next);
   impl_->key = key;
   return true;
 }

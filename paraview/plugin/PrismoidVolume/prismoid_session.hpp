@@ -25,7 +25,8 @@ class Session {
   static Session& instance();
 
   // Replaces the mesh the next frames draw; `key` names it (the caller's modification times),
-  // so the same mesh given twice is uploaded once. Whether it was replaced.
+  // so the same mesh given twice is uploaded once, and a mesh with the points and cells of the
+  // one before (a time step of a static mesh) sends only its fields. Whether it was replaced.
   bool set_mesh(const std::string& key, TetMesh mesh);
   bool has_mesh(const std::string& key) const;
 
