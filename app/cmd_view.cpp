@@ -37,6 +37,7 @@ Dataset load_for_view(const LoadRequest& request, bool color) {
   }
   validate(mesh);
   Dataset d = make_dataset(std::move(mesh), field_of_request(request));
+  attach_time(d, request);
   if (color && !d.has_scalars)
     throw InputError(request.path, "has no scalar field for --quantity color, which needs one in every dataset shown "
                                    "(choose a point or cell array with --array NAME)");
@@ -211,6 +212,7 @@ int cmd_view(const std::vector<std::string>& args) {
   const bool color = choice.settings.resolve.quantity == volume::Quantity::Color;
   ViewState state;
   state.datasets.push_back(make_dataset(std::move(choice.mesh), field_of(first)));
+  attach_time(state.datasets.back(), load_request_from(first, color));
   for (size_t i = 1; i < a.files.size(); ++i) state.datasets.push_back(load_for_view(load_request_from(a, a.files[i], color), color));
   ViewerOptions options = window_options(a);
   options.inputs = window_inputs(a);

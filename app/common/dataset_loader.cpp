@@ -211,6 +211,23 @@ TetMesh load_exodus(const LoadRequest& r, const io::Progress& progress) {
 
 }  // namespace
 
+std::vector<double> time_values(const std::string& path) {
+  std::vector<double> times;
+  if (path.empty() || path.rfind("field:", 0) == 0 || path.rfind("grid:", 0) == 0) return times;
+  if (io::is_time_series_path(path))
+    for (const io::TimeStep& step : io::read_time_series(path).steps) times.push_back(step.time);
+  else if (io::is_exodus_path(path))
+    times = io::read_exodus_info(path, /*cells=*/false).times;
+  return times;
+}
+
+uint32_t step_of_request(const LoadRequest& request, const std::vector<double>& times) {
+  if (times.empty()) return 0;
+  io::TimeSeries series;
+  for (double t : times) series.steps.push_back({t, request.path});
+  return uint32_t(io::pick_time_step(series, request.path, request.time_step, request.time));
+}
+
 std::optional<volume::AnalyticField> field_of_request(const LoadRequest& r) {
   // A .vdb grid is marched inside its active regions by the march modes, and the reference is
   // its own trilinear field (what the grid means); the other modes draw its voxel tetrahedra

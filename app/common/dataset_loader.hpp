@@ -57,6 +57,13 @@ bool samples_field(const ParsedArgs& a);
 // long load times) go to stderr. The mesh is not validated here.
 TetMesh load_dataset(const LoadRequest& request, const io::Progress& progress = {});
 
+// The times of the steps of a time series (.pvd, 'name_*.vtu') or an Exodus II file; empty for any
+// other dataset and for an Exodus file without steps. InputError as the series' reading.
+std::vector<double> time_values(const std::string& path);
+// The step `request` draws of a dataset whose steps have `times` (its --time-step, or the step
+// --time picks; the first by default).
+uint32_t step_of_request(const LoadRequest& request, const std::vector<double>& times);
+
 // The analytic field of a field:NAME[:N] or grid:NAME[:N] spec; nullopt for anything else.
 std::optional<volume::AnalyticField> field_of_path(const std::string& path);
 // The same, and a marched .vdb's grid (vdb_marched).

@@ -76,4 +76,13 @@ std::string set_active(ViewState& state, size_t index) {
   return {};
 }
 
+std::string show_step(ViewState& state, size_t index, Dataset step) {
+  if (index >= state.datasets.size()) return "time-step: there is no dataset " + std::to_string(index);
+  step.visible = state.datasets[index].visible;
+  state.datasets[index] = std::move(step);
+  if (index == state.active && state.range_per_step) use_range_of(state, state.datasets[index]);
+  rebuild_scene(state);
+  return fit_mode_to_scene(state);
+}
+
 }  // namespace prismoid::app

@@ -19,5 +19,8 @@ std::string add_dataset(ViewState& state, Dataset dataset);
 std::string show_dataset(ViewState& state, size_t index, bool visible);
 // Makes dataset `index` the active one: the transfer function's range becomes its data range.
 std::string set_active(ViewState& state, size_t index);
+// Shows `step`, another time step of dataset `index` loaded as it was, in its place (visible as
+// it was); the transfer function's range follows the step's data where state.range_per_step.
+std::string show_step(ViewState& state, size_t index, Dataset step);
 
 }  // namespace prismoid::app

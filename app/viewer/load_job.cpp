@@ -47,6 +47,7 @@ void DatasetLoad::run() {
     validate(mesh);
     progress(1.0, "measuring");
     outcome.dataset = make_dataset(std::move(mesh), field_of_request(request_));
+    attach_time(*outcome.dataset, request_);
   } catch (const io::Cancelled& e) {
     outcome.cancelled = true;
     outcome.error = e.what();

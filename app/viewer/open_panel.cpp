@@ -43,10 +43,34 @@ void draw_progress(const LoadStatus& load, DataRequests& requests) {
   if (ImGui::Button("Cancel")) requests.cancel = true;
 }
 
+// The active dataset's time steps: a slider over them, first / back / play / forward / last, and
+// whether the colour range follows each step.
+void draw_time(const ViewState& state, const DataPanel& panel, DataRequests& requests) {
+  const Dataset& d = state.dataset();
+  const int last = int(d.times.size()) - 1;
+  int step = int(d.step);
+  ImGui::Text("time: step %d of %d, t = %g%s", step, last, d.times[d.step], panel.step_loading ? " (loading)" : "");
+  if (ImGui::SliderInt("step", &step, 0, last)) requests.time_step = uint32_t(step);
+  if (ImGui::Button("|<")) requests.time_step = 0u;
+  ImGui::SameLine();
+  if (ImGui::Button("<")) requests.time_step = uint32_t(step > 0 ? step - 1 : last);
+  ImGui::SameLine();
+  if (ImGui::Button(panel.playing ? "pause" : "play")) requests.play = !panel.playing;
+  ImGui::SameLine();
+  if (ImGui::Button(">")) requests.time_step = uint32_t(step < last ? step + 1 : 0);
+  ImGui::SameLine();
+  if (ImGui::Button(">|")) requests.time_step = uint32_t(last);
+  bool per_step = state.range_per_step;
+  if (ImGui::Checkbox("colour range per step", &per_step)) requests.range_per_step = per_step;
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("off (as ParaView): the range stays while time moves, so a colour means one value at every step");
+}
+
 }  // namespace
 
 void draw_data_section(const ViewState& state, DataPanel& panel, DataRequests& requests) {
   draw_datasets(state, requests);
+  if (!state.datasets.empty() && !state.dataset().times.empty()) draw_time(state, panel, requests);
   if (panel.load.running) draw_progress(panel.load, requests);
   const bool entered = ImGui::InputTextWithHint("##path", "file, field:NAME, grid:NAME, ball:S", panel.path, sizeof panel.path,
                                                 ImGuiInputTextFlags_EnterReturnsTrue);

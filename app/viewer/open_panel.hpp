@@ -36,6 +36,8 @@ struct DataPanel {
   std::string error;           // the last failed load's (or request's) message, for the popup
   std::string error_title = "Could not open";
   bool show_error = false;     // open the popup on the next frame
+  bool playing = false;        // the active dataset's steps are playing
+  bool step_loading = false;   // a step is loading
 };
 
 struct DataRequests {
@@ -44,6 +46,10 @@ struct DataRequests {
   bool cancel = false;
   std::optional<std::pair<size_t, bool>> show;  // dataset, visible
   std::optional<size_t> make_active;
+  // Time (the active dataset's steps): the step asked for, play or pause, the colour range per step.
+  std::optional<uint32_t> time_step;
+  std::optional<bool> play;
+  std::optional<bool> range_per_step;
 };
 
 void draw_data_section(const ViewState& state, DataPanel& panel, DataRequests& requests);

@@ -26,6 +26,13 @@ Dataset make_dataset(TetMesh mesh, std::optional<volume::AnalyticField> field) {
   return d;
 }
 
+void attach_time(Dataset& d, const LoadRequest& request) {
+  d.times = time_values(request.path);
+  if (d.times.empty()) return;
+  d.source = request;
+  d.step = step_of_request(request, d.times);
+}
+
 std::vector<std::string> modes_for(const Dataset& dataset) {
   std::vector<std::string> modes;
   for (const frame::VolumeMode& m : frame::volume_mode_table())

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/common/dataset_loader.hpp"
 #include "renderer/frame/frame_renderer.hpp"
 #include "renderer/frame/volume_modes.hpp"
 #include "renderer/volume/analytic_field.hpp"
@@ -25,11 +26,20 @@ struct Dataset {
   bool has_scalars = false;                    // colour needs a scalar field
   double scalar_lo = 0.0, scalar_hi = 1.0;     // the data's range (hi > lo)
   bool visible = true;                         // drawn as part of the scene
+  // A time series or an Exodus file with steps: how it was loaded (another step is the same
+  // request at another --time-step), the steps' times, and the step shown. No times: not
+  // time-dependent.
+  std::optional<LoadRequest> source;
+  std::vector<double> times;
+  uint32_t step = 0;
 };
 
 // Builds the description of a loaded mesh. Touches no global state, so a loader thread may
 // call it and hand the result to the window.
 Dataset make_dataset(TetMesh mesh, std::optional<volume::AnalyticField> field = std::nullopt);
+// Records that `d` was loaded by `request`: where it is a time series or an Exodus file with
+// steps, its steps' times and the step shown (InputError as reading the series).
+void attach_time(Dataset& d, const LoadRequest& request);
 
 // How the view compares modes: not at all, A | B side by side on one camera (A the current
 // mode, B the compare mode below), or the current mode's error against the CPU reference as a
@@ -50,6 +60,10 @@ struct ViewState {
   std::string compare_mode;
   frame::FrameSettings compare_settings;
   std::string tf_preset = "cool-to-warm";
+  // Stepping through time: whether the transfer function's range follows each step's data range.
+  // Off by default, as ParaView keeps the range while its time moves: colours then mean the same
+  // value at every step, and a quantity that grows looks like it grows.
+  bool range_per_step = false;
   bool show_ui = true;
   const Dataset& dataset() const { return datasets.at(active); }
   const Dataset& drawn() const { return scene.mesh ? scene : dataset(); }

@@ -68,6 +68,7 @@ class VolumeWindow final : public WindowContent {
   bool show_ui() const override { return s_.state.show_ui; }
   void run_due() override {
     poll_loads(s_);
+    poll_time(s_);
     run_script(s_, compare_, script_, next_command_);
   }
   void frame_started(double cpu_frame_ms) override { s_.stats.cpu_frame_ms = cpu_frame_ms; }
@@ -313,6 +314,7 @@ ViewerReport run_viewer(ViewState state, const ViewerOptions& options) {
   s.loading.recent_file = options.recent_file;
   s.loading.renderer_slot = &renderer_slot;
   s.loading.drawn_mesh = s.state.drawn().mesh;
+  report.mesh_uploads = 1;  // renderer_slot's
   s.inputs = options.inputs;
   const uint32_t max_tetlet = volume::max_tetlet_size(device);
 

@@ -71,6 +71,10 @@ struct ViewerReport {
   std::vector<std::string> error_popups;   // "TITLE: TEXT" of each error popup opened (failed loads and requests)
   std::vector<std::pair<uint32_t, uint64_t>> resident_kib;  // (frame, resident memory) at each `rss`
   std::vector<LoadRecord> loads;           // opened in the window, in the order they ended
+  std::vector<uint32_t> steps_shown;       // time steps shown after the first, in order
+  // The volume renderer's uploads: whole meshes (the first scene, and every scene of other points
+  // or cells), and fields alone (a time step of the mesh drawn).
+  uint32_t mesh_uploads = 0, field_uploads = 0;
   size_t datasets = 0;                     // in the scene at the end
   size_t datasets_visible = 0;
   std::string last_load_error;

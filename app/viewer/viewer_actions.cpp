@@ -276,6 +276,13 @@ void ViewerSession::run(const ScriptCommand& c) {
   else if (c.verb == "drop") window.queue_drop(a);
   else if (c.verb == "wait-load") begin_script_wait(*this, a.empty() ? 120.0 : number(0));
   else if (c.verb == "cancel-load") cancel_loads(*this);
+  else if (c.verb == "time-step") message(go_to_step(*this, whole(0)));
+  else if (c.verb == "play") message(set_playing(*this, script_on_off(c)));
+  else if (c.verb == "wait-step") {
+    time.waiting_for = whole(0);
+    begin_script_wait(*this, a.size() > 1 ? number(1) : 120.0);
+  }
+  else if (c.verb == "range-per-step") state.range_per_step = script_on_off(c);
   else if (c.verb == "show") message(show_dataset(state, whole(0), script_on_off(c, 1)));
   else if (c.verb == "active") message(set_active(state, whole(0)));
   else if (c.verb == "compare") {

@@ -107,11 +107,19 @@ void sync_renderer(ViewerSession& s) {
   LoadingState& l = s.loading;
   const std::shared_ptr<const TetMesh>& mesh = s.state.drawn().mesh;
   if (!l.renderer_slot || mesh == l.drawn_mesh) return;
+  // A time step of the mesh drawn: its fields alone go to the GPU, and the camera stays.
+  if (l.renderer_slot->has_value() && (*l.renderer_slot)->update_fields(*mesh)) {
+    l.drawn_mesh = mesh;
+    ++s.report.field_uploads;
+    s.stats.report().counted = false;
+    return;
+  }
   s.device.wait_idle();
   // The new renderer takes the old one's place: references to it (the session's, the loop's)
   // then name the new object, as C++ allows for a same-type object in the same storage.
   l.renderer_slot->reset();
   l.renderer_slot->emplace(s.device, *mesh);
+  ++s.report.mesh_uploads;
   l.drawn_mesh = mesh;
   const bool flying = s.camera.flying();
   s.camera = CameraController(s.state.drawn().bounds, s.camera.camera());
@@ -125,6 +133,9 @@ void apply_data_requests(ViewerSession& s, const DataRequests& r) {
   if (r.cancel) cancel_loads(s);
   if (r.show) s.message(show_dataset(s.state, r.show->first, r.show->second));
   if (r.make_active) s.message(set_active(s.state, *r.make_active));
+  if (r.time_step) s.message(go_to_step(s, *r.time_step));
+  if (r.play) s.message(set_playing(s, *r.play));
+  if (r.range_per_step) s.state.range_per_step = *r.range_per_step;
   if (!r.open.empty()) open_datasets(s, r.open, r.array);
 }
 
@@ -136,10 +147,14 @@ void begin_script_wait(ViewerSession& s, double timeout_seconds) {
 bool script_waiting(ViewerSession& s) {
   LoadingState& l = s.loading;
   if (!l.script_deadline) return false;
-  const bool loading = l.job || !l.queue.empty();
-  if (loading && std::chrono::steady_clock::now() < *l.script_deadline) return true;
-  if (loading) s.message("wait-load: the load did not end before the timeout");
+  const std::optional<uint32_t> step = s.time.waiting_for;
+  const bool waiting = step ? s.state.dataset().step != *step : l.job || !l.queue.empty() || time_loading(s);
+  if (waiting && std::chrono::steady_clock::now() < *l.script_deadline) return true;
+  if (waiting)
+    s.message(step ? "wait-step: step " + std::to_string(*step) + " was not shown before the timeout"
+                   : std::string("wait-load: the load did not end before the timeout"));
   l.script_deadline.reset();
+  s.time.waiting_for.reset();
   return false;
 }
 

@@ -30,7 +30,8 @@ const std::map<std::string, int>& verbs() {
       {"rss", 0},        {"drag", -1},         {"open", -1},        {"wait-load", -1},
       {"cancel-load", 0}, {"show", 2},         {"active", 1},       {"drop", -1},
       {"compare", 1},    {"compare-mode", 1},
-      {"compare-quantity", 1}, {"backend", 1}, {"compare-backend", 1}, {"wait-reference", -1}};
+      {"compare-quantity", 1}, {"backend", 1}, {"compare-backend", 1}, {"wait-reference", -1},
+      {"time-step", 1},  {"play", 1},          {"range-per-step", 1}, {"wait-step", -1}};
   return v;
 }
 
@@ -119,6 +120,8 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
     if (c.verb == "open" && (c.args.empty() || c.args.size() > 2)) throw InputError(c.where, "open takes PATH and optionally an ARRAY");
     if (c.verb == "drop" && c.args.empty()) throw InputError(c.where, "drop takes one or more paths");
     if (c.verb == "wait-load" && c.args.size() > 1) throw InputError(c.where, "wait-load takes at most a timeout in seconds");
+    if (c.verb == "wait-step" && (c.args.empty() || c.args.size() > 2))
+      throw InputError(c.where, "wait-step takes a step and optionally a timeout in seconds");
     if (found->second >= 0 && c.args.size() != size_t(found->second))
       throw InputError(c.where, c.verb + " takes " + std::to_string(found->second) + " argument(s)");
     c.frame = frame;

@@ -12,6 +12,7 @@
 #include "app/viewer/imgui_layer.hpp"
 #include "app/viewer/panels.hpp"
 #include "app/viewer/screenshot.hpp"
+#include "app/viewer/time_steps.hpp"
 #include "app/viewer/view_state.hpp"
 #include "app/viewer/viewer.hpp"
 #include "app/viewer/viewer_loading.hpp"
@@ -37,6 +38,7 @@ struct ViewerSession {
   std::optional<std::string> capture_path;  // a screenshot the next recorded frame takes
   uint32_t screenshot_count = 0;
   LoadingState loading;  // datasets opening in the background (viewer_loading.cpp)
+  TimeStepping time;     // the active dataset's time steps (time_steps.cpp)
   // A script's clock: frames counted while no wait-reference holds the script.
   uint32_t script_frame = 0;
   // A script's wait-reference: its commands pause until the difference view settles or then.

@@ -24,6 +24,8 @@
 #include "app/viewer/camera_controller.hpp"
 #include "app/viewer/camera_line.hpp"
 #include "app/viewer/interactive_scale.hpp"
+#include "app/common/dataset_loader.hpp"
+#include "app/viewer/view_state.hpp"
 #include "app/viewer/viewer.hpp"
 #include "io/vtk_tet_io.hpp"
 #include "io/image_io.hpp"
@@ -403,6 +405,65 @@ TEST(ViewerLoading, OpensASecondDatasetWhileTheWindowKeepsDrawing) {
   EXPECT_EQ(report.last_frame.cells, first.tets.size() + load.cells);
   std::cout << "TetGen load: " << load.cells << " cells in " << load.seconds << " s, " << load.frames_presented
             << " frames presented meanwhile\n";
+}
+
+// A time series in the window (issue "Simulations as they come"): three steps of the box [-1,1]^3,
+// each of one extinction. Stepping shows each step (its optical depth along the axis is 2 sigma
+// of that step), playing walks the steps and wraps around, the steps load beside the frames,
+// and the mesh is uploaded once: every later step sends its fields alone. Validation stays silent.
+TEST(ViewerLoading, StepsAndPlaysATimeSeriesUploadingItsMeshOnce) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("time");
+  const std::vector<double> sigma = {0.5, 1.0, 2.0};
+  std::ofstream pvd(dir / "series.pvd");
+  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
+  for (size_t i = 0; i < sigma.size(); ++i) {
+    const double s = sigma[i];
+    io::write_tet_mesh_vtu((dir / ("box_" + std::to_string(i) + ".vtu")).string(),
+                           make_box_mesh(glm::dvec3(-1.0), glm::dvec3(1.0), 2, [s](const glm::dvec3&) { return s; }));
+    pvd << "    <DataSet timestep=\"" << i << "\" part=\"0\" file=\"box_" << i << ".vtu\"/>\n";
+  }
+  pvd << "  </Collection>\n</VTKFile>\n";
+  pvd.close();
+  app::LoadRequest request;
+  request.path = (dir / "series.pvd").string();
+  request.array = "extinction";
+  app::ViewState state;
+  state.datasets.push_back(app::make_dataset(app::load_dataset(request)));
+  app::attach_time(state.datasets.back(), request);
+  ASSERT_EQ(state.datasets.back().times.size(), 3u);
+
+  std::ostringstream script;
+  const auto render = [&](const std::string& name) { script << "wait 2\nrender 9 9 " << (dir / name).string() << "\n"; };
+  script << "wait 2\ntime-step 1\nwait-load\n";
+  render("s1.pfm");
+  script << "time-step 2\nwait-load\n";
+  render("s2.pfm");
+  script << "play on\nwait-step 0 60\nwait-step 1 60\nplay off\nwait-load\n";
+  render("played.pfm");
+  script << "time-step 7\nclose\n";
+  app::ViewerOptions options = window_options(160, 120, script.str());
+  options.settings.resolve.quantity = volume::Quantity::OpticalDepth;
+  Camera camera;
+  camera.eye = {0.0, 0.0, 5.0};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.up = {0.0, 1.0, 0.0};
+  camera.fovy_degrees = 40.0;
+  camera.near_distance = 0.5;
+  options.camera = camera;
+  const app::ViewerReport report = app::run_viewer(std::move(state), options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  EXPECT_EQ(report.steps_shown, (std::vector<uint32_t>{1, 2, 0, 1}));
+  EXPECT_EQ(report.mesh_uploads, 1u);
+  EXPECT_EQ(report.field_uploads, report.steps_shown.size());
+  // The centre pixel's ray is the axis: 2 sigma of the step shown (float32: 1e-5 relative).
+  const auto centre = [&](const std::string& name) { return double(io::read_pfm((dir / name).string()).pixels[4 * 9 + 4]); };
+  EXPECT_NEAR(centre("s1.pfm"), 2.0 * sigma[1], 2e-5 * sigma[1]);
+  EXPECT_NEAR(centre("s2.pfm"), 2.0 * sigma[2], 2e-5 * sigma[2]);
+  EXPECT_NEAR(centre("played.pfm"), 2.0 * sigma[1], 2e-5 * sigma[1]);
+  // A step that does not exist is refused by name; the window goes on to close.
+  ASSERT_FALSE(report.messages.empty());
+  EXPECT_NE(report.messages.back().find("has 3 steps (0 to 2), not 7"), std::string::npos) << report.messages.back();
 }
 
 // Bad files (missing, truncated) give the data layer's message naming the file; the window
