@@ -30,13 +30,14 @@ namespace prismoid::app {
 const char* const kConvertHelp =
     "usage: prismoid convert [IN] OUT.vtu [--array NAME --density-scale S]\n"
     "                        [--tetgen-quality Q --tetgen-max-volume V --tetgen-cells N --fill-holes --remesh H]\n"
-    "                        [--blocks LIST] [--time-step N | --time T]\n"
+    "                        [--blocks LIST] [--time-step N | --time T] [--subdivision N]\n"
     "       prismoid convert IN OUT.vdb [--vdb fog|levelset] [--voxel-size H] [--fill-holes]\n"
     "\n"
     "Writes a tetrahedral mesh as VTK XML (.vtu): the cell array 'extinction' and, where the\n"
     "input has one, the point array 'scalars'. IN is a .vtu/.vtk/.vtm/.pvtu file (other cells are\n"
     "split into tetrahedra, pieces merged: see `prismoid info IN`), an Exodus II file or a time series\n"
-    "(--blocks, --time-step and --time pick as render's do), an image volume (.vti .mhd .mha\n"
+    "(--blocks, --time-step and --time pick as render's do; --subdivision refines higher-order\n"
+    "cells as render's does), an image volume (.vti .mhd .mha\n"
     ".inr), a field:NAME[:N] dataset, or a closed surface (.vtp .stl .obj .ply .off) tetrahedralized\n"
     "by TetGen (see `render --help`); without IN, the embedded default dataset is written (its point\n"
     "array 'scalars' holds the field sampled at the points) into a new OUT: an existing file alone\n"
@@ -93,7 +94,7 @@ int convert_to_vdb(ParsedArgs& a, const std::string& out, OutputFiles& files) {
 
 int cmd_convert(const std::vector<std::string>& args) {
   ParsedArgs a = parse(args, 1, {"array", "density-scale", "tetgen-quality", "tetgen-max-volume", "tetgen-cells", "subsample", "grid", "vdb",
-                                 "voxel-size", "remesh", "blocks", "time-step", "time"},
+                                 "voxel-size", "remesh", "blocks", "time-step", "time", "subdivision"},
                        {"help", "fill-holes"});
   if (a.flags.count("help")) { std::cout << kConvertHelp; return kOk; }
   if (a.files.empty() || a.files.size() > 2) throw InputError("convert", "expects [IN] OUT.vtu (see --help)");

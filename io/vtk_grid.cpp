@@ -1,5 +1,6 @@
 #include "io/vtk_grid.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -8,6 +9,9 @@
 #include <vtkCommand.h>
 #include <vtkDataObjectTreeIterator.h>
 #include <vtkDataSetTriangleFilter.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkTessellatorFilter.h>
 #include <vtkInformation.h>
 #include <vtkMultiBlockDataSet.h>
 #include <vtkLogger.h>
@@ -252,6 +256,30 @@ GridSource read_unstructured_grid(const std::string& path, const Progress& progr
   if (ext == ".vtu") source.grid = run_xml_reader<vtkXMLUnstructuredGridReader>(path, "unstructured grid (.vtu)", progress, reading)->GetOutput();
   else source.grid = read_legacy(path, progress, reading);
   return source;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> tessellate(vtkUnstructuredGrid* grid, const std::string& path, uint32_t levels,
+                                                const Progress& progress, double start, double end) {
+  vtkNew<vtkTessellatorFilter> filter;
+  filter->SetInputData(grid);
+  filter->SetOutputDimension(3);
+  filter->SetMaximumNumberOfSubdivisions(int(levels));
+  // Any departure from linearity beyond rounding counts, so the levels alone bound the refinement:
+  // an edge is halved where its true midpoint lies off the straight one by 1e-9 of the data's
+  // size, or a point array's value there is off the linear one by 1e-9 of its range (VTK's
+  // vtkDataSetEdgeSubdivisionCriterion; a tolerance of 0 would turn the test off).
+  constexpr double kRelative = 1e-9;
+  filter->SetChordError(kRelative * std::max(grid->GetLength(), 1e-300));
+  for (int i = 0; i < grid->GetPointData()->GetNumberOfArrays(); ++i) {
+    vtkDataArray* array = grid->GetPointData()->GetArray(i);
+    if (!array) continue;
+    double range[2] = {0.0, 0.0};
+    array->GetRange(range, array->GetNumberOfComponents() == 1 ? 0 : -1);  // vectors: their magnitude
+    filter->SetFieldCriterion(i, kRelative * std::max(range[1] - range[0], 1e-300));
+  }
+  filter->MergePointsOn();
+  update_with_progress(filter, progress, {start, end, "tessellating higher-order cells"}, path);
+  return filter->GetOutput();
 }
 
 vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid, const std::string& path, const Progress& progress,

@@ -88,6 +88,12 @@ GridSource read_unstructured_grid(const std::string& path, const Progress& progr
 vtkSmartPointer<vtkUnstructuredGrid> tetrahedralize(vtkUnstructuredGrid* grid, const std::string& path, const Progress& progress = {},
                                                     double start = 0.0, double end = 1.0);
 
+// Higher-order cells as tetrahedra through VTK's vtkTessellatorFilter: each edge halved up to
+// `levels` times where the cell's shape or a point array is not linear along it; points merged
+// (neighbours share their new points), point and cell arrays kept. Progress from `start` to `end`.
+vtkSmartPointer<vtkUnstructuredGrid> tessellate(vtkUnstructuredGrid* grid, const std::string& path, uint32_t levels,
+                                                const Progress& progress = {}, double start = 0.0, double end = 1.0);
+
 }  // namespace prismoid::io::detail
 
 #include "io/isolated_read.hpp"
@@ -108,6 +114,8 @@ void fields(S& s, M& c) {
   s(c.chosen_array);
   s(c.chosen_why);
   s(c.ignored);
+  s(c.higher_order);
+  s(c.subdivision);
 }
 
 }  // namespace prismoid::io

@@ -93,6 +93,7 @@ void survey_cells(vtkUnstructuredGrid* grid, const std::string& path, MeshConver
       dim->second = cell ? cell->GetCellDimension() : 0;
     }
     if (dim->second < 3) ++report.dropped;
+    else if (!vtkCellTypes::IsLinear(static_cast<unsigned char>(type))) ++report.higher_order;
     grid->GetCellPoints(c, ids);
     for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
       if (ids->GetId(k) < 0 || ids->GetId(k) >= point_count)
@@ -116,7 +117,11 @@ std::string conversion_note(const MeshConversion& c) {
   if (c.split()) {
     std::string in;
     for (const auto& [name, count] : c.cells_in) in += std::string(in.empty() ? "" : ", ") + std::to_string(count) + " " + name;
-    parts.push_back("split " + in + " into " + std::to_string(c.tets_out) + " tetrahedra");
+    parts.push_back("split " + in + " into " + std::to_string(c.tets_out) + " tetrahedra" +
+                    (c.subdivision > 0 ? " (higher-order cells tessellated by VTK's vtkTessellatorFilter, up to " +
+                                             std::to_string(c.subdivision) + " subdivisions)"
+                     : c.higher_order > 0 ? " (higher-order cells through their nodes: --subdivision N refines them)"
+                                          : ""));
   }
   if (c.dropped > 0) parts.push_back("dropped " + std::to_string(c.dropped) + " cells without volume (2D/1D/vertex)");
   for (const std::string& what : c.ignored) parts.push_back("not drawn: " + what);
@@ -160,6 +165,7 @@ void fields(S& s, M& r) {
   s(r.options.density_scale);
   s(r.options.blocks);
   s(r.options.time_step);
+  s(r.options.subdivision);
 }
 
 const ChildWork<ReadRequest, ReadResult> kReadTetMesh("read-tet-mesh", [](const ReadRequest& request, const Progress& progress) {
@@ -201,7 +207,17 @@ TetMesh tet_mesh_from_grid(const GridSource& source, const std::string& path, co
       throw InputError(path, "point " + std::to_string(i) + " has a non-finite coordinate (NaN or Inf)");
   }
   survey_cells(grid, path, report);
-  if (report.split() || report.dropped > 0) grid = tetrahedralize(grid, path, options.progress, 0.7, 0.95);
+  if (options.subdivision > 0 && report.higher_order > 0) {
+    // Tessellating only some cells would leave T-junctions (cracks) where they meet linear ones.
+    size_t solid = 0;
+    for (const auto& [name, count] : report.cells_in) solid += count;
+    if (solid - report.dropped != report.higher_order)
+      throw InputError("--subdivision", path + " mixes higher-order and linear 3D cells: tessellating the former alone would leave "
+                                              "cracks where they meet (leave --subdivision out: every cell is then split through its nodes)");
+    grid = detail::tessellate(grid, path, options.subdivision, options.progress, 0.7, 0.9);
+    report.subdivision = options.subdivision;
+  }
+  if (report.split() || report.dropped > 0) grid = tetrahedralize(grid, path, options.progress, 0.9, 0.95);
 
   TetMesh mesh;
   mesh.name = path;

@@ -19,6 +19,9 @@ enum class ArrayRole {
   Scalars,     // a scalar field for a transfer function; any finite values
 };
 
+// Each subdivision level multiplies a higher-order cell's tetrahedra by about 8.
+constexpr uint32_t kMaxSubdivision = 5;
+
 struct TetReadOptions {
   // The array to use (vectors by magnitude): a cell array is constant per cell, a point array
   // linear in each cell. Empty: sigma = density_scale per cell; as Scalars, the array ParaView
@@ -32,6 +35,11 @@ struct TetReadOptions {
   // every unstructured grid block). An Exodus II file's time step (an index, 0 the first).
   std::vector<std::string> blocks;
   uint32_t time_step = 0;
+  // Higher-order cells (quadratic, Lagrange, Bezier): 0 splits them through their nodes, as every
+  // cell is split; N in 1..kMaxSubdivision tessellates them with VTK's vtkTessellatorFilter, each
+  // edge halved up to N times wherever the cell's shape or a point array is not linear along it
+  // (the new points get the cell's own interpolation of position and point arrays).
+  uint32_t subdivision = 0;
   // Called while VTK reads and splits cells (fractions rise to 1); returning false cancels:
   // read_tet_mesh then throws Cancelled.
   Progress progress;
@@ -61,6 +69,8 @@ struct MeshConversion {
   std::string chosen_why;    // e.g. "the only point array"
   // What the file holds that is not drawn, one phrase each, e.g. "block 30 (vtkQuad): no 3D cells".
   std::vector<std::string> ignored;
+  size_t higher_order = 0;    // 3D cells of quadratic, Lagrange or Bezier type
+  uint32_t subdivision = 0;   // the level they were tessellated at (TetReadOptions::subdivision)
   bool split() const;        // whether any cell was not a tetrahedron
 };
 

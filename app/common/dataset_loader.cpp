@@ -128,6 +128,7 @@ TetMesh load_unstructured(const LoadRequest& r, const io::Progress& progress, io
   io::TetReadOptions reading;
   reading.blocks = r.blocks;
   reading.time_step = time_step;
+  reading.subdivision = r.subdivision;
   reading.array = r.array;
   reading.component = r.component.value_or(-1);
   reading.role = r.role;
@@ -302,6 +303,13 @@ LoadRequest load_request_from(const ParsedArgs& a, const std::string& path, bool
   if (a.has("blocks") && !is_exodus && !(!path.empty() && io::is_multiblock_path(path)))
     throw InputError("--blocks", "picks blocks of a multiblock .vtm or an Exodus II file (.exo .e .ex2 .exii .g .gen)");
   if (a.has("blocks")) r.blocks = block_list(a.values.at("blocks"));
+  if (a.has("subdivision")) {
+    if (path.empty() || !(io::is_tet_mesh_path(path) || is_series))
+      throw InputError("--subdivision", "refines the higher-order cells of unstructured meshes (.vtu .vtk .vtm .pvtu, Exodus II, time series)");
+    r.subdivision = parse_uint("subdivision", a.values.at("subdivision"));
+    if (r.subdivision > io::kMaxSubdivision)
+      throw InputError("--subdivision", "is at most " + std::to_string(io::kMaxSubdivision) + " (each level multiplies a higher-order cell's tetrahedra by about 8)");
+  }
   if (a.has("time-step")) r.time_step = parse_uint("time-step", a.values.at("time-step"));
   if (a.has("time")) r.time = parse_double("time", a.values.at("time"));
   return r;

@@ -40,6 +40,7 @@ struct LoadRequest {
   std::optional<uint32_t> time_step;
   std::optional<double> time;
   std::vector<std::string> blocks;  // .vtm and Exodus II only: the blocks drawn (io::TetReadOptions::blocks)
+  uint32_t subdivision = 0;         // unstructured meshes: higher-order cells' level (io::TetReadOptions::subdivision)
 };
 
 // The request the dataset options describe for `path`; InputError names an option that is

@@ -36,6 +36,11 @@ const std::vector<VolumeOption>& volume_option_table() {
        "per cell, a point array linear in each cell; default sigma = 1 (the default dataset: its density)",
        G::Data},
       {"component", "C", "of a vector --array: 0, 1, 2... or x, y, z (default: magnitude)", G::Data},
+      {"subdivision", "N",
+       "higher-order cells (quadratic, Lagrange, Bezier): 0 splits them through their nodes (default); N (at most 5) "
+       "tessellates them with VTK's vtkTessellatorFilter, each edge halved up to N times where the cell's shape or a point "
+       "array is not linear along it",
+       G::Data},
       {"density-scale", "S",
        "multiplies the extinction (default 1); for color, the extinction at opacity 1 (default 35 / the diagonal of the data's "
        "bounds: the same look in any units)",

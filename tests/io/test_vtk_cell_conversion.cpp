@@ -9,10 +9,19 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <unistd.h>
 
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <vtkCellType.h>
+#include <vtkDoubleArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
 
 #include "io/vtk_tet_io.hpp"
 #include "scene/input_error.hpp"
@@ -265,6 +274,89 @@ TEST(Conversion, IndicesOutOfRangeAreRefusedBeforeVtkTouchesThem) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
   }
+  std::filesystem::remove(path);
+}
+
+// A quadratic tetrahedron (straight edges) carrying f = x^2 at its 10 nodes: its own quadratic
+// interpolation is f exactly, so what the tetrahedra Prismoid draws hold (f linear in each) is
+// held to f itself. Linear interpolation of x^2 on a tetrahedron errs by the variance of its
+// corners' x under the barycentric weights, at most (x extent)^2 / 4 (Popoviciu's inequality),
+// attained at the midpoint of the edge of largest x extent: each level's measured error is within
+// that bound of its own tetrahedra, reaches half of it at least (the samples include those
+// midpoints), and shrinks with every level.
+TEST(VtkCellConversion, QuadraticFieldIsWithinTheTessellationErrorAtEachSubdivision) {
+  const double corner[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int edge[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};  // VTK's mid-edge node order
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkDoubleArray> f;
+  f->SetName("f");
+  const auto add = [&](double x, double y, double z) {
+    points->InsertNextPoint(x, y, z);
+    f->InsertNextValue(x * x);
+  };
+  for (const auto& c : corner) add(c[0], c[1], c[2]);
+  for (const auto& e : edge)
+    add(0.5 * (corner[e[0]][0] + corner[e[1]][0]), 0.5 * (corner[e[0]][1] + corner[e[1]][1]), 0.5 * (corner[e[0]][2] + corner[e[1]][2]));
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->SetPoints(points);
+  grid->GetPointData()->AddArray(f);
+  const vtkIdType ids[10] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+  grid->InsertNextCell(VTK_QUADRATIC_TETRA, 10, ids);
+  const std::string path = temp_path("quadratic.vtu");
+  testgrids::write_vtu(path, grid);
+
+  // Samples: the lattice of step 1/32 over the tetrahedron (every level's edge midpoints on it).
+  constexpr int kSteps = 32;
+  std::vector<glm::dvec3> samples;
+  for (int i = 0; i <= kSteps; ++i)
+    for (int j = 0; i + j <= kSteps; ++j)
+      for (int k = 0; i + j + k <= kSteps; ++k) samples.emplace_back(double(i) / kSteps, double(j) / kSteps, double(k) / kSteps);
+  double last_error = 1.0;
+  for (uint32_t level = 0; level <= 3; ++level) {
+    SCOPED_TRACE("subdivision " + std::to_string(level));
+    io::MeshConversion conversion;
+    const TetMesh mesh = io::read_tet_mesh(path, {.array = "f", .role = io::ArrayRole::Scalars, .subdivision = level}, &conversion);
+    EXPECT_EQ(conversion.higher_order, 1u);
+    EXPECT_EQ(conversion.subdivision, level);
+    ASSERT_EQ(mesh.point_scalars.size(), mesh.points.size());
+    EXPECT_NEAR(tet_quality(mesh).total_volume, 1.0 / 6.0, 1e-12);  // the cell, whole: no gap, no overlap
+    double bound = 0.0;
+    for (const auto& t : mesh.tets) {
+      double lo = 1.0, hi = 0.0;
+      for (int c = 0; c < 4; ++c) lo = std::min(lo, mesh.points[t[c]].x), hi = std::max(hi, mesh.points[t[c]].x);
+      bound = std::max(bound, 0.25 * (hi - lo) * (hi - lo));
+    }
+    double error = 0.0;
+    for (const glm::dvec3& p : samples) {
+      bool found = false;
+      for (const auto& t : mesh.tets) {
+        const glm::dvec3 a = mesh.points[t[0]];
+        const glm::dmat3 m(mesh.points[t[1]] - a, mesh.points[t[2]] - a, mesh.points[t[3]] - a);
+        const glm::dvec3 w = glm::inverse(m) * (p - a);
+        const double w0 = 1.0 - w.x - w.y - w.z;
+        if (std::min({w0, w.x, w.y, w.z}) < -1e-12) continue;
+        const double value = w0 * mesh.point_scalars[t[0]] + w.x * mesh.point_scalars[t[1]] + w.y * mesh.point_scalars[t[2]] +
+                             w.z * mesh.point_scalars[t[3]];
+        error = std::max(error, std::abs(value - p.x * p.x));
+        found = true;
+        break;
+      }
+      ASSERT_TRUE(found) << "no tetrahedron holds (" << p.x << ", " << p.y << ", " << p.z << ")";
+    }
+    std::cout << "subdivision " << level << ": " << mesh.tets.size() << " tetrahedra, largest field error " << error << " (bound " << bound
+              << ")\n";
+    EXPECT_LE(error, bound + 1e-12);
+    EXPECT_GE(error, 0.5 * bound);
+    if (level > 0) {
+      EXPECT_LT(error, 0.5 * last_error);
+    }
+    last_error = error;
+  }
+  // Higher-order cells beside linear ones: tessellating them alone would crack where they meet.
+  const vtkIdType hex[8] = {1, 4, 6, 2, 3, 7, 8, 9};  // any eight points: refused before any filter runs
+  grid->InsertNextCell(VTK_HEXAHEDRON, 8, hex);
+  testgrids::write_vtu(path, grid);
+  EXPECT_THROW(io::read_tet_mesh(path, {.subdivision = 1}), InputError);
   std::filesystem::remove(path);
 }
 

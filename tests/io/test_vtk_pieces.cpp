@@ -115,7 +115,7 @@ TEST(VtkPieces, MultiblockWithAnImageBlockNamesIt) {
   EXPECT_EQ(info.blocks, (std::vector<std::string>{"block 0: " + std::to_string(boxes.a->GetNumberOfCells()) + " cells",
                                                    "block 1 'density': vtkImageData (not drawn)"}));
   // Chosen by name: refused, saying why.
-  for (const std::string& block : {"density", "1"})
+  for (const char* block : {"density", "1"})
     try {
       io::read_tet_mesh(path, {.blocks = {block}});
       ADD_FAILURE() << "an image block is not an unstructured grid";
