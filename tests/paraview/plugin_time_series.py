@@ -3,7 +3,8 @@ wavelet's scaled by 0.6, 1 and 1.4, drawn at each step's time through the plugin
 step the image `prismoid render --time-step N` gives of that step, and the CPU reference's, within
 the bound of plugin_matches_render.py (2 levels: ParaView's 8-bit framebuffer). The transfer
 function's range is the first step's throughout, so the steps look different; a plugin that kept
-the first step's mesh would match only the first.
+the first step's mesh would match only the first. The steps share their points and cells, so the
+mesh is uploaded once and each later step sends its fields alone (counted by the plugin).
 """
 import os
 
@@ -61,6 +62,14 @@ def main():
             pvtest.fail("steps 0 and %d look alike: the series proves nothing" % i)
     if failures:
         pvtest.fail("%d of %d steps beyond the bound" % (failures, len(TIMES)))
+    # The steps share their points and cells: the mesh went to the GPU once, each later step's
+    # fields alone.
+    scene.rep.UpdatePropertyInformation()
+    meshes = scene.rep.GetPropertyValue("PrismoidMeshUploads")
+    fields = scene.rep.GetPropertyValue("PrismoidFieldUploads")
+    print("uploads: %d mesh, %d field sets" % (meshes, fields), flush=True)
+    if meshes != 1 or fields != len(TIMES) - 1:
+        pvtest.fail("expected the mesh uploaded once and %d field sets, got %d and %d" % (len(TIMES) - 1, meshes, fields))
     print("PASS")
 
 

@@ -75,6 +75,9 @@ frame::OffscreenFrame Session::render(const Camera& camera, const frame::FrameSe
   return std::move(*impl_->renderer->render(camera, scene).volume);
 }
 
+uint32_t Session::mesh_uploads() const { return impl_->renderer ? impl_->renderer->volume_uploads().meshes : 0; }
+uint32_t Session::field_uploads() const { return impl_->renderer ? impl_->renderer->volume_uploads().fields : 0; }
+
 std::string Session::device_name() const { return impl_->device ? impl_->device->capabilities().name : std::string(); }
 
 }  // namespace prismoid::paraview

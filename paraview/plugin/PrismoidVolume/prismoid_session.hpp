@@ -34,6 +34,9 @@ class Session {
   // (row 0 at the top), drawn by the GPU mode of settings.ordering. Throws vk::NoSuitableDevice when no
   // Vulkan device can render it, InputError for settings the mesh or device refuses.
   frame::OffscreenFrame render(const Camera& camera, const frame::FrameSettings& settings, uint32_t width, uint32_t height);
+  // What the session's renderer has sent to the GPU: whole meshes, and fields alone.
+  uint32_t mesh_uploads() const;
+  uint32_t field_uploads() const;
   // The device's name (after the first frame; empty before).
   std::string device_name() const;
 

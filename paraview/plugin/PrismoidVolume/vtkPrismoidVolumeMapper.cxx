@@ -26,6 +26,9 @@
 
 vtkStandardNewMacro(vtkPrismoidVolumeMapper);
 
+int vtkPrismoidVolumeMapper::GetMeshUploads() { return static_cast<int>(prismoid::paraview::Session::instance().mesh_uploads()); }
+int vtkPrismoidVolumeMapper::GetFieldUploads() { return static_cast<int>(prismoid::paraview::Session::instance().field_uploads()); }
+
 vtkPrismoidVolumeMapper::vtkPrismoidVolumeMapper() : Texture(vtkTextureObject::New()) {}
 
 vtkPrismoidVolumeMapper::~vtkPrismoidVolumeMapper() { this->Texture->Delete(); }

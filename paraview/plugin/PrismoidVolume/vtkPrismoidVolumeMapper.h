@@ -38,6 +38,10 @@ public:
   // time of the plugin's part of it (Prismoid's frame, its read-back and the blend), in ms.
   vtkGetMacro(LastFrameDrawn, bool);
   vtkGetMacro(LastFrameMilliseconds, double);
+  // What this process has sent to the GPU: whole meshes, and fields alone (a time step of the
+  // mesh drawn before).
+  static int GetMeshUploads();
+  static int GetFieldUploads();
   const char* GetLastError() const { return this->LastError.c_str(); }
 
 protected:

@@ -38,6 +38,8 @@ void vtkPrismoidVolumeRepresentation::SetPrismoidQuantity(int quantity) {
 }
 
 double vtkPrismoidVolumeRepresentation::GetPrismoidLastFrameMilliseconds() { return this->Mapper->GetLastFrameMilliseconds(); }
+int vtkPrismoidVolumeRepresentation::GetPrismoidMeshUploads() { return vtkPrismoidVolumeMapper::GetMeshUploads(); }
+int vtkPrismoidVolumeRepresentation::GetPrismoidFieldUploads() { return vtkPrismoidVolumeMapper::GetFieldUploads(); }
 
 void vtkPrismoidVolumeRepresentation::UpdateMapperParameters() {
   this->Superclass::UpdateMapperParameters();

@@ -27,6 +27,9 @@ public:
   vtkPrismoidVolumeMapper* GetPrismoidMapper() { return this->Mapper; }
   // This process's last frame through the plugin: wall ms of its part (0: not drawn).
   double GetPrismoidLastFrameMilliseconds();
+  // This process's uploads through the plugin: whole meshes, and fields alone (time steps).
+  int GetPrismoidMeshUploads();
+  int GetPrismoidFieldUploads();
 
 protected:
   vtkPrismoidVolumeRepresentation();
