@@ -6,6 +6,13 @@ in 8-bit levels of ParaView's image. Results: docs/results.md ("Inside ParaView"
   scripts/pvpython.sh paraview/bench.py --prismoid build/app/prismoid --plugin SO --out DIR \\
       [--half 16] [--size 512x384] [--frames 5] [--mappers all|prismoid]
   mpirun -np N scripts/pvpython.sh --batch paraview/bench.py ... --mappers prismoid --split 1
+  scripts/pvpython.sh paraview/bench.py ... --steps N [--rounds R]
+
+--steps N: a time series instead (a .pvd of N steps of that grid, RTData scaled by 0.6 to 1.4),
+stepped through with ParaView's animation time, the plugin beside ParaView's projected
+tetrahedra: each step's Render() timed (ParaView reads the step, moves it to the mapper, draws),
+R rounds through the steps after one untimed round, and the plugin's uploads (the mesh whole,
+then fields alone).
 """
 import os
 import statistics
@@ -18,15 +25,75 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import pvtest  # noqa: E402
 
 from paraview import servermanager  # noqa: E402
-from paraview.simple import ColorBy, RedistributeDataSet, Render, Show  # noqa: E402
+from paraview.simple import (Calculator, ColorBy, Delete, GetAnimationScene, RedistributeDataSet, Render, SaveData,  # noqa: E402
+                             Show, XMLUnstructuredGridReader)
 
 PRISMOID = [("Prismoid, mesh backend, GPU sort", 0, 0), ("Prismoid, mesh backend, exact order", 0, 1),
             ("Prismoid, compute backend", 1, 0)]
 VTK = ["Projected tetra", "Z sweep", "Bunyk ray cast"]
 
 
+def write_series(vtu, out, steps):
+    """A .pvd of `steps` copies of `vtu` beside it, RTData scaled from 0.6 to 1.4, at times 0, 1, 2..."""
+    entries = []
+    for i in range(steps):
+        scale = 0.6 + 0.8 * i / max(steps - 1, 1)
+        reader = XMLUnstructuredGridReader(FileName=[vtu])
+        calc = Calculator(Input=reader, Function="RTData*%r" % scale, ResultArrayName="RTData")
+        name = "series_step_%d.vtu" % i
+        SaveData(os.path.join(out, name), proxy=calc)
+        Delete(calc)
+        Delete(reader)
+        entries.append('    <DataSet timestep="%d" part="0" file="%s"/>\n' % (i, name))
+    pvd = os.path.join(out, "series.pvd")
+    with open(pvd, "w") as f:
+        f.write('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n')
+        f.writelines(entries)
+        f.write("  </Collection>\n</VTKFile>\n")
+    return pvd
+
+
+def steps_main(a, vtu, size):
+    steps, rounds = int(a["steps"]), int(a.get("rounds", "2"))
+    pvd = write_series(vtu, a["out"], steps)
+    scene = pvtest.Scene(pvd, size=size, unit_distance=3.0 * int(a["half"]) / 6.0)
+    cells = scene.reader.GetDataInformation().GetNumberOfCells()
+    animation = GetAnimationScene()
+    animation.UpdateAnimationUsingDataTimeSteps()
+    cases = [(name, "Prismoid Volume", backend, ordering, None) for name, backend, ordering in PRISMOID[1:]]
+    cases.append(("VTK Projected tetra", "Volume", 0, 0, "Projected tetra"))
+    print("\n%d steps of the wavelet, %d tetrahedra each; %dx%d; %d rounds after one untimed" % (steps, cells, size[0], size[1], rounds))
+    print("| mapper | a step's frame, median (best-worst) ms | the plugin's part, median ms | uploads (meshes, field sets) |")
+    print("|---|---:|---:|---|")
+    for name, representation, backend, ordering, mapper in cases:
+        scene.rep.Representation = representation
+        if mapper:
+            scene.rep.SelectMapper = mapper
+        else:
+            scene.rep.PrismoidBackend = backend
+            scene.rep.PrismoidOrdering = ordering
+        times, plugin = [], []
+        for r in range(rounds + 1):
+            for i in range(steps):
+                animation.AnimationTime = float(i)
+                start = time.perf_counter()
+                Render(scene.view)
+                if r > 0:
+                    times.append(1000.0 * (time.perf_counter() - start))
+                    if not mapper:
+                        scene.rep.UpdatePropertyInformation()
+                        plugin.append(scene.rep.GetPropertyValue("PrismoidLastFrameMilliseconds"))
+        uploads = ""
+        if not mapper:
+            scene.rep.UpdatePropertyInformation()
+            uploads = "%d, %d" % (scene.rep.GetPropertyValue("PrismoidMeshUploads"), scene.rep.GetPropertyValue("PrismoidFieldUploads"))
+        print("| %s | %.0f (%.0f-%.0f) | %s | %s |" % (name, statistics.median(times), min(times), max(times),
+                                                     "%.0f" % statistics.median(plugin) if plugin else "", uploads))
+        sys.stdout.flush()
+
+
 def main():
-    a = {"half": "16", "size": "512x384", "frames": "5", "mappers": "all", "split": "0"}
+    a = {"half": "16", "size": "512x384", "frames": "5", "mappers": "all", "split": "0", "steps": "0"}
     a.update(pvtest.options())
     ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
     pvtest.load_plugin(a["plugin"])
@@ -34,6 +101,9 @@ def main():
     if not os.path.exists(vtu):
         pvtest.write_wavelet(vtu, half=int(a["half"]))
     w, h = (int(x) for x in a["size"].split("x"))
+    if a["steps"] != "0":
+        steps_main(a, vtu, (w, h))
+        return
     scene = pvtest.Scene(vtu, size=(w, h), unit_distance=3.0 * int(a["half"]) / 6.0)
     source = scene.reader
     if a["split"] == "1":
