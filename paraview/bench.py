@@ -11,8 +11,8 @@ in 8-bit levels of ParaView's image. Results: docs/results.md ("Inside ParaView"
 --steps N: a time series instead (a .pvd of N steps of that grid, RTData scaled by 0.6 to 1.4),
 stepped through with ParaView's animation time, the plugin beside ParaView's projected
 tetrahedra: each step's Render() timed (ParaView reads the step, moves it to the mapper, draws),
-R rounds through the steps after one untimed round, and the plugin's uploads (the mesh whole,
-then fields alone).
+R rounds through the steps after one untimed round, then N frames of the last step without a
+time change; and the plugin's uploads (the mesh whole, then fields alone).
 """
 import os
 import statistics
@@ -63,8 +63,9 @@ def steps_main(a, vtu, size):
     cases = [(name, "Prismoid Volume", backend, ordering, None) for name, backend, ordering in PRISMOID[1:]]
     cases.append(("VTK Projected tetra", "Volume", 0, 0, "Projected tetra"))
     print("\n%d steps of the wavelet, %d tetrahedra each; %dx%d; %d rounds after one untimed" % (steps, cells, size[0], size[1], rounds))
-    print("| mapper | a step's frame, median (best-worst) ms | the plugin's part, median ms | uploads (meshes, field sets) |")
-    print("|---|---:|---:|---|")
+    print("| mapper | a step's frame, median (best-worst) ms | the plugin's part, median ms | a still frame of the last step, median ms "
+          "(plugin's part) | uploads (meshes, field sets) |")
+    print("|---|---:|---:|---:|---|")
     for name, representation, backend, ordering, mapper in cases:
         scene.rep.Representation = representation
         if mapper:
@@ -83,12 +84,22 @@ def steps_main(a, vtu, size):
                     if not mapper:
                         scene.rep.UpdatePropertyInformation()
                         plugin.append(scene.rep.GetPropertyValue("PrismoidLastFrameMilliseconds"))
+        # The same view without a time change, for comparison (same run, same step).
+        still, still_plugin = [], []
+        for _ in range(steps):
+            start = time.perf_counter()
+            Render(scene.view)
+            still.append(1000.0 * (time.perf_counter() - start))
+            if not mapper:
+                scene.rep.UpdatePropertyInformation()
+                still_plugin.append(scene.rep.GetPropertyValue("PrismoidLastFrameMilliseconds"))
         uploads = ""
         if not mapper:
             scene.rep.UpdatePropertyInformation()
             uploads = "%d, %d" % (scene.rep.GetPropertyValue("PrismoidMeshUploads"), scene.rep.GetPropertyValue("PrismoidFieldUploads"))
-        print("| %s | %.0f (%.0f-%.0f) | %s | %s |" % (name, statistics.median(times), min(times), max(times),
-                                                     "%.0f" % statistics.median(plugin) if plugin else "", uploads))
+        print("| %s | %.0f (%.0f-%.0f) | %s | %.0f%s | %s |" % (
+            name, statistics.median(times), min(times), max(times), "%.0f" % statistics.median(plugin) if plugin else "",
+            statistics.median(still), " (%.0f)" % statistics.median(still_plugin) if still_plugin else "", uploads))
         sys.stdout.flush()
 
 
