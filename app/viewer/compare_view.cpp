@@ -63,15 +63,20 @@ void CompareView::update(ViewerSession& s) {
 
 void CompareView::update_split(ViewerSession& s) {
   const Dataset& d = s.state.dataset();
-  if (!b_ || b_mesh_ != d.mesh) {
+  // B at another time step, or the step A shows; a step of the mesh B draws sends its fields alone.
+  const std::shared_ptr<const TetMesh>& mesh = s.state.compare_step_mesh ? s.state.compare_step_mesh : d.mesh;
+  if (!b_ || b_mesh_ != mesh) {
     device_.wait_idle();
-    b_.reset();
-    b_ = std::make_unique<frame::FrameRenderer>(device_, *d.mesh);
-    b_mesh_ = d.mesh;
+    if (!b_ || !b_->update_fields(*mesh)) {
+      b_.reset();
+      b_ = std::make_unique<frame::FrameRenderer>(device_, *mesh);
+    }
+    b_mesh_ = mesh;
   }
   b_->resize(s.swapchain.extent());
   b_settings_ = compare_frame_settings(s.state);
   status_.b_mode = s.state.compare_mode;
+  if (s.state.compare_step && s.state.compare_step_mesh) status_.b_mode += ", step " + std::to_string(*s.state.compare_step);
   status_.b_quantity = b_settings_.resolve.quantity;
   try {
     b_->prepare(s.camera.camera(), b_settings_);

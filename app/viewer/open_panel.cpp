@@ -60,6 +60,14 @@ void draw_time(const ViewState& state, const DataPanel& panel, DataRequests& req
   if (ImGui::Button(">")) requests.time_step = uint32_t(step < last ? step + 1 : 0);
   ImGui::SameLine();
   if (ImGui::Button(">|")) requests.time_step = uint32_t(last);
+  bool compare = state.compare_step.has_value();
+  if (ImGui::Checkbox("split: B at step", &compare)) requests.compare_step = compare ? std::optional<uint32_t>(d.step) : std::nullopt;
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("the split view's right half (B) draws another step, so A | B compare two steps");
+  if (state.compare_step) {
+    int b = int(*state.compare_step);
+    ImGui::SameLine();
+    if (ImGui::SliderInt("##b-step", &b, 0, last)) requests.compare_step = uint32_t(b);
+  }
   bool per_step = state.range_per_step;
   if (ImGui::Checkbox("colour range per step", &per_step)) requests.range_per_step = per_step;
   if (ImGui::IsItemHovered())

@@ -50,6 +50,7 @@ struct DataRequests {
   std::optional<uint32_t> time_step;
   std::optional<bool> play;
   std::optional<bool> range_per_step;
+  std::optional<std::optional<uint32_t>> compare_step;  // split view's B at this step (none: at A's)
 };
 
 void draw_data_section(const ViewState& state, DataPanel& panel, DataRequests& requests);

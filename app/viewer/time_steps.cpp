@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "app/viewer/compare.hpp"
 #include "app/viewer/dataset_list.hpp"
 #include "app/viewer/viewer_session.hpp"
 
@@ -69,11 +70,54 @@ void poll_time(ViewerSession& s) {
   s.panel.data.step_loading = time_loading(s);
 }
 
-bool time_loading(const ViewerSession& s) { return s.time.job != nullptr || s.time.wanted.has_value(); }
+bool time_loading(const ViewerSession& s) { return s.time.job != nullptr || s.time.wanted.has_value() || s.time.compare_job != nullptr; }
+
+std::string set_compare_step(ViewerSession& s, std::optional<uint32_t> step) {
+  s.time.compare_job.reset();
+  if (!step) {
+    s.state.compare_step.reset();
+    s.state.compare_step_mesh.reset();
+    return {};
+  }
+  const Dataset& d = s.state.dataset();
+  if (d.times.empty() || !d.source) return "compare-step: " + d.name + " has no time steps";
+  if (*step >= d.times.size())
+    return "compare-step: " + d.source->path + " has " + std::to_string(d.times.size()) + " steps (0 to " +
+           std::to_string(d.times.size() - 1) + "), not " + std::to_string(*step);
+  LoadRequest r = *d.source;
+  r.time_step = *step;
+  r.time.reset();
+  s.time.compare_job = std::make_unique<TimeStepping::Job>(TimeStepping::Job{s.state.active, *step, std::make_unique<DatasetLoad>(std::move(r))});
+  return {};
+}
 
 namespace {
 
+// Split view's B step, once loaded: B draws it (the view turns to split, B in A's mode unless B
+// has a mode of its own).
+void compare_loads(ViewerSession& s) {
+  TimeStepping& t = s.time;
+  if (!t.compare_job || !t.compare_job->load->done()) return;
+  const std::unique_ptr<TimeStepping::Job> job = std::move(t.compare_job);
+  LoadOutcome outcome = job->load->take();
+  if (!outcome.dataset) {
+    s.failed("Could not load the time step", outcome.error);
+    return;
+  }
+  if (job->dataset != s.state.active) return;  // another dataset became active meanwhile
+  s.state.compare_step = job->step;
+  s.state.compare_step_mesh = outcome.dataset->mesh;
+  t.compare_dataset = job->dataset;
+  if (s.state.compare_mode.empty()) s.state.compare_mode = s.state.mode;
+  if (s.state.compare != CompareMode::Split) s.message(set_compare(s.state, CompareMode::Split));
+}
+
 void step_loads(ViewerSession& s) {
+  compare_loads(s);
+  if (s.state.compare_step && s.time.compare_dataset != s.state.active) {  // B's step was another dataset's
+    s.state.compare_step.reset();
+    s.state.compare_step_mesh.reset();
+  }
   TimeStepping& t = s.time;
   const size_t active = s.state.active;
   // A finished load joins the ready steps (those of another dataset than the active one are dropped).

@@ -31,6 +31,8 @@ struct TimeStepping {
   double seconds_per_step = 0.5;
   std::chrono::steady_clock::time_point shown_at{};
   std::optional<uint32_t> waiting_for;  // a script's wait-step: its commands pause until this step is shown
+  std::unique_ptr<Job> compare_job;     // split view's B at another step, loading
+  size_t compare_dataset = 0;           // the dataset whose step B shows (ViewState::compare_step)
 };
 
 // Asks for step `step` of the active dataset (a time series or an Exodus file with steps); the
@@ -41,6 +43,9 @@ std::string set_playing(ViewerSession& s, bool playing);
 // Once a frame: a finished step load shown or kept, the next step read ahead while playing, the
 // Time section's numbers refreshed.
 void poll_time(ViewerSession& s);
+// Split view's B at step `step` of the active dataset (loaded on its own thread; the view turns to
+// split when it has loaded), or (none) at the step A shows. The message says why not, else empty.
+std::string set_compare_step(ViewerSession& s, std::optional<uint32_t> step);
 // Whether a step is loading or asked for and not shown yet (a script's wait-load waits for it).
 bool time_loading(const ViewerSession& s);
 

@@ -59,6 +59,11 @@ struct ViewState {
   // size; the rest follows A each frame: compare_frame_settings). Empty mode: not chosen yet.
   std::string compare_mode;
   frame::FrameSettings compare_settings;
+  // Split view's B at another time step of the active dataset (its mesh, loaded as that step):
+  // A | B then compare two steps in one mode (or two modes at two steps). None: B draws the step
+  // A shows.
+  std::optional<uint32_t> compare_step;
+  std::shared_ptr<const TetMesh> compare_step_mesh;
   std::string tf_preset = "cool-to-warm";
   // Stepping through time: whether the transfer function's range follows each step's data range.
   // Off by default, as ParaView keeps the range while its time moves: colours then mean the same

@@ -283,6 +283,7 @@ void ViewerSession::run(const ScriptCommand& c) {
     begin_script_wait(*this, a.size() > 1 ? number(1) : 120.0);
   }
   else if (c.verb == "range-per-step") state.range_per_step = script_on_off(c);
+  else if (c.verb == "compare-step") message(set_compare_step(*this, a[0] == "off" ? std::nullopt : std::optional<uint32_t>(whole(0))));
   else if (c.verb == "show") message(show_dataset(state, whole(0), script_on_off(c, 1)));
   else if (c.verb == "active") message(set_active(state, whole(0)));
   else if (c.verb == "compare") {

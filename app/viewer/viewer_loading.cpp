@@ -136,6 +136,7 @@ void apply_data_requests(ViewerSession& s, const DataRequests& r) {
   if (r.time_step) s.message(go_to_step(s, *r.time_step));
   if (r.play) s.message(set_playing(s, *r.play));
   if (r.range_per_step) s.state.range_per_step = *r.range_per_step;
+  if (r.compare_step) s.message(set_compare_step(s, *r.compare_step));
   if (!r.open.empty()) open_datasets(s, r.open, r.array);
 }
 

@@ -31,7 +31,8 @@ const std::map<std::string, int>& verbs() {
       {"cancel-load", 0}, {"show", 2},         {"active", 1},       {"drop", -1},
       {"compare", 1},    {"compare-mode", 1},
       {"compare-quantity", 1}, {"backend", 1}, {"compare-backend", 1}, {"wait-reference", -1},
-      {"time-step", 1},  {"play", 1},          {"range-per-step", 1}, {"wait-step", -1}};
+      {"time-step", 1},  {"play", 1},          {"range-per-step", 1}, {"wait-step", -1},
+      {"compare-step", 1}};
   return v;
 }
 

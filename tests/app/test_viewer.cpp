@@ -411,10 +411,11 @@ TEST(ViewerLoading, OpensASecondDatasetWhileTheWindowKeepsDrawing) {
 // each of one extinction. Stepping shows each step (its optical depth along the axis is 2 sigma
 // of that step), playing walks the steps and wraps around, the steps load beside the frames,
 // and the mesh is uploaded once: every later step sends its fields alone. Validation stays silent.
-TEST(ViewerLoading, StepsAndPlaysATimeSeriesUploadingItsMeshOnce) {
-  REQUIRE_DISPLAY();
-  const fs::path dir = out_dir("time");
-  const std::vector<double> sigma = {0.5, 1.0, 2.0};
+const std::vector<double> kStepSigma = {0.5, 1.0, 2.0};
+
+// The window's state for a .pvd of three steps of the box, written in `dir`, opened at step 0.
+app::ViewState box_series_state(const fs::path& dir) {
+  const std::vector<double>& sigma = kStepSigma;
   std::ofstream pvd(dir / "series.pvd");
   pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
   for (size_t i = 0; i < sigma.size(); ++i) {
@@ -431,6 +432,24 @@ TEST(ViewerLoading, StepsAndPlaysATimeSeriesUploadingItsMeshOnce) {
   app::ViewState state;
   state.datasets.push_back(app::make_dataset(app::load_dataset(request)));
   app::attach_time(state.datasets.back(), request);
+  return state;
+}
+
+Camera box_view() {
+  Camera camera;
+  camera.eye = {0.0, 0.0, 5.0};
+  camera.target = {0.0, 0.0, 0.0};
+  camera.up = {0.0, 1.0, 0.0};
+  camera.fovy_degrees = 40.0;
+  camera.near_distance = 0.5;
+  return camera;
+}
+
+TEST(ViewerLoading, StepsAndPlaysATimeSeriesUploadingItsMeshOnce) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("time");
+  const std::vector<double>& sigma = kStepSigma;
+  app::ViewState state = box_series_state(dir);
   ASSERT_EQ(state.datasets.back().times.size(), 3u);
 
   std::ostringstream script;
@@ -444,13 +463,7 @@ TEST(ViewerLoading, StepsAndPlaysATimeSeriesUploadingItsMeshOnce) {
   script << "time-step 7\nclose\n";
   app::ViewerOptions options = window_options(160, 120, script.str());
   options.settings.resolve.quantity = volume::Quantity::OpticalDepth;
-  Camera camera;
-  camera.eye = {0.0, 0.0, 5.0};
-  camera.target = {0.0, 0.0, 0.0};
-  camera.up = {0.0, 1.0, 0.0};
-  camera.fovy_degrees = 40.0;
-  camera.near_distance = 0.5;
-  options.camera = camera;
+  options.camera = box_view();
   const app::ViewerReport report = app::run_viewer(std::move(state), options);
   EXPECT_EQ(report.validation_messages, 0u);
   EXPECT_EQ(report.steps_shown, (std::vector<uint32_t>{1, 2, 0, 1}));
@@ -464,6 +477,36 @@ TEST(ViewerLoading, StepsAndPlaysATimeSeriesUploadingItsMeshOnce) {
   // A step that does not exist is refused by name; the window goes on to close.
   ASSERT_FALSE(report.messages.empty());
   EXPECT_NE(report.messages.back().find("has 3 steps (0 to 2), not 7"), std::string::npos) << report.messages.back();
+}
+
+// The split view compares two steps: B at another step of the series. The view is symmetric
+// about its vertical axis, so with B at A's own step the two halves' mirrored pixels agree, and
+// with B at another step (another extinction) they differ.
+TEST(ViewerLoading, SplitViewComparesTwoSteps) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = out_dir("compare-steps");
+  std::ostringstream script;
+  script << "ui off\nwait 2\ntime-step 2\nwait-load\ncompare-step 2\nwait-load\nwait 3\nscreenshot " << (dir / "same.png").string()
+         << "\ncompare-step 0\nwait-load\nwait 3\nscreenshot " << (dir / "two.png").string() << "\ncompare-step 9\nclose\n";
+  app::ViewerOptions options = window_options(160, 120, script.str());
+  options.settings.resolve.quantity = volume::Quantity::OpticalDepth;
+  options.camera = box_view();
+  const app::ViewerReport report = app::run_viewer(box_series_state(dir), options);
+  EXPECT_EQ(report.validation_messages, 0u);
+  EXPECT_EQ(report.steps_shown, std::vector<uint32_t>{2});
+  // Pixels at 3/8 and 5/8 of the width on the middle row: A's half and B's, mirror images.
+  const auto halves = [&](const std::string& name) {
+    const Png png = read_png((dir / name).string());
+    const int y = png.height / 2, left = png.width * 3 / 8, right = png.width - 1 - left;
+    int largest = 0;
+    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(int(png.at(left, y)[c]) - int(png.at(right, y)[c])));
+    return largest;
+  };
+  EXPECT_LE(halves("same.png"), 2) << "B at A's step should mirror A";
+  EXPECT_GE(halves("two.png"), 20) << "B at step 0 (extinction 0.5) should differ from A at step 2 (2.0)";
+  ASSERT_FALSE(report.messages.empty());
+  EXPECT_NE(report.messages.back().find("compare-step:"), std::string::npos) << report.messages.back();
+  EXPECT_NE(report.messages.back().find("not 9"), std::string::npos) << report.messages.back();
 }
 
 // Bad files (missing, truncated) give the data layer's message naming the file; the window
