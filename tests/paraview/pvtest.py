@@ -119,8 +119,14 @@ class Scene:
         self.render_array = array  # what `prismoid render` colours by (a component's own array for a vector)
         unit_distance *= scale
         self.unit_distance = unit_distance
-        # A time series (.pvd) through ParaView's own collection reader, at its first step.
-        self.reader = PVDReader(FileName=vtu) if vtu.endswith(".pvd") else XMLUnstructuredGridReader(FileName=[vtu])
+        # A time series (.pvd) through ParaView's own collection reader, an Exodus file through the
+        # reader ParaView picks for it, each at its first step.
+        if vtu.endswith(".pvd"):
+            self.reader = PVDReader(FileName=vtu)
+        elif vtu.endswith(".exo"):
+            self.reader = OpenDataFile(vtu)
+        else:
+            self.reader = XMLUnstructuredGridReader(FileName=[vtu])
         self.reader.UpdatePipeline()
         self.range = self.reader.PointData[array].GetRange()
         self.view = CreateView("RenderView")
