@@ -25,37 +25,16 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import pvtest  # noqa: E402
 
 from paraview import servermanager  # noqa: E402
-from paraview.simple import (Calculator, ColorBy, Delete, GetAnimationScene, RedistributeDataSet, Render, SaveData,  # noqa: E402
-                             Show, XMLUnstructuredGridReader)
+from paraview.simple import ColorBy, GetAnimationScene, RedistributeDataSet, Render, Show  # noqa: E402
 
 PRISMOID = [("Prismoid, mesh backend, GPU sort", 0, 0), ("Prismoid, mesh backend, exact order", 0, 1),
             ("Prismoid, compute backend", 1, 0)]
 VTK = ["Projected tetra", "Z sweep", "Bunyk ray cast"]
 
 
-def write_series(vtu, out, steps):
-    """A .pvd of `steps` copies of `vtu` beside it, RTData scaled from 0.6 to 1.4, at times 0, 1, 2..."""
-    entries = []
-    for i in range(steps):
-        scale = 0.6 + 0.8 * i / max(steps - 1, 1)
-        reader = XMLUnstructuredGridReader(FileName=[vtu])
-        calc = Calculator(Input=reader, Function="RTData*%r" % scale, ResultArrayName="RTData")
-        name = "series_step_%d.vtu" % i
-        SaveData(os.path.join(out, name), proxy=calc)
-        Delete(calc)
-        Delete(reader)
-        entries.append('    <DataSet timestep="%d" part="0" file="%s"/>\n' % (i, name))
-    pvd = os.path.join(out, "series.pvd")
-    with open(pvd, "w") as f:
-        f.write('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n')
-        f.writelines(entries)
-        f.write("  </Collection>\n</VTKFile>\n")
-    return pvd
-
-
 def steps_main(a, vtu, size):
     steps, rounds = int(a["steps"]), int(a.get("rounds", "2"))
-    pvd = write_series(vtu, a["out"], steps)
+    pvd = pvtest.write_series(vtu, a["out"], [0.6 + 0.8 * i / max(steps - 1, 1) for i in range(steps)], list(range(steps)))
     scene = pvtest.Scene(pvd, size=size, unit_distance=3.0 * int(a["half"]) / 6.0)
     cells = scene.reader.GetDataInformation().GetNumberOfCells()
     animation = GetAnimationScene()

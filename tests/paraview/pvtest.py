@@ -207,3 +207,61 @@ def read_pfm(path):
 def levels(pv, linear):
     """How far ParaView's 8-bit image is from a linear image, in 8-bit levels, per pixel."""
     return np.abs(pv - 255.0 * linear).max(axis=2)
+
+
+def write_series(vtu, out, scales, times):
+    """A ParaView collection (.pvd) beside copies of `vtu` whose RTData is scaled by `scales`, one
+    step each at `times`, as ParaView writes one. Returns the .pvd's path."""
+    entries = []
+    for i, scale in enumerate(scales):
+        reader = XMLUnstructuredGridReader(FileName=[vtu])
+        calc = Calculator(Input=reader, Function="RTData*%r" % scale, ResultArrayName="RTData")
+        name = "step_%d.vtu" % i
+        SaveData(os.path.join(out, name), proxy=calc)
+        Delete(calc)
+        Delete(reader)
+        entries.append('    <DataSet timestep="%r" part="0" file="%s"/>\n' % (times[i], name))
+    pvd = os.path.join(out, "series.pvd")
+    with open(pvd, "w") as f:
+        f.write('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n')
+        f.writelines(entries)
+        f.write("  </Collection>\n</VTKFile>\n")
+    return pvd
+
+
+def check_steps(a, scene, data, tf, out, times, bound):
+    """ParaView's time moved to each of `times` and the frame drawn through the plugin: each
+    step's image against `prismoid render DATA --time-step N` and the CPU reference, within
+    `bound` levels; the steps must differ (else matching each proves nothing); and the steps share
+    their points and cells, so the plugin uploads the mesh once and a field set per later step.
+    Fails the test otherwise."""
+    animation = GetAnimationScene()
+    animation.UpdateAnimationUsingDataTimeSteps()
+    failures = 0
+    images = []
+    for i, t in enumerate(times):
+        animation.AnimationTime = t
+        Render(scene.view)
+        pv = scene.screenshot(os.path.join(out, "paraview_step%d.png" % i))
+        gpu = scene.prismoid(a["prismoid"], data, tf, os.path.join(out, "render_step%d.pfm" % i), ["--mode", "interval-sorted", "--time-step", str(i)])
+        reference = scene.prismoid(a["prismoid"], data, tf, os.path.join(out, "reference_step%d.pfm" % i), ["--mode", "reference", "--time-step", str(i)])
+        d_render = levels(pv, gpu)
+        d_reference = levels(pv, reference)
+        print("step %d (t = %r): ParaView against prismoid render --time-step %d: largest %.3f levels; against the CPU reference: "
+              "largest %.3f" % (i, t, i, d_render.max(), d_reference.max()), flush=True)
+        if d_render.max() > bound or d_reference.max() > bound:
+            failures += 1
+        images.append(reference)
+    for i in range(1, len(images)):
+        change = np.abs(images[i] - images[0]).max()
+        print("step %d against step 0: largest difference %.3f (linear colour)" % (i, change), flush=True)
+        if change < 0.02:
+            fail("steps 0 and %d look alike: the steps prove nothing" % i)
+    if failures:
+        fail("%d of %d steps beyond the bound" % (failures, len(times)))
+    scene.rep.UpdatePropertyInformation()
+    meshes = scene.rep.GetPropertyValue("PrismoidMeshUploads")
+    fields = scene.rep.GetPropertyValue("PrismoidFieldUploads")
+    print("uploads: %d mesh, %d field sets" % (meshes, fields), flush=True)
+    if meshes != 1 or fields != len(times) - 1:
+        fail("expected the mesh uploaded once and %d field sets, got %d and %d" % (len(times) - 1, meshes, fields))
