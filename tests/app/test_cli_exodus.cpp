@@ -19,6 +19,7 @@
 #include "scene/camera.hpp"
 #include "scene/generators.hpp"
 #include "scene/tet_mesh.hpp"
+#include "support/box_view.hpp"
 #include "support/cli_run.hpp"
 #include "support/exodus_file.hpp"
 
@@ -33,20 +34,11 @@ using test::ExodusFileSpec;
 using test::cli::run;
 using test::cli::work_dir;
 
-constexpr uint32_t kSide = 9;  // odd: the centre pixel's ray is the axis through the box
+constexpr uint32_t kSide = test::kBoxViewSide;
+Camera view() { return test::box_view(); }
+const std::string kView = test::kBoxViewArgs + " --quantity optical-depth --array extinction";
 
-Camera view() {
-  Camera c;
-  c.eye = {0.0, 0.0, 5.0};
-  c.target = {0.0, 0.0, 0.0};
-  c.up = {0.0, 1.0, 0.0};
-  c.fovy_degrees = 40.0;
-  c.near_distance = 0.5;
-  return c;
-}
-const std::string kView = " --eye 0,0,5 --target 0,0,0 --up 0,1,0 --fovy 40 --near 0.5 --size 9x9 --quantity optical-depth --array extinction";
-
-double centre(const io::FloatImage& img) { return double(img.pixels[(kSide / 2) * kSide + kSide / 2]); }
+double centre(const io::FloatImage& img) { return test::box_view_centre(img.pixels); }
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = work_dir() / name;

@@ -17,6 +17,7 @@
 #include "scene/camera.hpp"
 #include "scene/generators.hpp"
 #include "scene/tet_mesh.hpp"
+#include "support/box_view.hpp"
 #include "support/cli_run.hpp"
 
 namespace prismoid {
@@ -61,18 +62,9 @@ fs::path write_series(const fs::path& dir) {
   return write_pvd(dir, "boxes.pvd", entries);
 }
 
-constexpr uint32_t kSide = 9;  // odd: the centre pixel's ray is the axis through the box
-
-Camera view() {
-  Camera c;
-  c.eye = {0.0, 0.0, 5.0};
-  c.target = {0.0, 0.0, 0.0};
-  c.up = {0.0, 1.0, 0.0};
-  c.fovy_degrees = 40.0;
-  c.near_distance = 0.5;
-  return c;
-}
-const std::string kView = " --eye 0,0,5 --target 0,0,0 --up 0,1,0 --fovy 40 --near 0.5 --size 9x9 --quantity optical-depth --array extinction";
+constexpr uint32_t kSide = test::kBoxViewSide;
+Camera view() { return test::box_view(); }
+const std::string kView = test::kBoxViewArgs + " --quantity optical-depth --array extinction";
 
 // Each step drawn is that step: the centre pixel's optical depth is its extinction times the
 // box's chord of 2 (float32 and the GPU's interval arithmetic: within 1e-5 relative), and the

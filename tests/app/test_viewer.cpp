@@ -31,6 +31,7 @@
 #include "io/image_io.hpp"
 #include "renderer/metrics/image_error.hpp"
 #include "scene/generators.hpp"
+#include "support/box_view.hpp"
 #include "support/cube_surface.hpp"
 
 namespace prismoid {
@@ -435,15 +436,7 @@ app::ViewState box_series_state(const fs::path& dir) {
   return state;
 }
 
-Camera box_view() {
-  Camera camera;
-  camera.eye = {0.0, 0.0, 5.0};
-  camera.target = {0.0, 0.0, 0.0};
-  camera.up = {0.0, 1.0, 0.0};
-  camera.fovy_degrees = 40.0;
-  camera.near_distance = 0.5;
-  return camera;
-}
+using test::box_view;
 
 TEST(ViewerLoading, StepsAndPlaysATimeSeriesUploadingItsMeshOnce) {
   REQUIRE_DISPLAY();
@@ -470,7 +463,7 @@ TEST(ViewerLoading, StepsAndPlaysATimeSeriesUploadingItsMeshOnce) {
   EXPECT_EQ(report.mesh_uploads, 1u);
   EXPECT_EQ(report.field_uploads, report.steps_shown.size());
   // The centre pixel's ray is the axis: 2 sigma of the step shown (float32: 1e-5 relative).
-  const auto centre = [&](const std::string& name) { return double(io::read_pfm((dir / name).string()).pixels[4 * 9 + 4]); };
+  const auto centre = [&](const std::string& name) { return test::box_view_centre(io::read_pfm((dir / name).string()).pixels); };
   EXPECT_NEAR(centre("s1.pfm"), 2.0 * sigma[1], 2e-5 * sigma[1]);
   EXPECT_NEAR(centre("s2.pfm"), 2.0 * sigma[2], 2e-5 * sigma[2]);
   EXPECT_NEAR(centre("played.pfm"), 2.0 * sigma[1], 2e-5 * sigma[1]);
