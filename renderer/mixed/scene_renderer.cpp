@@ -165,10 +165,18 @@ void SceneRenderer::fill_stats(SceneFrame& f, const SceneSettings& settings) con
 void SceneRenderer::set_volume(const TetMesh& volume) {
   if (!scene_.volume) throw std::logic_error("SceneRenderer::set_volume: the scene has no volume to replace");
   scene_.volume = &volume;
-  if (volume_ && !volume_->update_fields(volume)) volume_.reset();
-  else if (volume_) ++uploads_.fields;
-  if (mixed_ && !mixed_->volume_renderer().update_fields(volume)) mixed_.reset();
-  else if (mixed_) ++uploads_.fields;
+  try {
+    if (volume_ && !volume_->update_fields(volume)) volume_.reset();
+    else if (volume_) ++uploads_.fields;
+    if (mixed_ && !mixed_->volume_renderer().update_fields(volume)) mixed_.reset();
+    else if (mixed_) ++uploads_.fields;
+  } catch (...) {
+    // A step refused (its fields invalid): no renderer may keep drawing the step before under
+    // this one's name; the next frame uploads the step whole and refuses it there too.
+    volume_.reset();
+    mixed_.reset();
+    throw;
+  }
 }
 
 SceneFrame SceneRenderer::render_volume(const Camera& camera, const SceneSettings& settings) {

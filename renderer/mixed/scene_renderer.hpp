@@ -148,6 +148,7 @@ class SceneRenderer {
   // points and cells are those of the volume drawn so far (compared, never assumed), only its
   // fields go to the GPU and what depends on the geometry alone is kept (frame::FrameRenderer::
   // update_fields); otherwise the next GPU frame uploads it whole. No frame may be in flight.
+  // A step whose fields are invalid (validate) throws, and no renderer keeps the step before.
   void set_volume(const TetMesh& volume);
   VolumeUploads volume_uploads() const { return uploads_; }
 

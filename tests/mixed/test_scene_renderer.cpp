@@ -164,7 +164,9 @@ TEST_F(SceneRendererGpu, AStaticMeshSeriesUploadsItsMeshOnce) {
       ASSERT_TRUE(f.volume.has_value());
       EXPECT_EQ(series.volume_uploads().meshes, 1u) << "step " << i;
       EXPECT_EQ(series.volume_uploads().fields, i) << "step " << i;
-      if (backend == frame::IntervalBackend::Mesh) EXPECT_EQ(ran(*f.volume, "exact-order"), i == 0) << "step " << i;
+      if (backend == frame::IntervalBackend::Mesh) {
+        EXPECT_EQ(ran(*f.volume, "exact-order"), i == 0) << "step " << i;
+      }
       mixed::SceneRenderer alone({.volume = &steps[i]}, device());
       const mixed::SceneFrame a = alone.render(camera(), settings);
       EXPECT_EQ(f.volume->emission, a.volume->emission) << "step " << i;
@@ -173,6 +175,11 @@ TEST_F(SceneRendererGpu, AStaticMeshSeriesUploadsItsMeshOnce) {
     // The steps differ: the test would not see a field left from the step before.
     EXPECT_NE(series.render(camera(), settings).volume->emission,
               mixed::SceneRenderer({.volume = &steps[0]}, device()).render(camera(), settings).volume->emission);
+    // A step whose fields are refused: neither this call nor the next frame draws the step before.
+    TetMesh bad = steps[0];
+    bad.point_scalars.pop_back();  // one value short
+    EXPECT_THROW(series.set_volume(bad), InputError);
+    EXPECT_THROW(series.render(camera(), settings), InputError);
     TetMesh finer = make_ball_mesh(glm::dvec3(0.0), 1.0, 2, 2.0);
     for (const glm::dvec3& p : finer.points) finer.point_scalars.push_back(0.5 + 0.5 * p.x);
     series.set_volume(finer);
