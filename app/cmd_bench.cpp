@@ -371,6 +371,16 @@ bench::SurfaceBenchOptions surface_options(const ParsedArgs& a) {
   return so;
 }
 
+// The row's error columns: `image` against the reference `ref` (its image and CPU time).
+void set_error(bench::BenchRow& m, const frame::OffscreenFrame& image, const std::pair<frame::OffscreenFrame, double>& ref,
+               volume::Quantity quantity, VkExtent2D extent) {
+  m.error = frame::frame_error(image, ref.first, quantity);
+  m.ssim = ssim_of(image, ref.first, quantity);
+  m.reference_ms = ref.second;
+  m.peak = frame::error_peak(ref.first, quantity);
+  if (quantity == volume::Quantity::Color) m.flip = reference::flip(image.display, ref.first.display, extent.width, extent.height, 4).mean;
+}
+
 // One volume case's row: drawn through the renderer facade as `render` draws (the timed frames,
 // each a moving camera's, no image read back; then the image whose error is measured, one more
 // frame of the same camera), measured against `ref` (the reference image and its CPU time).
@@ -404,12 +414,7 @@ bench::BenchRow volume_row(const vk::Device& device, const bench::BenchCase& c, 
   m.cpu_ms = timing::median_of(drawn.frame_cpu_ms);
   m.mesh_bytes = result.report.mesh_bytes;
   // The image is one more frame's: every frame draws the same cells from the same camera.
-  m.error = frame::frame_error(result, ref.first, choice.quantity);
-  m.ssim = ssim_of(result, ref.first, choice.quantity);
-  m.reference_ms = ref.second;
-  m.peak = frame::error_peak(ref.first, choice.quantity);
-  if (choice.quantity == volume::Quantity::Color)
-    m.flip = reference::flip(result.display, ref.first.display, extent.width, extent.height, 4).mean;
+  set_error(m, result, ref, choice.quantity, extent);
   std::cout << m.dataset << " " << m.sweep << " " << m.quantity << " " << m.mode << " " << m.settings << " " << m.width << "x"
             << m.height << ": " << json_number(m.ms_median) << " ms GPU, RMSE " << json_number(m.error.rmse) << std::endl;
   return m;
@@ -498,14 +503,8 @@ std::optional<bench::BenchRow> step_switch_row(const vk::Device& device, const b
   m.mesh_bytes = images.back().report.mesh_bytes;
   for (size_t i = 0; i < n; ++i) {
     const auto& ref = reference_for(references, step_args[i], c.quantity, steps[i], camera, extent);
-    const reference::ImageError error = frame::frame_error(images[i], ref.first, steps[i].quantity);
-    if (i > 0 && !(error.rmse > m.error.rmse)) continue;
-    m.error = error;
-    m.ssim = ssim_of(images[i], ref.first, steps[i].quantity);
-    m.reference_ms = ref.second;
-    m.peak = frame::error_peak(ref.first, steps[i].quantity);
-    if (steps[i].quantity == volume::Quantity::Color)
-      m.flip = reference::flip(images[i].display, ref.first.display, extent.width, extent.height, 4).mean;
+    if (i > 0 && !(frame::frame_error(images[i], ref.first, steps[i].quantity).rmse > m.error.rmse)) continue;
+    set_error(m, images[i], ref, steps[i].quantity, extent);
   }
   std::cout << m.dataset << " " << m.sweep << " " << m.settings << " " << m.width << "x" << m.height << ": "
             << json_number(m.ms_median) << " ms a step switch (wall; the last round's uploads: " << uploads.meshes

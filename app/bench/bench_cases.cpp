@@ -1,8 +1,7 @@
 #include "app/bench/bench_cases.hpp"
 
 #include "app/common/volume_option_table.hpp"
-#include "io/exodus_io.hpp"
-#include "io/time_series.hpp"
+#include "app/common/dataset_loader.hpp"
 #include "renderer/frame/volume_modes.hpp"
 
 namespace prismoid::bench {
@@ -24,11 +23,7 @@ Options compute() { return {{"volume-backend", "compute"}}; }
 
 }  // namespace
 
-size_t time_steps_of(const std::string& dataset) {
-  if (io::is_time_series_path(dataset)) return io::read_time_series(dataset).steps.size();
-  if (io::is_exodus_path(dataset)) return io::read_exodus_info(dataset, /*cells=*/false).times.size();
-  return 0;
-}
+size_t time_steps_of(const std::string& dataset) { return app::time_values(dataset).size(); }
 
 std::vector<BenchCase> bench_cases(const std::vector<std::string>& datasets, const BenchPreset& p) {
   std::vector<BenchCase> cases;
