@@ -32,6 +32,27 @@ PRISMOID = [("Prismoid, mesh backend, GPU sort", 0, 0), ("Prismoid, mesh backend
 VTK = ["Projected tetra", "Z sweep", "Bunyk ray cast"]
 
 
+def use_mapper(scene, representation, backend, ordering, mapper):
+    """ParaView's mapper `mapper`, or (None) the plugin with that backend and ordering."""
+    scene.rep.Representation = representation
+    if mapper:
+        scene.rep.SelectMapper = mapper
+    else:
+        scene.rep.PrismoidBackend = backend
+        scene.rep.PrismoidOrdering = ordering
+
+
+def timed_render(scene, mapper):
+    """One Render(): its wall ms, and the plugin's part of it (None for ParaView's mappers)."""
+    start = time.perf_counter()
+    Render(scene.view)
+    ms = 1000.0 * (time.perf_counter() - start)
+    if mapper:
+        return ms, None
+    scene.rep.UpdatePropertyInformation()
+    return ms, scene.rep.GetPropertyValue("PrismoidLastFrameMilliseconds")
+
+
 def steps_main(a, vtu, size):
     steps, rounds = int(a["steps"]), int(a.get("rounds", "2"))
     pvd = pvtest.write_series(vtu, a["out"], [0.6 + 0.8 * i / max(steps - 1, 1) for i in range(steps)], list(range(steps)))
@@ -46,32 +67,23 @@ def steps_main(a, vtu, size):
           "(plugin's part) | uploads (meshes, field sets) |")
     print("|---|---:|---:|---:|---|")
     for name, representation, backend, ordering, mapper in cases:
-        scene.rep.Representation = representation
-        if mapper:
-            scene.rep.SelectMapper = mapper
-        else:
-            scene.rep.PrismoidBackend = backend
-            scene.rep.PrismoidOrdering = ordering
+        use_mapper(scene, representation, backend, ordering, mapper)
         times, plugin = [], []
         for r in range(rounds + 1):
             for i in range(steps):
                 animation.AnimationTime = float(i)
-                start = time.perf_counter()
-                Render(scene.view)
+                frame = timed_render(scene, mapper)
                 if r > 0:
-                    times.append(1000.0 * (time.perf_counter() - start))
+                    times.append(frame[0])
                     if not mapper:
-                        scene.rep.UpdatePropertyInformation()
-                        plugin.append(scene.rep.GetPropertyValue("PrismoidLastFrameMilliseconds"))
+                        plugin.append(frame[1])
         # The same view without a time change, for comparison (same run, same step).
         still, still_plugin = [], []
         for _ in range(steps):
-            start = time.perf_counter()
-            Render(scene.view)
-            still.append(1000.0 * (time.perf_counter() - start))
+            frame = timed_render(scene, mapper)
+            still.append(frame[0])
             if not mapper:
-                scene.rep.UpdatePropertyInformation()
-                still_plugin.append(scene.rep.GetPropertyValue("PrismoidLastFrameMilliseconds"))
+                still_plugin.append(frame[1])
         uploads = ""
         if not mapper:
             scene.rep.UpdatePropertyInformation()
@@ -112,21 +124,14 @@ def main():
     if a["mappers"] == "all":
         cases += [("VTK " + m, "Volume", 0, 0, m) for m in VTK]
     for name, representation, backend, ordering, mapper in cases:
-        scene.rep.Representation = representation
-        if mapper:
-            scene.rep.SelectMapper = mapper
-        else:
-            scene.rep.PrismoidBackend = backend
-            scene.rep.PrismoidOrdering = ordering
+        use_mapper(scene, representation, backend, ordering, mapper)
         Render(scene.view)  # first frame: uploads, pipelines, caches
         times, plugin = [], []
         for _ in range(int(a["frames"])):
-            start = time.perf_counter()
-            Render(scene.view)
-            times.append(1000.0 * (time.perf_counter() - start))
+            frame = timed_render(scene, mapper)
+            times.append(frame[0])
             if not mapper:
-                scene.rep.UpdatePropertyInformation()
-                plugin.append(scene.rep.GetPropertyValue("PrismoidLastFrameMilliseconds"))
+                plugin.append(frame[1])
         image = scene.screenshot(os.path.join(a["out"], "bench_%d_%s.png" % (ranks, name.replace(" ", "_").replace(",", ""))))
         d = np.abs(image - 255.0 * reference)
         rows.append((name, statistics.median(times), min(times), statistics.median(plugin) if plugin else None,
