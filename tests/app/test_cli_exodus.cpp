@@ -22,6 +22,7 @@
 #include "support/box_view.hpp"
 #include "support/cli_run.hpp"
 #include "support/exodus_file.hpp"
+#include "support/time_sweep_rows.hpp"
 
 namespace prismoid {
 namespace {
@@ -129,30 +130,7 @@ TEST(CliExodus, TheBenchTimesEveryStep) {
   const fs::path exo = write_steps(dir);
   const CliRun r = run("bench " + exo.string() + " --quick --sweeps time --no-plots --no-peers --array extinction --out " + (dir / "b").string());
   ASSERT_EQ(r.code, 0) << r.err;
-  std::ifstream csv(dir / "b" / "bench.csv");
-  std::string header, line;
-  std::getline(csv, header);
-  std::vector<std::string> columns, rows;
-  std::istringstream head(header);
-  for (std::string c; std::getline(head, c, ',');) columns.push_back(c);
-  while (std::getline(csv, line)) rows.push_back(line);
-  ASSERT_EQ(rows.size(), 2 * kSigma.size() + 4) << r.out;  // and the step switches: whole or fields, two backends
-  const size_t rmse_at = size_t(std::find(columns.begin(), columns.end(), "rmse") - columns.begin());
-  ASSERT_LT(rmse_at, columns.size());
-  for (size_t i = 0; i < rows.size(); ++i) {
-    if (i < 2 * kSigma.size()) {
-      EXPECT_NE(rows[i].find("step " + std::to_string(i / 2) + " (t = "), std::string::npos) << rows[i];
-      EXPECT_NE(rows[i].find(i % 2 ? ",time,color," : ",time,transmittance,"), std::string::npos) << rows[i];
-    } else {
-      EXPECT_NE(rows[i].find(std::string("step-switch=") + (i % 2 ? "fields" : "whole")), std::string::npos) << rows[i];
-    }
-    // The dataset's name is quoted (it holds commas and spaces): count columns after it.
-    std::istringstream cells(rows[i].substr(rows[i].find("\",") + 2));
-    std::vector<std::string> values;
-    for (std::string v; std::getline(cells, v, ',');) values.push_back(v);
-    ASSERT_GT(values.size(), rmse_at - 1) << rows[i];
-    EXPECT_LT(std::stod(values[rmse_at - 1]), 1e-4) << rows[i];
-  }
+  test::expect_time_sweep_rows(dir / "b" / "bench.csv", kSigma.size());
 }
 
 // A hexahedron (block 10 'fluid') and a tetrahedron (block 20) sharing a face's three nodes, a

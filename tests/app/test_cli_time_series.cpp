@@ -19,6 +19,7 @@
 #include "scene/tet_mesh.hpp"
 #include "support/box_view.hpp"
 #include "support/cli_run.hpp"
+#include "support/time_sweep_rows.hpp"
 
 namespace prismoid {
 namespace {
@@ -208,43 +209,9 @@ TEST(CliTimeSeries, TheBenchTimesEveryStep) {
   const fs::path out = dir / "bench";
   const CliRun r = run("bench " + pvd.string() + " --quick --sweeps time --no-plots --no-peers --array extinction --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
-  std::ifstream csv(out / "bench.csv");
-  std::string header, line;
-  std::getline(csv, header);
-  std::vector<std::string> rows;
-  while (std::getline(csv, line)) rows.push_back(line);
-  // Each step's transmittance and colour (the extinction array is the colour's scalar too), each
-  // row that step's mesh, measured against that step's reference; then the step switches, each
-  // step uploaded whole or its fields alone, on both backends.
-  ASSERT_EQ(rows.size(), 2 * kSigma.size() + 4) << r.out;
-  for (size_t i = 0; i < 4; ++i) {
-    const std::string& row = rows[2 * kSigma.size() + i];
-    EXPECT_NE(row.find(std::string("step-switch=") + (i % 2 ? "fields" : "whole")), std::string::npos) << row;
-    EXPECT_NE(row.find(",wall,"), std::string::npos) << row;
-  }
-  for (size_t i = 0; i < kSigma.size(); ++i)
-    for (const char* quantity : {"transmittance", "color"}) {
-      const std::string& row = rows[2 * i + (std::string(quantity) == "color" ? 1 : 0)];
-      EXPECT_NE(row.find("step " + std::to_string(i) + " (t = "), std::string::npos) << row;
-      EXPECT_NE(row.find(std::string(",time,") + quantity + ","), std::string::npos) << row;
-      EXPECT_NE(row.find("time-step=" + std::to_string(i)), std::string::npos) << row;
-    }
-  // Each row's error is small against its own step's reference (against another step's,
-  // transmittance would be off by e^(-2 sigma) differences of tenths).
-  std::istringstream head(header);
-  std::vector<std::string> columns;
-  for (std::string c; std::getline(head, c, ',');) columns.push_back(c);
-  const size_t rmse_at = size_t(std::find(columns.begin(), columns.end(), "rmse") - columns.begin());
-  ASSERT_LT(rmse_at, columns.size());
-  for (const std::string& row : rows) {
-    // The dataset's name is quoted (it holds commas and spaces): count columns after it.
-    const std::string rest = row.substr(row.find("\",") + 2);
-    std::istringstream cells(rest);
-    std::vector<std::string> values;
-    for (std::string v; std::getline(cells, v, ',');) values.push_back(v);
-    ASSERT_GT(values.size(), rmse_at - 1) << row;
-    EXPECT_LT(std::stod(values[rmse_at - 1]), 1e-4) << row;
-  }
+  // Each step's transmittance and colour (the extinction array is the colour's scalar too), then
+  // the step switches.
+  test::expect_time_sweep_rows(out / "bench.csv", kSigma.size());
   const CliRun bad = run("bench " + (dir / "steps" / "nothing.pvd").string() + " --quick --sweeps time --out " + (dir / "b2").string());
   EXPECT_EQ(bad.code, 2) << bad.err;
   EXPECT_NE(bad.err.find("nothing.pvd: file does not exist"), std::string::npos) << bad.err;
