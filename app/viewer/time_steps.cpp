@@ -14,13 +14,21 @@ namespace {
 // or another step asked for, drops what no longer follows.
 constexpr size_t kReadAhead = 2;
 
-void start_load(ViewerSession& s, uint32_t step) {
-  TimeStepping& t = s.time;
-  const Dataset& d = s.state.dataset();
-  LoadRequest r = *d.source;
+// Step `step` of the active dataset, loading: the request that opened it, at that step.
+std::unique_ptr<TimeStepping::Job> load_step(const ViewerSession& s, uint32_t step) {
+  LoadRequest r = *s.state.dataset().source;
   r.time_step = step;
   r.time.reset();
-  t.job = std::make_unique<TimeStepping::Job>(TimeStepping::Job{s.state.active, step, std::make_unique<DatasetLoad>(std::move(r))});
+  return std::make_unique<TimeStepping::Job>(TimeStepping::Job{s.state.active, step, std::make_unique<DatasetLoad>(std::move(r))});
+}
+
+// Why `verb` cannot show step `step` of `d` (it has none, or not that one); empty when it can.
+std::string step_problem(const Dataset& d, const std::string& verb, uint32_t step) {
+  if (d.times.empty() || !d.source) return verb + ": " + d.name + " has no time steps";
+  if (step >= d.times.size())
+    return verb + ": " + d.source->path + " has " + std::to_string(d.times.size()) + " steps (0 to " + std::to_string(d.times.size() - 1) +
+           "), not " + std::to_string(step);
+  return {};
 }
 
 bool loading_or_ready(const TimeStepping& t, size_t dataset, uint32_t step) {
@@ -47,11 +55,7 @@ void step_loads(ViewerSession& s);
 }  // namespace
 
 std::string go_to_step(ViewerSession& s, uint32_t step) {
-  const Dataset& d = s.state.dataset();
-  if (d.times.empty() || !d.source) return "time-step: " + d.name + " has no time steps";
-  if (step >= d.times.size())
-    return "time-step: " + d.source->path + " has " + std::to_string(d.times.size()) + " steps (0 to " + std::to_string(d.times.size() - 1) +
-           "), not " + std::to_string(step);
+  if (std::string problem = step_problem(s.state.dataset(), "time-step", step); !problem.empty()) return problem;
   s.time.wanted = step;
   return {};
 }
@@ -79,15 +83,8 @@ std::string set_compare_step(ViewerSession& s, std::optional<uint32_t> step) {
     s.state.compare_step_mesh.reset();
     return {};
   }
-  const Dataset& d = s.state.dataset();
-  if (d.times.empty() || !d.source) return "compare-step: " + d.name + " has no time steps";
-  if (*step >= d.times.size())
-    return "compare-step: " + d.source->path + " has " + std::to_string(d.times.size()) + " steps (0 to " +
-           std::to_string(d.times.size() - 1) + "), not " + std::to_string(*step);
-  LoadRequest r = *d.source;
-  r.time_step = *step;
-  r.time.reset();
-  s.time.compare_job = std::make_unique<TimeStepping::Job>(TimeStepping::Job{s.state.active, *step, std::make_unique<DatasetLoad>(std::move(r))});
+  if (std::string problem = step_problem(s.state.dataset(), "compare-step", *step); !problem.empty()) return problem;
+  s.time.compare_job = load_step(s, *step);
   return {};
 }
 
@@ -146,13 +143,13 @@ void step_loads(ViewerSession& s) {
       t.wanted.reset();
       show(s, job);
     } else if (!t.job) {
-      start_load(s, *t.wanted);
+      t.job = load_step(s, *t.wanted);
     }
   }
   // Read ahead while playing: the step after the one shown.
   const Dataset& now = s.state.dataset();
   if (t.playing && !t.job && !now.times.empty() && !loading_or_ready(t, active, next_step(now)) && t.ready.size() < kReadAhead)
-    start_load(s, next_step(now));
+    t.job = load_step(s, next_step(now));
 }
 
 }  // namespace
